@@ -1,0 +1,984 @@
+"""From syntax trees to the typed IR: imports, name resolution and type checks.
+
+``load_spec(path)`` reads a spec and everything it imports, resolves every
+name (respecting export and import lists), checks arities and domains the way
+AsmetaL's own parser does, and returns an :class:`asmcheck.semantics.ir.Spec`.
+Every error is an :class:`~asmcheck.errors.AsmError` with a source position.
+"""
+from __future__ import annotations
+
+import os
+from importlib import resources
+from pathlib import Path
+
+from ..errors import AsmError, AsmSyntaxError, AsmTypeError, NO_SPAN, Span
+from ..syntax import ast as A
+from ..syntax.parser import parse_file, parse_text
+from . import ir
+from . import stdlib
+from . import types as T
+from .values import RuleValue, abstract_value, enum_value, CharV
+
+LIBRARIES = ("StandardLibrary", "CTLLibrary", "LTLLibrary", "TimeLibrary")
+# Library files that are never read as specs (TimeLibrary is an ordinary module when checked alone).
+REFUSED = ("StandardLibrary", "CTLLibrary", "LTLLibrary")
+
+
+class Table:
+    """Names a module declares or sees: domains, functions, rules, enum constants."""
+
+    def __init__(self) -> None:
+        self.domains: dict[str, list] = {}
+        self.functions: dict[str, list] = {}
+        self.rules: dict[str, list] = {}
+        self.enums: dict[str, list] = {}
+
+    def add(self, kind: str, name: str, obj) -> None:
+        lst = getattr(self, kind).setdefault(name, [])
+        if not any(o is obj for o in lst):
+            lst.append(obj)
+
+    def merge(self, other: "Table", names: set[str] | None = None) -> None:
+        if names is not None:
+            names = set(names)
+            for n in list(names):
+                for d in other.domains.get(n, []):
+                    if isinstance(d, T.Domain) and d.kind == "enum":
+                        names.update(v.name for v in d.elements)
+        for kind in ("domains", "functions", "rules", "enums"):
+            for name, objs in getattr(other, kind).items():
+                if names is not None and name not in names:
+                    continue
+                for o in objs:
+                    self.add(kind, name, o)
+
+    def has(self, name: str) -> bool:
+        return any(name in getattr(self, k) for k in ("domains", "functions", "rules", "enums"))
+
+
+class Module:
+    def __init__(self, name: str, path: str, syntax: A.Spec | None, library: str | None = None):
+        self.name = name
+        self.path = path
+        self.syntax = syntax
+        self.library = library
+        self.own = Table()
+        self.scope = Table()
+        self.exports = Table()
+        self.imports: list[tuple["Module", list | None, Span]] = []
+        self.functions: list[ir.Function] = []
+        self.domains: list[T.Type] = []
+        self.rules: list[ir.RuleDecl] = []
+        self.resolved = False
+
+
+# ----------------------------------------------------------------- built-in libraries
+def _standard_library() -> Module:
+    m = Module("StandardLibrary", "<StandardLibrary>", None, library="StandardLibrary")
+    for d in list(T.BASICS.values()) + [T.AGENT, T.RESERVE] + list(T.GENERICS.values()):
+        m.own.add("domains", d.name, d)
+    for name, sigs in stdlib.STANDARD.items():
+        for s in sigs:
+            m.own.add("functions", name, s)
+    self_f = ir.Function("self", "controlled", [], T.AGENT, "StandardLibrary")
+    result_f = ir.Function("result", "controlled", [], T.GENERICS["Any"], "StandardLibrary")
+    m.own.add("functions", "self", self_f)
+    m.own.add("functions", "result", result_f)
+    m.functions = [self_f, result_f]
+    m.exports = m.own
+    m.scope = m.own
+    m.resolved = True
+    return m
+
+
+def _temporal_library(name: str, table: dict) -> Module:
+    m = Module(name, f"<{name}>", None, library=name)
+    for fname, sigs in table.items():
+        for s in sigs:
+            m.own.add("functions", fname, s)
+    m.exports = m.own
+    m.scope = m.own
+    m.resolved = True
+    return m
+
+
+class Loader:
+    """Reads a spec and its imports, once each, detecting cycles."""
+
+    def __init__(self) -> None:
+        self.modules: dict[str, Module] = {}
+        self.order: list[Module] = []
+        self.std = _standard_library()
+        self.ctl = _temporal_library("CTLLibrary", stdlib.CTL)
+        self.ltl = _temporal_library("LTLLibrary", stdlib.LTL)
+        self.time: Module | None = None
+        self._uid = 0
+
+    def uid(self) -> int:
+        self._uid += 1
+        return self._uid
+
+    def library(self, name: str) -> Module:
+        if name == "StandardLibrary":
+            return self.std
+        if name == "CTLLibrary":
+            return self.ctl
+        if name == "LTLLibrary":
+            return self.ltl
+        if self.time is None:
+            text = resources.files("asmcheck.stdlib").joinpath("TimeLibrary.asm").read_text(encoding="utf-8")
+            syntax = parse_text(text, "<TimeLibrary>")
+            self.time = Module("TimeLibrary", "<TimeLibrary>", syntax, library="TimeLibrary")
+            self._declare(self.time, [])
+        return self.time
+
+    def load_root(self, path: str) -> Module:
+        p = os.path.abspath(path)
+        stem = Path(p).stem
+        if stem in REFUSED:
+            raise AsmError(Span(path, 1, 1), f"{Path(path).name} names a library that asmcheck provides itself; "
+                                             f"it is not read as a spec (import it instead)")
+        try:
+            syntax = parse_file(path)
+        except AsmError:
+            raise
+        if syntax is None:
+            raise AsmSyntaxError(Span(path, 1, 1), "empty file: expected 'asm NAME' or 'module NAME'")
+        mod = Module(syntax.name, path, syntax)
+        self.modules[p] = mod
+        self._declare(mod, [p])
+        return mod
+
+    def _import(self, importer: Module, imp: A.Import, stack: list[str]) -> Module:
+        raw = imp.path.replace("\\", "/")
+        base = Path(importer.path).parent if importer.library is None else Path(".")
+        stem = Path(raw).name
+        if stem.endswith(".asm"):
+            stem = stem[:-4]
+        target = (base / raw)
+        if not str(target).endswith(".asm"):
+            target = Path(str(target) + ".asm")
+        if stem in LIBRARIES:
+            # Provided by asmcheck; a path that leads nowhere is still an error
+            # (as for AsmetaL's own tools) unless the library is named bare.
+            if "/" in raw and not target.exists():
+                raise AsmError(imp.span, f"import not found: {target} (asmcheck provides {stem} itself: "
+                                         f"write 'import {stem}' to use it without a file)")
+            return self.library(stem)
+        p = os.path.abspath(str(target))
+        if p in stack:
+            cycle = " -> ".join(Path(s).name for s in stack[stack.index(p):] + [p])
+            raise AsmError(imp.span, f"circular import: {cycle}")
+        if p in self.modules:
+            return self.modules[p]
+        if not os.path.exists(p):
+            raise AsmError(imp.span, f"import not found: {target}")
+        syntax = parse_file(p)
+        if syntax is None:
+            raise AsmError(imp.span, f"imported file {target} is empty")
+        if syntax.name != Path(p).stem:
+            raise AsmError(syntax.name_span or syntax.span,
+                           f"the module name {syntax.name!r} differs from its file name {Path(p).name!r}")
+        mod = Module(syntax.name, p, syntax)
+        self.modules[p] = mod
+        self._declare(mod, stack + [p])
+        return mod
+
+    # -- declarations of one module (signature level)
+    def _declare(self, mod: Module, stack: list[str]) -> None:
+        syn = mod.syntax
+        for imp in syn.imports:
+            target = self._import(mod, imp, stack)
+            mod.imports.append((target, imp.names, imp.span))
+        # what this module sees from its imports
+        for target, names, span in mod.imports:
+            if names is None:
+                mod.scope.merge(target.exports)
+            else:
+                wanted = set()
+                for n, nspan in names:
+                    if not target.exports.has(n):
+                        raise AsmTypeError(nspan, f"{target.name} does not export {n!r}")
+                    wanted.add(n)
+                mod.scope.merge(target.exports, wanted)
+        Declarer(self, mod).run()
+        mod.scope.merge(mod.own)
+        if syn.export_all:
+            mod.exports = mod.scope
+        elif syn.export is not None:
+            ex = Table()
+            for n, nspan in syn.export:
+                if not mod.scope.has(n):
+                    raise AsmTypeError(nspan, f"cannot export {n!r}: no such domain, function or rule")
+                ex.merge(mod.scope, {n})
+            mod.exports = ex
+        self.order.append(mod)
+
+
+# ----------------------------------------------------------------- declarations
+class Declarer:
+    """Creates the Domain, Function and RuleDecl objects of one module."""
+
+    def __init__(self, loader: Loader, mod: Module):
+        self.loader = loader
+        self.mod = mod
+
+    def run(self) -> None:
+        syn = self.mod.syntax
+        mod = self.mod
+        # domains: first create them all (a subset domain may name a later one)
+        pending = []
+        for d in syn.domains:
+            if d.kind == "structured":
+                continue
+            if d.kind == "basic":
+                if d.name not in T.BASICS:
+                    raise AsmTypeError(d.span, f"unknown basic domain {d.name!r}")
+                continue
+            if d.kind == "any":
+                dom = T.GENERICS.get(d.name) or T.Domain(d.name, "any", module=mod.name, span=d.span)
+            else:
+                dom = T.Domain(d.name, d.kind, d.dynamic, module=mod.name, span=d.span)
+            if self._clash(d.name, "domains"):
+                raise AsmTypeError(d.span, f"domain {d.name!r} is declared twice")
+            mod.own.add("domains", d.name, dom)
+            mod.domains.append(dom)
+            pending.append((d, dom))
+        scope = _Overlay(mod.scope, mod.own)
+        for d, dom in pending:
+            if d.kind == "subset":
+                dom.base = resolve_type(d.base, scope)
+            elif d.kind == "enum":
+                seen = set()
+                for i, (el, el_span) in enumerate(d.elements):
+                    if el in seen:
+                        raise AsmTypeError(el_span, f"the enum symbol {el} is duplicate")
+                    seen.add(el)
+                    v = enum_value(dom.name + "@" + mod.name if False else dom.name, el, i)
+                    dom.elements.append(v)
+                    for other_v, other_d in mod.own.enums.get(el, []):
+                        if other_d is not dom:
+                            raise AsmTypeError(el_span, f"the enum symbol {el} is also declared in domain {other_d.name}")
+                    mod.own.add("enums", el, (v, dom))
+        # functions
+        for f in syn.functions:
+            if f.kind == "local":
+                raise AsmTypeError(f.span, f"a local function cannot be declared in the signature: {f.name}")
+            domain: list[T.Type] = []
+            if f.domain is not None:
+                dt = resolve_type(f.domain, scope)
+                if isinstance(dt, T.Struct) and dt.kind == "Prod":
+                    domain = list(dt.args)
+                else:
+                    domain = [dt]
+            cod = resolve_type(f.codomain, scope)
+            func = ir.Function(f.name, f.kind, domain, cod, mod.name, f.span)
+            for other in mod.own.functions.get(f.name, []):
+                if isinstance(other, ir.Function) and len(other.domain) == len(domain) and all(
+                        a is b or a == b for a, b in zip(other.domain, domain)):
+                    raise AsmTypeError(f.span, f"function {f.name!r} is declared twice with the same domain")
+            mod.own.add("functions", f.name, func)
+            mod.functions.append(func)
+        # rules (bodies later)
+        for r in syn.rules:
+            params = [ir.Var(p.name, resolve_type(p.type, scope), p.span, self.loader.uid()) for p in r.params]
+            rd = ir.RuleDecl(r.name, params, mod.name, r.span, r.kind,
+                             resolve_type(r.returns, scope) if r.returns is not None else None)
+            for other in mod.own.rules.get(r.name, []):
+                if len(other.params) == len(params) and all(
+                        a.type is b.type or a.type == b.type for a, b in zip(other.params, params)):
+                    raise AsmTypeError(r.span, f"rule {r.name!r} is declared twice")
+            mod.own.add("rules", r.name, rd)
+            mod.rules.append(rd)
+
+    def _clash(self, name: str, kind: str) -> bool:
+        return name in getattr(self.mod.own, kind)
+
+
+class _Overlay:
+    """A scope made of two tables, the second one taking precedence."""
+
+    def __init__(self, base: Table, top: Table):
+        self.base = base
+        self.top = top
+
+    def get(self, kind: str, name: str) -> list:
+        top = getattr(self.top, kind).get(name, [])
+        if top:
+            return top
+        return getattr(self.base, kind).get(name, [])
+
+
+def _lookup(scope, kind: str, name: str) -> list:
+    if isinstance(scope, _Overlay):
+        return scope.get(kind, name)
+    return getattr(scope, kind).get(name, [])
+
+
+def resolve_type(t: A.TypeExpr, scope) -> T.Type:
+    if t.structured:
+        args = tuple(resolve_type(a, scope) for a in t.args)
+        if t.name == "Prod" and len(args) < 2:
+            raise AsmTypeError(t.span, "a product domain has two components or more")
+        return T.Struct(t.name, args)
+    found = _lookup(scope, "domains", t.name)
+    if len(found) > 1:
+        # a generic name of the StandardLibrary (D, D1, ...) never hides a declared domain
+        found = [d for d in found if not (isinstance(d, T.Domain) and d.kind == "any")] or found
+    if not found:
+        if t.name in T.BASICS:
+            return T.BASICS[t.name]
+        if t.name == "Agent":
+            return T.AGENT
+        raise AsmTypeError(t.span, f"unknown domain {t.name!r}")
+    if len(found) > 1:
+        mods = ", ".join(sorted({getattr(d, "module", "?") for d in found}))
+        raise AsmTypeError(t.span, f"domain {t.name!r} is ambiguous: declared in {mods}")
+    return found[0]
+
+
+# ----------------------------------------------------------------- bodies
+_DYNAMIC_KINDS = ("controlled", "monitored", "shared", "out", "local", "derived")
+
+
+class Env:
+    """Variables in scope while resolving a term or a rule."""
+
+    __slots__ = ("vars", "seen")
+
+    def __init__(self, vars_: dict | None = None, seen: dict | None = None):
+        self.vars = vars_ or {}
+        self.seen = seen if seen is not None else {}
+
+    def bind(self, *vs: ir.Var) -> "Env":
+        d = dict(self.vars)
+        for v in vs:
+            d[v.name] = v
+            self.seen[v.name] = v
+        return Env(d, self.seen)
+
+
+class Resolver:
+    """Resolves the definitions, rules, properties and inits of one module."""
+
+    def __init__(self, loader: Loader, mod: Module):
+        self.loader = loader
+        self.mod = mod
+        self.scope = mod.scope
+        self.temporal_ok = False
+        self.used: set[ir.Function] | None = None   # functions referenced (for static/derived checks)
+        self.in_rule: ir.RuleDecl | None = None
+
+    def uid(self) -> int:
+        return self.loader.uid()
+
+    # -- lookups
+    def functions(self, name: str) -> list:
+        return self.scope.functions.get(name, [])
+
+    def domain(self, name: str, span: Span) -> T.Type:
+        return resolve_type(A.TypeExpr(span, name), _Overlay(self.scope, self.mod.own))
+
+    def type_of(self, t: A.TypeExpr) -> T.Type:
+        return resolve_type(t, _Overlay(self.scope, self.mod.own))
+
+    # -- terms
+    def term(self, t: A.Term, env: Env) -> ir.Term:
+        meth = getattr(self, "t_" + type(t).__name__)
+        return meth(t, env)
+
+    def t_Const(self, t: A.Const, env: Env) -> ir.Term:
+        kind = t.kind
+        if kind == "int":
+            return ir.Const(T.INTEGER, t.span, t.value)
+        if kind == "nat":
+            return ir.Const(T.NATURAL, t.span, t.value)
+        if kind == "real":
+            return ir.Const(T.REAL, t.span, t.value)
+        if kind == "char":
+            return ir.Const(T.CHAR, t.span, CharV(t.value))
+        if kind == "string":
+            return ir.Const(T.STRING, t.span, t.value)
+        if kind == "bool":
+            return ir.Const(T.BOOLEAN, t.span, t.value)
+        return ir.Const(T.UNDEF, t.span, None)
+
+    def t_EnumLit(self, t: A.EnumLit, env: Env) -> ir.Term:
+        found = self.scope.enums.get(t.name, [])
+        if not found:
+            raise AsmTypeError(t.span, f"unknown enum constant {t.name!r}")
+        if len({id(d) for _, d in found}) > 1:
+            doms = ", ".join(sorted(d.name for _, d in found))
+            raise AsmTypeError(t.span, f"enum constant {t.name!r} is ambiguous: it belongs to {doms}")
+        v, dom = found[0]
+        return ir.Const(dom, t.span, v)
+
+    def t_VarRef(self, t: A.VarRef, env: Env) -> ir.Term:
+        v = env.vars.get(t.name)
+        if v is None:
+            # AsmetaL keeps a variable known for the rest of the declaration once it has been
+            # bound anywhere in it; such a use is accepted here and is an error only if it is
+            # evaluated where nothing binds it.
+            v = env.seen.get(t.name)
+        if v is None:
+            raise AsmTypeError(t.span, f"undeclared variable {t.name}")
+        return ir.VarRef(v.type, t.span, v)
+
+    def t_DomainRef(self, t: A.DomainRef, env: Env) -> ir.Term:
+        dom = self.type_of(t.type)
+        return ir.DomainTerm(T.powerset(dom), t.span, dom)
+
+    def t_TupleTerm(self, t: A.TupleTerm, env: Env) -> ir.Term:
+        items = [self.term(x, env) for x in t.items]
+        return ir.TupleLit(T.prod(*[i.type for i in items]), t.span, items)
+
+    def t_CondTerm(self, t: A.CondTerm, env: Env) -> ir.Term:
+        c = self.bool_term(t.cond, env)
+        a = self.term(t.then, env)
+        b = self.term(t.other, env) if t.other is not None else None
+        ty = T.unify(a.type, b.type) if b is not None else a.type
+        return ir.Cond(ty, t.span, c, a, b)
+
+    def t_SwitchTerm(self, t: A.SwitchTerm, env: Env) -> ir.Term:
+        subj = self.term(t.subject, env)
+        cases = [(self.term(c, env), self.term(r, env)) for c, r in t.cases]
+        other = self.term(t.otherwise, env) if t.otherwise is not None else None
+        ty = cases[0][1].type if cases else T.UNDEF
+        for _, r in cases[1:]:
+            ty = T.unify(ty, r.type)
+        if other is not None:
+            ty = T.unify(ty, other.type)
+        return ir.Switch(ty, t.span, subj, cases, other)
+
+    def t_LetTerm(self, t: A.LetTerm, env: Env) -> ir.Term:
+        bindings = []
+        inner = env
+        for name, span, val in t.bindings:
+            v_ir = self.term(val, inner)
+            var = ir.Var(name, v_ir.type, span, self.uid())
+            bindings.append((var, v_ir))
+            inner = inner.bind(var)
+        body = self.term(t.body, inner)
+        return ir.Let(body.type, t.span, bindings, body)
+
+    def bindings(self, bs: list[A.Binding], env: Env):
+        out = []
+        inner = env
+        for b in bs:
+            rng = self.term(b.range, inner)
+            et = T.element_type(rng.type)
+            if et is None:
+                raise AsmTypeError(b.range.span, f"{b.var} ranges over a term of domain {rng.type}, "
+                                                 f"which is not a set, sequence, bag or domain")
+            var = ir.Var(b.var, et, b.span, self.uid())
+            out.append((var, rng))
+            inner = inner.bind(var)
+        return out, inner
+
+    def t_QuantTerm(self, t: A.QuantTerm, env: Env) -> ir.Term:
+        bs, inner = self.bindings(t.bindings, env)
+        guard = self.bool_term(t.guard, inner) if t.guard is not None else None
+        return ir.Quant(T.BOOLEAN, t.span, t.kind, bs, guard)
+
+    def t_ComprTerm(self, t: A.ComprTerm, env: Env) -> ir.Term:
+        bs, inner = self.bindings(t.bindings, env)
+        guard = self.bool_term(t.guard, inner) if t.guard is not None else None
+        body = self.term(t.body, inner)
+        body2 = self.term(t.body2, inner) if t.body2 is not None else None
+        if t.kind == "map":
+            ty = T.mapping(body.type, body2.type)
+        else:
+            ty = T.Struct({"set": "Powerset", "seq": "Seq", "bag": "Bag"}[t.kind], (body.type,))
+        return ir.Compr(ty, t.span, t.kind, bs, guard, body, body2)
+
+    def t_CollectionTerm(self, t: A.CollectionTerm, env: Env) -> ir.Term:
+        items = [self.term(x, env) for x in t.items]
+        et: T.Type = T.UNDEF
+        for i in items:
+            if et is not T.UNDEF and i.type is not T.UNDEF and not (T.compatible(i.type, et) or T.compatible(et, i.type)):
+                raise AsmTypeError(i.span, f"element of domain {i.type} in a collection of {et}")
+            et = T.unify(et, i.type)
+        kind = {"set": "Powerset", "seq": "Seq", "bag": "Bag"}[t.kind]
+        return ir.Collection(T.Struct(kind, (et,)), t.span, t.kind, items)
+
+    def t_RangeTerm(self, t: A.RangeTerm, env: Env) -> ir.Term:
+        a = self.term(t.start, env)
+        b = self.term(t.end, env)
+        step = self.term(t.step, env) if t.step is not None else None
+        for x in (a, b) + ((step,) if step else ()):
+            if not T.is_numeric_root(x.type) and x.type is not T.UNDEF:
+                raise AsmTypeError(x.span, f"an interval bound must be a number, not a term of domain {x.type}")
+        kind = {"set": "Powerset", "seq": "Seq", "bag": "Bag"}[t.kind]
+        et = T.root(a.type)
+        return ir.Range(T.Struct(kind, (et,)), t.span, t.kind, a, b, step)
+
+    def t_MapTerm(self, t: A.MapTerm, env: Env) -> ir.Term:
+        pairs = [(self.term(k, env), self.term(v, env)) for k, v in t.pairs]
+        kt: T.Type = T.UNDEF
+        vt: T.Type = T.UNDEF
+        for k, v in pairs:
+            kt = T.unify(kt, k.type)
+            vt = T.unify(vt, v.type)
+        return ir.MapLit(T.mapping(kt, vt), t.span, pairs)
+
+    def t_RuleAsTerm(self, t: A.RuleAsTerm, env: Env) -> ir.Term:
+        types = [self.type_of(x) for x in t.types]
+        cands = self.scope.rules.get(t.name, [])
+        if not cands:
+            raise AsmTypeError(t.span, f"unknown rule {t.name}")
+        match = [r for r in cands if len(r.params) == len(types) and all(
+            a is p.type or a == p.type for a, p in zip(types, r.params))]
+        if not match:
+            match = [r for r in cands if len(r.params) == len(types) and all(
+                T.compatible(a, p.type) for a, p in zip(types, r.params))]
+        if not match:
+            match = [r for r in cands if len(r.params) == len(types)]
+        if not match:
+            raise AsmTypeError(t.span, f"no rule {t.name} with {len(types)} parameter(s)")
+        r = match[0]
+        return ir.RuleRef(T.rule_type(*(types or [p.type for p in r.params])), t.span, r)
+
+    def bool_term(self, t: A.Term, env: Env) -> ir.Term:
+        x = self.term(t, env)
+        if x.type is not T.BOOLEAN and x.type is not T.UNDEF and not (
+                isinstance(x.type, T.Domain) and x.type.kind == "any") and T.root(x.type) is not T.BOOLEAN:
+            raise AsmTypeError(t.span, f"expected a Boolean term, found a term of domain {x.type}")
+        return x
+
+    def t_Apply(self, t: A.Apply, env: Env) -> ir.Term:
+        name = t.name
+        args = [self.term(a, env) for a in (t.args or [])]
+        cands = self.functions(name)
+        if not cands:
+            where = t.name_span or t.span
+            if t.op is not None:
+                raise AsmTypeError(where, f"operator {t.op!r} needs the StandardLibrary ({name} is not visible: "
+                                          f"import StandardLibrary)")
+            raise AsmTypeError(where, f"unknown function {name!r}")
+        n = len(args)
+        by_arity = [c for c in cands if _arity(c) == n]
+        if not by_arity and n == 1 and isinstance(args[0].type, T.Struct) and args[0].type.kind == "Prod":
+            # f(t) with t a tuple stands for f(t1, ..., tk) when f is declared on Prod(...)
+            k = len(args[0].type.args)
+            if any(_arity(c) == k for c in cands):
+                tup = args[0]
+                args = [ir.Call(tup.type.args[i], tup.span, "#" + str(i + 1), [tup], stdlib.nth(i))
+                        for i in range(k)]
+                n = k
+                by_arity = [c for c in cands if _arity(c) == n]
+        if not by_arity:
+            arities = sorted({_arity(c) for c in cands})
+            raise AsmTypeError(t.name_span or t.span,
+                               f"{name} takes {' or '.join(map(str, arities))} argument(s), not {n}")
+        matches = []
+        for c in by_arity:
+            binds = T.Bindings()
+            params = c.params if isinstance(c, stdlib.Signature) else c.domain
+            if all(T.compatible(a.type, p, binds, strict=True) for a, p in zip(args, params)):
+                matches.append((c, binds))
+        if not matches:
+            got = ", ".join(str(a.type) for a in args)
+            options = "; ".join(_sig_text(c) for c in by_arity[:4])
+            raise AsmTypeError(t.name_span or t.span,
+                               f"no {name} applies to ({got}); declared: {options}")
+        c, binds = self._best(matches, args)
+        if isinstance(c, stdlib.Signature):
+            result = T.substitute(c.result, binds)
+            if c.library in ("CTLLibrary", "LTLLibrary"):
+                if not self.temporal_ok:
+                    raise AsmTypeError(t.name_span or t.span,
+                                       f"temporal operator {name} may only appear in a CTLSPEC or LTLSPEC property")
+                return ir.Temporal(T.BOOLEAN, t.span, name, args)
+            if name == "program" and n == 1:
+                return ir.Call(T.rule_type(), t.span, name, args, None)
+            impl = stdlib.IMPLEMENTATIONS.get(name)
+            if impl is None:
+                raise AsmTypeError(t.name_span or t.span, f"{name} is not supported by asmcheck")
+            if name in ("at", "first") and args and isinstance(args[0].type, T.Struct) and args[0].type.kind == "Prod":
+                if name == "at" and isinstance(args[1], ir.Const) and isinstance(args[1].value, int):
+                    k = args[1].value
+                    if 0 <= k < len(args[0].type.args):
+                        result = args[0].type.args[k]
+            return ir.Call(result, t.span, name, args, impl, t.op)
+        if self.used is not None:
+            self.used.add(c)
+        return ir.Loc(c.codomain, t.span, c, args)
+
+    @staticmethod
+    def _best(matches, args):
+        if len(matches) == 1:
+            return matches[0]
+
+        def score(m):
+            c, _ = m
+            params = c.params if isinstance(c, stdlib.Signature) else c.domain
+            exact = sum(1 for a, p in zip(args, params) if a.type is p or T.root(a.type) is p)
+            generic = 1 if (isinstance(c, stdlib.Signature) and c.generic) else 0
+            user = 0 if isinstance(c, ir.Function) else 1
+            return (user, -exact, generic)
+
+        return sorted(matches, key=score)[0]
+
+    # -- rules
+    def rule(self, r: A.Rule, env: Env) -> ir.Rule:
+        return getattr(self, "r_" + type(r).__name__)(r, env)
+
+    def r_SkipRule(self, r, env):
+        return ir.Skip(r.span)
+
+    def location(self, loc: A.Term, env: Env, allow_monitored: bool = False):
+        if isinstance(loc, A.VarRef):
+            v = env.vars.get(loc.name)
+            if v is None:
+                raise AsmTypeError(loc.span, f"undeclared variable {loc.name}")
+            return ("var", v, v.type)
+        if not isinstance(loc, A.Apply) or loc.op is not None:
+            raise AsmTypeError(loc.span, "the left-hand side of an update must be a location or a variable")
+        x = self.t_Apply(loc, env)
+        if not isinstance(x, ir.Loc):
+            raise AsmTypeError(loc.span, f"{loc.name} is a library function, not a location that can be updated")
+        f = x.func
+        if f.kind == "monitored" and not allow_monitored:
+            raise AsmTypeError(loc.span, f"{f.name} is monitored: the machine cannot update it")
+        if f.kind in ("static", "derived"):
+            raise AsmTypeError(loc.span, f"{f.name} is {f.kind}: only dynamic functions can be updated")
+        return ("loc", x, f.codomain)
+
+    def r_UpdateRule(self, r: A.UpdateRule, env):
+        kind, target, ty = self.location(r.location, env)
+        val = self.term(r.value, env)
+        if not T.compatible(val.type, ty):
+            raise AsmTypeError(r.value.span, f"the value has domain {val.type}, "
+                                             f"not compatible with the location's domain {ty}")
+        if kind == "var":
+            return ir.UpdateVar(r.span, target, val)
+        return ir.Update(r.span, target.func, target.args, val)
+
+    def r_BlockRule(self, r: A.BlockRule, env):
+        return ir.Block(r.span, r.kind, [self.rule(x, env) for x in r.rules])
+
+    def r_IfRule(self, r: A.IfRule, env):
+        return ir.If(r.span, self.bool_term(r.cond, env), self.rule(r.then, env),
+                     self.rule(r.other, env) if r.other is not None else None)
+
+    def r_SwitchRule(self, r: A.SwitchRule, env):
+        subj = self.term(r.subject, env)
+        cases = [(self.term(c, env), self.rule(b, env)) for c, b in r.cases]
+        return ir.SwitchRule(r.span, subj, cases, self.rule(r.otherwise, env) if r.otherwise is not None else None)
+
+    def r_LetRule(self, r: A.LetRule, env):
+        bindings = []
+        inner = env
+        for name, span, val in r.bindings:
+            v_ir = self.term(val, inner)
+            var = ir.Var(name, v_ir.type, span, self.uid())
+            bindings.append((var, v_ir))
+            inner = inner.bind(var)
+        return ir.LetRule(r.span, bindings, self.rule(r.body, inner))
+
+    def r_ChooseRule(self, r: A.ChooseRule, env):
+        bs, inner = self.bindings(r.bindings, env)
+        guard = self.bool_term(r.guard, inner) if r.guard is not None else None
+        return ir.Choose(r.span, bs, guard, self.rule(r.body, inner),
+                         self.rule(r.ifnone, env) if r.ifnone is not None else None)
+
+    def r_ForallRule(self, r: A.ForallRule, env):
+        bs, inner = self.bindings(r.bindings, env)
+        guard = self.bool_term(r.guard, inner) if r.guard is not None else None
+        return ir.Forall(r.span, bs, guard, self.rule(r.body, inner))
+
+    def r_ExtendRule(self, r: A.ExtendRule, env):
+        dom = self.domain(r.domain, r.domain_span)
+        ok = isinstance(dom, T.Domain) and dom.dynamic and (
+            dom.kind == "abstract" or (dom.kind == "subset" and isinstance(T.root(dom), T.Domain)
+                                       and T.root(dom).kind == "abstract"))
+        if not ok:
+            raise AsmTypeError(r.domain_span, f"extend needs a dynamic abstract domain; {r.domain} is not one")
+        vs = [ir.Var(n, dom, s, self.uid()) for n, s in r.vars]
+        return ir.Extend(r.span, dom, vs, self.rule(r.body, env.bind(*vs)))
+
+    def r_CallRule(self, r: A.CallRule, env):
+        args = [self.term(a, env) for a in r.args]
+        cands = self.scope.rules.get(r.name, [])
+        if not cands:
+            raise AsmTypeError(r.span, f"unknown rule {r.name}")
+        by_arity = [c for c in cands if len(c.params) == len(args)]
+        if not by_arity:
+            raise AsmTypeError(r.span, f"{r.name} takes {len(cands[0].params)} argument(s), not {len(args)}")
+        match = [c for c in by_arity if all(T.compatible(a.type, p.type) for a, p in zip(args, c.params))]
+        if not match:
+            got = ", ".join(str(a.type) for a in args)
+            want = ", ".join(str(p.type) for p in by_arity[0].params)
+            raise AsmTypeError(r.span, f"{r.name} expects ({want}), called with ({got})")
+        return ir.CallRule(r.span, match[0], args, r.turbo)
+
+    def r_TurboReturnRule(self, r: A.TurboReturnRule, env):
+        kind, target, ty = self.location(r.location, env, allow_monitored=True)
+        call = self.r_CallRule(r.call, env)
+        placeholder = ir.Const(T.UNDEF, r.span, None)
+        upd = ir.UpdateVar(r.span, target, placeholder) if kind == "var" else ir.Update(
+            r.span, target.func, target.args, placeholder)
+        return ir.TurboReturn(r.span, upd, call)
+
+    def r_TermCallRule(self, r: A.TermCallRule, env):
+        term = self.term(r.term, env)
+        if not (isinstance(term.type, T.Struct) and term.type.kind == "Rule") and term.type is not T.UNDEF:
+            raise AsmTypeError(r.term.span, f"a term used as a rule must be rule-valued; this one has domain {term.type}")
+        args = [self.term(a, env) for a in r.args]
+        return ir.TermCall(r.span, term, args)
+
+    def r_LoopRule(self, r: A.LoopRule, env):
+        cond = self.bool_term(r.cond, env) if r.cond is not None else None
+        return ir.Loop(r.span, r.kind, cond, self.rule(r.body, env))
+
+    def r_LocalRule(self, r: A.LocalRule, env):
+        d = r.decl
+        domain = []
+        if d.domain is not None:
+            dt = self.type_of(d.domain)
+            domain = list(dt.args) if isinstance(dt, T.Struct) and dt.kind == "Prod" else [dt]
+        func = ir.Function(d.name, "local", domain, self.type_of(d.codomain), self.mod.name, d.span)
+        saved = self.scope
+        local = Table()
+        local.merge(self.scope)
+        local.add("functions", d.name, func)
+        self.scope = local
+        try:
+            init = self.rule(r.init, env)
+            body = self.rule(r.body, env)
+        finally:
+            self.scope = saved
+        return ir.LocalRule(r.span, func, init, body)
+
+
+def _has_literal_collection(t) -> bool:
+    """Does a term contain a collection or map literal?  (AsmetaL's check for derived
+    functions does not look inside those, so it accepts such definitions.)"""
+    found = False
+
+    def walk(x):
+        nonlocal found
+        if found:
+            return
+        if isinstance(x, (ir.Collection, ir.MapLit, ir.Range, ir.Compr)):
+            found = True
+            return
+        if isinstance(x, ir.Term):
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    walk(t)
+    return found
+
+
+def _arity(c) -> int:
+    if isinstance(c, stdlib.Signature):
+        return len(c.params)
+    return c.arity
+
+
+def _sig_text(c) -> str:
+    if isinstance(c, stdlib.Signature):
+        return f"{c.name}({', '.join(map(str, c.params))})"
+    return f"{c.name}({', '.join(map(str, c.domain))})"
+
+
+# ----------------------------------------------------------------- whole modules
+def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
+    if mod.resolved:
+        return
+    mod.resolved = True
+    res = Resolver(loader, mod)
+    syn = mod.syntax
+    # domain definitions (definitions section)
+    for dd in syn.domain_defs:
+        dom = res.domain(dd.name, dd.span)
+        body = res.term(dd.body, Env())
+        if not isinstance(dom, T.Domain) or dom.kind not in ("subset", "abstract", "enum"):
+            raise AsmTypeError(dd.span, f"domain {dd.name} cannot be defined")
+        et = T.element_type(body.type)
+        if et is None or not (T.compatible(et, dom) or et is T.UNDEF):
+            raise AsmTypeError(dd.body.span, f"the definition of {dd.name} must be a set of its elements, "
+                                             f"not a term of domain {body.type}")
+        dom.definition = body
+    # function definitions
+    for fd in syn.function_defs:
+        cands = [f for f in mod.own.functions.get(fd.name, []) if isinstance(f, ir.Function)]
+        if not cands:
+            raise AsmTypeError(fd.name_span or fd.span, f"definition of an undeclared function {fd.name!r}")
+        params_t = [res.type_of(p.type) for p in fd.params]
+        func = None
+        for f in cands:
+            if f.arity == len(params_t) and all(a is b or a == b for a, b in zip(f.domain, params_t)):
+                func = f
+                break
+        if func is None:
+            for f in cands:
+                if f.arity == len(params_t) and f.body is None:
+                    func = f
+                    break
+        if func is None:
+            raise AsmTypeError(fd.name_span or fd.span,
+                               f"the definition of {fd.name} has {len(params_t)} parameter(s) but the function has arity "
+                               f"{cands[0].arity}")
+        for pt, dt, p in zip(params_t, func.domain, fd.params):
+            if not (T.compatible(pt, dt) and T.compatible(dt, pt)):
+                raise AsmTypeError(p.span, f"parameter {p.name} has domain {pt}, but {fd.name} is declared on {dt}")
+        if func.body is not None:
+            raise AsmTypeError(fd.name_span or fd.span, f"function {fd.name} is defined twice")
+        vs = [ir.Var(p.name, pt, p.span, loader.uid()) for p, pt in zip(fd.params, params_t)]
+        res.used = set()
+        res.temporal_ok = True      # LTL/CTL pattern functions are defined with temporal operators
+        body = res.term(fd.body, Env().bind(*vs))
+        res.temporal_ok = False
+        used, res.used = res.used, None
+        if not T.compatible(body.type, func.codomain):
+            raise AsmTypeError(fd.body.span, f"the definition of {fd.name} has domain {body.type}, "
+                                             f"not compatible with its codomain {func.codomain}")
+        dyn = sorted(f.name for f in used if f.kind in _DYNAMIC_KINDS and f.module != "StandardLibrary"
+                     or f.name == "self" and f.module == "StandardLibrary")
+        if func.kind == "static" and dyn:
+            raise AsmTypeError(fd.name_span or fd.span,
+                               f"static function {fd.name} uses dynamic function(s) {', '.join(dyn)} in its "
+                               f"definition (declare it derived)")
+        if func.kind == "derived" and not dyn and not _has_literal_collection(body):
+            raise AsmTypeError(fd.name_span or fd.span,
+                               f"derived function {fd.name} uses no dynamic function in its definition "
+                               f"(declare it static)")
+        if func.kind not in ("static", "derived"):
+            raise AsmTypeError(fd.name_span or fd.span,
+                               f"{fd.name} is {func.kind}: only static and derived functions are defined in "
+                               f"'definitions' (initialise it in an init block)")
+        func.params = vs
+        func.body = body
+    # rule bodies
+    by_syntax = {}
+    for r in syn.rules:
+        by_syntax.setdefault(r.name, []).append(r)
+    for rd in mod.rules:
+        srcs = by_syntax[rd.name]
+        src = srcs[[x for x in mod.rules if x.name == rd.name].index(rd)]
+        res.in_rule = rd
+        env = Env().bind(*rd.params)
+        rd.body = res.rule(src.body, env)
+    res.in_rule = None
+    # properties
+    props = []
+    count = {"invariant": 0, "ctl": 0, "ltl": 0, "invar": 0, "justice": 0, "compassion": 0}
+    for p in syn.properties:
+        count[p.kind] += 1
+        res.temporal_ok = p.kind in ("ctl", "ltl")
+        for item in p.over:
+            if not mod.scope.has(item.name) and item.name not in T.BASICS:
+                raise AsmTypeError(item.span, f"invariant over unknown name {item.name!r}")
+        body = res.bool_term(p.body, Env())
+        body2 = res.bool_term(p.body2, Env()) if p.body2 is not None else None
+        res.temporal_ok = False
+        name = p.name or f"{p.kind}_{count[p.kind]}"
+        props.append(ir.Property(p.kind, name, body, p.span, body2, [i.name for i in p.over]))
+    mod.properties = props
+    # initial states (of the root asm only: a module's inits are never used)
+    inits = []
+    for ib in syn.inits:
+        doms = []
+        for dd in ib.domains:
+            dom = res.domain(dd.name, dd.span)
+            doms.append((dom, res.term(dd.body, Env())))
+        funcs = []
+        for fi in ib.functions:
+            cands = [f for f in mod.scope.functions.get(fi.name, []) if isinstance(f, ir.Function)]
+            params_t = [res.type_of(p.type) for p in fi.params]
+            func = next((f for f in cands if f.arity == len(params_t) and all(
+                a is b or a == b for a, b in zip(f.domain, params_t))), None) or next(
+                (f for f in cands if f.arity == len(params_t)), None)
+            if func is None:
+                if not cands:
+                    raise AsmTypeError(fi.name_span or fi.span, f"initialisation of an unknown function {fi.name!r}")
+                raise AsmTypeError(fi.name_span or fi.span,
+                                   f"the initialisation of {fi.name} has {len(params_t)} parameter(s) but the "
+                                   f"function has arity {cands[0].arity}")
+            vs = [ir.Var(p.name, pt, p.span, loader.uid()) for p, pt in zip(fi.params, params_t)]
+            body = res.term(fi.body, Env().bind(*vs))
+            if not T.compatible(body.type, func.codomain, strict=True):
+                raise AsmTypeError(fi.body.span, f"the initial value of {fi.name} has domain {body.type}, "
+                                                 f"not compatible with its codomain {func.codomain}")
+            if func.kind in ("static", "derived"):
+                raise AsmTypeError(fi.name_span or fi.span,
+                                   f"{fi.name} is {func.kind}: it is defined in 'definitions', not initialised")
+            funcs.append((func, vs, body, fi.span))
+        agents = []
+        for ag in ib.agents:
+            dom = res.domain(ag.domain, ag.span)
+            call = res.r_CallRule(ag.program, Env())
+            agents.append(ir.AgentInit(dom, call.rule, call.args, ag.span))
+        inits.append(ir.InitState(ib.name, ib.default, doms, funcs, agents, ib.span))
+    mod.inits = inits
+
+
+def load_spec(path: str) -> ir.Spec:
+    """Read, resolve and type-check the spec at ``path`` and everything it imports."""
+    loader = Loader()
+    root = loader.load_root(path)
+    for mod in loader.order:
+        if mod.library is None or mod.library == "TimeLibrary":
+            resolve_module(loader, mod, mod is root)
+    if loader.time is not None and not loader.time.resolved:
+        resolve_module(loader, loader.time, False)
+    syn = root.syntax
+    # every user function and domain of every module, in a fixed order
+    mods = [m for m in loader.order]
+    if loader.time is not None and loader.time not in mods:
+        mods.insert(0, loader.time)
+    functions: list[ir.Function] = []
+    domains: list[T.Type] = []
+    rules: list[ir.RuleDecl] = []
+    for m in mods:
+        functions.extend(m.functions)
+        domains.extend(m.domains)
+        rules.extend(m.rules)
+    functions = loader.std.functions + functions
+    for i, f in enumerate(functions):
+        f.index = i
+    main = None
+    if syn.main is not None:
+        main = next(r for r in root.rules if r.name == syn.main.name and len(r.params) == len(syn.main.params))
+        if main.params:
+            raise AsmTypeError(syn.main.span, "the main rule takes no parameters")
+    if not root.syntax.is_module and syn.inits and not any(i.default for i in syn.inits):
+        raise AsmTypeError(syn.span, "an asm with init blocks needs one 'default init'")
+    static_elements: dict = {}
+    for f in functions:
+        if f.kind == "static" and f.arity == 0 and f.body is None and isinstance(f.codomain, T.Domain):
+            r = f.codomain
+            if r.kind == "abstract" or (r.kind == "subset" and T.root(r).kind == "abstract"):
+                static_elements.setdefault(r, []).append(abstract_value(r.name, f.name))
+    props = []
+    for m in mods:
+        if m is root:
+            props.extend(getattr(m, "properties", []))
+    spec = ir.Spec(syn.name, path, syn.asyncr, functions, domains, rules, main, getattr(root, "inits", []),
+                   props, [m.path for m in mods], static_elements, loader.std.functions[0], loader.std.functions[1],
+                   root.scope)
+    spec.is_module = syn.is_module
+    spec.loader = loader
+    spec.root_module = root
+    return spec
+
+
+def check_file(path: str) -> ir.Spec | None:
+    """Parse and check one file; None for an empty file (which AsmetaL accepts)."""
+    p = os.path.abspath(path)
+    stem = Path(p).stem
+    if stem in REFUSED:
+        raise AsmError(Span(path, 1, 1), f"{Path(path).name} names a library that asmcheck provides itself; "
+                                         f"it is not read as a spec (import it instead)")
+    syntax = parse_file(path)
+    if syntax is None:
+        return None
+    if syntax.name != Path(p).stem:
+        raise AsmError(syntax.name_span or syntax.span,
+                       f"the {'module' if syntax.is_module else 'asm'} name {syntax.name!r} differs from its file "
+                       f"name {Path(p).name!r}")
+    return load_spec(path)

@@ -1,0 +1,1 @@
+"""Library modules that asmcheck provides itself (TimeLibrary is written in AsmetaL)."""
