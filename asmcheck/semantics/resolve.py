@@ -705,7 +705,13 @@ class Resolver:
         by_arity = [c for c in cands if len(c.params) == len(args)]
         if not by_arity:
             raise AsmTypeError(r.span, f"{r.name} takes {len(cands[0].params)} argument(s), not {len(args)}")
-        match = [c for c in by_arity if all(T.compatible(a.type, p.type) for a, p in zip(args, c.params))]
+        match = [c for c in by_arity if all(T.compatible(a.type, p.type, strict=True) for a, p in zip(args, c.params))]
+        if not match:
+            # AsmetaL accepts a rule argument of the super-domain (checked when the rule runs)
+            match = [c for c in by_arity if all(T.compatible(a.type, p.type) for a, p in zip(args, c.params))]
+        if len(match) > 1:
+            exact = [c for c in match if all(a.type is p.type for a, p in zip(args, c.params))]
+            match = exact or match
         if not match:
             got = ", ".join(str(a.type) for a in args)
             want = ", ".join(str(p.type) for p in by_arity[0].params)
@@ -950,7 +956,7 @@ def load_spec(path: str) -> ir.Spec:
         raise AsmTypeError(syn.span, "an asm with init blocks needs one 'default init'")
     static_elements: dict = {}
     for f in functions:
-        if f.kind == "static" and f.arity == 0 and f.body is None and isinstance(f.codomain, T.Domain):
+        if f.kind == "static" and f.arity == 0 and isinstance(f.codomain, T.Domain):
             r = f.codomain
             if r.kind == "abstract" or (r.kind == "subset" and T.root(r).kind == "abstract"):
                 static_elements.setdefault(r, []).append(abstract_value(r.name, f.name))

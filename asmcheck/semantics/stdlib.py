@@ -9,6 +9,7 @@ evaluated arguments (``None`` is undef).
 from __future__ import annotations
 
 import math
+import re
 
 from . import types as T
 from .values import BagV, CharV, MapV, SeqV, SetV, show, vkey
@@ -722,9 +723,23 @@ def _to_char(s):
 
 
 def _split(s, sep):
+    """Split like Java's String.split(regex): trailing empty strings are dropped, and a
+    zero-width match at the start yields no leading empty string."""
     if s is None or sep is None:
         return None
-    return SeqV(s.split(sep) if sep else list(s))
+    try:
+        parts = re.split(sep, s)
+    except re.error as e:
+        raise BuiltinError(f"split: {sep!r} is not a regular expression ({e})") from None
+    if parts and parts[0] == "" and s != "":
+        m = re.match(sep, s)
+        if m is not None and m.end() == 0:
+            parts = parts[1:]
+    while parts and parts[-1] == "" and len(parts) > 1:
+        parts.pop()
+    if s == "":
+        parts = [""]
+    return SeqV(parts)
 
 
 def _iton(x):

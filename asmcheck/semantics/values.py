@@ -160,16 +160,22 @@ class MapV(tuple):
 
 
 class RuleValue:
-    """A rule used as a value: ``<<r_elab(Scheduler)>>``."""
+    """A rule used as a value: ``<<r_elab(Scheduler)>>``, or an agent's program."""
 
-    __slots__ = ("rule", "_h")
+    __slots__ = ("rule", "agent", "args", "_h")
 
-    def __init__(self, rule):
+    def __init__(self, rule, agent=None, args=()):
         self.rule = rule
-        self._h = zlib.crc32(("R" + rule.qualname).encode())
+        self.agent = agent
+        self.args = tuple(args)
+        self._h = zlib.crc32(("R" + rule.qualname + (agent.name if agent is not None else "")).encode())
+
+    @staticmethod
+    def bound(rule, agent, args=()):
+        return RuleValue(rule, agent, ())
 
     def __eq__(self, other):
-        return isinstance(other, RuleValue) and other.rule is self.rule
+        return isinstance(other, RuleValue) and other.rule is self.rule and other.agent == self.agent
 
     def __hash__(self):
         return self._h
@@ -249,3 +255,38 @@ def show(v) -> str:
 
 def is_undef(v) -> bool:
     return v is None
+
+
+def rename(v, mapping: dict):
+    """``v`` with the abstract elements in ``mapping`` replaced (deeply, through collections)."""
+    if not mapping:
+        return v
+    t = type(v)
+    if t is AbstractValue:
+        return mapping.get(v, v)
+    if t is tuple:
+        return tuple(rename(x, mapping) for x in v)
+    if t is SeqV:
+        return SeqV(rename(x, mapping) for x in v)
+    if t is SetV:
+        return SetV(rename(x, mapping) for x in v)
+    if t is BagV:
+        return BagV.of(rename(x, mapping) for x in v)
+    if t is MapV:
+        return MapV.of((rename(k, mapping), rename(x, mapping)) for k, x in v)
+    if t is RuleValue and v.agent is not None and v.agent in mapping:
+        return RuleValue(v.rule, mapping[v.agent], v.args)
+    return v
+
+
+def rename_state(state: dict, mapping: dict) -> dict:
+    """A state with abstract elements renamed, in location arguments and in values."""
+    out = {}
+    for k, v in state.items():
+        if type(k) is tuple and k and k[0] == "#dom":
+            out[k] = tuple(sorted((mapping.get(e, e) for e in v), key=vkey))
+        elif type(k) is tuple:
+            out[(k[0], rename(k[1], mapping))] = rename(v, mapping)
+        else:
+            out[k] = rename(v, mapping)
+    return out

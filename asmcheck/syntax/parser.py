@@ -746,7 +746,8 @@ class _Builder(Transformer):
         return A.Const(self.sp(meta), "char", body, str(ch[0]))
 
     def string_lit(self, meta, ch):
-        return A.Const(self.sp(meta), "string", _unescape(str(ch[0])[1:-1]), str(ch[0]))
+        # AsmetaL keeps the text between the quotes as written (no escape processing)
+        return A.Const(self.sp(meta), "string", str(ch[0])[1:-1], str(ch[0]))
 
     def true_lit(self, meta, ch):
         return A.Const(self.sp(meta), "bool", True, "true")
