@@ -1,0 +1,288 @@
+"""Breadth-first exploration of every reachable state.
+
+Each distinct state is stored once (as a frozen tuple, see :mod:`.store`), with
+a pointer to the state it was first reached from and the choices of that step,
+so the shortest path to any state is rebuilt by following parents and is
+*replayed* through the step function before anyone sees it.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from array import array
+from dataclasses import dataclass, field
+
+from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate
+from ..semantics.machine import Machine, ScriptChooser, Undetermined
+from ..semantics.state import is_dom_key, same_value
+from .canonical import Canonicalizer, ranged_domains
+from .store import Layout
+
+
+@dataclass
+class Violation:
+    prop: object                 # ir.Property (or a pseudo property for deadlocks / errors)
+    state: int                   # id of the violating state (for transition properties: the target)
+    source: int = -1             # for a transition property: the source state id
+    picks: tuple = ()            # the choices of the violating transition
+    message: str = ""
+    error: AsmError | None = None
+
+
+@dataclass
+class Result:
+    verdict: str                 # holds violated incomplete
+    states: int
+    transitions: int
+    depth: int
+    seconds: float
+    violations: list = field(default_factory=list)
+    reason: str = ""             # why incomplete
+    checked: list = field(default_factory=list)    # the properties checked
+
+
+class PseudoProperty:
+    def __init__(self, name, kind, span=None, body=None):
+        self.name = name
+        self.kind = kind
+        self.span = span
+        self.body = body
+        self.source = "explorer"
+        self.expect = None
+
+
+DEADLOCK = PseudoProperty("deadlock", "deadlock")
+
+
+class Explorer:
+    def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
+                 deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
+                 stop_at_first=False):
+        self.m = machine
+        self.layout = Layout()
+        gc = {d.name for d in machine.spec.domains if getattr(d, "dynamic", False)} - ranged_domains(machine.spec)
+        self.canon = Canonicalizer(machine, gc)
+        self.uses_extend = _uses_extend(machine.spec)
+        self.max_states = max_states
+        self.max_depth = max_depth
+        self.max_seconds = max_seconds
+        self.deadlock = deadlock
+        self.progress = progress
+        self.keep_graph = keep_graph
+        self.edges: list = []
+        self.stop_at_first = stop_at_first
+        # properties: the spec's invariants plus what the caller adds
+        self.state_props = list(state_props or [])
+        self.step_props = list(step_props or [])
+        self.index: dict = {}
+        self.frozen: list = []
+        self.parent = array("l")
+        self.depth_of = array("l")
+        self.via: list = []
+        self.init_picks: list = []
+
+    # -------------------------------------------------------------- helpers
+    def _norm(self, st: dict) -> dict:
+        return self.canon(st) if self.uses_extend else st
+
+    def _add(self, st: dict, parent: int, picks, depth: int):
+        fz = self.layout.freeze(st)
+        sid = self.index.get(fz)
+        if sid is not None:
+            return sid, False
+        sid = len(self.frozen)
+        self.index[fz] = sid
+        self.frozen.append(fz)
+        self.parent.append(parent)
+        self.depth_of.append(depth)
+        self.via.append(picks)
+        return sid, True
+
+    def state(self, sid: int) -> dict:
+        return self.layout.thaw(self.frozen[sid])
+
+    # -------------------------------------------------------------- the search
+    def run(self) -> Result:
+        m = self.m
+        t0 = time.perf_counter()
+        violations: list[Violation] = []
+        violated: set = set()
+        transitions = 0
+        reason = ""
+
+        def record(v: Violation):
+            key = v.prop.name
+            if key in violated:
+                return
+            violated.add(key)
+            violations.append(v)
+
+        inits = m.initial_states()
+        frontier = []
+        for log, st in inits:
+            sid, new = self._add(self._norm(st), -1, tuple(c.pick for c in log), 0)
+            if new:
+                frontier.append(sid)
+        max_depth_seen = 0
+        all_props = [p for p in self.state_props] + [p for p in self.step_props]
+        total_props = len(all_props) + (1 if self.deadlock else 0)
+        depth = 0
+        incomplete = False
+        last_report = t0
+        while frontier:
+            next_frontier = []
+            for sid in frontier:
+                st = self.state(sid)
+                # state properties
+                for prop in self.state_props:
+                    if prop.name in violated:
+                        continue
+                    try:
+                        ok = prop.check_state(m, st)
+                    except AsmError as e:
+                        record(Violation(prop, sid, message=f"cannot be evaluated: {e.message}", error=e))
+                        continue
+                    if not ok:
+                        record(Violation(prop, sid))
+                if self.stop_at_first and violations:
+                    frontier = []
+                    break
+                if self.max_depth is not None and depth >= self.max_depth:
+                    incomplete = True
+                    reason = f"depth limit {self.max_depth} reached"
+                    continue
+                # successors
+                try:
+                    succ = m.successors(st)
+                except AsmError as e:
+                    err = PseudoProperty("error", "error", e.span)
+                    record(Violation(err, sid, message=e.message, error=e))
+                    incomplete = True
+                    reason = reason or "a step could not be computed"
+                    continue
+                targets = []
+                for log, ups, nxt, mon in succ:
+                    transitions += 1
+                    picks = tuple(c.pick for c in log)
+                    nxt = self._norm(nxt)
+                    tid, new = self._add(nxt, sid, picks, depth + 1)
+                    targets.append(tid)
+                    if self.keep_graph:
+                        self.edges.append((sid, tid, picks))
+                    for prop in self.step_props:
+                        if prop.name in violated:
+                            continue
+                        try:
+                            ok = prop.check_step(m, st, ups, nxt, mon)
+                        except AsmError as e:
+                            record(Violation(prop, tid, sid, picks, message=f"cannot be evaluated: {e.message}", error=e))
+                            continue
+                        if not ok:
+                            # the trace to a step violation ends with this transition
+                            record(Violation(prop, tid, sid, picks))
+                    if new:
+                        next_frontier.append(tid)
+                if self.deadlock and "deadlock" not in violated and all(t == sid for t in targets):
+                    record(Violation(DEADLOCK, sid, message="no successor" if not targets else
+                                     "the only successor is the state itself"))
+                if self.max_states is not None and len(self.frozen) >= self.max_states:
+                    incomplete = True
+                    reason = f"state limit {self.max_states} reached"
+                    next_frontier = []
+                    frontier = []
+                    break
+                now = time.perf_counter()
+                if self.max_seconds is not None and now - t0 >= self.max_seconds:
+                    incomplete = True
+                    reason = f"time limit {self.max_seconds} s reached"
+                    next_frontier = []
+                    frontier = []
+                    break
+                if self.progress is not None and now - last_report > 0.5:
+                    last_report = now
+                    self.progress(len(self.frozen), depth, transitions, now - t0)
+                if self.stop_at_first and violations:
+                    next_frontier = []
+                    frontier = []
+                    break
+                if total_props and len(violated) >= total_props and not self.keep_graph:
+                    # every property is already violated: nothing more to learn
+                    next_frontier = []
+                    frontier = []
+                    incomplete_ok = True
+                    break
+            if next_frontier:
+                depth += 1
+                max_depth_seen = depth
+            frontier = next_frontier
+        secs = time.perf_counter() - t0
+        if violations:
+            verdict = "violated"
+        elif incomplete:
+            verdict = "incomplete"
+        else:
+            verdict = "holds"
+        res = Result(verdict, len(self.frozen), transitions, max(self.depth_of) if len(self.depth_of) else 0,
+                     secs, violations, reason if incomplete else "", all_props)
+        res.deadlock_checked = self.deadlock
+        return res
+
+    # -------------------------------------------------------------- traces
+    def path_to(self, sid: int) -> list[int]:
+        path = []
+        while sid != -1:
+            path.append(sid)
+            sid = self.parent[sid]
+        return path[::-1]
+
+    def replay(self, path: list[int], last_picks: tuple | None = None, last_target: int | None = None):
+        """Re-run the steps of ``path`` through the step function; check that each step
+        reaches the stored state.  Returns [(state dict, choices log, update set, mon)]."""
+        m = self.m
+        first = path[0]
+        ch = ScriptChooser(self.via[first])
+        st0 = self._norm(m.initial_state(ch))
+        if self.layout.freeze(st0) != self.frozen[first]:
+            raise ReplayError("the initial state does not replay")
+        out = [(st0, ch.log, None, getattr(m, "init_mon", {}))]
+        cur = st0
+        steps = [(path[i], path[i + 1], self.via[path[i + 1]]) for i in range(len(path) - 1)]
+        if last_picks is not None:
+            steps.append((path[-1], last_target, last_picks))
+        for src, dst, picks in steps:
+            ch = ScriptChooser(picks)
+            ups, nxt, ctx = m.step(cur, ch)
+            nxt = self._norm(nxt)
+            if self.layout.freeze(nxt) != self.frozen[dst]:
+                raise ReplayError(f"step to state {dst} does not replay")
+            out.append((nxt, ch.log, ups, ctx.mon))
+            cur = nxt
+        return out
+
+
+class ReplayError(Exception):
+    """A stored trace does not replay through the step function (an internal error)."""
+
+
+def _uses_extend(spec) -> bool:
+    from ..semantics import ir
+    found = False
+    seen = set()
+
+    def walk(x):
+        nonlocal found
+        if found or id(x) in seen:
+            return
+        seen.add(id(x))
+        if isinstance(x, ir.Extend):
+            found = True
+            return
+        if isinstance(x, (ir.Term, ir.Rule)):
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    for r in spec.rules:
+        walk(r.body)
+    return found
