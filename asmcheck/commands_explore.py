@@ -164,3 +164,9 @@ def register(sub) -> None:
     p.add_argument("--graph", metavar="OUT.dot|OUT.graphml", help="write the state graph")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=cmd_explore)
+
+    # subcommands that live in their own modules
+    from . import commands_bmc, commands_check, commands_scenario
+    commands_scenario.register(sub)
+    commands_bmc.register(sub)
+    commands_check.register(sub)

@@ -125,6 +125,14 @@ class Temporal(Term):
 
 
 @dataclass(eq=False)
+class StepOp(Term):
+    """In a step property: next(t), updated(loc), changed(loc), updatedBy(agent, loc)."""
+
+    op: str
+    args: list[Term]
+
+
+@dataclass(eq=False)
 class DomainTerm(Term):
     domain: Type
 

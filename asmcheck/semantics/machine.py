@@ -59,7 +59,7 @@ class Ctx:
     """Evaluation context of one step."""
 
     __slots__ = ("st", "env", "mon", "chooser", "self_", "machine", "agent", "rule", "fresh", "base", "prune",
-                 "depth", "lazy")
+                 "depth", "lazy", "post", "ups")
 
     def __init__(self, machine, state, chooser):
         self.machine = machine
@@ -68,6 +68,8 @@ class Ctx:
         self.prune = None    # a check of each update (used to follow a transcript)
         self.depth = 0       # nesting of seq/loops (their later updates override earlier ones)
         self.lazy = {}       # lazily initialised locations read in this step
+        self.post = None     # step properties: the state after the step
+        self.ups = None      # step properties: the update set of the step
         self.env = {}
         self.mon = {}
         self.chooser = chooser
@@ -707,6 +709,52 @@ class Machine:
         def temporal(ctx):
             raise AsmRuntimeError(span, f"the temporal operator {op} has no value in a single state")
         return temporal
+
+    def c_StepOp(self, t: ir.StepOp):
+        span = t.span
+        op = t.op
+        if op == "next":
+            inner = self.term(t.args[0])
+
+            def nxt(ctx):
+                if ctx.post is None:
+                    raise AsmRuntimeError(span, "next(...) has a value only in a step property")
+                saved, saved_base = ctx.st, ctx.base
+                ctx.st = ctx.base = ctx.post
+                try:
+                    return inner(ctx)
+                finally:
+                    ctx.st, ctx.base = saved, saved_base
+            return nxt
+        loc = t.args[-1]
+        idx = loc.func.index
+        argfns = [self.term(a) for a in loc.args]
+        agent = self.term(t.args[0]) if op == "updatedBy" else None
+        read = self.term(loc)
+
+        def key_of(ctx):
+            vals = tuple(a(ctx) for a in argfns)
+            return idx if not vals else (idx, vals)
+
+        def stepop(ctx):
+            ups = ctx.ups
+            if ups is None:
+                raise AsmRuntimeError(span, f"{op}(...) has a value only in a step property")
+            key = key_of(ctx)
+            if op == "updated":
+                return key in ups.locs
+            if op == "updatedBy":
+                u = ups.locs.get(key)
+                return u is not None and same_value(u.agent, agent(ctx))
+            before = read(ctx)
+            saved, saved_base = ctx.st, ctx.base
+            ctx.st = ctx.base = ctx.post
+            try:
+                after = read(ctx)
+            finally:
+                ctx.st, ctx.base = saved, saved_base
+            return not same_value(before, after)
+        return stepop
 
     def c_DomainTerm(self, t: ir.DomainTerm):
         dom = t.domain

@@ -366,6 +366,7 @@ class Resolver:
         self.mod = mod
         self.scope = mod.scope
         self.temporal_ok = False
+        self.step_ok = False        # next/updated/changed/updatedBy allowed (step properties)
         self.used: set[ir.Function] | None = None   # functions referenced (for static/derived checks)
         self.in_rule: ir.RuleDecl | None = None
 
@@ -547,6 +548,8 @@ class Resolver:
 
     def t_Apply(self, t: A.Apply, env: Env) -> ir.Term:
         name = t.name
+        if self.step_ok and name in STEP_OPS and t.args is not None:
+            return self.step_op(t, env)
         args = [self.term(a, env) for a in (t.args or [])]
         cands = self.functions(name)
         if not cands:
@@ -755,6 +758,31 @@ class Resolver:
         finally:
             self.scope = saved
         return ir.LocalRule(r.span, func, init, body)
+
+
+STEP_OPS = {"next": 1, "updated": 1, "changed": 1, "updatedBy": 2}
+
+
+def _step_op(self, t: A.Apply, env: Env) -> ir.Term:
+    name = t.name
+    want = STEP_OPS[name]
+    if len(t.args) != want:
+        raise AsmTypeError(t.name_span or t.span, f"{name} takes {want} argument(s), not {len(t.args)}")
+    if name == "next":
+        inner = self.term(t.args[0], env)
+        return ir.StepOp(inner.type, t.span, name, [inner])
+    args = []
+    if name == "updatedBy":
+        args.append(self.term(t.args[0], env))
+    loc_t = t.args[-1]
+    loc = self.term(loc_t, env)
+    if not isinstance(loc, ir.Loc) or not loc.func.is_location or loc.func.kind == "monitored":
+        raise AsmTypeError(loc_t.span, f"{name} needs a location of a controlled function, such as f(x)")
+    args.append(loc)
+    return ir.StepOp(T.BOOLEAN, t.span, name, args)
+
+
+Resolver.step_op = _step_op
 
 
 def _has_literal_collection(t) -> bool:

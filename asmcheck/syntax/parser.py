@@ -762,35 +762,56 @@ class _Builder(Transformer):
         return A.EnumLit(self.sp(meta), self.name(ch[0]))
 
 
-def parse_term(text: str, path: str = "<term>") -> A.Term:
-    """Parse a lone AsmetaL term (used by property files and scenarios)."""
-    wrapped = f"asm T\nsignature:\ndefinitions:\nfunction __x = {text}\n"
-    # A term is parsed inside a tiny wrapper so one grammar serves both; the
-    # wrapper adds three lines, which positions are shifted back over.
-    SOURCES.add(path, text)
+def parse_term(text: str, path: str = "<term>", origin: tuple[int, int] = (1, 1)) -> A.Term:
+    """Parse a lone AsmetaL term (property files, scenarios).
+
+    ``origin`` is the line and column where ``text`` starts in ``path``; positions in the
+    result (and in errors) refer to that file."""
+    head = "asm T\nsignature:\ndefinitions:\nfunction xx = "
+    wrapped = head + text + "\n"
+    oline, ocol = origin
     try:
-        tree = _grammar().parse(wrapped.replace("function __x", "function xx"))
+        tree = _grammar().parse(wrapped)
     except UnexpectedInput as exc:
         err = _convert(exc, wrapped, path)
         sp = err.span
-        line = max(sp.line - 3, 1)
-        col = sp.col - (len("function xx = ") if sp.line == 4 else 0)
-        raise AsmSyntaxError(Span(path, line, max(col, 1)), err.message) from None
-    spec = _Builder(path).transform(tree.children[0])
+        line, col = _unwrap(sp.line, sp.col, oline, ocol)
+        raise AsmSyntaxError(Span(path, line, col), err.message) from None
+    try:
+        spec = _Builder(path).transform(tree.children[0])
+    except VisitError as exc:
+        if isinstance(exc.orig_exc, AsmError):
+            e = exc.orig_exc
+            line, col = _unwrap(e.span.line, e.span.col, oline, ocol)
+            raise AsmSyntaxError(Span(path, line, col), e.message) from None
+        raise
+    if not spec.function_defs:
+        raise AsmSyntaxError(Span(path, oline, ocol), "expected a term")
     term = spec.function_defs[0].body
-    return _shift(term, path)
+    return _shift(term, path, oline, ocol)
 
 
-def _shift(node, path):
-    """Move the spans of a wrapped term back to the term's own text."""
-    off = len("function xx = ")
+_HEAD_LINES = 3
+_HEAD_COL = len("function xx = ")
+
+
+def _unwrap(line: int, col: int, oline: int, ocol: int) -> tuple[int, int]:
+    if line <= _HEAD_LINES:
+        return oline, ocol
+    if line == _HEAD_LINES + 1:
+        return oline, max(col - _HEAD_COL, 1) + ocol - 1
+    return oline + line - _HEAD_LINES - 1, col
+
+
+def _shift(node, path, oline=1, ocol=1):
+    """Move the spans of a wrapped term back to where the term is written."""
 
     def fix(sp: Span) -> Span:
         if sp is None or sp.line == 0:
             return sp
-        col = sp.col - off if sp.line == 4 else sp.col
-        ecol = sp.end_col - off if sp.end_line == 4 else sp.end_col
-        return Span(path, sp.line - 3, col, max(sp.end_line - 3, 1), ecol)
+        l1, c1 = _unwrap(sp.line, sp.col, oline, ocol)
+        l2, c2 = _unwrap(sp.end_line or sp.line, sp.end_col or sp.col, oline, ocol)
+        return Span(path, l1, c1, l2, c2)
 
     seen = set()
 
@@ -803,11 +824,18 @@ def _shift(node, path):
                 v = getattr(n, f)
                 if isinstance(v, Span):
                     setattr(n, f, fix(v))
+                elif isinstance(v, list):
+                    for i, x in enumerate(v):
+                        if isinstance(x, tuple) and len(x) == 3 and isinstance(x[1], Span):
+                            v[i] = (x[0], fix(x[1]), x[2])
+                            walk(x[2])
+                        else:
+                            walk(x)
                 else:
                     walk(v)
         elif isinstance(n, (list, tuple)):
             for x in n:
-                if isinstance(x, A.Node) or isinstance(x, (list, tuple)):
+                if isinstance(x, (A.Node, list, tuple)):
                     walk(x)
     walk(node)
     return node

@@ -1,0 +1,7 @@
+"""The `asmcheck scenario` subcommand."""
+from __future__ import annotations
+
+
+def register(sub) -> None:
+    """Add the subcommand to `sub` (an argparse subparsers object)."""
+    return None
