@@ -275,52 +275,16 @@ def conform(machine: Machine, transcript: Transcript):
         seen = set()
         misses = []
         for st in frontier:
-            sampled = False
-            try:
+            early = _follow(machine, st, step, fixed, True, nxt, seen, misses)
+            if early is not None:
+                return early
+        if not nxt and not any(d is not None for d, _ in misses):
+            # every choice was cut early: follow them to the end once more, for a better message
+            for st in frontier:
                 try:
-                    succ = machine.successors(st, limit=ENUMERATE, fixed=fixed, parse=_parser(step.taking, machine),
-                                              prune=_pruner(machine, step, st))
+                    _follow(machine, st, step, fixed, False, nxt, seen, misses)
                 except TooManySuccessors:
-                    sampled = True
-                    succ = _first_matches(machine, st, step, fixed)
-            except NoAlternative as e:
-                misses.append((None, e.message))
-                continue
-            except Undetermined as e:
-                return Mismatch(step.number, step.line_no, "", "", [], f"cannot follow: {e.message}")
-            except InconsistentUpdate as e:
-                misses.append((None, f"asmcheck finds an inconsistent update: {e.message}"))
-                continue
-            except AsmRuntimeError as e:
-                misses.append((None, f"asmcheck stops with an error: {e}"))
-                continue
-            printed = {loc for _, loc, _ in step.lines}
-            for log, ups, new, mon in succ:
-                # the simulator prints every location it has updated: a successor that
-                # updates a controlled location the block does not show is not this step
-                fresh_now = {e for _, e in ups.fresh}
-                hidden = [k for k in ups.locs if printable(machine, k)
-                          and location_text_asmeta(machine, k) not in printed
-                          and not (type(k) is tuple and any(a in fresh_now for a in k[1]))]
-                if hidden:
-                    k = hidden[0]
-                    misses.append(((step.line_no, location_text_asmeta(machine, k), "(not printed)",
-                                    show_asmeta(ups.locs[k].value)), None))
-                    continue
-                ok, diff = _matches(machine, new, step.lines)
-                if not ok and ups.fresh:
-                    # the simulator may have made the new elements in another order:
-                    # compare up to a renaming of this step's new elements
-                    renamed = _match_renamed(machine, st, new, ups, step.lines)
-                    if renamed is not None:
-                        new, ok = renamed, True
-                if ok:
-                    key = _freeze(new)
-                    if key not in seen:
-                        seen.add(key)
-                        nxt.append(new)
-                else:
-                    misses.append((diff, None))
+                    break
         if not nxt:
             diffs = [d for d, _ in misses if d is not None]
             if diffs:
@@ -343,6 +307,57 @@ def conform(machine: Machine, transcript: Transcript):
                 continue
         return Mismatch(len(transcript.steps) + 1, 0, "", "", [],
                         f"the simulator stopped on '{transcript.clash_text}', asmcheck finds no inconsistent update")
+    return None
+
+
+def _follow(machine, st, step, fixed, use_prune, nxt, seen, misses):
+    """Add to ``nxt`` the successors of ``st`` that show the block; record why others do not."""
+    try:
+        try:
+            succ = machine.successors(st, limit=ENUMERATE, fixed=fixed, parse=_parser(step.taking, machine),
+                                      prune=_pruner(machine, step, st) if use_prune else None)
+        except TooManySuccessors:
+            if not use_prune:
+                raise
+            succ = _first_matches(machine, st, step, fixed)
+    except NoAlternative as e:
+        misses.append((None, e.message))
+        return None
+    except Undetermined as e:
+        return Mismatch(step.number, step.line_no, "", "", [], f"cannot follow: {e.message}")
+    except InconsistentUpdate as e:
+        misses.append((None, f"asmcheck finds an inconsistent update: {e.message}"))
+        return None
+    except AsmRuntimeError as e:
+        misses.append((None, f"asmcheck stops with an error: {e}"))
+        return None
+    printed = {loc for _, loc, _ in step.lines}
+    for log, ups, new, mon in succ:
+        # the simulator prints every location it has updated: a successor that
+        # updates a controlled location the block does not show is not this step
+        fresh_now = {e for _, e in ups.fresh}
+        hidden = [k for k in ups.locs if printable(machine, k)
+                  and location_text_asmeta(machine, k) not in printed
+                  and not (type(k) is tuple and any(a in fresh_now for a in k[1]))]
+        if hidden:
+            k = hidden[0]
+            misses.append(((step.line_no, location_text_asmeta(machine, k), "(not printed)",
+                            show_asmeta(ups.locs[k].value)), None))
+            continue
+        ok, diff = _matches(machine, new, step.lines)
+        if not ok and ups.fresh:
+            # the simulator may have made the new elements in another order:
+            # compare up to a renaming of this step's new elements
+            renamed = _match_renamed(machine, st, new, ups, step.lines)
+            if renamed is not None:
+                new, ok = renamed, True
+        if ok:
+            key = _freeze(new)
+            if key not in seen:
+                seen.add(key)
+                nxt.append(new)
+        else:
+            misses.append((diff, None))
     return None
 
 

@@ -91,8 +91,9 @@ def simulate(machine: Machine, steps: int, seed: int | None = None, random_choic
     or an invariant violation)."""
     def chooser_for(k):
         base = RandomChooser((seed or 0) * 1_000_003 + k) if (random_choices or seed is not None) else Chooser()
-        if inputs is not None and k < len(inputs):
-            return _TextInputs(inputs[k], base)
+        j = max(k - 1, 0)       # the first block of the inputs is for step 1 (and the initial state)
+        if inputs is not None and j < len(inputs):
+            return _TextInputs(inputs[j], base)
         return base
 
     ch0 = chooser_for(0)

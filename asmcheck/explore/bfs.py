@@ -117,7 +117,10 @@ class Explorer:
             violated.add(key)
             violations.append(v)
 
-        inits = m.initial_states()
+        try:
+            inits = m.initial_states()
+        except Undetermined:
+            raise
         frontier = []
         for log, st in inits:
             sid, new = self._add(self._norm(st), -1, tuple(c.pick for c in log), 0)
@@ -154,6 +157,8 @@ class Explorer:
                 # successors
                 try:
                     succ = m.successors(st)
+                except Undetermined:
+                    raise
                 except AsmError as e:
                     err = PseudoProperty("error", "error", e.span)
                     record(Violation(err, sid, message=e.message, error=e))

@@ -239,15 +239,15 @@ def show(v) -> str:
     if t is EnumValue or t is AbstractValue:
         return v.name
     if t is SeqV:
-        return "[" + ",".join(show(x) for x in v) + "]"
+        return "[" + ", ".join(show(x) for x in v) + "]"
     if t is tuple:
-        return "(" + ",".join(show(x) for x in v) + ")"
+        return "(" + ", ".join(show(x) for x in v) + ")"
     if t is SetV:
-        return "{" + ",".join(show(x) for x in v.ordered()) + "}"
+        return "{" + ", ".join(show(x) for x in v.ordered()) + "}"
     if t is BagV:
-        return "<" + ",".join(show(x) for x in v) + ">"
+        return "<" + ", ".join(show(x) for x in v) + ">"
     if t is MapV:
-        return "{" + ",".join(f"{show(k)}->{show(x)}" for k, x in v) + "}"
+        return "{" + ", ".join(f"{show(k)}->{show(x)}" for k, x in v) + "}"
     if t is RuleValue:
         return repr(v)
     return str(v)

@@ -1,0 +1,56 @@
+"""Small helpers shared by the tests: write a spec, load it, run steps."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from asmcheck.semantics.machine import Chooser, Machine
+from asmcheck.semantics.printer import location_text
+from asmcheck.semantics.resolve import check_file
+from asmcheck.semantics.values import show
+
+
+def write(tmp_path: Path, text: str) -> str:
+    name = re.search(r"\b(?:asm|module)\s+([A-Za-z_][A-Za-z0-9_]*)", text).group(1)
+    p = tmp_path / f"{name}.asm"
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+def machine(tmp_path: Path, text: str, **options) -> Machine:
+    spec = check_file(write(tmp_path, text))
+    return Machine(spec, options)
+
+
+def view(m: Machine, state: dict) -> dict:
+    """location text -> printed value, for assertions."""
+    out = {}
+    for k, v in state.items():
+        if type(k) is tuple and k[0] == "#dom":
+            out[k[1]] = "{" + ", ".join(e.name for e in v) + "}"
+        else:
+            out[location_text(m, k)] = show(v)
+    return out
+
+
+def run(m: Machine, steps: int = 1, chooser_factory=Chooser) -> dict:
+    st = m.initial_state()
+    for _ in range(steps):
+        _, st, _ = m.step(st, chooser_factory())
+    return view(m, st)
+
+
+def successor_views(m: Machine, state=None) -> list[dict]:
+    st = m.initial_state() if state is None else state
+    out = []
+    for log, ups, nxt, mon in m.successors(st):
+        v = view(m, nxt)
+        if v not in out:
+            out.append(v)
+    return out
+
+
+def spec(sig: str, defs: str, init: str = "") -> str:
+    """A one-file asm named S with the given signature, definitions and default init lines."""
+    return ("asm S\nimport StandardLibrary\nsignature:\n" + sig + "\ndefinitions:\n" + defs +
+            ("\ndefault init s0:\n" + init + "\n" if init else "\n"))
