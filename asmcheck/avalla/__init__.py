@@ -1,0 +1,1 @@
+"""Avalla scenarios: ASMETA's scenario language (AsmetaV), read and run by asmcheck."""
