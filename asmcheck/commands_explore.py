@@ -37,10 +37,29 @@ def run_exploration(path: str, args, prop_files=None):
     state_props += extra_state
     step_props += extra_step
     progress = _progress_printer() if getattr(args, "format", "text") == "text" else None
-    ex = Explorer(machine, max_states=args.max_states, max_depth=args.max_depth, max_seconds=args.max_seconds,
-                  deadlock=args.deadlock, progress=progress, keep_graph=bool(getattr(args, "graph", None)) or bool(temporal),
-                  state_props=state_props, step_props=step_props)
-    result = ex.run()
+    keep_graph = bool(getattr(args, "graph", None)) or bool(temporal)
+    engine = getattr(args, "engine", "auto")
+    ex = None
+    if engine != "python" and not keep_graph and not step_props:
+        from .explore.native import NativeExplorer, Unsupported
+        try:
+            ex = NativeExplorer(machine, max_states=args.max_states, max_depth=args.max_depth,
+                                max_seconds=args.max_seconds, deadlock=args.deadlock, state_props=state_props)
+            result = ex.run()
+        except Unsupported as e:
+            if engine == "native":
+                raise UsageError(f"the native explorer cannot run {Path(path).name}: {e}") from None
+            ex = None
+    elif engine == "native":
+        why = "step properties" if step_props else "LTL/CTL properties or --graph"
+        raise UsageError(f"the native explorer cannot run {Path(path).name}: it needs the state graph or "
+                         f"checks {why}")
+    if ex is None:
+        ex = Explorer(machine, max_states=args.max_states, max_depth=args.max_depth, max_seconds=args.max_seconds,
+                      deadlock=args.deadlock, progress=progress, keep_graph=keep_graph,
+                      state_props=state_props, step_props=step_props)
+        result = ex.run()
+        result.engine = "python"
     if progress is not None:
         sys.stderr.write("\r" + " " * 78 + "\r")
     return spec, machine, ex, result, temporal
@@ -82,6 +101,7 @@ def cmd_explore(args) -> int:
             "transitions": result.transitions,
             "depth": result.depth,
             "seconds": round(result.seconds, 3),
+            "engine": getattr(result, "engine", "python"),
             "properties": _property_table(result, temporal_results),
             "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message,
                             "trace": trace_json(machine, tr)} for v, tr in traces]
@@ -145,6 +165,9 @@ def add_explore_options(p) -> None:
                    help="a property file to check (repeatable); by default the files in properties/ that apply")
     p.add_argument("--no-default-properties", action="store_true",
                    help="check only the spec's own properties (and --properties files)")
+    p.add_argument("--engine", choices=["auto", "python", "native"], default="auto",
+                   help="native: generated C code (finite specs with state invariants only); python: the step "
+                        "function itself; auto (default): native when the spec allows it")
     p.add_argument("--fair", action="append", default=[], metavar="DOMAIN|all",
                    help="weak fairness for LTL/CTL: every agent of DOMAIN (or every choice, 'all') that is "
                         "continuously enabled eventually moves")

@@ -167,7 +167,6 @@ class Explorer:
                     continue
                 targets = []
                 for log, ups, nxt, mon in succ:
-                    transitions += 1
                     picks = tuple(c.pick for c in log)
                     nxt = self._norm(nxt)
                     tid, new = self._add(nxt, sid, picks, depth + 1)
@@ -187,6 +186,8 @@ class Explorer:
                             record(Violation(prop, tid, sid, picks))
                     if new:
                         next_frontier.append(tid)
+                # a transition is a pair (state, successor): choices with the same effect count once
+                transitions += len(set(targets))
                 if self.deadlock and "deadlock" not in violated and all(t == sid for t in targets):
                     record(Violation(DEADLOCK, sid, message="no successor" if not targets else
                                      "the only successor is the state itself"))

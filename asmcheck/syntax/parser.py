@@ -57,6 +57,20 @@ _TERMINAL_NAMES = {
 }
 
 
+def _cache_file():
+    """Where lark keeps the parser tables between runs (False: no caching possible)."""
+    import hashlib
+    import tempfile
+    digest = hashlib.sha256(_GRAMMAR_PATH.read_bytes()).hexdigest()[:16]
+    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
+    try:
+        os.makedirs(base, exist_ok=True)
+        return os.path.join(base, f"grammar-{digest}.lark.cache")
+    except OSError:
+        return os.path.join(tempfile.gettempdir(), f"asmcheck-grammar-{digest}.lark.cache")
+
+
 def _grammar() -> Lark:
     global _parser
     with _lock:
@@ -67,7 +81,7 @@ def _grammar() -> Lark:
                 lexer="contextual",
                 propagate_positions=True,
                 maybe_placeholders=False,
-                cache=False,
+                cache=_cache_file(),
             )
         return _parser
 

@@ -1,0 +1,835 @@
+"""The native explorer: C code generated from the IR, compiled once per model.
+
+For a spec whose locations all range over small finite domains (Booleans, enums,
+finite integer subdomains, the named elements of abstract domains) and whose rules
+use par, if, switch, let, choose, forall and macro calls, asmcheck writes a C
+translation of the step function and of the invariants (from the IR only: no text
+of the spec is ever pasted into the C source), compiles it with the system's C
+compiler into a shared library (cached by the hash of its source) and runs the
+breadth-first search there: states are packed into 64-bit words, one bit field per
+location.  The same enumeration of choices as the Python step function is used, so
+states are discovered in the same order; every trace the native search reports is
+decoded and *replayed through the Python step function* before it is shown.
+
+Anything outside that subset raises :class:`Unsupported` and the Python explorer
+runs instead.
+"""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+from importlib import resources
+from pathlib import Path
+
+from ..errors import AsmError, AsmRuntimeError
+from ..semantics import ir
+from ..semantics import types as T
+from ..semantics.machine import Machine, Undetermined
+from ..semantics.state import is_dom_key, same_value
+from ..semantics.values import AbstractValue, EnumValue
+
+UNDEF_C = "UNDEF"
+MAX_CANDIDATES = 1 << 16
+
+
+class Unsupported(Exception):
+    """The spec (or a property) uses something the native explorer does not translate."""
+
+
+def _ceil_log2(n: int) -> int:
+    b = 0
+    while (1 << b) < n:
+        b += 1
+    return max(b, 1)
+
+
+class Codec:
+    """Python values <-> the int64 values of the generated code."""
+
+    def __init__(self, machine: Machine):
+        self.m = machine
+        self.abstract_ids: dict = {}
+        for d in sorted(machine.static_elements, key=lambda d: d.name):
+            for e in machine.static_elements[d]:
+                if e not in self.abstract_ids:
+                    self.abstract_ids[e] = len(self.abstract_ids)
+        self.abstract_by_id = {i: e for e, i in self.abstract_ids.items()}
+
+    def to_c(self, v) -> int | None:
+        """The int64 for a value (None for undef)."""
+        if v is None:
+            return None
+        t = type(v)
+        if t is bool:
+            return int(v)
+        if t is int:
+            if not (-(1 << 63) < v < (1 << 63)):
+                raise Unsupported("an integer beyond 64 bits")
+            return v
+        if t is EnumValue:
+            return v.index
+        if t is AbstractValue:
+            if v not in self.abstract_ids:
+                raise Unsupported(f"the element {v.name} is not a named element of its domain")
+            return self.abstract_ids[v]
+        raise Unsupported(f"a value of kind {t.__name__}")
+
+    def literal(self, v) -> str:
+        x = self.to_c(v)
+        return UNDEF_C if x is None else f"((V){x}LL)"
+
+
+class Generator:
+    def __init__(self, machine: Machine, props):
+        self.m = machine
+        self.spec = machine.spec
+        self.codec = Codec(machine)
+        self.props = props
+        self.out: list[str] = []
+        self.funcs: list[str] = []
+        self.slots: list = []            # slot -> location key
+        self.slot_of: dict = {}
+        self.slot_values: list = []      # slot -> list of Python values (codes), undef last
+        self.fn_base: dict = {}          # function index -> (base slot, arg domains, codomain values)
+        self.mon_base: dict = {}
+        self.nmon = 0
+        self.dom_tables: dict = {}       # tuple of values -> C table name
+        self.enc_tables: dict = {}       # codomain id -> encoder name
+        self.defined_done: set = set()
+        self.rules_done: dict = {}
+        self.uid = 0
+
+    # -------------------------------------------------------------- helpers
+    def fresh(self, prefix="t") -> str:
+        self.uid += 1
+        return f"{prefix}{self.uid}"
+
+    def values_of(self, dom: T.Type) -> list:
+        try:
+            vals = self.m.domain_values(dom, None, None)
+        except Undetermined:
+            raise Unsupported(f"the infinite domain {dom}")
+        for v in vals:
+            self.codec.to_c(v)
+        return list(vals)
+
+    def table(self, values: list) -> str:
+        key = tuple(self.codec.to_c(v) for v in values)
+        name = self.dom_tables.get(key)
+        if name is None:
+            name = f"DT{len(self.dom_tables)}"
+            self.dom_tables[key] = name
+        return name
+
+    # -------------------------------------------------------------- layout
+    def layout(self) -> None:
+        init_states = self.m.initial_states()
+        self.init_states = [st for _, st in init_states]
+        for st in self.init_states:
+            for k in st:
+                if is_dom_key(k):
+                    raise Unsupported("domains extended at run time")
+        for f in self.spec.functions:
+            if f.kind not in ("controlled", "out", "shared"):
+                continue
+            if f is self.spec.self_func or f is self.spec.result_func:
+                continue
+            if f.index in self.m.lazy:
+                raise Unsupported(f"the lazily initialised function {f.name}")
+            arg_values = [self.values_of(d) for d in f.domain]
+            cod = self.values_of(f.codomain)
+            combos = [()]
+            for vals in arg_values:
+                combos = [c + (v,) for c in combos for v in vals]
+            base = len(self.slots)
+            for combo in combos:
+                key = f.index if not combo else (f.index, combo)
+                self.slot_of[key] = len(self.slots)
+                self.slots.append(key)
+                self.slot_values.append(cod)
+            self.fn_base[f.index] = (base, arg_values, cod)
+            if len(self.slots) > 1 << 20:
+                raise Unsupported("more than a million locations")
+        for st in self.init_states:
+            for k in st:
+                if k not in self.slot_of:
+                    raise Unsupported("a location outside the finite layout")
+        for f in self.spec.functions:
+            if f.kind == "monitored":
+                try:
+                    arg_values = [self.values_of(d) for d in f.domain]
+                    cod = self.m.monitored_options(f, None, f.span)
+                except (Undetermined, Unsupported):
+                    continue     # only an error if the model reads it (then translation fails)
+                for v in cod:
+                    self.codec.to_c(v)
+                n = 1
+                for vals in arg_values:
+                    n *= len(vals)
+                self.mon_base[f.index] = (self.nmon, arg_values, cod)
+                self.nmon += n
+
+    # -------------------------------------------------------------- terms
+    def term(self, t: ir.Term, env: dict) -> str:
+        meth = getattr(self, "t_" + type(t).__name__, None)
+        if meth is None:
+            raise Unsupported(f"the term {type(t).__name__} at {t.span.short() if t.span else '?'}")
+        return meth(t, env)
+
+    def t_Const(self, t, env):
+        return self.codec.literal(t.value)
+
+    def t_VarRef(self, t, env):
+        name = env.get(t.var.uid)
+        if name is None:
+            raise Unsupported("a variable bound outside the translated code")
+        return name
+
+    def t_Loc(self, t, env):
+        f = t.func
+        if f is self.spec.self_func:
+            raise Unsupported("agents (self)")
+        if f.kind == "static" and f.arity == 0 and isinstance(f.codomain, T.Domain) and \
+                isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
+            from ..semantics.values import abstract_value
+            return self.codec.literal(abstract_value(f.codomain.name, f.name))
+        args = [self.term(a, env) for a in t.args]
+        if f.kind in ("static", "derived") and f.body is not None:
+            name = self.defined(f)
+            return f"{name}(c{''.join(', ' + a for a in args)})"
+        if f.kind == "static":
+            return UNDEF_C
+        if f.kind == "monitored":
+            if f.index not in self.mon_base:
+                raise Unsupported(f"the monitored function {f.name} over an infinite domain")
+            base, arg_values, cod = self.mon_base[f.index]
+            return f"({self.mon_reader(f)}(c{''.join(', ' + a for a in args)}))"
+        if f.index not in self.fn_base:
+            raise Unsupported(f"the function {f.name}")
+        return f"({self.reader(f)}(c{''.join(', ' + a for a in args)}))"
+
+    def offset_code(self, arg_values, params: list[str]) -> list[str]:
+        """C statements computing `off` (the argument tuple's position) or returning -1."""
+        lines = ["int64_t off = 0;"]
+        for vals, p in zip(arg_values, params):
+            tab = self.table(vals)
+            lines.append(f"{{ int j = -1; for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == {p}) {{ j = q; break; }}"
+                         f" if (j < 0) return -1; off = off * {len(vals)} + j; }}")
+        return lines
+
+    def reader(self, f) -> str:
+        name = f"rd{f.index}"
+        if name in self.defined_done:
+            return name
+        self.defined_done.add(name)
+        base, arg_values, cod = self.fn_base[f.index]
+        params = [f"a{i}" for i in range(len(arg_values))]
+        sig = "".join(f", V {p}" for p in params)
+        body = [f"static int sl{f.index}(Ctx *c{sig}) {{"]
+        body += ["    " + x for x in self.offset_code(arg_values, params)]
+        body.append(f"    return {base} + (int)off;")
+        body.append("}")
+        body.append(f"static V {name}(Ctx *c{sig}) {{")
+        body.append(f"    int s = sl{f.index}(c{''.join(', ' + p for p in params)});")
+        body.append("    return s < 0 ? UNDEF : c->cur[s];")
+        body.append("}")
+        self.funcs.append("\n".join(body))
+        return name
+
+    def mon_reader(self, f) -> str:
+        name = f"mn{f.index}"
+        if name in self.defined_done:
+            return name
+        self.defined_done.add(name)
+        base, arg_values, cod = self.mon_base[f.index]
+        params = [f"a{i}" for i in range(len(arg_values))]
+        sig = "".join(f", V {p}" for p in params)
+        tab = self.table(cod)
+        body = [f"static int mi{f.index}(Ctx *c{sig}) {{"]
+        body += ["    " + x for x in self.offset_code(arg_values, params)]
+        body.append(f"    return {base} + (int)off;")
+        body.append("}")
+        body.append(f"static V {name}(Ctx *c{sig}) {{")
+        body.append(f"    int s = mi{f.index}(c{''.join(', ' + p for p in params)});")
+        body.append("    if (s < 0) return UNDEF;")
+        body.append("    if (c->mgen[s] == c->gen) return c->mon[s];")
+        body.append(f"    int i = {len(cod)} > 1 ? choice(c, {len(cod)}) : 0;")
+        body.append(f"    c->mgen[s] = c->gen; c->mon[s] = {tab}[i];")
+        body.append("    return c->mon[s];")
+        body.append("}")
+        self.funcs.append("\n".join(body))
+        return name
+
+    def encoder(self, f) -> str:
+        """C function: value -> code for the locations of f (fails outside the codomain)."""
+        base, arg_values, cod = self.fn_base[f.index]
+        key = ("enc", tuple(self.codec.to_c(v) for v in cod))
+        name = self.enc_tables.get(key)
+        if name is not None:
+            return name
+        name = f"enc{len(self.enc_tables)}"
+        self.enc_tables[key] = name
+        tab = self.table(cod)
+        ints = [self.codec.to_c(v) for v in cod]
+        lines = [f"static int32_t {name}(Ctx *c, V v, int site) {{", f"    if (v == UNDEF) return {len(cod)};"]
+        if ints and ints == list(range(ints[0], ints[0] + len(ints))):
+            lines.append(f"    if (v >= {ints[0]}LL && v <= {ints[-1]}LL) return (int32_t)(v - {ints[0]}LL);")
+        else:
+            lines.append(f"    for (int q = 0; q < {len(cod)}; q++) if ({tab}[q] == v) return q;")
+        cd = f.codomain
+        really = isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None
+        lines.append(f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return 0;")
+        lines.append("}")
+        self.funcs.append("\n".join(lines))
+        return name
+
+    def defined(self, f) -> str:
+        name = f"df{f.index}"
+        if name in self.defined_done:
+            return name
+        self.defined_done.add(name)
+        env = {}
+        params = []
+        for p in f.params:
+            v = f"p{p.uid}"
+            env[p.uid] = v
+            params.append(v)
+        sig = "".join(f", V {p}" for p in params)
+        # declare first (recursion is not supported: a derived function calling itself)
+        self.funcs.append(f"static V {name}(Ctx *c{sig});")
+        body = self.term(f.body, env)
+        self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {body}; }}")
+        return name
+
+    BIN = {"eq": "v_eq", "neq": "v_neq", "lt": "v_lt", "le": "v_le", "gt": "v_gt", "ge": "v_ge",
+           "plus": "v_add", "minus": "v_sub", "mult": "v_mul", "min": "v_min", "max": "v_max"}
+
+    def t_Call(self, t, env):
+        name = t.name
+        for a in t.args:
+            r = T.root(a.type)
+            if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
+                raise Unsupported(f"{name} on {a.type}")
+        args = [self.term(a, env) for a in t.args]
+        if name in self.BIN and len(args) == 2:
+            return f"{self.BIN[name]}({args[0]}, {args[1]})"
+        if name == "minus" and len(args) == 1:
+            return f"v_neg({args[0]})"
+        if name == "plus" and len(args) == 1:
+            return args[0]
+        if name == "abs":
+            return f"v_abs({args[0]})"
+        if name == "mod":
+            return f"v_mod(c, {args[0]}, {args[1]}, 0)"
+        if name == "idiv":
+            return f"v_idiv(c, {args[0]}, {args[1]}, 0)"
+        if name == "not":
+            return f"v_not({args[0]})"
+        if name == "and":
+            a, b = args
+            x = self.fresh()
+            return f"({{ V {x} = {a}; {x} == 0 ? (V)0 : v_and({x}, {b}); }})"
+        if name == "or":
+            a, b = args
+            x = self.fresh()
+            return f"({{ V {x} = {a}; {x} == 1 ? (V)1 : v_or({x}, {b}); }})"
+        if name == "implies":
+            a, b = args
+            x = self.fresh()
+            return f"({{ V {x} = {a}; {x} == 0 ? (V)1 : v_or(v_not({x}), {b}); }})"
+        if name in ("iff", "xor"):
+            a, b = args
+            x, y = self.fresh(), self.fresh()
+            op = "==" if name == "iff" else "!="
+            return f"({{ V {x} = {a}; V {y} = {b}; ({x} == UNDEF || {y} == UNDEF) ? UNDEF : (V)({x} {op} {y}); }})"
+        if name == "isDef":
+            return f"(V)({args[0]} != UNDEF)"
+        if name == "isUndef":
+            return f"(V)({args[0]} == UNDEF)"
+        if name in ("iton", "ntoi"):
+            return args[0]
+        raise Unsupported(f"the library function {name}")
+
+    def t_Cond(self, t, env):
+        c = self.term(t.cond, env)
+        a = self.term(t.then, env)
+        b = self.term(t.other, env) if t.other is not None else UNDEF_C
+        g = self.fresh("g")
+        return f"({{ V {g} = {c}; guard(c, {g}, 0) ? ({a}) : ({b}); }})"
+
+    def t_Switch(self, t, env):
+        s = self.fresh("s")
+        r = self.fresh("r")
+        parts = [f"V {s} = {self.term(t.subject, env)}; V {r};"]
+        first = True
+        for cs, res in t.cases:
+            kw = "if" if first else "else if"
+            parts.append(f"{kw} ({s} == {self.term(cs, env)}) {r} = {self.term(res, env)};")
+            first = False
+        other = self.term(t.other, env) if t.other is not None else UNDEF_C
+        parts.append(f"else {r} = {other};" if not first else f"{r} = {other};")
+        parts.append(f"{r};")
+        return "({ " + " ".join(parts) + " })"
+
+    def t_Let(self, t, env):
+        env = dict(env)
+        decls = []
+        for v, x in t.bindings:
+            name = self.fresh("l")
+            decls.append(f"V {name} = {self.term(x, env)};")
+            env[v.uid] = name
+        return "({ " + " ".join(decls) + f" {self.term(t.body, env)}; }})"
+
+    def range_values(self, r: ir.Term) -> list:
+        if isinstance(r, ir.DomainTerm):
+            d = r.domain
+            if isinstance(d, T.Domain) and d.dynamic and (d.kind == "abstract" or (
+                    d.kind == "subset" and isinstance(T.root(d), T.Domain) and T.root(d).kind == "abstract")):
+                raise Unsupported(f"ranging over the dynamic domain {d}")
+            return self.values_of(d)
+        from ..semantics.machine import _is_constant, _ordered, Ctx, Chooser
+        if _is_constant(r):
+            v = self.m.term(r)(Ctx(self.m, {}, Chooser()))
+            vals = _ordered(v, r.span)
+            for x in vals:
+                self.codec.to_c(x)
+            return vals
+        raise Unsupported("ranging over a term that changes with the state")
+
+    def t_Quant(self, t, env):
+        env = dict(env)
+        heads = []
+        for v, r in t.bindings:
+            vals = self.range_values(r)
+            tab = self.table(vals)
+            q = self.fresh("q")
+            name = self.fresh("x")
+            env[v.uid] = name
+            heads.append((q, name, tab, len(vals)))
+        guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
+        res = self.fresh("res")
+        g = self.fresh("g")
+        code = [f"V {res} = {1 if t.kind == 'forall' else 0}; int n_{res} = 0;"]
+        for q, name, tab, n in heads:
+            code.append(f"for (int {q} = 0; {q} < {n}; {q}++) {{ V {name} = {tab}[{q}];")
+        code.append(f"V {g} = {guard}; if ({g} == UNDEF) {{ fail(c, E_UNDEF_GUARD, 0); }}")
+        if t.kind == "forall":
+            code.append(f"if ({g} == 0) {{ {res} = 0; goto end_{res}; }}")
+        elif t.kind == "exists":
+            code.append(f"if ({g} == 1) {{ {res} = 1; goto end_{res}; }}")
+        else:
+            code.append(f"if ({g} == 1) {{ n_{res}++; if (n_{res} > 1) goto end_{res}; }}")
+        code.append("}" * len(heads))
+        code.append(f"end_{res}: ;")
+        if t.kind == "exists_unique":
+            code.append(f"{res} = (n_{res} == 1);")
+        code.append(f"{res};")
+        return "({ " + " ".join(code) + " })"
+
+    # -------------------------------------------------------------- rules
+    def rule(self, r: ir.Rule, env: dict) -> str:
+        meth = getattr(self, "r_" + type(r).__name__, None)
+        if meth is None:
+            raise Unsupported(f"the rule {type(r).__name__} at {r.span.short() if r.span else '?'}")
+        return meth(r, env)
+
+    def r_Skip(self, r, env):
+        return ";"
+
+    def r_Update(self, r, env):
+        f = r.func
+        if f.index not in self.fn_base:
+            raise Unsupported(f"an update of {f.name}")
+        args = [self.term(a, env) for a in r.args]
+        v = self.fresh("v")
+        s = self.fresh("sl")
+        self.reader(f)
+        enc = self.encoder(f)
+        return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
+    def r_Block(self, r, env):
+        if r.kind != "par":
+            raise Unsupported("seq")
+        return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
+
+    def r_If(self, r, env):
+        g = self.fresh("g")
+        then = self.rule(r.then, env)
+        other = self.rule(r.other, env) if r.other is not None else ";"
+        return f"{{ V {g} = {self.term(r.cond, env)}; if (c->err) return; if (guard(c, {g}, 0)) {{ {then} }} else {{ {other} }} }}"
+
+    def r_SwitchRule(self, r, env):
+        s = self.fresh("s")
+        parts = [f"{{ V {s} = {self.term(r.subject, env)};"]
+        first = True
+        for cs, body in r.cases:
+            kw = "if" if first else "else if"
+            parts.append(f"{kw} ({s} == {self.term(cs, env)}) {{ {self.rule(body, env)} }}")
+            first = False
+        if r.other is not None:
+            parts.append(f"{'else ' if not first else ''}{{ {self.rule(r.other, env)} }}")
+        parts.append("}")
+        return " ".join(parts)
+
+    def r_LetRule(self, r, env):
+        env = dict(env)
+        decls = []
+        for v, x in r.bindings:
+            name = self.fresh("l")
+            decls.append(f"V {name} = {self.term(x, env)};")
+            env[v.uid] = name
+        return "{ " + " ".join(decls) + " " + self.rule(r.body, env) + " }"
+
+    def r_Forall(self, r, env):
+        env = dict(env)
+        heads = []
+        for v, rg in r.bindings:
+            vals = self.range_values(rg)
+            tab = self.table(vals)
+            q = self.fresh("q")
+            name = self.fresh("x")
+            env[v.uid] = name
+            heads.append(f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];")
+        g = self.fresh("g")
+        guard = self.term(r.guard, env) if r.guard is not None else "(V)1"
+        body = self.rule(r.body, env)
+        return ("{ " + " ".join(heads) +
+                f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {body} }} if (c->err) return; " + "}" * len(heads) + " }")
+
+    def r_Choose(self, r, env):
+        env2 = dict(env)
+        heads = []
+        sizes = 1
+        names = []
+        for v, rg in r.bindings:
+            vals = self.range_values(rg)
+            tab = self.table(vals)
+            q = self.fresh("q")
+            name = self.fresh("x")
+            env2[v.uid] = name
+            names.append(name)
+            sizes *= max(len(vals), 1)
+            heads.append(f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];")
+        if sizes > MAX_CANDIDATES:
+            raise Unsupported("a choose over too many candidates")
+        k = len(names)
+        cand = self.fresh("cand")
+        n = self.fresh("n")
+        g = self.fresh("g")
+        guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
+        body_env = dict(env)
+        bound = []
+        for v, _ in r.bindings:
+            nm = self.fresh("b")
+            body_env[v.uid] = nm
+            bound.append(nm)
+        body = self.rule(r.body, body_env)
+        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
+        i = self.fresh("i")
+        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
+        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        # The candidates depend on the state, the variables in scope and the choices made
+        # before; when the choose is reached before any choice and binds no outer variable,
+        # the list is the same in every run of the step from one state: it is kept.
+        cacheable = not env
+        pre = ""
+        post = ""
+        if cacheable:
+            ep = self.fresh("ep")
+            cn = self.fresh("cn")
+            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; int pos0 = c->pos; "
+                   f"if (pos0 == 0 && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
+            post = f" if (c->pos == pos0 && pos0 == 0) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
+        return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
+                f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
+                + post +
+                f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
+
+    def r_CallRule(self, r, env):
+        if r.turbo:
+            raise Unsupported("turbo rules")
+        rd = r.rule
+        name = self.rule_fn(rd)
+        args = [self.term(a, env) for a in r.args]
+        return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+
+    def rule_fn(self, rd) -> str:
+        name = self.rules_done.get(rd)
+        if name is not None:
+            return name
+        name = f"ru{len(self.rules_done)}"
+        self.rules_done[rd] = name
+        env = {}
+        params = []
+        for p in rd.params:
+            v = f"p{p.uid}"
+            env[p.uid] = v
+            params.append(v)
+        sig = "".join(f", V {p}" for p in params)
+        self.funcs.append(f"static void {name}(Ctx *c{sig});")
+        body = self.rule(rd.body, env)
+        self.funcs.append(f"static void {name}(Ctx *c{sig}) {{ {body} }}")
+        return name
+
+    # -------------------------------------------------------------- the whole model
+    def generate(self) -> str:
+        self.layout()
+        main = self.rule_fn(self.spec.main)
+        invs = []
+        for p in self.props:
+            invs.append(self.term(p.prop.body, {}))
+        nslots = len(self.slots)
+        bits = [_ceil_log2(len(vals) + 1) for vals in self.slot_values]
+        words, shifts = [], []
+        w, sh = 0, 0
+        for b in bits:
+            if sh + b > 64:
+                w += 1
+                sh = 0
+            words.append(w)
+            shifts.append(sh)
+            sh += b
+        nwords = w + 1 if nslots else 1
+        self.words, self.shifts, self.bits = words, shifts, bits
+        self.nwords = nwords
+        head = [f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
+                f"#define NINV {len(invs)}"]
+        rt = resources.files("asmcheck.explore").joinpath("native_rt.c").read_text()
+        bfs = resources.files("asmcheck.explore").joinpath("native_bfs.c").read_text()
+        tables = []
+        for key, name in self.dom_tables.items():
+            vals = ", ".join("UNDEF" if x is None else f"{x}LL" for x in key) or "0"
+            tables.append(f"static const V {name}[] = {{{vals}}};")
+        dec_names = {}
+        decs = []
+        for vals in self.slot_values:
+            key = tuple(self.codec.to_c(v) for v in vals)
+            if key not in dec_names:
+                dec_names[key] = f"DEC{len(dec_names)}"
+                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join(f'{x}LL' for x in key)}"
+                            f"{', ' if key else ''}UNDEF}};")
+        layout = [
+            f"static const int SLOT_WORD[{max(nslots, 1)}] = {{{', '.join(map(str, words)) or '0'}}};",
+            f"static const int SLOT_SHIFT[{max(nslots, 1)}] = {{{', '.join(map(str, shifts)) or '0'}}};",
+            f"static const int SLOT_BITS[{max(nslots, 1)}] = {{{', '.join(map(str, bits)) or '1'}}};",
+            f"static const V *SLOT_DECODE[{max(nslots, 1)}] = {{"
+            + ", ".join(dec_names[tuple(self.codec.to_c(v) for v in vals)] for vals in self.slot_values) + "};",
+        ]
+        inv_code = ["static V check_invariant(Ctx *c, int k) {", "    switch (k) {"]
+        for i, e in enumerate(invs):
+            inv_code.append(f"    case {i}: return {e};")
+        inv_code += ["    }", "    return 1;", "}"]
+        step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
+        src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
+            "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+        return src
+
+    # -------------------------------------------------------------- packing
+    def pack(self, st: dict) -> list[int]:
+        words = [0] * self.nwords
+        for s, key in enumerate(self.slots):
+            vals = self.slot_values[s]
+            v = st.get(key)
+            if v is None:
+                code = len(vals)
+            else:
+                code = next((i for i, x in enumerate(vals) if same_value(x, v)), -1)
+                if code < 0:
+                    raise Unsupported(f"an initial value outside its domain")
+            words[self.words[s]] |= code << self.shifts[s]
+        return words
+
+    def unpack(self, words) -> dict:
+        st = {}
+        for s, key in enumerate(self.slots):
+            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
+            vals = self.slot_values[s]
+            if code < len(vals):
+                st[key] = vals[code]
+        return st
+
+
+# ----------------------------------------------------------------- compile and load
+def _cache_dir() -> Path:
+    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
+    p = Path(base)
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+        return p
+    except OSError:
+        return Path(tempfile.gettempdir())
+
+
+def compiler() -> str | None:
+    for cc in (os.environ.get("CC"), "gcc", "cc", "clang"):
+        if cc and shutil.which(cc):
+            return shutil.which(cc)
+    return None
+
+
+def build(src: str) -> ctypes.CDLL:
+    cc = compiler()
+    if cc is None:
+        raise Unsupported("no C compiler (gcc, cc or clang) on this machine")
+    digest = hashlib.sha256(src.encode()).hexdigest()[:24]
+    d = _cache_dir()
+    lib = d / f"model-{digest}.so"
+    if not lib.exists():
+        # several processes may build the same model at once: each works on its own files
+        c_file = d / f"model-{digest}.{os.getpid()}.c"
+        c_file.write_text(src)
+        tmp = d / f"model-{digest}.{os.getpid()}.so"
+        try:
+            proc = subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(c_file)],
+                                  capture_output=True, text=True)
+            if proc.returncode != 0:
+                raise Unsupported(f"the C compiler failed: {proc.stderr.strip()[:500]}")
+            os.replace(tmp, lib)
+        finally:
+            for f in (c_file, tmp):
+                try:
+                    f.unlink()
+                except OSError:
+                    pass
+    dll = ctypes.CDLL(str(lib))
+    dll.asm_explore.restype = ctypes.c_int64
+    dll.asm_explore.argtypes = [ctypes.POINTER(ctypes.c_uint64), ctypes.c_int64, ctypes.c_int64, ctypes.c_int64,
+                                ctypes.c_double, ctypes.c_int64, ctypes.POINTER(ctypes.c_int64)]
+    dll.asm_parent.restype = ctypes.c_int64
+    dll.asm_parent.argtypes = [ctypes.c_int64]
+    dll.asm_state.restype = None
+    dll.asm_state.argtypes = [ctypes.c_int64, ctypes.POINTER(ctypes.c_uint64)]
+    dll.asm_free.restype = None
+    return dll
+
+
+class NativeExplorer:
+    """The explorer's interface (run, path_to, replay) over the native search."""
+
+    engine = "native"
+
+    def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
+                 state_props=None, step_props=None, **_ignored):
+        if step_props:
+            raise Unsupported("step properties")
+        self.m = machine
+        self.state_props = list(state_props or [])
+        for p in self.state_props:
+            if type(p).__name__ != "StateProperty":
+                raise Unsupported("this kind of property")
+        self.gen = Generator(machine, self.state_props)
+        src = self.gen.generate()
+        self.dll = build(src)
+        self.max_states = max_states
+        self.max_depth = max_depth
+        self.max_seconds = max_seconds
+        self.deadlock = deadlock
+        self._states: dict = {}
+
+    def run(self):
+        from .bfs import DEADLOCK, PseudoProperty, Result, Violation
+        g = self.gen
+        inits = []
+        for st in g.init_states:
+            w = g.pack(st)
+            if w not in inits:
+                inits.append(w)
+        flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
+        nprops = len(self.state_props)
+        out = (ctypes.c_int64 * (8 + 2 * (nprops + 2)))()
+        t0 = time.perf_counter()
+        self.dll.asm_explore(flat, len(inits), -1 if self.max_states is None else self.max_states,
+                             -1 if self.max_depth is None else self.max_depth,
+                             -1.0 if self.max_seconds is None else float(self.max_seconds),
+                             1 if self.deadlock else 0, out)
+        secs = time.perf_counter() - t0
+        nstates, transitions, depth, status = out[0], out[1], out[2], out[3]
+        self.nstates = nstates
+        if status == 4:
+            code, sid = out[4], out[5]
+            if code == 4:   # E_UNSUPPORTED met at run time
+                raise Unsupported("a value outside the native encoding at run time")
+            # let the Python step function produce the located message
+            st = self.state(sid)
+            self.m.successors(st)
+            for p in self.state_props:
+                p.check_state(self.m, st)
+            raise AsmRuntimeError(None, f"the native search stopped on a runtime error (code {code}) that the "
+                                        f"Python step function does not reproduce")
+        if status == 5:
+            raise AsmError(None, "out of memory in the native search")
+        violations = []
+        for i in range(out[7]):
+            k, sid = out[8 + 2 * i], out[9 + 2 * i]
+            prop = DEADLOCK if k == nprops else self.state_props[k]
+            msg = "" if k != nprops else "no successor, or only the state itself"
+            violations.append(Violation(prop, sid, message=msg))
+        # the same order as the Python explorer: by property declaration, deadlock last
+        order = {p.name: i for i, p in enumerate(self.state_props)}
+        violations.sort(key=lambda v: order.get(v.prop.name, len(order)))
+        incomplete = status in (1, 2, 3)
+        reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
+                  3: f"time limit {self.max_seconds} s reached"}.get(status, "")
+        verdict = "violated" if violations else ("incomplete" if incomplete else "holds")
+        res = Result(verdict, nstates, transitions, depth, secs, violations, reason, list(self.state_props))
+        res.deadlock_checked = self.deadlock
+        res.engine = "native"
+        return res
+
+    # -------------------------------------------------------------- traces
+    def state(self, sid: int) -> dict:
+        st = self._states.get(sid)
+        if st is None:
+            buf = (ctypes.c_uint64 * self.gen.nwords)()
+            self.dll.asm_state(sid, buf)
+            st = self.gen.unpack(list(buf))
+            self._states[sid] = st
+        return st
+
+    def path_to(self, sid: int) -> list[int]:
+        path = []
+        while sid != -1:
+            path.append(sid)
+            sid = self.dll.asm_parent(sid)
+        return path[::-1]
+
+    def replay(self, path, last_picks=None, last_target=None):
+        """Rebuild each step of ``path`` with the Python step function: the successor that
+        equals the next stored state gives the choices; no such successor is an internal error."""
+        from .bfs import ReplayError
+        m = self.m
+        first = self.state(path[0])
+        init_log = None
+        for log, st in m.initial_states():
+            if st == first:
+                init_log = log
+                break
+        if init_log is None:
+            raise ReplayError("the initial state does not replay")
+        out = [(first, init_log, None, {})]
+        cur = first
+        for sid in path[1:]:
+            want = self.state(sid)
+            found = None
+            for log, ups, nxt, mon in m.successors(cur):
+                if nxt == want:
+                    found = (nxt, log, ups, mon)
+                    break
+            if found is None:
+                raise ReplayError(f"no step of the Python step function reaches state {sid}")
+            out.append(found)
+            cur = want
+        return out
+
+    def close(self):
+        try:
+            self.dll.asm_free()
+        except Exception:
+            pass
