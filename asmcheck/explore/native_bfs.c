@@ -99,6 +99,9 @@ static void store_state(const Ctx *c, const uint64_t *old, uint64_t *w) {
 }
 
 static Ctx ctx_static;
+static int64_t global_epoch = 0;     /* never reset: choose caches compare against it */
+
+void asm_free(void);
 
 /* out: [0] states [1] transitions [2] depth [3] status (0 complete, 1 state limit, 2 depth limit,
  *      3 time limit, 4 runtime error, 5 out of memory) [4] error code [5] error state [6] error site
@@ -106,6 +109,7 @@ static Ctx ctx_static;
 int64_t asm_explore(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
                     double max_seconds, int64_t deadlock, int64_t *out) {
     Ctx *c = &ctx_static;
+    asm_free();                      /* a previous search in this process */
     memset(c, 0, sizeof(Ctx));
     int64_t transitions = 0;
     int64_t nviol = 0;
@@ -126,7 +130,7 @@ int64_t asm_explore(const uint64_t *inits, int64_t ninit, int64_t max_states, in
             level_end = nstates;
         }
         load_state(c, states + sid * NWORDS);
-        c->epoch++;
+        c->epoch = ++global_epoch;
         /* invariants */
         for (int k = 0; k < NINV; k++) {
             if (violated[k]) continue;
