@@ -115,6 +115,12 @@ def test_unset_monitored_location_reads_undef_and_the_error_names_it(scenario, c
     assert code == 1 and "the guard is undef" in text and "Sched.asm:" in text
 
 
+def test_a_check_that_cannot_be_evaluated_fails_with_the_reason(scenario):
+    out = run_scenario(scenario("check (if fin(JA) then true else false endif);\ncheck true;\n"))
+    assert checks(out) == [(3, False), (4, True)]
+    assert out.checks[0].message == "cannot be evaluated: the condition is undef"
+
+
 def test_step_with_a_semicolon_is_accepted(scenario):
     out = run_scenario(scenario(FINS + "step;\nstep ;\ncheck count = 2;\n"))
     assert out.ok and out.steps == 2
@@ -159,6 +165,17 @@ def test_exec_may_call_rules_of_the_spec(scenario):
     assert out.ok and out.steps == 0
 
 
+def test_an_exec_makes_a_new_state(scenario):
+    out = run_scenario(scenario("invariant low: count < 50;\n" + FINS +
+                                "check count = 0;\nexec count := 7;\ncheck count = 7;\nstep\ncheck count = 8;\n"
+                                "exec count := 99;\ncheck true;\n"))
+    assert [(e.kind, e.state) for e in out.events if e.kind in ("check", "exec", "step")] == [
+        ("check", 0), ("exec", 1), ("check", 1), ("step", 2), ("check", 2), ("exec", 3)]
+    assert out.steps == 1 and out.execs == 2
+    assert out.stopped == "invariant low"
+    assert out.events[-1].message == "scenario invariant low is violated after the exec at line 13"
+
+
 def test_exec_errors_stop_the_run(scenario):
     out = run_scenario(scenario("exec par count := 1 count := 2 endpar;\ncheck true;\n"))
     assert out.stopped == "runtime error" and "inconsistent update" in out.events[-1].message
@@ -170,6 +187,15 @@ def test_pick_fixes_the_choice_of_the_next_step_only(scenario):
                                        "step\ncheck st(JA) = RUN;\n"
                                        "pick $j in r_run := JB;\nstep\ncheck st(JB) = RUN;\n"))
     assert out.ok, out.events
+
+
+def test_a_pick_holds_for_every_step_of_a_step_until(scenario):
+    out = run_scenario(scenario(FINS + "pick $j := JC;\nstep until st(JC) = RUN;\n"
+                                       "check st(JA) = RDY and st(JB) = RDY;\n"))
+    assert out.ok and out.steps == 1
+    # as in AsmetaV, the pick is checked again before every step: JC is no longer ready
+    out = run_scenario(scenario(FINS + "pick $j := JC;\nstep until count = 2;\n"))
+    assert out.stopped == "pick" and out.steps == 1
 
 
 def test_the_last_pick_of_a_variable_wins(scenario):

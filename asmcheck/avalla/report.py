@@ -48,6 +48,8 @@ def text_report(out: Outcome, verbose: bool = False) -> list[str]:
     if out.failed:
         summary += f", {out.failed} failed"
     summary += f"; {out.steps} step(s)"
+    if out.execs:
+        summary += f", {out.execs} exec(s)"
     if out.stopped:
         summary += f"; stopped early ({out.stopped})"
     lines.append(summary)
@@ -81,6 +83,7 @@ def json_report(out: Outcome) -> dict:
         "spec": out.spec_path,
         "result": out.result,
         "steps": out.steps,
+        "execs": out.execs,
         "checks": {"total": len(out.checks), "passed": out.passed, "failed": out.failed},
         "stopped": out.stopped,
         "events": events,

@@ -30,9 +30,9 @@ scenario is an input error with a position, and nothing runs.
 from __future__ import annotations
 
 import itertools
+import math
 import os
 from dataclasses import dataclass, field, fields, is_dataclass
-from pathlib import Path
 
 from ..errors import AsmError, AsmRuntimeError, AsmTypeError, Span
 from ..semantics import ir
@@ -54,7 +54,7 @@ class Event:
 
     kind: str                   # check step until exec set pick invariant error
     span: Span | None
-    state: int                  # how many steps of the main rule came before
+    state: int                  # how many steps and execs came before (0: the initial state)
     text: str = ""
     ok: bool | None = None
     values: list = field(default_factory=list)      # [(location text, value text)]
@@ -70,7 +70,8 @@ class Outcome:
     path: str
     spec_path: str
     events: list
-    steps: int = 0
+    steps: int = 0              # steps of the main rule
+    execs: int = 0
     stopped: str | None = None  # why the run ended early
 
     @property
@@ -367,10 +368,14 @@ class _Run:
         self.m = sc.machine
         self.out = Outcome(sc.syntax.name, sc.path, sc.spec_path, [])
         self.steps = 0
+        self.execs = 0
+        self.last = "initial"       # what made the current state: initial, step, or the exec's position
         self.state: dict = {}
         self.dirty = True           # the state has not had its invariants checked
         self.picks: list = []       # (pick command, _PickInfo) for the next step
         self.k = 0                  # choosers made (for the random seed)
+        self.spec_invariants = [(p, self.m.term(p.body)) for p in self.m.spec.properties if p.kind == "invariant"]
+        self._locs: dict = {}       # id(term) -> [(function, argument closures, closure)]
 
     def chooser(self) -> Chooser:
         self.k += 1
@@ -379,7 +384,7 @@ class _Run:
         return RandomChooser(self.sc.seed * 1_000_003 + self.k)
 
     def event(self, kind, cmd: _Cmd | None, span=None, **kw) -> Event:
-        ev = Event(kind, span if span is not None else (cmd.node.span if cmd else None), self.steps,
+        ev = Event(kind, span if span is not None else (cmd.node.span if cmd else None), self.steps + self.execs,
                    via=cmd.via if cmd else (), **kw)
         self.out.events.append(ev)
         return ev
@@ -402,22 +407,26 @@ class _Run:
         except _Stop:
             pass
         self.out.steps = self.steps
+        self.out.execs = self.execs
         return self.out
 
     # -- values
     def values(self, term, state) -> list:
+        """The locations a term reads (those not under a quantifier) and their values."""
+        locs = self._locs.get(id(term))
+        if locs is None:
+            locs = self._locs[id(term)] = [(loc.func, [self.m.term(a) for a in loc.args], self.m.term(loc))
+                                           for loc in _locations(term)]
         out = []
         seen = set()
-        for loc in _locations(term):
+        for func, arg_fns, fn in locs:
             try:
                 ctx = Ctx(self.m, state, Chooser())
-                args = [self.m.term(a)(ctx) for a in loc.args]
-                v = self.m.term(loc)(ctx)
+                args = [a(ctx) for a in arg_fns]
+                v = fn(ctx)
             except AsmError:
                 continue
-            except Exception:   # pragma: no cover - a value that cannot be shown is left out
-                continue
-            text = loc.func.name + (f"({','.join(show(a) for a in args)})" if args else "")
+            text = func.name + (f"({','.join(show(a) for a in args)})" if args else "")
             if text not in seen:
                 seen.add(text)
                 out.append((text, show(v)))
@@ -432,7 +441,8 @@ class _Run:
         if not self.dirty:
             return
         self.dirty = False
-        where = "in the initial state" if self.steps == 0 else f"after step {self.steps}"
+        where = {"initial": "in the initial state", "step": f"after step {self.steps}"}.get(
+            self.last, f"after the exec at line {self.last}")
         for inv, term, fn in self.sc.invariants:
             try:
                 v = self.evaluate(fn, self.state)
@@ -445,11 +455,9 @@ class _Run:
                            values=self.values(term, self.state),
                            message=f"scenario invariant {inv.name} is {'undef' if v is None else 'violated'} {where}")
                 self.stop(f"invariant {inv.name}")
-        for prop in self.m.spec.properties:
-            if prop.kind != "invariant":
-                continue
+        for prop, fn in self.spec_invariants:
             try:
-                v = self.evaluate(self.m.term(prop.body), self.state)
+                v = self.evaluate(fn, self.state)
             except AsmError as err:
                 self.event("invariant", None, prop.span, text=prop.name, ok=False, error=err,
                            message=f"invariant {prop.name} of the spec cannot be evaluated {where}: {err.message}")
@@ -526,6 +534,8 @@ class _Run:
         node: S.Exec = c.node
         self.invariants()
         self.fire(c, c.fn, "exec", self.pick_chooser(c))
+        self.execs += 1
+        self.last = str(node.span.line)
         self.event("exec", c, text=node.rule.display(), ok=True)
         self.dirty = True
         self.invariants()
@@ -556,6 +566,7 @@ class _Run:
             self.stop("runtime error")
         self.state = nxt
         self.steps += 1
+        self.last = "step"
         self.dirty = True
 
     def unset_note(self) -> str:
@@ -569,6 +580,8 @@ class _Run:
             try:
                 doms = [self.m.domain_values(d, Ctx(self.m, self.state, Chooser()), f.span) for d in f.domain]
             except AsmError:
+                doms = None
+            if doms is None or math.prod(len(d) for d in doms) > 10_000:
                 if not any(type(k) is tuple and k[0] == f.index for k in self.state):
                     unset.append(f"{f.name}(...)")
                 continue
