@@ -295,6 +295,7 @@ class Machine:
         self.fname = [f.name for f in spec.functions]
         self._static_cache: dict = {}
         self._domain_cache: dict = {}
+        self._abstract_cache: dict = {}
         self._rule_cache: dict = {}
         self._compiling: set = set()
         self.monitored_ranges: dict = dict(self.options.get("monitored_ranges", {}))
@@ -405,21 +406,36 @@ class Machine:
         return fn
 
     def _abstract_values(self, dom: T.Domain, ctx: Ctx | None) -> list:
-        out = []
-        for d, els in self.static_elements.items():
-            if _is_subdomain(d, dom):
-                out.extend(els)
-        if dom is T.AGENT:
+        info = self._abstract_cache.get(dom)
+        if info is None:
+            out = []
             for d, els in self.static_elements.items():
-                if T.agent_like(d) and d is not dom:
-                    out.extend(e for e in els if e not in out)
-        if ctx is not None:
-            for d in self.spec.domains:
-                if isinstance(d, T.Domain) and _is_subdomain(d, dom):
-                    out.extend(ctx.st.get(dom_key(d.name), ()))
-        seen = set()
-        res = []
-        for e in out:
+                if _is_subdomain(d, dom):
+                    out.extend(els)
+            if dom is T.AGENT:
+                for d, els in self.static_elements.items():
+                    if T.agent_like(d) and d is not dom:
+                        out.extend(e for e in els if e not in out)
+            seen = set()
+            static = []
+            for e in out:
+                if e not in seen:
+                    seen.add(e)
+                    static.append(e)
+            # the domains whose extend-made elements belong to dom
+            keys = [dom_key(d.name) for d in self.spec.domains
+                    if isinstance(d, T.Domain) and d.dynamic and _is_subdomain(d, dom)]
+            info = self._abstract_cache[dom] = (static, keys)
+        static, keys = info
+        if ctx is None or not keys:
+            return static
+        st = ctx.st
+        extra = [e for k in keys for e in st.get(k, ())]
+        if not extra:
+            return static
+        seen = set(static)
+        res = list(static)
+        for e in extra:
             if e not in seen:
                 seen.add(e)
                 res.append(e)
