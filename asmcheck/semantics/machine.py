@@ -892,6 +892,30 @@ class Machine:
         span = t.guard.span if t.guard is not None else t.span
         machine = self
 
+        if len(ranges) == 1 and kind in ("forall", "exists"):
+            uid, items, _, _ = ranges[0]
+            want = kind == "exists"
+
+            def quant1(ctx):
+                env = ctx.env
+                had = uid in env
+                old = env.get(uid)
+                try:
+                    for x in items(ctx):
+                        env[uid] = x
+                        g = guard(ctx)
+                        if g is None:
+                            raise AsmRuntimeError(span, "the quantifier's condition is undef")
+                        if g is want:
+                            return want
+                    return not want
+                finally:
+                    if had:
+                        env[uid] = old
+                    else:
+                        env.pop(uid, None)
+            return quant1
+
         def quant(ctx):
             count = 0
             for _ in machine._iter_bindings(ctx, ranges):
