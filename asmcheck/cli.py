@@ -99,6 +99,15 @@ def main(argv: list[str] | None = None) -> int:
     except RecursionError:
         print("asmcheck: error: the spec nests too deeply (recursion limit reached)", file=sys.stderr)
         code = EXIT_ERROR
+    except MemoryError:
+        print("asmcheck: error: out of memory (bound the search with --max-states)", file=sys.stderr)
+        code = EXIT_ERROR
+    except Exception as exc:  # an internal error: say so plainly (ASMCHECK_DEBUG=1 shows the traceback)
+        if os.environ.get("ASMCHECK_DEBUG"):
+            raise
+        print(f"asmcheck: internal error ({type(exc).__name__}: {exc}); please report it with the input "
+              f"that caused it (set ASMCHECK_DEBUG=1 to see where it happened)", file=sys.stderr)
+        code = EXIT_ERROR
     try:
         sys.stdout.flush()
     except BrokenPipeError:
