@@ -88,6 +88,15 @@ def cmd_explore(args) -> int:
     if args.graph:
         from .report.graph import write_graph
         write_graph(ex, args.graph)
+    if getattr(args, "avalla", None) and traces:
+        from .report.avalla_export import explore_avalla
+        explore_avalla(args.avalla, machine, args.file, traces)
+    if getattr(args, "html", None):
+        from .report import html as html_report
+        from .report.gate import build_outcome
+        outcome = build_outcome(args.file, spec, machine, ex, result, temporal, temporal_results)
+        pre_code = 1 if result.verdict == "violated" else 3 if result.verdict == "incomplete" else 0
+        html_report.write(args.html, html_report.html_report([outcome], pre_code, title="asmcheck explore"))
     code = EXIT_OK
     if result.verdict == "violated":
         code = EXIT_VIOLATED
@@ -185,6 +194,9 @@ def register(sub) -> None:
     p.add_argument("file", metavar="FILE")
     add_explore_options(p)
     p.add_argument("--graph", metavar="OUT.dot|OUT.graphml", help="write the state graph")
+    p.add_argument("--avalla", metavar="OUT.avalla|DIR",
+                   help="write each counterexample as an Avalla scenario that replays it")
+    p.add_argument("--html", metavar="OUT.html", help="write a self-contained HTML report")
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.set_defaults(func=cmd_explore)
 

@@ -39,7 +39,7 @@ KEYWORDS = ("invariant", "step", "LTLSPEC", "ltlspec", "CTLSPEC", "ctlspec", "JU
             "COMPASSION", "compassion", "applies")
 _DECL = re.compile(r"^(\s*)(invariant|step|LTLSPEC|ltlspec|CTLSPEC|ctlspec|JUSTICE|justice|COMPASSION|compassion|"
                    r"applies\s+to)\b")
-_EXPECT = re.compile(r"//\s*asmcheck:\s*expect\s+violated\s+([A-Za-z0-9_,\s]+)")
+_EXPECT = re.compile(r"//[ \t]*asmcheck:[ \t]*expect[ \t]+violated[ \t]+([A-Za-z0-9_, \t]+)")
 
 
 class PropDecl:
@@ -165,7 +165,7 @@ def expected_violations(spec_path: str) -> set[str]:
         return set()
     out = set()
     for m in _EXPECT.finditer(text):
-        out.update(x.strip() for x in m.group(1).replace("\n", ",").split(",") if x.strip())
+        out.update(x.strip() for x in m.group(1).split(",") if x.strip())
     return out
 
 
