@@ -1,6 +1,291 @@
-"""LTL and CTL over the explored state graph (built on the explorer's graph)."""
+"""LTL and CTL over the explored state graph (built on the explorer's graph).
+
+:func:`check_temporal` takes a complete exploration (``keep_graph=True``) and the temporal
+properties that apply (``ir.Property`` of kind ``ltl`` / ``ctl``, plus ``justice`` and
+``compassion`` fairness constraints; ``invariant`` properties are checked as ``AG p``
+with NuSMV's reading of monitored functions), and returns one :class:`TemporalResult` per
+LTL / CTL / invariant property, in the order given.
+
+* the Kripke structure: :mod:`.kripke` (explored states, or explored transitions with the
+  monitored values the atoms read, as AsmetaSMV's NuSMV models have them; the spec's
+  ``INVAR`` constraints restrict it);
+* CTL: :mod:`.ctl` (fixpoints, fair CTL as NuSMV);
+* LTL: :mod:`.ltl` (Büchi product, fair SCC search, lassos);
+* fairness: ``JUSTICE p`` (p infinitely often), ``COMPASSION(p, q)`` (p infinitely often
+  implies q infinitely often), and ``fair`` = the ``--fair`` domains: weak fairness of
+  every agent of the domain (``all``: of every alternative of every choose rule).
+
+Counterexamples (and witnesses of existential CTL properties) are replayed through the
+step function before they are printed.
+"""
 from __future__ import annotations
+
+import time
+
+from ..errors import AsmError
+from ..semantics.machine import ScriptChooser
+from .formula import AG, Atoms, Builder, FormulaError, atoms_of, span_text
+from .kripke import AtomError, build_kripke
+
+__all__ = ["check_temporal", "TemporalResult"]
+
+
+class TemporalResult:
+    def __init__(self, prop, kind: str, holds: bool, *, message: str = "", nodes=None, loop=None,
+                 fairness=(), explorer=None, K=None, seconds: float = 0.0, stats=None, witness=False):
+        self.prop = prop
+        self.name = prop.name
+        self.kind = kind                 # ltl ctl invariant
+        self.holds = holds
+        self.message = message           # why the property could not be checked ("" when it was)
+        self.nodes = nodes or []         # Kripke nodes of the counterexample / witness
+        self.loop = loop                 # index in nodes where the cycle starts (lassos)
+        self.fairness = list(fairness)
+        self.explorer = explorer
+        self.K = K
+        self.seconds = seconds
+        self.stats = stats or {}
+        self.witness = witness           # the path shows why the property holds
+        self._trace = None
+
+    @property
+    def verdict(self) -> str:
+        if self.message:
+            return "error"
+        return "holds" if self.holds else "violated"
+
+    # -------------------------------------------------------------- the path, replayed
+    def trace(self):
+        """(Trace, loop index in the trace or None, inputs_step) or None."""
+        if self._trace is None and self.nodes and self.explorer is not None:
+            self._trace = _replay(self.explorer, self.K, self.nodes, self.loop)
+        return self._trace
+
+    def text(self, machine, color: bool = False) -> list[str]:
+        from ..report.trace import trace_text
+        where = ""
+        span = getattr(self.prop, "span", None)
+        if span is not None and getattr(span, "line", 0):
+            where = f" ({span.short()})"
+        fair = f", under fairness: {'; '.join(self.fairness)}" if self.fairness else ""
+        kind = {"ltl": "LTL", "ctl": "CTL", "invariant": "invariant"}.get(self.kind, self.kind)
+        if self.message:
+            return [f"{self.name}{where} ({kind}) cannot be checked: {self.message}"]
+        tr = self.trace()
+        head = f"{self.name}{where} ({kind}) {'holds' if self.holds else 'is violated'}{fair}"
+        if tr is None:
+            return [head]
+        trace, loop, inputs_step = tr
+        steps = len(trace.steps) - 1
+        what = "witness" if self.holds else "counterexample"
+        if loop is not None:
+            cyc = steps - loop
+            desc = (f" -- {what}, a lasso: {loop} step{'s' if loop != 1 else ''} to the loop, then a loop of "
+                    f"{cyc} step{'s' if cyc != 1 else ''} repeated for ever:")
+        else:
+            desc = f" -- {what}, {steps} step{'s' if steps != 1 else ''}:"
+        out = [head + desc]
+        lines = trace_text(machine, trace, color)
+        # mark the loop: the state after step `loop` is where the cycle starts
+        marked = []
+        for ln in lines:
+            if loop is not None and (ln.startswith("state 0") and loop == 0 or _is_step(ln, loop)):
+                ln = ln + f"   <- the loop starts here (state {loop})"
+            if loop is not None and _is_step(ln, steps):
+                ln = ln + f"   -> back to state {loop}"
+            marked.append(ln)
+        out += ["  " + ln for ln in marked]
+        if inputs_step:
+            out.append(f"  (step {steps} only shows the monitored inputs and choices of state {steps - 1}, "
+                       f"which are part of its state for the property)")
+        return out
+
+    def json(self, machine) -> dict:
+        from ..report.trace import trace_json
+        out = {"property": self.name, "kind": self.kind, "verdict": self.verdict}
+        if self.fairness:
+            out["fairness"] = list(self.fairness)
+        if self.message:
+            out["message"] = self.message
+        tr = self.trace()
+        if tr is not None:
+            trace, loop, inputs_step = tr
+            out["trace"] = trace_json(machine, trace)
+            out["loop_start"] = loop          # the last entry is the same state as this one
+            out["witness"] = self.holds
+            if inputs_step:
+                out["inputs_step"] = True     # the last step only shows the inputs of the state before
+        else:
+            out["trace"] = []
+            out["loop_start"] = None
+        return out
+
+
+def _is_step(line: str, n: int) -> bool:
+    import re
+    plain = re.sub(r"\x1b\[[0-9;]*m", "", line)
+    return plain.startswith(f"step {n}") and (len(plain) == len(f"step {n}") or plain[len(f"step {n}")] in " :")
+
+
+# ----------------------------------------------------------------- replay
+def _replay(explorer, K, nodes, loop):
+    """Re-run the path of Kripke nodes through the step function; check every state
+    against the explored graph.  Returns (Trace, loop index, inputs_step)."""
+    from ..explore.bfs import ReplayError
+    from ..report.trace import Trace, TraceStep
+    from ..semantics.state import same_value
+
+    if K.mode == "state":
+        sids = list(nodes)
+        steps = [(K.edge_picks[(a, b)], b) for a, b in zip(sids, sids[1:])]
+        if loop is not None:
+            steps.append((K.edge_picks[(sids[-1], sids[loop])], sids[loop]))
+        inputs_step = False
+    else:
+        sids = [K.sid[v] for v in nodes]
+        steps = [(K.picks[v], K.tgt[v]) for v in nodes[:-1]]
+        last = nodes[-1]
+        # a node is a state with the inputs of its step: a lasso closes with the last
+        # node's step; a finite path shows it too when atoms read monitored values
+        inputs_step = loop is None and bool(K.mon_atoms)
+        if loop is not None or inputs_step:
+            steps.append((K.picks[last], K.tgt[last]))
+    m = explorer.m
+    first = sids[0]
+    ch = ScriptChooser(explorer.via[first])
+    st0 = explorer._norm(m.initial_state(ch))
+    if explorer.layout.freeze(st0) != explorer.frozen[first]:
+        raise ReplayError("the initial state does not replay")
+    replayed = [(st0, ch.log, None)]
+    cur = st0
+    for picks, dst in steps:
+        ch = ScriptChooser(picks)
+        ups, nxt, ctx = m.step(cur, ch)
+        nxt = explorer._norm(nxt)
+        if explorer.layout.freeze(nxt) != explorer.frozen[dst]:
+            raise ReplayError(f"step to state {dst} does not replay")
+        replayed.append((nxt, ch.log, ups))
+        cur = nxt
+    tsteps = []
+    prev = None
+    for i, (st, log, ups) in enumerate(replayed):
+        if prev is None:
+            changed = dict(st)
+        else:
+            changed = {k: st.get(k) for k in set(prev) | set(st) if not same_value(prev.get(k), st.get(k))}
+        tsteps.append(TraceStep(i, log, st, changed, ups))
+        prev = st
+    return Trace(None, tsteps, "temporal"), loop, inputs_step
+
+
+# ----------------------------------------------------------------- the entry point
+def _fair_text(p) -> str:
+    body = span_text(p.body.span) if p.body is not None else ""
+    if p.kind == "compassion":
+        q = span_text(p.body2.span) if p.body2 is not None else ""
+        return f"COMPASSION({body}, {q})"
+    return f"JUSTICE {body}"
+
+
+def _has_existential_top(f) -> bool:
+    return f[0] in ("EX", "EU", "EG") or (f[0] == "or" and any(_has_existential_top(x) for x in f[1:]))
 
 
 def check_temporal(explorer, props, fair=()):
-    return []
+    t_start = time.perf_counter()
+    machine = explorer.m
+    spec = machine.spec
+    fair = [f for f in (fair or [])]
+    atoms = Atoms(machine)
+    builder = Builder(machine, atoms, explorer.state(0))
+    checks = []           # (prop, kind, formula or None, error message)
+    justice, compassion = [], []
+    fairness_text = []
+    errors = []
+    for p in props:
+        kind = p.kind
+        try:
+            if kind == "justice":
+                justice.append((_fair_text(p), atoms.add(p.body, {})))
+                fairness_text.append(_fair_text(p))
+            elif kind == "compassion":
+                compassion.append((_fair_text(p), atoms.add(p.body, {}), atoms.add(p.body2, {})))
+                fairness_text.append(_fair_text(p))
+            elif kind in ("ltl", "ctl", "invariant"):
+                f = builder.build(p.body, "ltl" if kind == "ltl" else "ctl")
+                if kind == "invariant":
+                    f = AG(f)
+                checks.append((p, kind, f, ""))
+        except FormulaError as e:
+            if kind in ("justice", "compassion"):
+                errors.append(f"{_fair_text(p)}: {e.message}")
+            else:
+                checks.append((p, kind, None, e.message))
+    for d in fair:
+        fairness_text.append(f"weak fairness of every {d}" if d != "all" else "weak fairness of every choice")
+    invars = []
+    for p in spec.properties:
+        if p.kind == "invar":
+            invars.append(atoms.add(p.body, {}))
+    used = set()
+    for _, _, f, _ in checks:
+        if f is not None:
+            atoms_of(f, used)
+    results = []
+    if errors:
+        msg = "; ".join(errors)
+        return [TemporalResult(p, kind, False, message=msg, fairness=fairness_text) for p, kind, _, _ in checks]
+    cache: dict = {}
+    structures: dict = {}
+
+    def kripke(step: bool):
+        if step not in structures:
+            structures[step] = build_kripke(explorer, atoms, used, invars, justice, compassion, fair, step=step,
+                                            cache=cache)
+        return structures[step]
+    try:
+        if any(kind != "ltl" and f is not None for _, kind, f, _ in checks):
+            kripke(True)
+        if any(kind == "ltl" and f is not None for _, kind, f, _ in checks):
+            kripke(False)
+    except (AtomError, AsmError) as e:
+        return [TemporalResult(p, kind, False, message=e.message, fairness=fairness_text) for p, kind, _, _ in checks]
+    ctl = None
+    for p, kind, f, err in checks:
+        t0 = time.perf_counter()
+        if f is None:
+            results.append(TemporalResult(p, kind, False, message=err, fairness=fairness_text))
+            continue
+        if kind == "ltl":
+            from .ltl import check_ltl
+            K = kripke(False)
+            try:
+                r = check_ltl(K, f)
+            except FormulaError as e:
+                results.append(TemporalResult(p, kind, False, message=e.message, fairness=fairness_text))
+                continue
+            results.append(TemporalResult(p, kind, r.holds, nodes=r.nodes, loop=r.loop, fairness=fairness_text,
+                                          explorer=explorer, K=K, seconds=time.perf_counter() - t0,
+                                          stats={"product_states": r.product_states,
+                                                 "automaton_states": r.automaton_states,
+                                                 "kripke_nodes": K.n}))
+            continue
+        K = kripke(True)
+        if ctl is None:
+            from .ctl import CTL
+            ctl = CTL(K)
+        holds, bad = ctl.check(f)
+        nodes, loop, witness = [], None, False
+        if not holds:
+            nodes, loop = ctl.explain(f, bad, False)
+        elif _has_existential_top(f):
+            v0 = next((v for v in K.init if ctl.fair[v]), None)
+            if v0 is not None:
+                nodes, loop = ctl.explain(f, v0, True)
+                witness = True
+        results.append(TemporalResult(p, kind, holds, nodes=nodes, loop=loop, fairness=fairness_text,
+                                      explorer=explorer, K=K, seconds=time.perf_counter() - t0,
+                                      stats={"kripke_nodes": K.n}, witness=witness))
+    for r in results:
+        r.stats["total_seconds"] = time.perf_counter() - t_start
+    return results

@@ -1,0 +1,326 @@
+"""The Kripke structure the temporal properties are checked on, derived from the
+explorer's state graph.
+
+AsmetaSMV (ASMETA's model checker) makes every monitored function a NuSMV state variable
+and every ``choose`` variable too: a NuSMV state is an ASM state *together with the
+inputs and choices of the step taken from it*, so ``ag(fin(j) implies ax(st(j) = FIN))``
+reads ``fin(j)`` in the state where the step reads it.  asmcheck's explorer stores ASM
+states only (the monitored values are drawn during the step), so:
+
+* when no atomic proposition, fairness constraint or INVAR reads a monitored function
+  and no agent fairness is asked for, the Kripke structure is the state graph itself
+  (``mode == "state"``: one node per explored state);
+* otherwise (``mode == "step"``) a node is an explored transition ``src -> dst`` together
+  with the values of the atoms that read monitored functions, evaluated in ``src`` with
+  the monitored values the step read (monitored locations the step did not read take
+  every value of their domain, as free NuSMV variables do); its successors are all the
+  nodes leaving ``dst``.  Nodes with the same ``(src, dst, atom values)`` are bisimilar
+  and are stored once.  INVAR constraints (environment assumptions) drop the nodes that
+  break them, as NuSMV's ``INVAR`` does.
+
+Successor lists are shared between nodes (every node leaving ``dst`` has the same
+successors), so the structure keeps *successor classes*: ``cls[v]`` is the class of v's
+successor list ``cls_succ[c]``; ``member_of[w]`` are the classes containing w and
+``cls_nodes[c]`` the nodes whose successors are class c.  Backward searches walk these.
+"""
+from __future__ import annotations
+
+from ..errors import AsmError, AsmRuntimeError, UsageError
+from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, _Enumerator
+from ..semantics.state import same_value
+from ..semantics.values import show
+from .formula import Atoms
+
+
+class AtomError(AsmError):
+    pass
+
+
+class Kripke:
+    def __init__(self):
+        self.mode = "state"
+        self.n = 0
+        self.sid: list[int] = []          # explored state of each node
+        self.tgt: list[int] | None = None  # step mode: the state the node's step leads to
+        self.picks: list | None = None     # step mode: the choices of the node's step
+        self.vec: list | None = None       # step mode: values of the monitored atoms
+        self.cls: list[int] = []
+        self.cls_succ: list[list[int]] = []
+        self.member_of: list[list[int]] = []
+        self.cls_nodes: list[list[int]] = []
+        self.init: list[int] = []
+        self.label: dict[int, bytearray] = {}     # atom index -> node set
+        self.justice: list[tuple[str, bytearray]] = []
+        self.compassion: list[tuple[str, bytearray, bytearray]] = []
+        self.edge_picks: dict = {}         # state mode: (src, dst) -> choices of one such step
+        self.mon_atoms: list[int] = []
+        self.agent_info = None
+
+    def succ(self, v: int) -> list[int]:
+        return self.cls_succ[self.cls[v]]
+
+
+def _finish_classes(K: Kripke) -> None:
+    nc = len(K.cls_succ)
+    K.member_of = [[] for _ in range(K.n)]
+    K.cls_nodes = [[] for _ in range(nc)]
+    for c, lst in enumerate(K.cls_succ):
+        for w in lst:
+            K.member_of[w].append(c)
+    for v, c in enumerate(K.cls):
+        K.cls_nodes[c].append(v)
+
+
+def _truth(v, atom) -> bool:
+    # an undef proposition is false (NuSMV has no undef Boolean)
+    return v is True
+
+
+def state_labels(explorer, atoms: Atoms, which: list[int]) -> dict[int, bytearray]:
+    """Atom index -> the explored states where it holds (atoms that read no monitored
+    function)."""
+    m = explorer.m
+    S = len(explorer.frozen)
+    out = {i: bytearray(S) for i in which}
+    if not which:
+        return out
+    items = [(i, atoms.items[i]) for i in which]
+    for sid in range(S):
+        st = explorer.state(sid)
+        ctx = Ctx(m, st, Chooser())
+        for i, a in items:
+            ctx.env = dict(a.env) if a.env else {}
+            try:
+                v = a.fn(ctx)
+            except AsmError as e:
+                raise AtomError(a.term.span, f"{a.text} cannot be evaluated in state {sid}: {e.message}") from None
+            if v is True:
+                out[i][sid] = 1
+    return out
+
+
+def joint_values(machine, items, state, mon) -> list[tuple]:
+    """The distinct vectors of truth values of ``items`` (atoms) in ``state`` with the step's
+    monitored values ``mon``; monitored locations the step did not read take every value."""
+    out = []
+    seen = set()
+    prefix: list = []
+    while True:
+        ch = _Enumerator(prefix)
+        ctx = Ctx(machine, state, ch)
+        if mon:
+            ctx.mon = dict(mon)
+        vec = []
+        for a in items:
+            ctx.env = dict(a.env) if a.env else {}
+            try:
+                vec.append(a.fn(ctx) is True)
+            except AsmError as e:
+                raise AtomError(a.term.span, f"{a.text} cannot be evaluated: {e.message}") from None
+        t = tuple(vec)
+        if t not in seen:
+            seen.add(t)
+            out.append(t)
+        log = ch.log
+        j = len(log) - 1
+        while j >= 0 and log[j].index + 1 >= log[j].n:
+            j -= 1
+        if j < 0:
+            return out
+        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
+
+
+# ----------------------------------------------------------------- agents (weak fairness)
+def agent_moves(explorer, fair: list[str]):
+    """For every explored state: (the agents enabled there, {dst: agents whose move leads
+    to dst}).  An agent of DOMAIN moves in a step when it is the value chosen by the first
+    ``choose`` of the step that binds an element of DOMAIN (``choose $t in Task with ...
+    do program($t)``); with ``all`` every alternative of every ``choose`` rule is an agent
+    (label, bindings).  The steps are enumerated again without merging the choose
+    alternatives that have the same effect, so that every agent's move is seen."""
+    m0 = explorer.m
+    m = Machine(m0.spec, {**m0.options, "dedupe": False})
+    doms = []
+    use_all = False
+    for name in fair:
+        if name == "all":
+            use_all = True
+            continue
+        dom = next((d for d in m.spec.domains if getattr(d, "name", None) == name), None)
+        if dom is None:
+            raise UsageError(f"--fair {name}: the spec has no domain {name}")
+        st0 = explorer.state(0)
+        try:
+            elems = m.domain_values(dom, Ctx(m, st0, Chooser()), None)
+        except AsmError as e:
+            raise UsageError(f"--fair {name}: cannot list the elements of {name}: {e.message}") from None
+        doms.append((name, list(elems)))
+    agents: list = []
+    agent_ix: dict = {}
+
+    def agent_id(key, text):
+        i = agent_ix.get(key)
+        if i is None:
+            i = agent_ix[key] = len(agents)
+            agents.append((key, text))
+        return i
+
+    S = len(explorer.frozen)
+    enabled: list[frozenset] = []
+    moves: list[dict] = []
+    for sid in range(S):
+        st = explorer.state(sid)
+        en: set = set()
+        mv: dict = {}
+        for log, ups, nxt, mon in m.successors(st):
+            fz = explorer.layout.freeze(explorer._norm(nxt))
+            dst = explorer.index.get(fz)
+            who = set()
+            for dname, elems in doms:
+                for c in log:
+                    if c.kind != "choose" or not isinstance(c.value, dict):
+                        continue
+                    hit = [v for v in c.value.values() if any(same_value(v, e) for e in elems)]
+                    if hit:
+                        for v in hit:
+                            who.add(agent_id((dname, _hkey(v)), f"{show(v)}"))
+                        break
+            if use_all:
+                for c in log:
+                    if c.kind == "choose":
+                        b = c.value if isinstance(c.value, dict) else {"": c.value}
+                        key = ("all", c.label, tuple((k, _hkey(v)) for k, v in sorted(b.items())))
+                        text = f"{c.label}: " + ", ".join(f"{k} = {show(v)}" for k, v in sorted(b.items()))
+                        who.add(agent_id(key, text))
+            en |= who
+            if dst is not None:
+                mv.setdefault(dst, set()).update(who)
+        enabled.append(frozenset(en))
+        moves.append({d: frozenset(a) for d, a in mv.items()})
+    return agents, enabled, moves
+
+
+def _hkey(v):
+    try:
+        hash(v)
+        return (type(v).__name__, v)
+    except TypeError:
+        return (type(v).__name__, repr(v))
+
+
+# ----------------------------------------------------------------- the structure
+def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], justice: list[tuple[str, int]],
+                 compassion: list[tuple[str, int, int]], fair: list[str], step: bool = True,
+                 cache: dict | None = None) -> Kripke:
+    """``used``: the atoms the formulas read; ``invars``: atoms that every node must satisfy;
+    ``justice``: (text, atom); ``compassion``: (text, atom p, atom q); ``fair``: --fair
+    domains.  ``step=False`` asks for the state graph itself when it is enough (no
+    monitored atom, no agent fairness): LTL needs only the paths, which are the same in
+    both; CTL needs ``step=True``, since a NuSMV state holds the choices of its step, so
+    that ``ef(p)`` in an initial state must hold for *every* first step."""
+    m = explorer.m
+    K = Kripke()
+    all_atoms = sorted(set(used) | set(invars) | {a for _, a in justice} |
+                       {a for _, p, q in compassion for a in (p, q)})
+    mon_atoms = [i for i in all_atoms if atoms.items[i].monitored]
+    st_atoms = [i for i in all_atoms if not atoms.items[i].monitored]
+    K.mon_atoms = mon_atoms
+    S = len(explorer.frozen)
+    cache = {} if cache is None else cache
+    key = tuple(st_atoms)
+    slab = cache.get(("slab", key))
+    if slab is None:
+        slab = cache[("slab", key)] = state_labels(explorer, atoms, st_atoms)
+    st_invars = [i for i in invars if i in slab]
+    init_sids = [s for s in range(S) if explorer.parent[s] == -1]
+    ok_state = bytearray(b"\x01") * S
+    for i in st_invars:
+        ok_state = bytearray(x & y for x, y in zip(ok_state, slab[i]))
+    agents = None
+    if fair:
+        info = cache.get("agents")
+        if info is None:
+            info = cache["agents"] = agent_moves(explorer, fair)
+        agents, enabled, moves = K.agent_info = info
+    if not mon_atoms and not fair and not step:
+        # ---- state mode: the explored graph itself
+        K.mode = "state"
+        K.n = S
+        K.sid = list(range(S))
+        succ = [[] for _ in range(S)]
+        seen = set()
+        for src, dst, picks in explorer.edges:
+            if (src, dst) in seen:
+                continue
+            seen.add((src, dst))
+            K.edge_picks[(src, dst)] = picks
+            if ok_state[src] and ok_state[dst]:
+                succ[src].append(dst)
+        for lst in succ:
+            lst.sort()
+        K.cls = list(range(S))
+        K.cls_succ = [succ[v] if ok_state[v] else [] for v in range(S)]
+        K.init = [s for s in init_sids if ok_state[s]]
+        for i, lab in slab.items():
+            K.label[i] = lab
+        valid = ok_state
+    else:
+        # ---- step mode: one node per (transition, values of the monitored atoms)
+        K.mode = "step"
+        mon_items = [atoms.items[i] for i in mon_atoms]
+        mon_inv = [k for k, i in enumerate(mon_atoms) if i in invars]
+        key_ix: dict = {}
+        sid, tgt, picks_l, vecs = [], [], [], []
+        by_sid: list[list[int]] = [[] for _ in range(S)]
+        cur_src, cur_state = -1, None
+        for src, dst, picks in explorer.edges:
+            if not ok_state[src]:
+                continue
+            if mon_items:
+                if src != cur_src:
+                    cur_src, cur_state = src, explorer.state(src)
+                try:
+                    ch = ScriptChooser(picks)
+                    _, _, ctx = m.step(cur_state, ch)
+                except AsmError as e:
+                    raise AtomError(None, f"the step from state {src} cannot be replayed: {e.message}") from None
+                vs = joint_values(m, mon_items, cur_state, ctx.mon)
+            else:
+                vs = [()]
+            for vec in vs:
+                if any(not vec[k] for k in mon_inv):
+                    continue
+                key = (src, dst, vec)
+                if key in key_ix:
+                    continue
+                v = key_ix[key] = len(sid)
+                sid.append(src)
+                tgt.append(dst)
+                picks_l.append(picks)
+                vecs.append(vec)
+                by_sid[src].append(v)
+        K.n = n = len(sid)
+        K.sid, K.tgt, K.picks, K.vec = sid, tgt, picks_l, vecs
+        # successor classes: one per explored state (the nodes leaving it)
+        K.cls = tgt
+        K.cls_succ = by_sid
+        K.init = [v for s in init_sids for v in by_sid[s]]
+        for i, lab in slab.items():
+            K.label[i] = bytearray(lab[s] for s in sid)
+        for k, i in enumerate(mon_atoms):
+            K.label[i] = bytearray(1 if vec[k] else 0 for vec in vecs)
+        valid = None
+    _finish_classes(K)
+    for text, a in justice:
+        K.justice.append((text, K.label[a]))
+    for text, p, q in compassion:
+        K.compassion.append((text, K.label[p], K.label[q]))
+    if agents is not None:
+        for ai, (key, text) in sorted(enumerate(agents), key=lambda x: (str(x[1][0][0]), x[1][1])):
+            lab = bytearray(K.n)
+            for v in range(K.n):
+                s = K.sid[v]
+                if ai not in enabled[s] or ai in moves[s].get(K.tgt[v], ()):
+                    lab[v] = 1
+            K.justice.append((f"weak fairness of {text}" if key[0] != "all" else f"weak fairness of {text}", lab))
+    return K
