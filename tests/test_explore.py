@@ -154,3 +154,31 @@ def test_unbounded_monitored_integer_is_a_located_error(tmp_path, capsys):
     assert f"{path}:4:" in out and "--monitored m=LO..HI" in out
     assert main(["explore", path, "--monitored", "m=1..3", "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["states"] == 4
+
+
+@pytest.mark.parametrize("bug", [False, True])
+def test_native_and_python_engines_agree(tmp_path, capsys, bug):
+    from asmcheck.explore.native import compiler
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = twin(tmp_path, 7, 16, bug=bug)
+    outs = []
+    for engine in ("native", "python"):
+        assert main(["explore", path, "--format", "json", "--engine", engine]) == (1 if bug else 0)
+        out = json.loads(capsys.readouterr().out)
+        assert out.pop("engine") == engine
+        out.pop("seconds")
+        outs.append(out)
+    assert outs[0] == outs[1]
+
+
+def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
+    from asmcheck.explore.native import compiler
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    text = spec("\tcontrolled s: Seq(Integer)", "\tmain rule r_main = s := append(s, 1)", "\tfunction s = []")
+    path = write(tmp_path, text)
+    assert main(["explore", path, "--engine", "native", "--max-states", "3"]) == 2
+    assert "the native explorer cannot run S.asm" in capsys.readouterr().err
+    assert main(["explore", path, "--max-states", "3", "--format", "json"]) == 3
+    assert json.loads(capsys.readouterr().out)["engine"] == "python"
