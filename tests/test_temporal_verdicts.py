@@ -14,7 +14,7 @@ declarations are constraints, not properties, and print nothing).  The test chec
 the number of lines and the kind of each line (``invariant`` or not) agree with this.
 
 Every spec is explored with a cap (200,000 states, ``ASMCHECK_VERDICT_SECONDS`` seconds,
-15 by default); specs whose exploration does not finish, or whose step fails (an
+10 by default); specs whose exploration does not finish, or whose step fails (an
 inconsistent update or a value out of its domain, which NuSMV's translation silently
 resolves), are not counted.  On the others asmcheck must agree on at least 95% of the
 properties, and the disagreements are pinned in KNOWN (with their causes).
@@ -29,10 +29,10 @@ import pytest
 
 from conftest import ASMETA, need_asmeta
 
-pytestmark = pytest.mark.corpus
+pytestmark = [pytest.mark.corpus, pytest.mark.slow]
 
 MAX_STATES = 200_000
-MAX_SECONDS = float(os.environ.get("ASMCHECK_VERDICT_SECONDS", "15"))
+MAX_SECONDS = float(os.environ.get("ASMCHECK_VERDICT_SECONDS", "10"))
 
 # (spec, line number among the spec's verdict lines, from 0) -> cause
 KNOWN = {

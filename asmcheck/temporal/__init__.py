@@ -232,6 +232,15 @@ def check_temporal(explorer, props, fair=()):
         if f is not None:
             atoms_of(f, used)
     results = []
+    # every state has a successor (a step without updates loops): a state without one is
+    # where a step failed, and paths through it would be cut short
+    has_out = bytearray(len(explorer.frozen))
+    for src, _, _ in explorer.edges:
+        has_out[src] = 1
+    stuck = has_out.find(0)
+    if stuck >= 0:
+        errors.append(f"the state graph is incomplete: the step from state {stuck} could not be computed "
+                      f"(see the 'error' row)")
     if errors:
         msg = "; ".join(errors)
         return [TemporalResult(p, kind, False, message=msg, fairness=fairness_text) for p, kind, _, _ in checks]

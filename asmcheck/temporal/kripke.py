@@ -25,7 +25,7 @@ successor list ``cls_succ[c]``; ``member_of[w]`` are the classes containing w an
 """
 from __future__ import annotations
 
-from ..errors import AsmError, AsmRuntimeError, UsageError
+from ..errors import AsmError, UsageError
 from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, _Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show
@@ -263,7 +263,6 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         K.init = [s for s in init_sids if ok_state[s]]
         for i, lab in slab.items():
             K.label[i] = lab
-        valid = ok_state
     else:
         # ---- step mode: one node per (transition, values of the monitored atoms)
         K.mode = "step"
@@ -309,7 +308,6 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
             K.label[i] = bytearray(lab[s] for s in sid)
         for k, i in enumerate(mon_atoms):
             K.label[i] = bytearray(1 if vec[k] else 0 for vec in vecs)
-        valid = None
     _finish_classes(K)
     for text, a in justice:
         K.justice.append((text, K.label[a]))
@@ -322,5 +320,5 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 s = K.sid[v]
                 if ai not in enabled[s] or ai in moves[s].get(K.tgt[v], ()):
                     lab[v] = 1
-            K.justice.append((f"weak fairness of {text}" if key[0] != "all" else f"weak fairness of {text}", lab))
+            K.justice.append((f"weak fairness of {text}", lab))
     return K
