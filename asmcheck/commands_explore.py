@@ -40,7 +40,8 @@ def run_exploration(path: str, args, prop_files=None):
     keep_graph = bool(getattr(args, "graph", None)) or bool(temporal)
     engine = getattr(args, "engine", "auto")
     ex = None
-    if engine != "python" and not keep_graph and not step_props:
+    has_invar = any(p.kind == "invar" for p in spec.properties)
+    if engine != "python" and not keep_graph and not step_props and not has_invar:
         from .explore.native import NativeExplorer, Unsupported
         try:
             ex = NativeExplorer(machine, max_states=args.max_states, max_depth=args.max_depth,
@@ -51,7 +52,7 @@ def run_exploration(path: str, args, prop_files=None):
                 raise UsageError(f"the native explorer cannot run {Path(path).name}: {e}") from None
             ex = None
     elif engine == "native":
-        why = "step properties" if step_props else "LTL/CTL properties or --graph"
+        why = "step properties" if step_props else "INVAR constraints" if has_invar else "LTL/CTL properties or --graph"
         raise UsageError(f"the native explorer cannot run {Path(path).name}: it needs the state graph or "
                          f"checks {why}")
     if ex is None:
@@ -159,7 +160,10 @@ def _property_table(result, temporal_results) -> list[dict]:
         rows.append({"property": "deadlock", "kind": "deadlock",
                      "verdict": "incomplete" if result.verdict == "incomplete" else "holds"})
     for t in temporal_results:
-        rows.append({"property": t.name, "kind": t.kind, "verdict": "holds" if t.holds else "violated"})
+        verdict = getattr(t, "verdict", None) or ("holds" if t.holds else "violated")
+        if verdict == "error":
+            verdict = "cannot be checked"
+        rows.append({"property": t.name, "kind": t.kind, "verdict": verdict})
     return rows
 
 

@@ -80,6 +80,18 @@ class Explorer:
         self.depth_of = array("l")
         self.via: list = []
         self.init_picks: list = []
+        # INVAR constraints: only states (and steps, with their monitored values) that satisfy
+        # them exist, as in the SMV translation of the spec
+        self.invars = [machine.term(p.body) for p in machine.spec.properties if p.kind == "invar"]
+
+    def _invar_ok(self, st: dict, mon=None) -> bool:
+        if not self.invars:
+            return True
+        from ..props import evaluate_all
+        for fn in self.invars:
+            if not any(v is True for v in evaluate_all(self.m, fn, st, mon)):
+                return False
+        return True
 
     # -------------------------------------------------------------- helpers
     def _norm(self, st: dict) -> dict:
@@ -123,6 +135,8 @@ class Explorer:
             raise
         frontier = []
         for log, st in inits:
+            if not self._invar_ok(st):
+                continue
             sid, new = self._add(self._norm(st), -1, tuple(c.pick for c in log), 0)
             if new:
                 frontier.append(sid)
@@ -167,6 +181,8 @@ class Explorer:
                     continue
                 targets = []
                 for log, ups, nxt, mon in succ:
+                    if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
+                        continue
                     picks = tuple(c.pick for c in log)
                     nxt = self._norm(nxt)
                     tid, new = self._add(nxt, sid, picks, depth + 1)

@@ -38,7 +38,18 @@ class MonitoredInvariant:
         self.span = prop.span
         self.source = getattr(prop, "source", "spec")
         self.expect = getattr(prop, "expect", None)
-        self.fn = machine.term(prop.body)
+        body = machine.term(prop.body)
+        invars = [machine.term(p.body) for p in machine.spec.properties if p.kind == "invar"]
+        if invars:
+            # values of monitored functions that break an INVAR are not inputs the spec considers
+            def fn(ctx):
+                for i in invars:
+                    if i(ctx) is not True:
+                        return True
+                return body(ctx)
+            self.fn = fn
+        else:
+            self.fn = body
 
     def check_step(self, machine, state, ups, nxt, mon) -> bool:
         # monitored locations the step did not read may take any value: all must satisfy it

@@ -6,6 +6,9 @@
 //     it: the counterexample is a lasso (every finite run can still be extended to reset);
 //   - ltlSpec_never_two_twice g(c = 2 implies x(c = 1)), ltlSpec_before_two g(c = 2 implies y(c = 1))
 //     (past) and ltlSpec_once_one g(c = 2 implies o(c = 1)) hold.
+// asmcheck: expect violated ctlSpec_reset_inevitable, ltlSpec_reset_often, ltlSpec_wrong_past
+// (these properties are false on purpose: the examples show how each one is refuted;
+// with the fairness of the .prop file beside the spec some of them hold)
 asm counter
 
 import StandardLibrary

@@ -2,6 +2,9 @@
 // 19,600 transitions, to time the temporal checks on a graph of that size
 // (tests/test_temporal.py). Without fairness the scheduler may move b for ever, so
 // a = 0 is not inevitable; under weak fairness (grid_fair.prop, or --fair Who) it is.
+// asmcheck: expect violated ctlSpec_a_inevitable, ctlSpec_a_fair, ltlSpec_a_often
+// (these properties are false on purpose: the examples show how each one is refuted;
+// with the fairness of the .prop file beside the spec some of them hold)
 asm grid
 
 import StandardLibrary

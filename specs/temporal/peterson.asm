@@ -4,6 +4,9 @@
 //     (ltlSpec_p1_enters is violated by a lasso in which only p2 moves);
 //   - under weak fairness of the processes (asmcheck explore --fair Proc, or the
 //     JUSTICE constraints of peterson_fair.prop) every waiting process enters.
+// asmcheck: expect violated ltlSpec_p1_enters, ltlSpec_p2_enters, ctlSpec_p1_enters
+// (these properties are false on purpose: the examples show how each one is refuted;
+// with the fairness of the .prop file beside the spec some of them hold)
 asm peterson
 
 import StandardLibrary

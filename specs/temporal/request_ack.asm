@@ -2,6 +2,9 @@
 // monitored function is read in the state where the step reads it: `req` belongs to the
 // state the step starts from, so ag(req implies ax(ack)) holds. The INVAR restricts the
 // environment: no request while `busy`.
+// asmcheck: expect violated ctlSpec_ack_now
+// (these properties are false on purpose: the examples show how each one is refuted;
+// with the fairness of the .prop file beside the spec some of them hold)
 asm request_ack
 
 import StandardLibrary

@@ -2,6 +2,9 @@
 // p1 can starve: it is scheduled only while p2 holds the lock (ltlSpec_p1_enters is violated
 // with --fair Proc). Strong fairness of the lock acquisition (spinlock_strong.prop:
 // COMPASSION(p1 waits and the lock is free, p1 is in its critical section)) rules this out.
+// asmcheck: expect violated ltlSpec_p1_enters
+// (these properties are false on purpose: the examples show how each one is refuted;
+// with the fairness of the .prop file beside the spec some of them hold)
 asm spinlock
 
 import StandardLibrary
