@@ -73,6 +73,16 @@ def _val(k, v) -> str:
     return show(v)
 
 
+def flat_choices(choices) -> list:
+    """The choices of a step, with the monitored values read inside choose bodies."""
+    out = []
+    for c in choices:
+        out.append(c)
+        for n in (getattr(c, "nested", None) or ()):
+            out.extend(x for x in flat_choices([n]) if x.kind == "monitored" or x is not n)
+    return out
+
+
 def trace_text(machine, trace: Trace, color: bool = False) -> list[str]:
     """Per step: the choices and inputs taken, then only the locations that changed."""
     bold = (lambda s: f"\x1b[1m{s}\x1b[0m") if color else (lambda s: s)
@@ -82,7 +92,7 @@ def trace_text(machine, trace: Trace, color: bool = False) -> list[str]:
         if st.number == 0:
             out.append(bold("state 0 (initial)") + ":")
         else:
-            ch = "; ".join(choice_text(c) for c in st.choices)
+            ch = "; ".join(choice_text(c) for c in flat_choices(st.choices))
             out.append(bold(f"step {st.number}") + (dim(f"  [{ch}]") if ch else "") + ":")
         keys = sorted(st.changed, key=lambda k: _key_order(machine, k))
         for k in keys:
