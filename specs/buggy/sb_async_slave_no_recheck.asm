@@ -1,14 +1,34 @@
-// asmcheck: expect violated inv_active_slave_holds_lock
+// asmcheck: expect violated ltlSpec_slave_leaves
 /*
- * SEEDED BUG (copy of specs/sb_async_slave.asm with one change): the synchronous
- * master's retry after a failed lock try (r_master_retry) does not re-check that the lock
- * is free: it takes the lock and moves the indexes even while the asynchronous slave holds
- * the lock and is reading or writing. Two tasks then believe they hold the lock.
- * Breaks: inv_active_slave_holds_lock (a slave in its reading/writing phase no longer
- * holds the lock).
- * Also fail, as consequences: inv_no_concurrent_rw (with 3 arrays the master's next
- * write goes to the array the slave is still reading) and ltlSpec_slave_leaves (the
- * master can take the lock away every time the slave has just got it).
+ * SEEDED BUG -- copy of specs/sb_async_slave.asm (asynchronous slave, synchronous master
+ * with watchdog, three arrays) with one change, in the asynchronous slave
+ * (r_async_slave_action, state MANAGING_SB): the slave never re-checks whether its lock
+ * try succeeded; every move it simply tries again. Correct:
+ *     if lockHolder($b) = self then <start reading / writing> else r_slave_get_lock[$b] endif
+ * here:
+ *     r_slave_get_lock[$b]
+ * Once it has the lock (a try on a lock it holds changes nothing) it keeps it for ever and
+ * never starts its read or write (the READING / WRITING branches are now unreachable).
+ *
+ * Breaks: ltlSpec_slave_leaves, under the spec's JUSTICE constraints; its lock-fairness
+ * assumption holds on the counterexample (the slave does get the lock), so the property is
+ * not satisfied vacuously.
+ *
+ * Why nothing else breaks:
+ *  - The slave never reads or writes, so inv_active_slave_holds_lock and
+ *    inv_no_concurrent_rw hold; it never touches the indexes and its failed tries write
+ *    nothing (stp_slave_never_moves_indexes, stp_failed_slave_no_interference).
+ *  - It holds the lock only inside its pattern machine and never exits
+ *    (inv_lock_inside_pm, stp_lock_release_on_exit).
+ *  - The synchronous master is not starved: its watchdog bounds its wait for the lock, so
+ *    it gives up (the writer skips the update, the reader reads the old data) and
+ *    ltlSpec_master_leaves still holds; it moves the indexes only under the lock
+ *    (stp_indexes_moved_under_lock, inv_indexes_distinct).
+ * (This variant was first built to break inv_active_slave_holds_lock with a master retry
+ * that takes the lock without re-checking it; that could not be made exact: once the slave
+ * reads or writes without holding the lock, the master, which may make any number of moves
+ * meanwhile, can always move the indexes on to the slave's array, breaking
+ * inv_no_concurrent_rw as well.)
  */
 /*
  * sb_async_slave -- the Asynchronous-Slave pattern machine of the swinging buffer
@@ -153,11 +173,7 @@ definitions:
 	// a failed try of a synchronous master: try again and count the failed try
 	rule r_master_retry($b in Buffer) =
 		par
-			// SEEDED BUG: the lock is not re-checked after the failed try: the master
-			// takes it (and updates the indexes) even if another task holds it
-			lockHolder($b) := self
-			readIdx($b) := (readIdx($b) + 1) mod nArr
-			writeIdx($b) := (writeIdx($b) + 1) mod nArr
+			r_master_manage[$b]
 			wdTimer(self) := wdTimer(self) + 1
 		endpar
 
@@ -256,23 +272,9 @@ definitions:
 				endpar
 			endif
 			if sbState(self) = MANAGING_SB then
-				if lockHolder($b) = self then
-					if $w then
-						par
-							writingArr(self, $b) := writeIdx($b)
-							sbState(self) := WRITING
-							clock(self) := 0
-						endpar
-					else
-						par
-							readingArr(self, $b) := readIdx($b)
-							sbState(self) := READING
-							clock(self) := 0
-						endpar
-					endif
-				else
-					r_slave_get_lock[$b]
-				endif
+				// SEEDED BUG: no check of lockHolder($b) = self: the slave tries again for ever
+				// and never starts its read or write
+				r_slave_get_lock[$b]
 			endif
 			if sbState(self) = READING then
 				if tElapsed(self) then

@@ -1,12 +1,12 @@
 // asmcheck: expect violated ltlSpec_master_leaves
 /*
- * SEEDED BUG (copy of specs/sb_sync_master.asm with one change): in
- * r_sync_master_writing (fig. 9), state MANAGING_SB, a failed lock try is followed by
- * another try whatever the watchdog says: the "watchdog time elapsed" guard is gone, so
- * the synchronous master may wait for the lock for ever.
- * Breaks: ltlSpec_master_leaves (under the spec's JUSTICE constraints: the slave can take
- * the lock every time the master looks at it). No safety property fails, and there is no
- * deadlock state (the master spins).
+ * SEEDED BUG -- copy of specs/sb_sync_master.asm; one change, in r_sync_master_writing (fig. 9),
+ * state MANAGING_SB: after a failed lock try the master tries again whatever the watchdog says.
+ * Correct: else if watchdog(self) then r_exit[] else r_master_retry[$b] endif endif
+ * here:    else r_master_manage[$b] endif        (the sync master may wait for the lock for ever)
+ * Breaks: ltlSpec_master_leaves, under the spec's JUSTICE constraints (the slave may take the lock
+ * just before each try). Why nothing else breaks: a retry is the same guarded try-lock-and-update,
+ * the lock is released before leaving (all invariants and step properties hold), the slave never waits.
  */
 /*
  * sb_sync_master -- the Synchronous-Master pattern machines of the swinging buffer

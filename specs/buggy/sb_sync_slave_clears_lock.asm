@@ -1,29 +1,46 @@
 // asmcheck: expect violated stp_failed_slave_no_interference
 /*
- * SEEDED BUG (copy of specs/sb_sync_slave.asm with one change): the synchronous slave
- * (fig. 10) that could not get the lock skips its read/write and exits as it should, but
- * on that skip path it also "releases" the lock it never got (lockHolder($b) := undef),
- * clearing the lock the master holds while it updates the indexes.
- * Breaks: stp_failed_slave_no_interference (the slave writes lockHolder, a location the
- * master owns, after a failed lock attempt).
- * Also fails, as a consequence: ltlSpec_master_leaves (the slave can clear the master's
- * lock every time before the master gets to release it, so the master retries for ever
- * even though it gets the lock again and again). No safety property fails.
+ * SEEDED BUG -- copy of specs/sb_sync_master.asm (synchronous master with watchdog,
+ * synchronous slave) with one change, in the synchronous slave (fig. 10,
+ * r_sync_slave_action, state MANAGING_SB). The slave that did not get the lock skips its
+ * read/write and exits, as it should, but on that skip path it also "releases" the lock
+ * it never got. Correct:
+ *     else r_exit[] endif
+ * here:
+ *     else par r_exit[] lockHolder($b) := undef endpar endif
+ * so it clears the lock the master holds while it updates the indexes.
+ *
+ * Breaks: stp_failed_slave_no_interference (properties/swinging_buffer.prop): a slave
+ * writes lockHolder(SB1), which the master owns, in a step where the master holds it.
+ *
+ * Why nothing else breaks:
+ *  - The master holds the lock only in MANAGING_SB, right after it has taken it and moved
+ *    the indexes in the same move, and does nothing under the lock but release it. When
+ *    the slave clears it, the master's next move finds it does not hold the lock and
+ *    takes the watchdog path: retry (a second index update, again under the lock it
+ *    takes) or give up (exit, or read the current array). Either way the indexes only
+ *    move under the lock (stp_indexes_moved_under_lock), both move together
+ *    (inv_indexes_distinct), and a reader / writer starts only after the last update, on
+ *    the array its index names (inv_arrays_current, inv_no_concurrent_rw).
+ *  - The master never spins (the watchdog bounds its retries), so ltlSpec_master_leaves
+ *    holds under weak fairness; the synchronous slave never waits (ltlSpec_slave_leaves).
+ *  - Nobody exits holding a lock (stp_lock_release_on_exit, inv_lock_inside_pm).
+ * (specs/sb_sync_slave.asm, with an asynchronous master that spins on the lock, is not
+ * used as the base: there the slave could clear the lock every time before the master
+ * releases it and starve the master, so ltlSpec_master_leaves would fail too.)
  */
 /*
- * sb_sync_slave -- the Synchronous-Slave pattern machine of the swinging buffer
- * (paper, fig. 10: synchronous slave reading; writing is similar): the slave tries the
- * lock once; if it gets it, it reads or writes its array holding the lock and releases
- * it on exit; if it does not, it skips the read/write and exits. Composed with an
- * asynchronous master partner (fig. 8a/8b) over ONE buffer: in a synchronous /
- * asynchronous pair the asynchronous task is the master (paper, section V-B).
+ * sb_sync_master -- the Synchronous-Master pattern machines of the swinging buffer
+ * (paper, fig. 9: Synchronous-Master-Writing and Synchronous-Master-Reading, with the
+ * "watchdog time elapsed" guard), composed with a synchronous slave partner
+ * (fig. 10, r_sync_slave_action) over ONE buffer. Two synchronous tasks: the paper
+ * makes the slower one the master.
  *
  * Modelling rules (shared by every spec in specs/, see specs/README.md):
  *  - Tasks are agents (domain Task subsetof Agent, all running r_task). Each step the
  *    main rule lets exactly one task move: choose $t in Task with true do program($t).
- *    Which task moves is nondeterministic; every task is always schedulable (a task
- *    that waits for a lock spins: its move re-tries the lock). `scheduled` records the
- *    scheduler's choice, only so that fairness can be stated.
+ *    Which task moves is nondeterministic; every task is always schedulable.
+ *    `scheduled` records the scheduler's choice, only so that fairness can be stated.
  *  - A pattern machine has its own control state sbState(self): it is entered when
  *    sbState(self) is undef and left by setting it to undef.
  *  - One lock per buffer: lockHolder(b) (undef = free), taken with a try, released by
@@ -33,16 +50,22 @@
  *    now (undef outside its writing / reading phase).
  *
  * Parameters of this spec:
- *  - tasks: slave (SYNC, slave of SB1), master (ASYNC, master of SB1); one buffer SB1
+ *  - tasks: master (SYNC, master of SB1), slave (SYNC, slave of SB1); one buffer SB1
  *    with 2 arrays (Arr = {0:1}, nArr = 2), readIdx = 1, writeIdx = 0 initially.
  *  - data direction: chosen nondeterministically by the first step (masterWrites):
- *    false = slave writes (a camera-like producer), master reads (fig. 8a);
- *    true  = slave reads (a robot-controller-like consumer), master writes (fig. 8b).
- *  - time: a timed phase (waiting for the trigger, a reading or writing phase) ends when
- *    the task moves and either the free input timeUp(self) is true or its clock has
- *    reached tMax = 1: every timed phase lasts 1 or 2 moves of its task. The slave's
- *    trigger is its period (tElapsed); the asynchronous master's trigger is always true.
- *  - nondeterministic: the first step's direction, which task moves, timeUp (monitored).
+ *    true  = master writes (fig. 9, writing), slave reads (fig. 10);
+ *    false = master reads (fig. 9, reading), slave writes.
+ *  - time: a timed phase (waiting for the period = trigger, a reading or writing phase)
+ *    ends when the task moves and either the free input timeUp(self) is true or its
+ *    clock has reached tMax = 1: every timed phase lasts 1 or 2 moves of its task.
+ *  - watchdog: a synchronous master that fails to get the lock counts the failed try in
+ *    wdTimer(self); the watchdog time has elapsed when the free input wdExpired(self) is
+ *    true or wdTimer(self) has reached wdMax = 1, so the master gives up after 1 or 2
+ *    failed tries: the writer skips the index update and exits, the reader reads the old
+ *    data (its current readIdx) without updating the indexes.
+ *  - synchronous slave: if it does not get the lock it skips its read/write and exits.
+ *  - nondeterministic: the first step's direction, which task moves, timeUp and
+ *    wdExpired (monitored).
  *  - outer machine of each task: WAIT_TRIGGER -> READING_FROM_SB or WRITING_ON_SB (the
  *    pattern machine runs) -> WAIT_TRIGGER (the wait stands for wait + elaboration).
  *  - expected size: a few hundred reachable states.
@@ -68,6 +91,7 @@ signature:
 	static isMaster: Prod(Task, Buffer) -> Boolean
 	static nArr: Integer
 	static tMax: Integer
+	static wdMax: Integer
 
 	// the swinging buffer
 	dynamic controlled lockHolder: Buffer -> Task
@@ -83,25 +107,31 @@ signature:
 	// configuration chosen by the first step, and the scheduler's last choice
 	dynamic controlled masterWrites: Boolean
 	dynamic controlled scheduled: Task
-	// time: a free input
+	dynamic controlled wdTimer: Task -> Tick
+	// time: free inputs
 	dynamic monitored timeUp: Task -> Boolean
+	dynamic monitored wdExpired: Task -> Boolean
 
 	derived tElapsed: Task -> Boolean
 	derived trigger: Task -> Boolean
+	derived watchdog: Task -> Boolean
 
 definitions:
 	domain Arr = {0 : 1}
 	domain Tick = {0 : 1}
 
-	function kind($k in Task) = if $k = master then ASYNC else SYNC endif
+	function kind($k in Task) = SYNC
 	function isMaster($m in Task, $b in Buffer) = ($m = master)
 	function nArr = 2
 	function tMax = 1
+	function wdMax = 1
 
 	// the phase time has elapsed (Elaboration Time Elapsed / tElapsed of the paper)
 	function tElapsed($e in Task) = timeUp($e) or clock($e) >= tMax
 	// the trigger (Listing 1): period elapsed for a synchronous task, always for an asynchronous one
 	function trigger($g in Task) = kind($g) = ASYNC or tElapsed($g)
+	// the watchdog time has elapsed: no time left to wait for the lock
+	function watchdog($d in Task) = wdExpired($d) or wdTimer($d) >= wdMax
 
 	// ---------------------------------------------------------------- basic actions
 	rule r_tick =
@@ -114,6 +144,7 @@ definitions:
 		par
 			sbState(self) := undef
 			clock(self) := 0
+			wdTimer(self) := 0
 		endpar
 
 	// RELEASE SWINGING BUFFER
@@ -139,9 +170,17 @@ definitions:
 		endif
 
 	// ---------------------------------------------------------------- pattern machines
-	// fig. 8b: write without the lock; when the time has elapsed, get the lock (retrying),
-	// update the indexes, release, exit
-	rule r_async_master_writing($b in Buffer) =
+	// a failed try of a synchronous master: try again and count the failed try
+	rule r_master_retry($b in Buffer) =
+		par
+			r_master_manage[$b]
+			wdTimer(self) := wdTimer(self) + 1
+		endpar
+
+	// fig. 9, writing: write without the lock; when the time has elapsed, try to get the
+	// lock and update the indexes; retry while the watchdog time has not elapsed,
+	// otherwise skip the index update and exit
+	rule r_sync_master_writing($b in Buffer) =
 		par
 			if isUndef(sbState(self)) then
 				par
@@ -169,14 +208,18 @@ definitions:
 						r_exit[]
 					endpar
 				else
-					r_master_manage[$b]
+					if watchdog(self) then
+						r_exit[]
+					else
+						r_master_retry[$b]
+					endif
 				endif
 			endif
 		endpar
 
-	// fig. 8a: first get the lock (retrying) and update the indexes, release, then read
-	// the array just handed over without the lock; exit when the time has elapsed
-	rule r_async_master_reading($b in Buffer) =
+	// fig. 9, reading: try to get the lock and update the indexes, release, read; if the
+	// watchdog time elapses first, read the old data (current readIdx) without the update
+	rule r_sync_master_reading($b in Buffer) =
 		par
 			if isUndef(sbState(self)) then
 				par
@@ -191,9 +234,19 @@ definitions:
 						readingArr(self, $b) := readIdx($b)
 						sbState(self) := READING
 						clock(self) := 0
+						wdTimer(self) := 0
 					endpar
 				else
-					r_master_manage[$b]
+					if watchdog(self) then
+						par
+							readingArr(self, $b) := readIdx($b)
+							sbState(self) := READING
+							clock(self) := 0
+							wdTimer(self) := 0
+						endpar
+					else
+						r_master_retry[$b]
+					endif
 				endif
 			endif
 			if sbState(self) = READING then
@@ -269,9 +322,9 @@ definitions:
 	rule r_sb_action($b in Buffer) =
 		if isMaster(self, $b) then
 			if masterWrites then
-				r_async_master_writing[$b]
+				r_sync_master_writing[$b]
 			else
-				r_async_master_reading[$b]
+				r_sync_master_reading[$b]
 			endif
 		else
 			r_sync_slave_action[$b, not(masterWrites)]
@@ -306,13 +359,10 @@ definitions:
 		endif
 
 	// ---------------------------------------------------------------- fairness
-	// weak fairness of the scheduler: every task moves infinitely often
+	// weak fairness of the scheduler: every task moves infinitely often. No task spins on a
+	// lock here (the master has the watchdog, the slave skips), so nothing more is needed.
 	JUSTICE scheduled = master
 	JUSTICE scheduled = slave
-	// The asynchronous master spins on the lock, so its progress also needs strong
-	// fairness of lock acquisition; it is written inside ltlSpec_master_leaves as the
-	// assumption (g(f(p)) implies g(f(q))): COMPASSION(p, q) is not read the same way
-	// by every AsmetaL parser.
 
 	// ---------------------------------------------------------------- properties
 	// the two indexes always name different arrays
@@ -327,14 +377,10 @@ definitions:
 	invariant inv_lock_inside_pm over lockHolder, sbState:
 		(forall $t3 in Task, $b3 in Buffer with lockHolder($b3) = $t3 implies isDef(sbState($t3)))
 
-	// the synchronous slave never waits: it always leaves its pattern machine (weak
-	// fairness is enough)
+	// every master (slave) that enters its pattern machine eventually leaves it: the
+	// watchdog bounds the master's wait for the lock (weak fairness is enough)
+	LTLSPEC ltlSpec_master_leaves: g(isDef(sbState(master)) implies f(isUndef(sbState(master))))
 	LTLSPEC ltlSpec_slave_leaves: g(isDef(sbState(slave)) implies f(isUndef(sbState(slave))))
-	// the asynchronous master leaves its pattern machine, provided that, if it is
-	// infinitely often waiting for the free lock, it gets it infinitely often
-	LTLSPEC ltlSpec_master_leaves:
-		(g(f(sbState(master) = MANAGING_SB and isUndef(lockHolder(SB1)))) implies g(f(lockHolder(SB1) = master)))
-		implies g(isDef(sbState(master)) implies f(isUndef(sbState(master))))
 
 	main rule r_main =
 		if isUndef(masterWrites) then
@@ -354,5 +400,6 @@ default init s0:
 	function writeIdx($b in Buffer) = 0
 	function taskState($t in Task) = WAIT_TRIGGER
 	function clock($t in Task) = 0
+	function wdTimer($t in Task) = 0
 
 	agent Task: r_task[]

@@ -1,15 +1,29 @@
 // asmcheck: expect violated stp_slave_never_moves_indexes
 /*
- * SEEDED BUG (copy of specs/sb_sync_slave.asm with one change): the synchronous slave
- * writer (fig. 10, writing), when it finishes its write under the lock, also swaps the
- * indexes (readIdx, writeIdx one array on, as the master's update does) to "publish" the
- * array it has just written, as if it were the master. It still holds the lock in that
- * step, so stp_indexes_moved_under_lock holds.
- * Breaks: stp_slave_never_moves_indexes (when the first step chooses masterWrites =
- * false: slave writes, master reads).
- * Also fail, as consequences: inv_arrays_current and inv_no_concurrent_rw (the master
- * reads its array without the lock; the slave's swap hands that array back to the
- * slave, whose next write goes into the array the master is reading).
+ * SEEDED BUG -- copy of specs/sb_sync_slave.asm (synchronous slave, asynchronous master)
+ * with one change, in the synchronous slave writer (fig. 10, r_sync_slave_action, state
+ * WRITING). When it finishes its write, still holding the lock, the slave also "publishes"
+ * the array it has just written by moving the indexes itself, as the master's update
+ * does, whenever it sees that the master is not reading at that moment. Correct:
+ *     par writingArr(self, $b) := undef r_release[$b] r_exit[] endpar
+ * here:
+ *     par writingArr(self, $b) := undef r_release[$b] r_exit[]
+ *         if isUndef(readingArr(master, $b)) then par
+ *             readIdx($b) := (readIdx($b) + 1) mod nArr
+ *             writeIdx($b) := (writeIdx($b) + 1) mod nArr endpar endif endpar
+ *
+ * Breaks: stp_slave_never_moves_indexes (properties/swinging_buffer.prop), when the first
+ * step chooses masterWrites = false (slave writes, master reads).
+ *
+ * Why nothing else breaks:
+ *  - The slave moves the indexes only while it holds the lock (stp_indexes_moved_under_lock
+ *    holds; stp_failed_slave_no_interference is about slaves that do NOT hold the lock).
+ *  - It moves both indexes together (inv_indexes_distinct), in the step that ends its own
+ *    write, and only when the master is not reading (the only array the master uses when
+ *    the slave writes): nobody's array goes stale (inv_arrays_current), and no write
+ *    meets a read of the same array (inv_no_concurrent_rw).
+ *  - Lock handling and control flow are unchanged: inv_lock_inside_pm,
+ *    stp_lock_release_on_exit and both ltlSpecs hold.
  */
 /*
  * sb_sync_slave -- the Synchronous-Slave pattern machine of the swinging buffer
@@ -256,8 +270,12 @@ definitions:
 						r_release[$b]
 						r_exit[]
 						// SEEDED BUG: the slave writer publishes its array itself
-						readIdx($b) := (readIdx($b) + 1) mod nArr
-						writeIdx($b) := (writeIdx($b) + 1) mod nArr
+						if isUndef(readingArr(master, $b)) then
+							par
+								readIdx($b) := (readIdx($b) + 1) mod nArr
+								writeIdx($b) := (writeIdx($b) + 1) mod nArr
+							endpar
+						endif
 					endpar
 				else
 					r_tick[]

@@ -1,14 +1,35 @@
 // asmcheck: expect violated stp_indexes_moved_under_lock
 /*
- * SEEDED BUG (copy of specs/visual_servoing.asm with one change): the VS task's MANAGE
- * SWINGING BUFFER (r_master_manage) updates the indexes whether or not its lock try
- * succeeded: while the camera holds the CAM2VS lock (writing) or the robot holds the
- * VS2ROB lock (reading), the VS task swaps their arrays away.
- * Breaks: stp_indexes_moved_under_lock.
- * Also fails, as a consequence: inv_arrays_current (a slave's array is no longer the one
- * its index names). inv_no_concurrent_rw is not violated in this model: each swap moves
- * both indexes, and the VS task starts its next read only after getting the lock, i.e.
- * after the slave's phase has ended.
+ * SEEDED BUG -- copy of specs/visual_servoing.asm with one change, in the VS task's
+ * asynchronous master writing machine (fig. 8b, r_async_master_writing, state WRITING, on
+ * VS2ROB): a check-then-act "fast path". When its writing time has elapsed and it sees the
+ * lock free, the VS task moves the indexes and leaves at once WITHOUT taking the lock
+ * ("nobody holds the lock, so nobody can be reading"); only when the lock is busy does it
+ * go to MANAGING_SB and take the lock as before. Correct:
+ *     par writingArr(self, $b) := undef r_master_manage[$b]
+ *         sbState(self) := MANAGING_SB clock(self) := 0 endpar
+ * here:
+ *     par writingArr(self, $b) := undef
+ *         if isUndef(lockHolder($b)) then par
+ *             readIdx($b) := (readIdx($b) + 1) mod nArr
+ *             writeIdx($b) := (writeIdx($b) + 1) mod nArr
+ *             r_exit[] endpar
+ *         else par sbState(self) := MANAGING_SB clock(self) := 0 endpar endif endpar
+ *
+ * Breaks: stp_indexes_moved_under_lock (properties/swinging_buffer.prop): the VS task writes
+ * the VS2ROB indexes holding the lock neither before nor after the step.
+ *
+ * Why nothing else breaks:
+ *  - The fast path runs only when the lock is free, and the robot (the slave of VS2ROB)
+ *    reads only while it holds the lock; the VS task's own write ends in the same step.
+ *    So no array in use is swapped away (inv_arrays_current), both indexes move together
+ *    (inv_indexes_distinct), and no write meets a read of the same array
+ *    (inv_no_concurrent_rw). The robot's next read, under its lock, takes the new readIdx.
+ *  - The VS task takes no lock on the fast path and leaves holding none
+ *    (stp_lock_release_on_exit, inv_lock_inside_pm); the slow path is unchanged.
+ *  - Slaves are unchanged (stp_slave_never_moves_indexes, stp_failed_slave_no_interference);
+ *    the VS task waits for a lock no more than before, so ltlSpec_vs_progress,
+ *    ltlSpec_camera_leaves and ltlSpec_robot_leaves hold.
  */
 /*
  * visual_servoing -- the visual servoing application of the paper (fig. 2, fig. 11):
@@ -155,14 +176,13 @@ definitions:
 
 	// MANAGE SWINGING BUFFER, master: try to get the lock; if got, update the indexes
 	rule r_master_manage($b in Buffer) =
-		par
-			if isUndef(lockHolder($b)) then
+		if isUndef(lockHolder($b)) then
+			par
 				lockHolder($b) := self
-			endif
-			// SEEDED BUG: the indexes are updated even when the try failed
-			readIdx($b) := (readIdx($b) + 1) mod nArr
-			writeIdx($b) := (writeIdx($b) + 1) mod nArr
-		endpar
+				readIdx($b) := (readIdx($b) + 1) mod nArr
+				writeIdx($b) := (writeIdx($b) + 1) mod nArr
+			endpar
+		endif
 
 	// MANAGE SWINGING BUFFER, slave: try to get the lock only
 	rule r_slave_get_lock($b in Buffer) =
@@ -221,9 +241,19 @@ definitions:
 				if tElapsed(self) then
 					par
 						writingArr(self, $b) := undef
-						r_master_manage[$b]
-						sbState(self) := MANAGING_SB
-						clock(self) := 0
+						// SEEDED BUG: lock free, so move the indexes without taking it, and leave
+						if isUndef(lockHolder($b)) then
+							par
+								readIdx($b) := (readIdx($b) + 1) mod nArr
+								writeIdx($b) := (writeIdx($b) + 1) mod nArr
+								r_exit[]
+							endpar
+						else
+							par
+								sbState(self) := MANAGING_SB
+								clock(self) := 0
+							endpar
+						endif
 					endpar
 				else
 					r_tick[]
