@@ -186,14 +186,21 @@ def test_seeded_starvation_sync_master_without_watchdog():
     assert j["fairness"] == ["JUSTICE scheduled = master", "JUSTICE scheduled = slave"]
 
 
-def test_seeded_starvation_async_master_without_release():
+def test_master_without_release_does_not_starve_the_slave():
+    # the seeded fault (no release on exit) is repaired by the master's next move, so both
+    # liveness properties hold: the variant breaks only its step property
     m, res = check(SPECS / "buggy" / "sb_async_master_no_release.asm")
-    assert {n: r.holds for n, r in res.items()} == {"ltlSpec_master_leaves": True, "ltlSpec_slave_leaves": False}
+    assert {n: r.holds for n, r in res.items()} == {"ltlSpec_master_leaves": True, "ltlSpec_slave_leaves": True}
+
+
+def test_seeded_starvation_slave_without_recheck():
+    m, res = check(SPECS / "buggy" / "sb_async_slave_no_recheck.asm")
+    assert res["ltlSpec_slave_leaves"].holds is False
     r = res["ltlSpec_slave_leaves"]
     states = states_of(m, r)
     loop = r.json(m)["loop_start"]
-    # the lock is never released: the slave stays in its pattern machine, spinning
-    assert all(s["sbState(slave)"] is not None and s["lockHolder(SB1)"] == "master" for s in states[loop:])
+    # on the cycle the slave never leaves its pattern machine
+    assert all(s["sbState(slave)"] is not None for s in states[loop:])
 
 
 # ----------------------------------------------------------------- the command
