@@ -125,22 +125,11 @@ def test_text_output(tmp_path, capsys):
 
 
 # ----------------------------------------------------------------- specs of the project
-EXPECTED_BUGGY = {
-    "producer_consumer_reader_takes_writer_array": {"inv_no_concurrent_rw": 5},
-    "sb_async_master_no_release": {"stp_lock_release_on_exit": 4, "inv_lock_inside_pm": 4},
-    "sb_async_slave_no_recheck": {"inv_active_slave_holds_lock": 5, "inv_no_concurrent_rw": 9},
-    "sb_sync_master_no_watchdog": {},     # its seeded bug breaks an LTL property only
-    "sb_sync_slave_clears_lock": {"stp_failed_slave_no_interference": 4},
-    "sb_sync_slave_moves_indexes": {"stp_slave_never_moves_indexes": 4, "inv_arrays_current": 6,
-                                    "inv_no_concurrent_rw": 9},
-    "visual_servoing_swap_without_lock": {"stp_indexes_moved_under_lock": 3, "inv_arrays_current": 4},
-}
-
-
-def test_json_matches_explore_shape(capsys):
-    code = main(["explore", "specs/buggy/sb_async_master_no_release.asm", "--format", "json"])
+def test_json_matches_explore_shape(tmp_path, capsys):
+    path = write(tmp_path, "shape", SHAPE)
+    code = main(["explore", path, "--format", "json", "--no-default-properties", "--properties", SHAPE_PROPS(tmp_path)])
     ex = json.loads(capsys.readouterr().out)
-    code2, bm = run_json(capsys, "specs/buggy/sb_async_master_no_release.asm", "-k", "4")
+    code2, bm = run_json(capsys, path, "-k", "4", "--no-default-properties", "--properties", SHAPE_PROPS(tmp_path))
     assert code == code2 == 1
     assert set(ex) <= set(bm)
     assert bm["verdict"] == ex["verdict"] == "violated"
@@ -152,7 +141,7 @@ def test_json_matches_explore_shape(capsys):
         assert set(v["trace"][0]) == set(ev[v["property"]]["trace"][0])
 
 
-def test_replay_mismatch_is_an_internal_error(monkeypatch, capsys):
+def test_replay_mismatch_is_an_internal_error(tmp_path, monkeypatch, capsys):
     from asmcheck.smt import bmc
 
     real = bmc.Model.decode
@@ -162,7 +151,7 @@ def test_replay_mismatch_is_an_internal_error(monkeypatch, capsys):
         states[-1] = dict(states[0])          # not what the step function reaches
         return states
     monkeypatch.setattr(bmc.Model, "decode", corrupt)
-    code = main(["bmc", "specs/buggy/sb_async_master_no_release.asm", "-k", "4"])
+    code = main(["bmc", twin(tmp_path, 7, 16, bug=True), "-k", "13"])
     cap = capsys.readouterr()
     assert code == 2
     assert "internal error" in cap.err and "does not replay" in cap.err
@@ -179,17 +168,46 @@ def test_induction_proves_step_properties(capsys):
     assert rows["inv_indexes_distinct"]["k"] == 1
 
 
-def test_property_selection(capsys):
-    code, res = run_json(capsys, "specs/buggy/sb_async_master_no_release.asm", "-k", "6",
-                         "--property", "inv_lock_inside_pm")
+def test_property_selection(tmp_path, capsys):
+    path = write(tmp_path, "shape", SHAPE)
+    props = SHAPE_PROPS(tmp_path)
+    code, res = run_json(capsys, path, "-k", "6", "--properties", props, "--property", "inv_lo")
     assert code == 1
-    assert [v["property"] for v in res["violations"]] == ["inv_lock_inside_pm"]
+    assert [v["property"] for v in res["violations"]] == ["inv_lo"]
+    assert [r["property"] for r in res["properties"]] == ["inv_lo", "error"]
     assert main(["bmc", "specs/sb_async_master.asm", "--property", "nope"]) == 2
     assert "no property named 'nope'" in capsys.readouterr().err
 
 
 # ----------------------------------------------------------------- semantics: errors, inputs, ranges
 HEAD = "asm {name}\nimport StandardLibrary\nsignature:\n"
+
+# two agents taking turns on a lock; a step property (updatedBy) and invariants
+SHAPE = """\tdomain Task subsetof Agent
+\tdomain S subsetof Integer
+\tstatic t1: Task
+\tstatic t2: Task
+\tdynamic controlled holder: Task
+\tdynamic controlled n: S
+definitions:
+\tdomain S = {0 : 3}
+\trule r_work =
+\t\tif isUndef(holder) then holder := self
+\t\telse if holder = self then par n := (n + 1) mod 4 holder := undef endpar endif endif
+\tinvariant inv_lo over n: n < 2
+\tmain rule r_main = choose $t in Task with true do program($t)
+default init s0:
+\tfunction n = 0
+\tagent Task: r_work[]
+"""
+
+
+def SHAPE_PROPS(tmp_path):
+    p = tmp_path / "shape.prop"
+    p.write_text("applies to shape\n"
+                 "step stp_only_t1_counts: (forall $t in Task with updatedBy($t, n) implies $t = t1)\n"
+                 "invariant inv_hi: n < 3\n")
+    return str(p)
 
 
 def write(tmp_path, name, text):

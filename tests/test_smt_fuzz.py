@@ -218,6 +218,20 @@ def test_random_specs_agree(tmp_path, data):
     check_one(tmp_path, spec, props)
 
 
+@FUZZ
+@given(st.data())
+def test_random_specs_agree_with_symbolic_integers(tmp_path, data):
+    # every integer range read as a bit-vector term (normally only ranges of more than 8 values)
+    from asmcheck.smt import sym
+    saved = sym.SYM_MIN
+    sym.SYM_MIN = 0
+    try:
+        spec, props = make_spec(data.draw)
+        check_one(tmp_path, spec, props)
+    finally:
+        sym.SYM_MIN = saved
+
+
 @pytest.mark.slow
 @settings(max_examples=80, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow,

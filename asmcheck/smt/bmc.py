@@ -74,6 +74,7 @@ class Outcome:
     reason: str = ""
     induction: dict = field(default_factory=dict)  # name -> {"k": n, "needed": [names]}
     unknown_at: int | None = None
+    overflow_at: int | None = None                  # depth of the first state whose step the encoding cannot represent
 
 
 # ----------------------------------------------------------------- the model
@@ -444,6 +445,7 @@ def run_bmc(model: Model, k: int, *, stop_at_first=False, max_seconds=None, targ
                 break
             if o is not None:
                 out.reason = o
+                out.overflow_at = d
     out.seconds = time.perf_counter() - t0
     for p in props:
         out.verdicts.setdefault(p.name, "holds-to-depth")

@@ -14,6 +14,7 @@ class Depths:
     depths: dict           # property name -> depth of its first violation (within the bound)
     complete: bool = True  # False when the explorer stopped early (every property violated)
     seconds: float = 0.0
+    exact_to: int | None = None   # z3: beyond this depth the encoding could not represent a step
 
 
 def load(path: str, prop_files=None, use_default=True, options=None):
@@ -46,7 +47,7 @@ def z3_depths(path: str, d: int, prop_files=None, use_default=True, options=None
 
     spec, machine, state_props, step_props = load(path, prop_files, use_default, options)
     out = run_bmc(Model(machine, state_props, step_props), d)
-    return Depths(dict(out.depths), True, out.seconds)
+    return Depths(dict(out.depths), True, out.seconds, out.overflow_at)
 
 
 def agree(ex: Depths, z: Depths) -> str | None:
@@ -57,6 +58,10 @@ def agree(ex: Depths, z: Depths) -> str | None:
     properties (errors included) must agree, and properties the explorer did not reach
     are not compared."""
     e, s = ex.depths, z.depths
+    if z.exact_to is not None:
+        # the encoding left its range at that depth (verdict unknown): compare up to it
+        e = {k: v for k, v in e.items() if v <= z.exact_to}
+        s = {k: v for k, v in s.items() if v <= z.exact_to}
     first_e = min(e.values(), default=None)
     first_s = min(s.values(), default=None)
     if first_e != first_s:

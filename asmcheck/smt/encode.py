@@ -96,7 +96,9 @@ def summarize(writes: list) -> Summary:
     # the value: the first write's that happens (they must all agree, else the step clashes)
     value = select_many([(w.guard, w.value) for w in writes[:-1]], writes[-1].value)
     codes = [w.value.code for w in writes]
-    if all(c is not None for c in codes) and all(c[0] is codes[0][0] for c in codes):
+    if any(sym.has_sym(w.value) for w in writes):
+        clash = OR([AND(w.guard, NOT(OR([sym.is_err(w.value), sym.same(w.value, value)]))) for w in writes])
+    elif all(c is not None for c in codes) and all(c[0] is codes[0][0] for c in codes):
         clash = OR([AND(w.guard, NOT(sym.EQ(w.value.code[1], value.code[1]))) for w in writes])
     else:
         groups: dict = {}
@@ -291,7 +293,10 @@ class Encoder:
 
     # -------------------------------------------------------------- terms
     def ev(self, t: ir.Term, ctx: SCtx) -> U:
-        return getattr(self, "t_" + type(t).__name__)(t, ctx)
+        try:
+            return getattr(self, "t_" + type(t).__name__)(t, ctx)
+        except sym.TooWide as e:
+            raise unsupported(t.span, str(e)) from None
 
     def t_Const(self, t, ctx):
         return const(t.value)
@@ -434,6 +439,8 @@ class Encoder:
         impl = t.impl
         if impl is None:
             raise unsupported(t.span, f"the function {name}")
+        if name in _SYM_OPS and any(sym.has_sym(a) for a in args):
+            return _arith(name, args, impl)
         if len(args) == 2 and name in _FAST2:
             op = _FAST2[name]
 
@@ -765,7 +772,10 @@ class Encoder:
     def ex(self, r: ir.Rule, ctx: SCtx, pc, ups: dict) -> None:
         if sym.is_f(pc):
             return
-        getattr(self, "r_" + type(r).__name__)(r, ctx, pc, ups)
+        try:
+            getattr(self, "r_" + type(r).__name__)(r, ctx, pc, ups)
+        except sym.TooWide as e:
+            raise unsupported(r.span, str(e)) from None
 
     def r_Skip(self, r, ctx, pc, ups):
         pass
@@ -777,7 +787,7 @@ class Encoder:
         cod = f.codomain
         if isinstance(cod, T.Domain) and cod.kind == "subset" and cod.definition is not None:
             allowed = self.domain_values(cod, span)
-            bad = sym.guard_of(value, lambda v: v is not ERR and v is not None and not _member(v, allowed))
+            bad = _outside(value, allowed)
             self.error(AND(pc, bad), span, f"value out of domain {cod.name} (the codomain of {f.name})")
         keys = self.locs.keys[f.index]
         if not args:
@@ -1011,6 +1021,110 @@ class Encoder:
         raise unsupported(r.span, "local functions of a rule")
 
 
+_SYM_OPS = {"plus", "minus", "mult", "lt", "le", "gt", "ge", "mod", "idiv"}
+
+
+def _arith(name: str, args: list, impl) -> U:
+    """Integer operations with symbolic operands, as bit-vector terms (64-bit wrap-around
+    as the step function's)."""
+    combos = [(TRUE, [])]
+    for u in args:
+        combos = [(AND(g, g2), vals + [v]) for g, vals in combos for g2, v in u.alts if not sym.is_f(AND(g, g2))]
+    out = []
+    for g, vals in combos:
+        if any(v is ERR for v in vals):
+            out.append((g, ERR))
+            continue
+        if any(v is None for v in vals):
+            out.append((g, None))
+            continue
+        if not all(type(v) in (int, sym.SymInt) for v in vals):
+            # not integers after all (Reals, ...): split the symbolic ones into values
+            sub = mapn([make([(TRUE, v)]) for v in vals], lambda *vs: _concrete(name, impl, vs))
+            out.extend((AND(g, g2), v) for g2, v in sub.alts)
+            continue
+        ops = [v if type(v) is sym.SymInt else sym.SymInt.of(v) for v in vals]
+        out.extend((AND(g, g2), v) for g2, v in _sym_op(name, ops))
+    return make(out)
+
+
+def _concrete(name, impl, vals):
+    if any(v is ERR for v in vals):
+        return ERR
+    if len(vals) == 2 and name in _FAST2:
+        x, y = vals
+        if x is None or y is None:
+            return None
+        try:
+            r = _FAST2[name](x, y)
+        except TypeError:
+            return ERR
+        if type(r) is int and not (LONG_MIN <= r <= LONG_MAX):
+            return _wrap64(r)
+        return r
+    try:
+        return impl(*vals)
+    except (BuiltinError, TypeError, ValueError, ZeroDivisionError, OverflowError, AttributeError, IndexError):
+        return ERR
+
+
+def _result(e, lo, hi):
+    """A symbolic integer for e, whose mathematical value lies in [lo, hi] (wrapped to 64 bits)."""
+    if lo < LONG_MIN or hi > LONG_MAX:
+        e = sym.sx(e, 64) if e.size() < 64 else (z3.Extract(63, 0, e) if e.size() > 64 else e)
+        return sym.SymInt(e, LONG_MIN, LONG_MAX)
+    w = sym.sbits(lo, hi)
+    if e.size() > w:
+        e = z3.Extract(w - 1, 0, e)
+    return sym.SymInt(e, lo, hi)
+
+
+def _sym_op(name, ops):
+    if len(ops) == 1:
+        a = ops[0]
+        if name == "minus":
+            w = max(a.width, sym.sbits(-a.hi, -a.lo)) + 1
+            return [(TRUE, _result(-sym.sx(a.e, w), -a.hi, -a.lo))]
+        return [(TRUE, a)]
+    a, b = ops
+    if name in ("lt", "le", "gt", "ge"):
+        w = max(a.width, b.width)
+        x, y = sym.sx(a.e, w), sym.sx(b.e, w)
+        c = {"lt": x < y, "le": x <= y, "gt": x > y, "ge": x >= y}[name]      # signed comparisons
+        return [(c, True), (NOT(c), False)]
+    if name in ("plus", "minus", "mult"):
+        if name == "plus":
+            lo, hi = a.lo + b.lo, a.hi + b.hi
+        elif name == "minus":
+            lo, hi = a.lo - b.hi, a.hi - b.lo
+        else:
+            ends = [a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi]
+            lo, hi = min(ends), max(ends)
+        w = min(max(a.width, b.width, sym.sbits(lo, hi)) + (a.width + b.width if name == "mult" else 1), 128)
+        x, y = sym.sx(a.e, w), sym.sx(b.e, w)
+        e = x + y if name == "plus" else (x - y if name == "minus" else x * y)
+        return [(TRUE, _result(e, lo, hi))]
+    # mod, idiv: Java's remainder and division (truncating); by zero is an error
+    zero = sym.EQ(b.e, z3.BitVecVal(0, b.width)) if b.lo <= 0 <= b.hi else FALSE
+    w = max(a.width, b.width) + 1
+    x, y = sym.sx(a.e, w), sym.sx(b.e, w)
+    m = max(abs(b.lo), abs(b.hi))
+    if name == "mod":
+        e = z3.SRem(x, y)
+        if a.lo >= 0:
+            lo, hi = 0, min(a.hi, m - 1)
+        elif a.hi <= 0:
+            lo, hi = max(a.lo, -(m - 1)), 0
+        else:
+            lo, hi = -(m - 1), m - 1
+    else:
+        e = x / y          # bvsdiv: truncates toward zero
+        big = max(abs(a.lo), abs(a.hi))
+        lo, hi = -big, big
+    lo, hi = min(lo, hi), max(lo, hi)
+    return [(zero, ERR), (NOT(zero), _result(e, lo, hi))]
+
+
 _FAST2 = {"plus": lambda x, y: x + y, "minus": lambda x, y: x - y, "mult": lambda x, y: x * y,
           "lt": lambda x, y: x < y, "le": lambda x, y: x <= y, "gt": lambda x, y: x > y,
           "ge": lambda x, y: x >= y}
@@ -1056,6 +1170,27 @@ def _implies(x, y):
     if x is None or y is None:
         return None
     return False
+
+
+def _outside(u: U, allowed: list):
+    """The guard of a defined value not in ``allowed`` (the step function's range check)."""
+    ints = [v for v in allowed if type(v) is int]
+    contiguous = len(ints) == len(allowed) and ints and ints == list(range(ints[0], ints[0] + len(ints)))
+    out = []
+    for g, v in u.alts:
+        if type(v) is sym.SymInt:
+            if contiguous:
+                lo, hi = ints[0], ints[-1]
+                w = max(v.width, sym.sbits(lo, hi))
+                e = sym.sx(v.e, w)
+                out.append(AND(g, OR([(e < z3.BitVecVal(lo, w)) if v.lo < lo else FALSE,
+                                      (e > z3.BitVecVal(hi, w)) if v.hi > hi else FALSE])))
+            else:
+                out.append(AND(g, sym.guard_of(sym.expand(U([(TRUE, v)])),
+                                               lambda x: not _member(x, allowed))))
+        elif v is not ERR and v is not None and not _member(v, allowed):
+            out.append(g)
+    return OR(out)
 
 
 def _member(v, allowed) -> bool:

@@ -153,7 +153,7 @@ def EQ(a, b):
 class Table:
     """The values a location (or a choice) can hold, each with a code (its index)."""
 
-    __slots__ = ("values", "index", "width", "name")
+    __slots__ = ("values", "index", "width", "name", "irange", "base")
 
     def __init__(self, values: list, name: str = ""):
         self.values = list(values)
@@ -163,6 +163,12 @@ class Table:
         n = max(len(self.values), 2)
         self.width = max(1, (n - 1).bit_length())
         self.name = name
+        # a contiguous range of integers (after undef): codes are offsets, arithmetic is native
+        self.base = 1 if self.values and self.values[0] is None else 0
+        ints = self.values[self.base:]
+        self.irange = None
+        if ints and all(type(v) is int for v in ints) and ints == list(range(ints[0], ints[0] + len(ints))):
+            self.irange = (ints[0], ints[-1])
 
     def __len__(self) -> int:
         return len(self.values)
@@ -183,7 +189,73 @@ class Table:
         """The union of the values of a variable (or term) ``x`` over this table."""
         if z3.is_bv_value(x):
             return U([(TRUE, self.values[x.as_long()])], (self, x))
+        if self.irange is not None and self.irange[1] - self.irange[0] + 1 > SYM_MIN:
+            lo, hi = self.irange
+            w = max(sbits(lo, hi), self.width + 1)
+            e = z3.ZeroExt(w - self.width, x) + z3.BitVecVal(lo - self.base, w)
+            alts = [(EQ(x, self.const(0)), None)] if self.base else []
+            alts.append((NOT(alts[0][0]) if alts else TRUE, SymInt(e, lo, hi)))
+            return U(alts, (self, x))
         return U([(EQ(x, self.const(i)), v) for i, v in enumerate(self.values)], (self, x))
+
+    def sym_code(self, s: "SymInt"):
+        """(code of a symbolic integer in this integer-range table, guard of it being outside)."""
+        lo, hi = self.irange
+        w = max(s.width, sbits(lo, hi), self.width + 1) + 1
+        e = sx(s.e, w)
+        outside = OR([(e < z3.BitVecVal(lo, w)) if s.lo < lo else FALSE,
+                      (e > z3.BitVecVal(hi, w)) if s.hi > hi else FALSE])
+        code = z3.Extract(self.width - 1, 0, e - z3.BitVecVal(lo - self.base, w))
+        return code, outside
+
+
+SYM_MIN = 8          # integer ranges wider than this are read as symbolic integers
+MAX_EXPAND = 4096    # values of a symbolic integer expanded where a concrete value is needed
+
+
+class TooWide(Exception):
+    """A symbolic integer with too many values to expand."""
+
+
+def sbits(lo: int, hi: int) -> int:
+    """Bits of a signed bit-vector holding every integer in [lo, hi]."""
+    def b(v):
+        return (v.bit_length() if v >= 0 else (-v - 1).bit_length()) + 1
+    return max(2, b(lo), b(hi))
+
+
+def sx(e, w):
+    return e if e.size() == w else z3.SignExt(w - e.size(), e)
+
+
+class SymInt:
+    """An integer known as a signed bit-vector term ``e`` whose value lies in [lo, hi]."""
+
+    __slots__ = ("e", "lo", "hi")
+
+    def __init__(self, e, lo: int, hi: int):
+        self.e = e
+        self.lo = lo
+        self.hi = hi
+
+    @property
+    def width(self) -> int:
+        return self.e.size()
+
+    def __repr__(self) -> str:
+        return f"SymInt({self.e} in {self.lo}..{self.hi})"
+
+    @staticmethod
+    def of(v: int) -> "SymInt":
+        return SymInt(z3.BitVecVal(v, sbits(v, v)), v, v)
+
+
+def is_int(v) -> bool:
+    return type(v) is int
+
+
+def has_sym(u) -> bool:
+    return any(type(v) is SymInt for _, v in u.alts)
 
 
 class U:
@@ -220,11 +292,25 @@ ERRU = const(ERR)
 
 
 def make(pairs, code=None) -> U:
-    """A union from (guard, value) pairs: equal values merged, false guards dropped."""
+    """A union from (guard, value) pairs: equal values merged, false guards dropped.
+    Symbolic integers (and the concrete integers beside them) merge into one."""
+    pairs = [(g, v) for g, v in pairs if not is_f(g)]
+    if any(type(v) is SymInt for _, v in pairs):
+        ints = [(g, v if type(v) is SymInt else SymInt.of(v)) for g, v in pairs if type(v) in (SymInt, int)]
+        rest = [(g, v) for g, v in pairs if type(v) not in (SymInt, int)]
+        w = max(s.width for _, s in ints)
+        e = sx(ints[-1][1].e, w)
+        for g, s in reversed(ints[:-1]):
+            e = ITE(g, sx(s.e, w), e)
+        merged = SymInt(e, min(s.lo for _, s in ints), max(s.hi for _, s in ints))
+        pairs = rest + [(OR([g for g, _ in ints]), merged)]
     order = []
     groups: dict = {}
     for g, v in pairs:
-        if is_f(g):
+        if type(v) is SymInt:
+            k = ("S", id(v))
+            groups[k] = [v, [g]]
+            order.append(k)
             continue
         k = vk(v)
         ent = groups.get(k)
@@ -284,7 +370,26 @@ def select_many(cases, default: U) -> U:
     return out
 
 
+def expand(u: U) -> U:
+    """The union with every symbolic integer split into its concrete values."""
+    if not has_sym(u):
+        return u
+    pairs = []
+    for g, v in u.alts:
+        if type(v) is not SymInt:
+            pairs.append((g, v))
+            continue
+        if v.hi - v.lo + 1 > MAX_EXPAND:
+            raise TooWide(f"an integer term ranging over {v.lo}..{v.hi}")
+        w = v.width
+        for c in range(v.lo, v.hi + 1):
+            pairs.append((AND(g, EQ(v.e, z3.BitVecVal(c, w))), c))
+    out = U([(g, v) for g, v in pairs if not is_f(g)] or [(TRUE, ERR)])
+    return out
+
+
 def map1(u: U, fn) -> U:
+    u = expand(u)
     if u.is_concrete:
         return const(fn(u.alts[0][1]))
     return make([(g, fn(v)) for g, v in u.alts])
@@ -292,6 +397,7 @@ def map1(u: U, fn) -> U:
 
 def mapn(us: list, fn) -> U:
     """``fn`` applied to every combination of alternatives (errors propagate: fn sees ERR)."""
+    us = [expand(u) for u in us]
     if all(u.is_concrete for u in us):
         return const(fn(*[u.alts[0][1] for u in us]))
     combos = [(TRUE, [])]
@@ -320,6 +426,11 @@ def same(a: U, b: U):
         for g2, v2 in b.alts:
             if v2 is ERR:
                 continue
+            if type(v1) is SymInt or type(v2) is SymInt:
+                eq = sym_eq(v1, v2)
+                if not is_f(eq):
+                    gs.append(AND(g1, g2, eq))
+                continue
             if same_value(v1, v2):
                 gg = AND(g1, g2)
                 if not is_f(gg):
@@ -327,10 +438,44 @@ def same(a: U, b: U):
     return OR(gs)
 
 
+def sym_eq(a, b):
+    """The guard of a symbolic integer being equal to a value (symbolic or not)."""
+    if type(a) is not SymInt:
+        a, b = b, a
+    if type(b) is float and b.is_integer():
+        b = int(b)
+    if type(b) is SymInt:
+        if b.hi < a.lo or a.hi < b.lo:
+            return FALSE
+        w = max(a.width, b.width)
+        return EQ(sx(a.e, w), sx(b.e, w))
+    if type(b) is not int or not (a.lo <= b <= a.hi):
+        return FALSE
+    return EQ(a.e, z3.BitVecVal(b, a.width))
+
+
 def encode(u: U, table: Table):
     """(bit-vector code of the value in ``table``, guard of the values the table lacks)."""
     if u.code is not None and u.code[0] is table:
         return u.code[1], FALSE
+    if has_sym(u):
+        if table.irange is None:
+            u = expand(u)
+        else:
+            missing = []
+            expr = None
+            for g, v in reversed(u.alts):
+                if type(v) is SymInt:
+                    k, out = table.sym_code(v)
+                    missing.append(AND(g, out))
+                else:
+                    c = table.code_of(v) if v is not ERR else None
+                    if c is None:
+                        missing.append(g)
+                        continue
+                    k = table.const(c)
+                expr = k if expr is None else ITE(g, k, expr)
+            return (expr if expr is not None else table.const(0)), OR(missing)
     missing = []
     expr = None
     for g, v in reversed(u.alts):
