@@ -127,6 +127,9 @@ def register(sub) -> None:
                    help="with --induction: also try every two-literal clause over locations with few values as "
                         "a lemma (kept when k-induction proves it)")
     p.add_argument("--first", action="store_true", help="stop at the first violation")
+    p.add_argument("--loop-bound", type=int, metavar="N",
+                   help="unroll while / iterate loops N times in a step (default 16; a loop that may run longer "
+                        "makes the answer unknown)")
     p.add_argument("--max-seconds", type=float, metavar="S", help="give up after S seconds (verdict unknown)")
     p.add_argument("--properties", action="append", metavar="FILE",
                    help="a property file to check (repeatable); by default the files in properties/ that apply")

@@ -286,6 +286,42 @@ default init s0:
     assert explicit_depths(path, 5, options={"monitored_ranges": {"m": [0, 1, 2]}}).depths == {"inv_c": 3}
 
 
+LOOPS = """\tdomain S subsetof Integer
+\tdynamic controlled c: S
+\tdynamic controlled d: S
+\tdynamic controlled k: S
+\tdynamic monitored go: Boolean
+definitions:
+\tdomain S = {0 : 5}
+\tinvariant inv_d over d: d < 4
+\tmain rule r_main =
+\t\tif go then
+\t\t\tseq
+\t\t\t\tc := 0
+\t\t\t\twhile c < k do par c := c + 1 d := c endpar
+\t\t\t\tif k < 5 then k := k + 1 endif
+\t\t\tendseq
+\t\telse
+\t\t\titerate if c > 0 then c := c - 1 endif enditerate
+\t\tendif
+default init s0:
+\tfunction c = 0
+\tfunction d = 0
+\tfunction k = 0
+"""
+
+
+def test_loops_are_unrolled(tmp_path, capsys):
+    path = write(tmp_path, "loops", LOOPS)
+    code, res = run_json(capsys, path, "-k", "7")
+    assert code == 1 and [(v["property"], v["depth"]) for v in res["violations"]] == [("inv_d", 6)]
+    assert explicit_depths(path, 7).depths == {"inv_d": 6}
+    # a loop that may run longer than the bound: unknown, never a wrong 'holds'
+    code, res = run_json(capsys, path, "-k", "7", "--loop-bound", "3")
+    assert code == 3 and res["verdict"] == "unknown"
+    assert "loop running more than 3 times" in res["unknown"]
+
+
 def test_integer_range_overflow_is_unknown(tmp_path, capsys):
     path = write(tmp_path, "cnt", """\tdynamic controlled c: Integer
 definitions:
@@ -319,14 +355,14 @@ definitions:
 default init s0:
 \tfunction c = 0
 """, 6, 26, "codomain Integer is infinite"),
-    ("while loop", """\tdomain S subsetof Integer
+    ("whilerec loop", """\tdomain S subsetof Integer
 \tdynamic controlled c: S
 definitions:
 \tdomain S = {0 : 3}
-\tmain rule r_main = while c < 3 do c := c + 1
+\tmain rule r_main = whilerec c < 3 do c := c + 1
 default init s0:
 \tfunction c = 0
-""", 8, 21, "cannot encode the while loop"),
+""", 8, 21, "cannot encode the whilerec loop"),
     ("real arithmetic", """\tdynamic controlled r: Real
 definitions:
 \tmain rule r_main = r := r + 0.5

@@ -91,7 +91,7 @@ class Gen:
 
     # rules ---------------------------------------------------------------
     def rule(self, d, env, macro=True):
-        k = self.draw(st.integers(0, 6 if d <= 0 else 16))
+        k = self.draw(st.integers(0, 6 if d <= 0 else 18))
         if k == 0:
             return f"b0 := {self.bterm(1, env)}"
         if k == 1:
@@ -127,9 +127,15 @@ class Gen:
         if k == 14:
             return (f"switch e0 case AA: {self.rule(d - 1, env, macro)} case BB: {self.rule(d - 1, env, macro)} "
                     f"otherwise {self.rule(d - 1, env, macro)} endswitch")
-        if k == 15:
+        if k == 15 or k == 16 and not macro:
             v = self.fresh()
             return f"let ({v} = {self.iterm(1, env)}) in {self.rule(d - 1, {**env, v: 'S'}, macro)} endlet"
+        if k == 17:
+            # terminates: n0 grows (or the par clashes)
+            return f"while ({self.bterm(1, env)}) and n0 < 3 do par n0 := n0 + 1 {self.rule(0, env, macro)} endpar"
+        if k == 18:
+            val = self.pick(["true", "false"])
+            return f"iterate if n0 > 0 and {self.bterm(1, env)} then par n0 := n0 - 1 b1 := {val} endpar endif enditerate"
         if macro:
             return f"r_m[{self.earg(env)}]"
         return "skip"

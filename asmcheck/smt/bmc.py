@@ -21,6 +21,7 @@ from ..errors import AsmError
 from ..report.trace import Trace, TraceStep
 from ..semantics.machine import Prune, _Enumerator
 from ..semantics.state import same_value
+from ..semantics.values import show
 from . import sym
 from .encode import Encoder, Locations, StepEncoding, unsupported
 from .sym import AND, NOT, OR, TRUE
@@ -81,10 +82,12 @@ class Outcome:
 class Model:
     """The encoded spec: initial states, the step, the properties; instantiated per depth."""
 
-    def __init__(self, machine, state_props, step_props, aux_props=(), check_errors=True):
+    def __init__(self, machine, state_props, step_props, aux_props=(), check_errors=True, loop_bound=None):
         self.m = machine
         self.locs = Locations(machine)
         self.enc = Encoder(machine, self.locs)
+        if loop_bound is not None:
+            self.enc.loop_bound = loop_bound
         self.step = StepEncoding(machine, self.enc)
         self.props: list[Prop] = []
         for p in list(state_props) + list(aux_props):
@@ -112,21 +115,25 @@ class Model:
     def _init_states(self):
         m = self.m
         inits = m.initial_states()
+        spans = {}
+        if m.spec.default_init is not None:
+            for func, _, _, span in m.spec.default_init.functions:
+                spans[func.index] = span
         self.inits = []
         forms = []
         for log, st in inits:
             codes = {}
             for key, v in st.items():
+                fidx = key if type(key) is int else key[0]
                 if key in self.locs.kid:
                     c = self.locs.table_of_key(key).code_of(v)
                     if c is None:
-                        raise unsupported(None, f"the initial value {v!r} of {self.locs.text(key)} "
-                                                f"(outside its codomain)")
+                        raise unsupported(spans.get(fidx), f"the initial value {show(v)} of {self.locs.text(key)} "
+                                                           f"(outside the values of its codomain)")
                     codes[key] = c
-                else:
-                    fidx = key if type(key) is int else key[0]
-                    if type(fidx) is not int or (fidx not in self.locs.reason and fidx in self.locs.keys):
-                        raise unsupported(None, f"the initial location {self.locs.text(key)}")
+                elif type(fidx) is not int or (fidx not in self.locs.reason and fidx in self.locs.keys):
+                    raise unsupported(spans.get(fidx) if type(fidx) is int else None,
+                                      f"the initial location {self.locs.text(key)}")
             self.inits.append((log, st))
             eqs = []
             for k, x in zip(self.order, self.cur):
@@ -310,28 +317,22 @@ class BMC:
         self.depth = 0           # transitions asserted so far
         self.deadline = deadline
 
-    def _check(self, cond):
+    def _check(self, cond, want_model=False):
+        """sat / unsat / unknown (on a time-out) for cond on top of the path; with
+        want_model, (result, model or None)."""
         if sym.is_f(cond):
-            return z3.unsat
+            return (z3.unsat, None) if want_model else z3.unsat
         if self.deadline is not None:
             left = self.deadline - time.perf_counter()
             if left <= 0:
-                return z3.unknown
+                return (z3.unknown, None) if want_model else z3.unknown
             self.s.set("timeout", max(1, int(left * 1000)))
         self.s.push()
         self.s.add(cond)
         r = self.s.check()
+        mdl = self.s.model() if want_model and r == z3.sat else None
         self.s.pop()
-        return r
-
-    def _model_of(self, cond):
-        self.s.push()
-        self.s.add(cond)
-        r = self.s.check()
-        assert r == z3.sat
-        mdl = self.s.model()
-        self.s.pop()
-        return mdl
+        return (r, mdl) if want_model else r
 
     def extend_to(self, d: int):
         while self.depth < d:
@@ -343,12 +344,11 @@ class BMC:
         need = d - 1 if p.kind == "step" else d
         self.extend_to(need)
         cond = self.model.violation(p, "b", d)
-        r = self._check(cond)
+        r, mdl = self._check(cond, want_model=True)
         if r == z3.unsat:
             return None
         if r != z3.sat:
             return "unknown"
-        mdl = self._model_of(cond)
         states = self.model.decode(mdl, "b", d)
         trace, message = replay(self.model, p, states)
         return Found(p, d, trace, message)
@@ -371,12 +371,11 @@ class BMC:
         todo = list(lemmas)
         while todo:
             conds = [model.violation(p, "b", d) for p in todo]
-            r = self._check(OR(conds))
+            r, mdl = self._check(OR(conds), want_model=True)
             if r == z3.unsat:
                 break
             if r != z3.sat:
                 return None
-            mdl = self._model_of(OR(conds))
             bad = [p for p, c in zip(todo, conds) if z3.is_true(mdl.eval(c, model_completion=True))]
             if not bad:
                 return None
@@ -386,9 +385,9 @@ class BMC:
 
     def overflow(self, d):
         self.extend_to(d)
-        r = self._check(self.model.overflow_at("b", d))
+        r, mdl = self._check(self.model.overflow_at("b", d), want_model=True)
         if r == z3.sat:
-            return _overflow_message(self.model, self._model_of(self.model.overflow_at("b", d)), d)
+            return _overflow_message(self.model, mdl, d)
         return None if r == z3.unsat else "unknown"
 
 
@@ -477,31 +476,28 @@ def make_lemmas(model: Model, infer: bool) -> list[Prop]:
     locs = model.locs
     out = []
     lits = []
-    for key, x in zip(model.order, model.cur):
+    for key in model.order:
         t = locs.table_of_key(key)
         text = locs.text(key)
         cn = t.code_of(None)
         if cn is not None and len(t) > 1:
-            out.append(Prop(f"isDef({text})", "state", None, x == t.const(cn), lemma=True,
-                            clause=((key, cn, False),)))
+            out.append(Prop(f"isDef({text})", "state", None, lemma=True, clause=((key, cn, False),)))
         if infer and len(t) <= SMALL_TABLE:
             for code, v in enumerate(t.values):
                 if v is None:
                     continue
-                from ..semantics.values import show
-                eq = x == t.const(code)
                 if v is True:
                     pos, neg = text, f"not {text}"
                 elif v is False:
                     pos, neg = f"not {text}", text
                 else:
                     pos, neg = f"{text} = {show(v)}", f"{text} != {show(v)}"
-                lits.append((key, eq, pos, (key, code, True)))
-                lits.append((key, NOT(eq), neg, (key, code, False)))
+                lits.append((key, pos, (key, code, True)))
+                lits.append((key, neg, (key, code, False)))
     if infer:
         n = 0
-        for i, (k1, e1, t1, p1) in enumerate(lits):
-            for k2, e2, t2, p2 in lits[i + 1:]:
+        for i, (k1, t1, p1) in enumerate(lits):
+            for k2, t2, p2 in lits[i + 1:]:
                 if k1 == k2:
                     continue
                 if _looks_negative(t1):
@@ -510,7 +506,7 @@ def make_lemmas(model: Model, infer: bool) -> list[Prop]:
                     text = f"{_neg_text(t2)} implies {t1}"
                 else:
                     text = f"{t1} or {t2}"
-                out.append(Prop(text, "state", None, AND(NOT(e1), NOT(e2)), lemma=True, clause=(p1, p2)))
+                out.append(Prop(text, "state", None, lemma=True, clause=(p1, p2)))
                 n += 1
                 if n > MAX_LEMMAS:
                     raise AsmError(None, f"--infer: more than {MAX_LEMMAS} candidate lemmas; give auxiliary "
@@ -548,6 +544,17 @@ def prefilter(model: Model, lemmas: list[Prop], max_states: int = 3000, max_seco
                     nxt.append(n)
         frontier = nxt
     return alive
+
+
+def clause_violation(model: Model, clause) -> object:
+    """A lemma's violation over the generic variables: every literal false."""
+    var = dict(zip(model.order, model.cur))
+    out = []
+    for key, code, positive in clause:
+        t = model.locs.table_of_key(key)
+        eq = sym.EQ(var[key], t.const(code))
+        out.append(NOT(eq) if positive else eq)
+    return AND(*out)
 
 
 def _freeze(st: dict):
@@ -643,6 +650,8 @@ def run_induction(model: Model, k: int, *, targets: list[str], max_seconds=None,
     t0 = time.perf_counter()
     deadline = t0 + max_seconds if max_seconds else None
     lemmas = prefilter(model, make_lemmas(model, infer), max_seconds=prefilter_seconds)
+    for p in lemmas:
+        p.viol = clause_violation(model, p.clause)
     model.props.extend(lemmas)
     model._frames.clear()
     props = list(model.props)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import re
 
-from ..errors import SOURCES, AsmError, AsmTypeError, Span, UsageError
+from ..errors import SOURCES, AsmTypeError, Span, UsageError
 from .bmc import Model, run_bmc, run_induction
 
 
@@ -76,7 +76,7 @@ def check(path: str, args):
     """Run the engine; return (spec, machine, model, outcome, temporal, targets)."""
     spec, machine, state_props, step_props, temporal, aux = load(path, args)
     targets, st, sp = select_properties(state_props, step_props, aux, args)
-    model = Model(machine, st, sp, aux_props=aux)
+    model = Model(machine, st, sp, aux_props=aux, loop_bound=getattr(args, "loop_bound", None))
     if args.induction:
         out = run_induction(model, args.k, targets=targets, max_seconds=args.max_seconds,
                             infer=getattr(args, "infer", False))

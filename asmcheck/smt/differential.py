@@ -59,9 +59,12 @@ def agree(ex: Depths, z: Depths) -> str | None:
     are not compared."""
     e, s = ex.depths, z.depths
     if z.exact_to is not None:
-        # the encoding left its range at that depth (verdict unknown): compare up to it
-        e = {k: v for k, v in e.items() if v <= z.exact_to}
-        s = {k: v for k, v in s.items() if v <= z.exact_to}
+        # the encoding cannot represent a step from a state at that depth (verdict unknown):
+        # compare up to it (that state's own errors are among what z3 cannot see)
+        def keep(k, v):
+            return v < z.exact_to or (v == z.exact_to and k != "error")
+        e = {k: v for k, v in e.items() if keep(k, v)}
+        s = {k: v for k, v in s.items() if keep(k, v)}
     first_e = min(e.values(), default=None)
     first_s = min(s.values(), default=None)
     if first_e != first_s:

@@ -41,6 +41,7 @@ from .sym import AND, ERR, ERRU, FALSE, NOT, OR, TRUE, U, UNDEF, const, make, ma
 
 MAX_TABLE = 4096          # values of one location's codomain
 MAX_INLINE = 64           # nesting of macro calls / definitions being inlined
+LOOP_BOUND = 16           # turns of a while / iterate loop unrolled in one step
 
 
 class Unsupported(AsmError):
@@ -272,6 +273,7 @@ class Encoder:
         self.pure_cache: dict = {}
         self._compiled: dict = {}
         self.nchoice = 0
+        self.loop_bound = LOOP_BOUND
         # per step being encoded
         self.errs: list = []
         self.overflow: list = []
@@ -1015,7 +1017,48 @@ class Encoder:
         raise unsupported(r.span, "a turbo rule returning a value")
 
     def r_Loop(self, r, ctx, pc, ups):
-        raise unsupported(r.span, f"the {r.kind} loop")
+        """while / iterate, unrolled LOOP_BOUND times: each turn runs on the state the turns
+        before made (as a seq); a loop that may still go on after the last turn is an
+        overflow (the answer becomes unknown), never cut short silently."""
+        if r.kind == "whilerec":
+            raise unsupported(r.span, "the whilerec loop")
+        work = ctx.view.child()
+        sub_ctx = ctx.derive(view=work)
+        local: dict = {}
+        active = pc
+        for _ in range(self.loop_bound):
+            if sym.is_f(active):
+                break
+            if r.cond is not None:
+                c = self.ev(r.cond, sub_ctx)
+                self.error(AND(active, sym.not_bool(c)), r.cond.span, "the loop condition is undef")
+                active = AND(active, sym.is_true(c))
+            sub: dict = {}
+            self.ex(r.body, sub_ctx, active, sub)
+            summaries = {key: summarize(writes) for key, writes in sub.items()}
+            for key, s_ in summaries.items():
+                self.error(s_.clash, r.span, f"inconsistent update of {self.locs.text(key)}")
+            if r.cond is None:
+                # iterate: ends (without this turn's updates) when the body changes nothing
+                changed = OR([AND(s_.guard, NOT(sym.same(s_.value, work.read(key)))) for key, s_ in summaries.items()])
+                active = AND(active, changed)
+            for key, s_ in summaries.items():
+                g = AND(active, s_.guard)
+                work.over[key] = select(g, s_.value, work.read(key))
+                old = local.get(key)
+                if old is None:
+                    local[key] = Write(g, s_.value, s_.agent)
+                else:
+                    local[key] = Write(OR([old.guard, g]), select(g, s_.value, old.value), select(g, s_.agent, old.agent))
+        if not sym.is_f(active):
+            more = active
+            if r.cond is not None:
+                c = self.ev(r.cond, sub_ctx)
+                more = AND(active, NOT(sym.is_false(c)))
+            self.overflowed(more, r.span, f"the {r.kind} loop running more than {self.loop_bound} times "
+                                          f"(raise --loop-bound)")
+        for key, w in local.items():
+            ups.setdefault(key, []).append(w)
 
     def r_LocalRule(self, r, ctx, pc, ups):
         raise unsupported(r.span, "local functions of a rule")
