@@ -83,6 +83,20 @@ def test_twin_induction_with_aux(tmp_path, capsys):
     assert rows["error"]["verdict"] == "proved"
 
 
+@pytest.mark.parametrize("t,k", [(31, 128), (63, 250)])
+def test_larger_twins(tmp_path, capsys, t, k):
+    # the wide integer ranges (clocks 0..T, sequence numbers mod K) are bit-vector arithmetic
+    bug = twin(tmp_path / "bug", t, k, bug=True)
+    code, res = run_json(capsys, bug, "-k", "13")
+    assert code == 1 and [(v["property"], v["depth"]) for v in res["violations"]] == [("inv_exclusive", 13)]
+    ok = twin(tmp_path / "ok", t, k)
+    argv = [ok, "-k", "1", "--induction"]
+    for a in TWIN_AUX:
+        argv += ["--aux", a]
+    code, res = run_json(capsys, *argv)
+    assert code == 0 and res["verdict"] == "proved"
+
+
 def test_twin_induction_without_aux_is_unknown(tmp_path, capsys):
     path = twin(tmp_path, 7, 16)
     code, res = run_json(capsys, path, "-k", "3", "--induction")

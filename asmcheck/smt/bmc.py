@@ -435,6 +435,7 @@ def run_bmc(model: Model, k: int, *, stop_at_first=False, max_seconds=None, targ
                 out.unknown_at = d
                 break
             if stop_at_first and out.found:
+                out.depth = d           # the other properties hold to this depth only
                 break
         if d < k and out.reason == "":
             o = bmc.overflow(d)

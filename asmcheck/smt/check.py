@@ -78,6 +78,9 @@ def check(path: str, args):
     targets, st, sp = select_properties(state_props, step_props, aux, args)
     model = Model(machine, st, sp, aux_props=aux, loop_bound=getattr(args, "loop_bound", None))
     if args.induction:
+        for p in model.props:
+            if p.name not in targets and p.kind != "error":
+                p.aux = True          # a property of the spec used only to strengthen the induction
         out = run_induction(model, args.k, targets=targets, max_seconds=args.max_seconds,
                             infer=getattr(args, "infer", False))
     else:
