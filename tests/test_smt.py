@@ -7,7 +7,7 @@ import sys
 import pytest
 
 from asmcheck.cli import main
-from asmcheck.smt.differential import agree, explicit_depths, z3_depths
+from asmcheck.smt.differential import agree, explicit_depths
 
 from conftest import need_bench
 

@@ -24,7 +24,7 @@ from ..semantics.state import same_value
 from ..semantics.values import show
 from . import sym
 from .encode import Encoder, Locations, StepEncoding, unsupported
-from .sym import AND, NOT, OR, TRUE
+from .sym import AND, NOT, OR
 
 
 class ReplayMismatch(Exception):

@@ -9,7 +9,7 @@ from .bmc import Model, run_bmc, run_induction
 
 def aux_properties(spec, machine, terms: list[str]) -> list:
     """``--aux 'name: term'`` / ``--aux 'term'`` as state properties named aux1, aux2, ..."""
-    from ..props import MonitoredInvariant, StateProperty
+    from ..props import StateProperty
     from ..props.files import PropDecl, resolve_decl
     from ..semantics.machine import _mentions_monitored
 

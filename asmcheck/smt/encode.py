@@ -2,7 +2,7 @@
 
 Every location (a controlled/shared/out function applied to arguments from its finite
 domain) is one bit-vector variable over the *value table* of its codomain (undef is one
-code).  One step of the main rule is executed *symbolically*, once, over generic
+code; a wide integer range is read as a bit-vector integer, with native arithmetic).  One step of the main rule is executed *symbolically*, once, over generic
 "current" variables: terms evaluate to guarded unions of concrete values
 (:mod:`.sym`), applying the same StandardLibrary code as the step function; rules
 collect guarded writes.  ``choose`` gets a fresh choice variable per execution, a
@@ -33,7 +33,6 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import (Chooser, Ctx, LONG_MAX, LONG_MIN, Undetermined, _abstract_codomain, _free_uids,
                                  _has_sequencing, _is_simple, _ordered, _wrap64)
-from ..semantics.state import same_value
 from ..semantics.stdlib import BuiltinError
 from ..semantics.values import BagV, MapV, RuleValue, SeqV, SetV, abstract_value, show
 from . import sym
@@ -158,9 +157,6 @@ class Locations:
                 self.kid[key] = len(self.order)
                 self.order.append(key)
             self.keys[f.index] = keys
-        self.func_of = {}
-        for f in spec.functions:
-            self.func_of[f.index] = f
 
     def _why_not(self, f: ir.Function) -> str | None:
         m = self.m
@@ -282,7 +278,6 @@ class Encoder:
         self.choice_vars: list = []
         self.mon_vars: list = []
         self.mon_tables: dict = {}
-        self.agent_tables: dict = {}
 
     # -------------------------------------------------------------- problems
     def error(self, guard, span, message):
@@ -443,32 +438,7 @@ class Encoder:
             raise unsupported(t.span, f"the function {name}")
         if name in _SYM_OPS and any(sym.has_sym(a) for a in args):
             return _arith(name, args, impl)
-        if len(args) == 2 and name in _FAST2:
-            op = _FAST2[name]
-
-            def fast2(x, y):
-                if x is ERR or y is ERR:
-                    return ERR
-                if x is None or y is None:
-                    return None
-                try:
-                    r = op(x, y)
-                except TypeError:
-                    return ERR
-                if type(r) is int and not (LONG_MIN <= r <= LONG_MAX):
-                    return _wrap64(r)
-                return r
-            return mapn(args, fast2)
-
-        def call(*vals):
-            if any(v is ERR for v in vals):
-                return ERR
-            try:
-                return impl(*vals)
-            except (BuiltinError, TypeError, ValueError, ZeroDivisionError, OverflowError, AttributeError,
-                    IndexError):
-                return ERR
-        return mapn(args, call)
+        return mapn(args, lambda *vs: _concrete(name, impl, vs))
 
     def _program(self, agent, span):
         if agent is ERR:
