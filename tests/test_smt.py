@@ -9,7 +9,9 @@ import pytest
 from asmcheck.cli import main
 from asmcheck.smt.differential import agree, explicit_depths
 
-from conftest import need_bench
+from conftest import ROOT, need_bench
+
+SB_ASYNC_MASTER = str(ROOT / "specs" / "sb_async_master.asm")
 
 # the invariants that make inv_exclusive of the correct twins 1-inductive
 TWIN_AUX = ["w_of_wb0: wb0 implies w = 0", "w_of_wb1: wb1 implies w = 1",
@@ -173,7 +175,7 @@ def test_replay_mismatch_is_an_internal_error(tmp_path, monkeypatch, capsys):
 
 
 def test_induction_proves_step_properties(capsys):
-    code, res = run_json(capsys, "specs/sb_async_master.asm", "-k", "1", "--induction",
+    code, res = run_json(capsys, SB_ASYNC_MASTER, "-k", "1", "--induction",
                          "--property", "stp_slave_never_moves_indexes", "--property", "inv_indexes_distinct")
     assert code == 0 and res["verdict"] == "proved"
     rows = {r["property"]: r for r in res["properties"]}
@@ -189,7 +191,7 @@ def test_property_selection(tmp_path, capsys):
     assert code == 1
     assert [v["property"] for v in res["violations"]] == ["inv_lo"]
     assert [r["property"] for r in res["properties"]] == ["inv_lo", "error"]
-    assert main(["bmc", "specs/sb_async_master.asm", "--property", "nope"]) == 2
+    assert main(["bmc", SB_ASYNC_MASTER, "--property", "nope"]) == 2
     assert "no property named 'nope'" in capsys.readouterr().err
 
 
