@@ -71,6 +71,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     from . import commands  # the other subcommands live beside this module
     commands.register(sub)
+    imp_help = ("a folder searched for imports not found beside the importing file (repeatable; "
+                "searched before the folders of the ASMCHECK_PATH environment variable)")
+    p.add_argument("-I", "--import-path", action="append", default=[], metavar="DIR", help=imp_help)
+    for sp in sub.choices.values():
+        sp.add_argument("-I", "--import-path", action="append", default=argparse.SUPPRESS, metavar="DIR",
+                        help=imp_help)
     return p
 
 
@@ -83,6 +89,12 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return EXIT_ERROR
+    from .semantics.resolve import set_import_path
+    for d in args.import_path:
+        if not os.path.isdir(d):
+            print(f"asmcheck: error: --import-path {d}: no such folder", file=sys.stderr)
+            return EXIT_ERROR
+    set_import_path(os.path.abspath(d) for d in args.import_path)
     try:
         code = args.func(args)
     except UsageError as exc:

@@ -141,7 +141,7 @@ def cmd_explore(args) -> int:
             print()
             for line in t.text(machine, color):
                 print(line)
-    if result.verdict == "incomplete":
+    if result.reason:
         print(f"incomplete: {result.reason}")
     print(f"verdict: {result.verdict}")
     return code
@@ -149,16 +149,19 @@ def cmd_explore(args) -> int:
 
 def _property_table(result, temporal_results) -> list[dict]:
     bad = {v.prop.name for v in result.violations}
+    # a limit that stopped the search leaves every property not violated so far undecided, even
+    # when another property is violated (the overall verdict is then "violated")
+    incomplete = result.verdict == "incomplete" or bool(result.reason)
     rows = []
     for p in result.checked:
-        verdict = "violated" if p.name in bad else ("incomplete" if result.verdict == "incomplete" else "holds")
+        verdict = "violated" if p.name in bad else ("incomplete" if incomplete else "holds")
         rows.append({"property": p.name, "kind": getattr(p, "kind", "invariant"), "verdict": verdict})
     for v in result.violations:
         if v.prop.name in ("deadlock", "error"):
             rows.append({"property": v.prop.name, "kind": v.prop.kind, "verdict": "violated"})
     if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
         rows.append({"property": "deadlock", "kind": "deadlock",
-                     "verdict": "incomplete" if result.verdict == "incomplete" else "holds"})
+                     "verdict": "incomplete" if incomplete else "holds"})
     for t in temporal_results:
         verdict = getattr(t, "verdict", None) or ("holds" if t.holds else "violated")
         if verdict == "error":

@@ -182,3 +182,39 @@ def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
     assert "the native explorer cannot run S.asm" in capsys.readouterr().err
     assert main(["explore", path, "--max-states", "3", "--format", "json"]) == 3
     assert json.loads(capsys.readouterr().out)["engine"] == "python"
+
+
+COUNTER = """asm Counter
+import StandardLibrary
+signature:
+	dynamic controlled x: Integer
+definitions:
+	invariant inv_small over x: x < 3
+	invariant inv_nonneg over x: x >= 0
+	main rule r_main = x := (x + 1) mod 10
+default init s0:
+	function x = 0
+"""
+
+
+def test_a_limit_leaves_the_other_properties_incomplete_beside_a_violation(tmp_path, capsys):
+    import json as _json
+
+    from asmcheck.cli import main
+
+    spec = tmp_path / "Counter.asm"
+    spec.write_text(COUNTER, encoding="utf-8")
+    assert main(["explore", str(spec), "--max-depth", "5", "--format", "json"]) == 1
+    out = _json.loads(capsys.readouterr().out)
+    assert (out["verdict"], out["states"], out["incomplete"]) == ("violated", 6, "depth limit 5 reached")
+    assert {p["property"]: p["verdict"] for p in out["properties"]} == {"inv_small": "violated",
+                                                                         "inv_nonneg": "incomplete"}
+    assert main(["explore", str(spec), "--max-depth", "5"]) == 1
+    text = capsys.readouterr().out
+    assert "  inv_nonneg                               incomplete\n" in text
+    assert text.endswith("incomplete: depth limit 5 reached\nverdict: violated\n")
+    # without a limit the search covers everything: the other invariant holds
+    assert main(["explore", str(spec), "--format", "json"]) == 1
+    out = _json.loads(capsys.readouterr().out)
+    assert {p["property"]: p["verdict"] for p in out["properties"]}["inv_nonneg"] == "holds"
+    assert "incomplete" not in out

@@ -162,6 +162,8 @@ class Explorer:
                     if not ok:
                         record(Violation(prop, sid))
                 if self.stop_at_first and violations:
+                    incomplete = True
+                    reason = reason or "stopped at the first violation"
                     frontier = []
                     break
                 if self.max_depth is not None and depth >= self.max_depth:
@@ -184,6 +186,9 @@ class Explorer:
                     if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
                         continue
                     picks = tuple(c.pick for c in log)
+                    raw = nxt
+                    # stored under canonical names; step properties see the successor as the step made
+                    # it, so an extend-made element keeps its identity across the step
                     nxt = self._norm(nxt)
                     tid, new = self._add(nxt, sid, picks, depth + 1)
                     targets.append(tid)
@@ -193,7 +198,7 @@ class Explorer:
                         if prop.name in violated:
                             continue
                         try:
-                            ok = prop.check_step(m, st, ups, nxt, mon)
+                            ok = prop.check_step(m, st, ups, raw, mon)
                         except AsmError as e:
                             record(Violation(prop, tid, sid, picks, message=f"cannot be evaluated: {e.message}", error=e))
                             continue
@@ -224,6 +229,8 @@ class Explorer:
                     last_report = now
                     self.progress(len(self.frozen), depth, transitions, now - t0)
                 if self.stop_at_first and violations:
+                    incomplete = True
+                    reason = reason or "stopped at the first violation"
                     next_frontier = []
                     frontier = []
                     break

@@ -58,8 +58,13 @@ class Canonicalizer:
     def __init__(self, machine, gc_domains: set[str]):
         self.machine = machine
         self.gc = gc_domains
+        self.last_mapping: dict = {}
 
     def __call__(self, state: dict) -> dict:
+        """The canonical form of ``state``.  Afterwards ``self.last_mapping`` maps each element
+        that was renamed to its new name (elements not in it keep theirs; dropped elements are
+        not in the result)."""
+        self.last_mapping = {}
         doms = {k[1]: v for k, v in state.items() if is_dom_key(k) and v}
         if not doms:
             return state
@@ -129,6 +134,7 @@ class Canonicalizer:
             for i, e in enumerate(els, 1):
                 if e.serial != i:
                     mapping[e] = fresh_value(d, i)
+        self.last_mapping = mapping
         if not mapping and not changed:
             return state
         base = {k: v for k, v in state.items() if not is_dom_key(k)}

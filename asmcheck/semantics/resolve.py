@@ -23,6 +23,21 @@ LIBRARIES = ("StandardLibrary", "CTLLibrary", "LTLLibrary", "TimeLibrary")
 # Library files that are never read as specs (TimeLibrary is an ordinary module when checked alone).
 REFUSED = ("StandardLibrary", "CTLLibrary", "LTLLibrary")
 
+# Folders searched, in order, for an import that is not found relative to the importing file
+# (``asmcheck -I DIR`` and the ASMCHECK_PATH environment variable set it; see import_path()).
+_SEARCH_PATH: list[str] = []
+
+
+def set_import_path(dirs) -> None:
+    """Set the folders searched for imports not found beside the importing file."""
+    _SEARCH_PATH[:] = [str(d) for d in dirs]
+
+
+def import_path() -> list[str]:
+    """The folders searched for imports: those set by set_import_path, then ASMCHECK_PATH's."""
+    env = [d for d in os.environ.get("ASMCHECK_PATH", "").split(os.pathsep) if d]
+    return list(_SEARCH_PATH) + env
+
 
 class Table:
     """Names a module declares or sees: domains, functions, rules, enum constants."""
@@ -165,6 +180,14 @@ class Loader:
                 raise AsmError(imp.span, f"import not found: {target} (asmcheck provides {stem} itself: "
                                          f"write 'import {stem}' to use it without a file)")
             return self.library(stem)
+        if not target.exists() and not os.path.isabs(raw):
+            for d in import_path():
+                cand = Path(d) / raw
+                if not str(cand).endswith(".asm"):
+                    cand = Path(str(cand) + ".asm")
+                if cand.exists():
+                    target = cand
+                    break
         p = os.path.abspath(str(target))
         if p in stack:
             cycle = " -> ".join(Path(s).name for s in stack[stack.index(p):] + [p])
@@ -172,7 +195,9 @@ class Loader:
         if p in self.modules:
             return self.modules[p]
         if not os.path.exists(p):
-            raise AsmError(imp.span, f"import not found: {target}")
+            where = import_path()
+            hint = f" (also looked in: {', '.join(where)})" if where and not os.path.isabs(raw) else ""
+            raise AsmError(imp.span, f"import not found: {target}{hint}")
         syntax = parse_file(p)
         if syntax is None:
             raise AsmError(imp.span, f"imported file {target} is empty")
@@ -773,7 +798,11 @@ def _step_op(self, t: A.Apply, env: Env) -> ir.Term:
         return ir.StepOp(inner.type, t.span, name, [inner])
     args = []
     if name == "updatedBy":
-        args.append(self.term(t.args[0], env))
+        who = self.term(t.args[0], env)
+        if not (T.agent_like(who.type) or who.type is T.UNDEF):
+            raise AsmTypeError(t.args[0].span, f"updatedBy needs an agent (an element of Agent or of a domain "
+                                               f"that is a subset of it), not a value of {who.type}")
+        args.append(who)
     loc_t = t.args[-1]
     loc = self.term(loc_t, env)
     if not isinstance(loc, ir.Loc) or not loc.func.is_location or loc.func.kind == "monitored":
