@@ -279,7 +279,7 @@ class Declarer:
                     if el in seen:
                         raise AsmTypeError(el_span, f"the enum symbol {el} is duplicate")
                     seen.add(el)
-                    v = enum_value(dom.name + "@" + mod.name if False else dom.name, el, i)
+                    v = enum_value(dom.name, el, i)
                     dom.elements.append(v)
                     for other_v, other_d in mod.own.enums.get(el, []):
                         if other_d is not dom:

@@ -46,11 +46,14 @@ class EnumValue:
         return (_enum_unpickle, (self.domain, self.name, self.index))
 
 
-_ENUMS: dict[tuple[str, str], EnumValue] = {}
+# Interned: one object per (domain, symbol, position), so values compare by identity.  The
+# position is part of the key because two specs read in one process may declare a domain of
+# the same name with the same symbols in another order.
+_ENUMS: dict[tuple[str, str, int], EnumValue] = {}
 
 
 def enum_value(domain: str, name: str, index: int) -> EnumValue:
-    key = (domain, name)
+    key = (domain, name, index)
     v = _ENUMS.get(key)
     if v is None:
         v = EnumValue(domain, name, index)
