@@ -1,4 +1,4 @@
-"""Issue #10: the authors' RTPatternLibrary (ASMETA's asm_examples/RTPatternLibrary, read in place)
+"""The authors' RTPatternLibrary (ASMETA's asm_examples/RTPatternLibrary, read in place)
 against the swinging-buffer properties of properties/rtpattern*.prop -- the fast runs: Test_SB, the
 semaphore tests (depth-bounded: their step counter makes them infinite), RtNondetPairs
 (nondeterministic scheduling), coverage witnesses, the audit script, and the asmcheck bug the

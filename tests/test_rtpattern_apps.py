@@ -1,4 +1,4 @@
-"""Issue #10: RobotController to completion, CompleteApplication bounded (its 70,867 states take minutes:
+"""RobotController to completion, CompleteApplication bounded (its 70,867 states take minutes:
 scripts/rtpattern_audit.py explores it to completion), and the VisualServoing set-up under
 nondeterministic scheduling (tests/rtpattern/RtNondetVS.asm) bounded in depth. See test_rtpattern.py."""
 import pytest

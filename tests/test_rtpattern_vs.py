@@ -1,4 +1,4 @@
-"""Issue #10: the library's VisualServoing application explored to completion with the swinging-buffer
+"""The library's VisualServoing application explored to completion with the swinging-buffer
 properties (properties/rtpattern*.prop), with `passed` free and fixed to true. See test_rtpattern.py."""
 import pytest
 
