@@ -97,6 +97,14 @@ class Explorer:
     def _norm(self, st: dict) -> dict:
         return self.canon(st) if self.uses_extend else st
 
+    def normalise(self, st: dict) -> tuple[dict, dict]:
+        """The canonical form of ``st`` and the renaming that made it (raw element ->
+        canonical element, for the elements that changed their name)."""
+        if not self.uses_extend:
+            return st, {}
+        out = self.canon(st)
+        return out, dict(self.canon.last_mapping)
+
     def _add(self, st: dict, parent: int, picks, depth: int):
         fz = self.layout.freeze(st)
         sid = self.index.get(fz)
@@ -266,25 +274,28 @@ class Explorer:
 
     def replay(self, path: list[int], last_picks: tuple | None = None, last_target: int | None = None):
         """Re-run the steps of ``path`` through the step function; check that each step
-        reaches the stored state.  Returns [(state dict, choices log, update set, mon)]."""
+        reaches the stored state.  Returns [(state dict, choices log, update set, mon, raw
+        successor, renaming)]: the state is canonical (as stored), the raw successor the
+        state as the step function made it from the previous one (None for the initial
+        state) and the renaming the canonicaliser's (raw element -> canonical element)."""
         m = self.m
         first = path[0]
         ch = ScriptChooser(self.via[first])
         st0 = self._norm(m.initial_state(ch))
         if self.layout.freeze(st0) != self.frozen[first]:
             raise ReplayError("the initial state does not replay")
-        out = [(st0, ch.log, None, getattr(m, "init_mon", {}))]
+        out = [(st0, ch.log, None, getattr(m, "init_mon", {}), None, None)]
         cur = st0
         steps = [(path[i], path[i + 1], self.via[path[i + 1]]) for i in range(len(path) - 1)]
         if last_picks is not None:
             steps.append((path[-1], last_target, last_picks))
         for src, dst, picks in steps:
             ch = ScriptChooser(picks)
-            ups, nxt, ctx = m.step(cur, ch)
-            nxt = self._norm(nxt)
+            ups, raw, ctx = m.step(cur, ch)
+            nxt, mapping = self.normalise(raw)
             if self.layout.freeze(nxt) != self.frozen[dst]:
                 raise ReplayError(f"step to state {dst} does not replay")
-            out.append((nxt, ch.log, ups, ctx.mon))
+            out.append((nxt, ch.log, ups, ctx.mon, raw, mapping))
             cur = nxt
         return out
 

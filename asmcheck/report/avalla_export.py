@@ -212,8 +212,8 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
 
     ``out_path`` is where the scenario will be written (its ``load`` is relative to it);
     ``prop`` the violated property (defaults to ``trace.prop``)."""
-    from .gate import ChooseIndex, display_path, property_text, span_location, step_header, step_inputs, \
-        step_records
+    from .gate import ChooseIndex, display_path, property_text, shown_inputs, span_location, step_header, \
+        step_inputs, step_records
     prop = prop if prop is not None else trace.prop
     spec = machine.spec
     if chooses is None:
@@ -256,7 +256,7 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
         lines.append("// which the validator takes: the checks of state 0 may fail")
     lines.append("// state 0 (initial)")
     from .trace import _key_order
-    _checks(machine, sorted(init.state, key=lambda k: _key_order(machine, k)), init.state, lines)
+    _checks(machine, sorted(init.display, key=lambda k: _key_order(machine, k)), init.display, lines)
     for i, (st, rec) in enumerate(zip(trace.steps[1:], records[1:]), start=1):
         lines.append("")
         last = i == nsteps
@@ -265,12 +265,13 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
         lines.append("// " + step_header(rec))
         mon = inputs[i] if i < len(inputs) else {}
         if last and before_last:
-            _sets(machine, violating_inputs(machine, prop, trace.steps[i - 1].state, mon), lines)
+            # found in the canonical state before the step, shown under display names
+            _sets(machine, shown_inputs(st, violating_inputs(machine, prop, trace.steps[i - 1].state, mon)), lines)
             break
-        _sets(machine, mon, lines)
-        _picks(st.choices, chooses, lines)
+        _sets(machine, shown_inputs(st, mon), lines)
+        _picks(st.shown_choices(), chooses, lines)
         lines.append("step")
-        _checks(machine, sorted(st.changed, key=lambda k: _key_order(machine, k)), st.state, lines)
+        _checks(machine, sorted(st.changed, key=lambda k: _key_order(machine, k)), st.display, lines)
     lines.append("")
     text = property_text(prop)
     msg = getattr(trace, "message", "")

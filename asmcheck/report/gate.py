@@ -366,6 +366,14 @@ def step_inputs(machine, trace) -> list[dict]:
     return out
 
 
+def shown_inputs(step, mon: dict) -> dict:
+    """The monitored values a step read (as :func:`step_inputs` finds them, in the canonical
+    names of the state before it) under the trace's display names."""
+    if not mon or not getattr(step, "names", None):
+        return mon
+    return {(k if type(k) is not tuple else (k[0], step.show(k[1]))): step.show(v) for k, v in mon.items()}
+
+
 def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -> list[StepRecord]:
     from .trace import _key_order, _loc, _val
     from ..semantics.printer import location_text
@@ -376,7 +384,7 @@ def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -
     for st, mon in zip(trace.steps, inputs):
         choices = []
         if st.number > 0:
-            for c in flat_choices(st.choices):
+            for c in flat_choices(st.shown_choices()):
                 if c.kind != "choose":
                     continue
                 if isinstance(c.value, dict):
@@ -385,13 +393,14 @@ def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -
                     text = show(c.value)
                 choices.append(Choice("choose", text, chooses.rule(c.label),
                                       span_location(chooses.span(c.label), root=root)))
+            mon = shown_inputs(st, mon)
             for k in sorted(mon, key=lambda k: _key_order(machine, k)):
                 choices.append(Choice("monitored", f"{location_text(machine, k)} = {show(mon[k])}"))
         keys = sorted(st.changed, key=lambda k: _key_order(machine, k))
         recs.append(StepRecord(st.number, chooses.main, choices,
                                {_loc(machine, k): _val(k, st.changed[k]) for k in keys},
-                               {_loc(machine, k): _val(k, st.state[k])
-                                for k in sorted(st.state, key=lambda k: _key_order(machine, k))}))
+                               {_loc(machine, k): _val(k, st.display[k])
+                                for k in sorted(st.display, key=lambda k: _key_order(machine, k))}))
     return recs
 
 

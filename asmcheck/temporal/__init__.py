@@ -132,8 +132,7 @@ def _replay(explorer, K, nodes, loop):
     """Re-run the path of Kripke nodes through the step function; check every state
     against the explored graph.  Returns (Trace, loop index, inputs_step)."""
     from ..explore.bfs import ReplayError
-    from ..report.trace import Trace, TraceStep
-    from ..semantics.state import same_value
+    from ..report.trace import Trace, trace_steps
 
     if K.mode == "state":
         sids = list(nodes)
@@ -156,25 +155,17 @@ def _replay(explorer, K, nodes, loop):
     st0 = explorer._norm(m.initial_state(ch))
     if explorer.layout.freeze(st0) != explorer.frozen[first]:
         raise ReplayError("the initial state does not replay")
-    replayed = [(st0, ch.log, None)]
+    replayed = [(st0, ch.log, None, None, None)]
     cur = st0
     for picks, dst in steps:
         ch = ScriptChooser(picks)
-        ups, nxt, ctx = m.step(cur, ch)
-        nxt = explorer._norm(nxt)
+        ups, raw, ctx = m.step(cur, ch)
+        nxt, mapping = explorer.normalise(raw)
         if explorer.layout.freeze(nxt) != explorer.frozen[dst]:
             raise ReplayError(f"step to state {dst} does not replay")
-        replayed.append((nxt, ch.log, ups))
+        replayed.append((nxt, ch.log, ups, raw, mapping))
         cur = nxt
-    tsteps = []
-    prev = None
-    for i, (st, log, ups) in enumerate(replayed):
-        if prev is None:
-            changed = dict(st)
-        else:
-            changed = {k: st.get(k) for k in set(prev) | set(st) if not same_value(prev.get(k), st.get(k))}
-        tsteps.append(TraceStep(i, log, st, changed, ups))
-        prev = st
+    tsteps = trace_steps(replayed)
     return Trace(None, tsteps, "temporal"), loop, inputs_step
 
 
