@@ -434,6 +434,18 @@ def cx_summary(cx: Counterexample) -> str:
     return f"shortest counterexample, {steps}" + (" (the last step breaks it)" if cx.kind == "step" else "")
 
 
+RENAMED = "(up to the names of the elements made by extend)"
+
+
+def lasso_renamed(cx: Counterexample) -> bool:
+    """A lasso whose last state is its loop's first state (as the explorer stores states)
+    but shows the elements made by extend under other names (as a simulation names them)."""
+    if cx.kind != "lasso" or cx.loop_start is None or not cx.steps:
+        return False
+    first = next((r for r in cx.steps if r.number == cx.loop_start), None)
+    return first is not None and first is not cx.steps[-1] and first.state != cx.steps[-1].state
+
+
 def trace_lines(cx: Counterexample, color: bool = False) -> list[str]:
     """Per step the rule, its choices and inputs, then only the locations that changed."""
     if not cx.steps:
@@ -450,6 +462,8 @@ def trace_lines(cx: Counterexample, color: bool = False) -> list[str]:
             mark = "  <- breaks the property" if cx.kind == "step" else "  <- violates the property"
             if cx.kind == "lasso":
                 mark = f"  <- back to state {cx.loop_start}" if cx.loop_start is not None else ""
+                if mark and lasso_renamed(cx):
+                    mark += " " + RENAMED
         if cx.kind == "lasso" and cx.loop_start is not None and rec.number == cx.loop_start and rec.number != last:
             mark = "  <- the cycle starts here"
         out.append((red if rec.number == last and mark and cx.kind != "lasso" else bold)(head) +

@@ -7,7 +7,7 @@ from html import escape
 from pathlib import Path
 
 from .. import __version__
-from .gate import counts, cx_summary, step_header
+from .gate import RENAMED, counts, cx_summary, lasso_renamed, step_header
 
 LAST_STATES = 4          # states drawn in the picture
 MAX_LINES = 24           # locations per box
@@ -64,7 +64,8 @@ def _svg(cx) -> str:
               for r in steps[1:]]
     caption = ""
     if cx.kind == "lasso" and cx.loop_start is not None:
-        caption = f"state {last} is state {cx.loop_start} again: the cycle repeats for ever"
+        again = f"again {RENAMED}" if lasso_renamed(cx) else "again"
+        caption = f"state {last} is state {cx.loop_start} {again}: the cycle repeats for ever"
     elif cx.kind == "state":
         caption = f"state {last} violates the property"
     text_w = int(max([len(x) for x in labels] + [len(caption) - 5], default=0) * CHAR_W)

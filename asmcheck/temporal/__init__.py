@@ -87,12 +87,17 @@ class TemporalResult:
         out = [head + desc]
         lines = trace_text(machine, trace, color)
         # mark the loop: the state after step `loop` is where the cycle starts
+        back = f"   -> back to state {loop}"
+        if loop is not None and trace.steps[-1].display != trace.steps[loop].display:
+            # the same stored state, but the elements made by extend carry other display names
+            from ..report.gate import RENAMED
+            back += " " + RENAMED
         marked = []
         for ln in lines:
             if loop is not None and (ln.startswith("state 0") and loop == 0 or _is_step(ln, loop)):
                 ln = ln + f"   <- the loop starts here (state {loop})"
             if loop is not None and _is_step(ln, steps):
-                ln = ln + f"   -> back to state {loop}"
+                ln = ln + back
             marked.append(ln)
         out += ["  " + ln for ln in marked]
         if inputs_step:
