@@ -25,7 +25,8 @@ passes with every check (for step properties): either way every check before the
 exactly when the run is the counterexample's.
 
 Limits: an element made by ``extend`` has no name in AsmetaL, so locations and values that
-involve one are not checked or set (a comment says so); a choose rule that runs more than
+involve one are not checked or set (a comment says so, naming the element as the trace's
+display names do, which are the names a run of the scenario gives it); a choose rule that runs more than
 once in one step with different choices cannot be fixed by ``pick`` (a comment says so); the
 initial state is the one the validator builds (a spec whose initialisation chooses is
 replayed with its first choices).
