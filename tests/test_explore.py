@@ -184,7 +184,7 @@ def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["engine"] == "python"
 
 
-COUNTER = """asm Counter
+COUNTER_TEN = """asm CounterTen
 import StandardLibrary
 signature:
 	dynamic controlled x: Integer
@@ -202,8 +202,8 @@ def test_a_limit_leaves_the_other_properties_incomplete_beside_a_violation(tmp_p
 
     from asmcheck.cli import main
 
-    spec = tmp_path / "Counter.asm"
-    spec.write_text(COUNTER, encoding="utf-8")
+    spec = tmp_path / "CounterTen.asm"
+    spec.write_text(COUNTER_TEN, encoding="utf-8")
     assert main(["explore", str(spec), "--max-depth", "5", "--format", "json"]) == 1
     out = _json.loads(capsys.readouterr().out)
     assert (out["verdict"], out["states"], out["incomplete"]) == ("violated", 6, "depth limit 5 reached")
