@@ -475,62 +475,29 @@ times (phase times 0, periods 200); `RtNondetPairs` exercises the pattern machin
 line names `RTPatternLibrary/CommonBehaviour/Scheduler`, found through the folder given at run time with
 `-I ../shared/asmeta/asm_examples` (or the `ASMCHECK_PATH` environment variable), so the library is read in
 place and never copied.""",
-    """## What asmcheck lacked (reported, not changed: asmcheck/ belongs to others)
+    """## What the audit changed in asmcheck
 
-1. **Step properties and extend-made elements (a bug).** The explorer canonicalises the successor state
-   *before* it evaluates step properties (`asmcheck/explore/bfs.py`: `nxt = self._norm(nxt)` then
-   `prop.check_step(m, st, ups, nxt, mon)`), and the two states are renamed independently. An element made by
-   `extend` that a step property takes from the state before the step (`let ($ph = scheduler_currentPhase($c))
-   in ... next(sb_ctrlState($ph)) ...`) can denote another element after it: the first version of
-   `stp_exit_releases_semaphore` was reported violated on VisualServoing (a 9,855-step trace) and on RtNondetVS
-   for steps that do not break it. Minimal reproducer (both properties hold under ASM semantics; asmcheck
-   reports both violated after 2 steps):
+The audit found five shortcomings of asmcheck itself; all are fixed, with tests:
 
-   ```
-   asm Rep
-   import StandardLibrary
-   signature:
-       dynamic abstract domain D
-       dynamic controlled cur: D
-       dynamic controlled other: D
-       dynamic controlled mark: D -> Boolean
-       dynamic controlled started: Boolean
-   definitions:
-       main rule r_main =
-           if not started then
-               extend D with $a, $b do
-                   par cur := $a  other := $b  mark($a) := true  mark($b) := false  started := true endpar
-           else
-               par cur := other  other := cur endpar
-           endif
-   default init s0:
-       function started = false
-   ```
-   with the property file
-   ```
-   applies to Rep
-   step stp_swap: started implies (let ($x = cur) in next(other = $x) endlet)
-   step stp_mark_kept: started implies (let ($x = cur) in next(mark($x)) = mark($x) endlet)
-   ```
-   Fix: evaluate step properties on the successor as computed (same names as the source state and the update
-   set) and canonicalise afterwards. The property files here avoid the bug (every phase is looked up in the
-   state it is used in; phases are compared across a step by `scheduler_currentPhaseIndex`);
-   tests/test_rtpattern.py keeps the reproducer as an expected failure.
-2. **Traces rename extend-made elements from step to step.** The printed trace shows each state's canonical
-   names, so a step lists "changes" that are only renamings (e.g. `scheduler_currentPhase(camera_scheduler)`
-   and `scheduler_seqPhase(...)` in a step where only the VS task moved, or `mark(D!1) = false` in the
-   reproducer above, where `mark` is never updated). Traces should be printed with the names of the replayed
-   (uncanonicalised) run.
-3. **Bounded runs with a violation report the other properties as "holds".** With `--max-depth`/`--max-states`/
-   `--max-seconds` and a violated property, the text output's table says "holds" for the others and does not
-   say that the bound was hit (the JSON has `"incomplete"`, its property table also says "holds"). This report
-   derives the bound itself.
-4. **Speed.** The library's specs run only on the Python engine (the native explorer refuses them: "the
-   infinite domain Integer"; step properties need the Python engine anyway): some hundred states per second,
-   of which the canonicaliser takes about three quarters (cProfile on RtNondetVS). CompleteApplication's
-   full exploration takes minutes; the tests pin it with `--max-states`.
-5. `updatedBy(x, loc)` accepts any term for `x` (here a Task, which is not an Agent) without a type error and is
-   then always false.""",
+1. **Step properties and extend-made elements.** Step properties were evaluated on the canonicalised
+   successor, whose extend-made elements are renamed independently of the state before the step, so an
+   element carried across the step by a `let` could denote another one after it (a first version of
+   `stp_exit_releases_semaphore` was reported violated on VisualServoing for steps that do not break it).
+   Step properties now see the successor as the step made it; tests/test_rtpattern.py keeps the
+   two-element reproducer (`test_step_property_keeps_extend_made_elements_across_the_step`).
+2. **Trace names.** Traces printed each state under its own canonical names, so a step listed "changes" that
+   were only renamings. Traces now name extend-made elements as a plain simulation of the same run does
+   (an element keeps its name; a new one takes the next number of its domain), in every format.
+3. **Bounded runs beside a violation.** With a limit (`--max-depth`, ...) and a violated property, the other
+   properties were reported "holds"; they are now "incomplete", and the text output says which limit stopped
+   the search.
+4. **A library kept elsewhere.** The nondeterministic specs import the library through the new `-I DIR` /
+   `ASMCHECK_PATH` search path instead of a relative path that only works in one folder layout.
+5. `updatedBy(x, loc)` accepted any `x` (here a Task, which is not an Agent) and was then always false; it is
+   now a located type error.
+
+Still open: the library's specs run on the Python engine only (the native explorer does not take specs with
+`extend`, sequences or step properties), so CompleteApplication's full exploration takes minutes.""",
 ]
 
 
