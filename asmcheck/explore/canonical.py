@@ -12,8 +12,17 @@ deterministic function of the state).
 An element that no location refers to any more is dropped from its domain,
 unless the spec ranges over that domain (``forall``/``choose``/quantifiers or
 the domain used as a term), where dropping it would change the behaviour.
+
+The canonicaliser runs on every successor, so it works incrementally: what a
+location (key and value object) contributes is worked out once and cached, and
+each state is compared with the state before (mostly the same objects) so that
+only the locations that differ are looked at again.  Colours are compared as
+the texts described at ``_Sorted``, exactly as if they were built from scratch.
 """
 from __future__ import annotations
+
+from itertools import compress, count, repeat
+from operator import attrgetter, is_, is_not
 
 from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, RuleValue, SeqV, SetV, fresh_value, rename, vkey
 
@@ -156,6 +165,43 @@ class _Loc:
         self.zero = ()              # (id, text while every element has colour 0, occurrences)
         self.renamed = None         # new element ids -> (key, value) renamed
 
+    def twin(self, key, value) -> "_Loc":
+        """This location's analysis for an equal ``key`` and ``value``."""
+        t = _Loc(key, value, self.elems, self.bound)
+        t.segs = self.segs
+        t.pos = self.pos
+        t.const = self.const
+        t.zero = self.zero
+        if self.renamed is None:
+            self.renamed = {}
+        t.renamed = self.renamed
+        return t
+
+
+# the order of vkey among abstract elements
+_ORDER = attrgetter("domain", "serial", "name")
+_ABSTRACT_ONLY = {AbstractValue}
+
+# types whose equal values are the same object
+_IDENTICAL = frozenset((AbstractValue, EnumValue, type(None)))
+# types whose equal values of the same type show the same text
+_PLAIN_TEXT = frozenset((AbstractValue, EnumValue, type(None), bool, int, str))
+
+
+def _same_key(k, v):
+    """A key under which equal locations are the same to the canonicaliser (same text, same
+    elements), or None when equality could hide a difference (1 and True, 0.0 and -0.0, a
+    sequence and a tuple, ...)."""
+    tv = type(v)
+    if tv not in _PLAIN_TEXT:
+        if (tv is not SeqV and tv is not tuple) or not all(map(_IDENTICAL.__contains__, map(type, v))):
+            return None
+    if type(k) is tuple:
+        args = k[1]
+        if type(args) is not tuple or not all(map(_IDENTICAL.__contains__, map(type, args))):
+            return None
+    return (k, tv, v)
+
 
 def _scan(k, v, fname) -> _Loc:
     found: list = []
@@ -213,6 +259,55 @@ def _key_kind(k: tuple) -> int:
     return _ARGS if found or bound else _PLAIN
 
 
+_DOM_SLOT = object()
+
+
+class _Scanned:
+    """A state as the canonicaliser sees it, kept to look at the next state (which mostly has
+    the same locations, most of them holding the same objects): per position its slot (see
+    ``Canonicalizer._slot``), the positions of the domains, the locations renaming may change,
+    and the texts of round 0 of each occurring element."""
+
+    __slots__ = ("keys", "vals", "slots", "doms", "texts", "sigs")
+
+    def __init__(self):
+        self.keys: list = []
+        self.vals: list = []
+        self.slots: list = []
+        self.doms: list = []        # positions of the domains
+        self.texts: dict = {}       # id of an occurring element -> its texts of round 0
+        self.sigs: dict = {}        # id -> sorted texts (dropped when the texts change)
+
+    def add(self, loc) -> None:
+        texts = self.texts
+        sigs = self.sigs
+        for i, t, c in loc.zero:
+            p = texts.get(i)
+            if p is None:
+                texts[i] = [t] * c
+            else:
+                p.extend([t] * c)
+            sigs.pop(i, None)
+
+    def remove(self, loc) -> None:
+        texts = self.texts
+        sigs = self.sigs
+        for i, t, c in loc.zero:
+            p = texts[i]
+            for _ in range(c):
+                p.remove(t)
+            if not p:
+                del texts[i]
+            sigs.pop(i, None)
+
+    def sig0(self, i) -> tuple:
+        s = self.sigs.get(i)
+        if s is None:
+            p = self.texts.get(i)
+            s = self.sigs[i] = tuple(sorted(p)) if p else ()
+        return s
+
+
 # locations remembered across states (they mostly recur unchanged from state to state)
 _CACHE_LIMIT = 1 << 17
 
@@ -224,63 +319,33 @@ class Canonicalizer:
         self.last_mapping: dict = {}
         self._locs: dict = {}       # (id(key), id(value)) -> _Loc, checked by identity
         self._kinds: dict = {}      # id(key) -> (key, _key_kind(key)) for keys with arguments
+        self._equal: dict = {}      # _same_key(key, value) -> _Loc
+        self._last = None           # the _Scanned state of the previous call
 
     def __call__(self, state: dict) -> dict:
         """The canonical form of ``state``.  Afterwards ``self.last_mapping`` maps each element
         that was renamed to its new name (elements not in it keep theirs; dropped elements are
         not in the result)."""
         self.last_mapping = {}
-        atoms = _ATOMS
-        cache = self._locs
-        fname = self.machine.fname
-        doms = {}
-        texts: dict = {}            # id of a fresh element -> its texts while all colours are 0
-        entries: list = []          # the _Loc of each location where fresh elements occur
-        touched: dict = {}          # position -> _Loc of the locations renaming may change
-        kinds = self._kinds
-        for pos, (k, v) in enumerate(state.items()):
-            if type(k) is tuple:
-                kind = kinds.get(id(k))
-                if kind is None or kind[0] is not k:
-                    if len(kinds) >= _CACHE_LIMIT:
-                        kinds.clear()
-                    kind = kinds[id(k)] = (k, _key_kind(k))
-                kind = kind[1]
-                if kind == _DOM:
-                    if v:
-                        doms[k[1]] = v
-                    continue
-                if kind == _PLAIN and type(v) in atoms:
-                    continue
-            elif type(v) in atoms:
-                continue
-            loc = cache.get((id(k), id(v)))
-            if loc is None or loc.key is not k or loc.value is not v:
-                if len(cache) >= _CACHE_LIMIT:
-                    cache.clear()
-                loc = cache[(id(k), id(v))] = _scan(k, v, fname)
-            if loc.elems:
-                entries.append(loc)
-                touched[pos] = loc
-                for i, t, c in loc.zero:
-                    p = texts.get(i)
-                    if p is None:
-                        texts[i] = [t] if c == 1 else [t] * c
-                    elif c == 1:
-                        p.append(t)
-                    else:
-                        p.extend([t] * c)
-            elif loc.bound:
-                touched[pos] = loc
+        keys = list(state)
+        vals = list(state.values())
+        sc = self._last
+        self._last = None
+        if sc is None:
+            sc = _Scanned()
+        self._follow(sc, keys, vals)
+        self._last = sc
+        doms = {keys[p][1]: vals[p] for p in sc.doms if vals[p]}
         if not doms:
             return state
         # drop unreferenced elements of domains nobody ranges over
+        occurring = sc.texts
         changed = False
         new_doms = {}
         gc = self.gc
         for d, els in doms.items():
             if d in gc:
-                kept = tuple(e for e in els if e.serial == 0 or id(e) in texts)
+                kept = tuple(e for e in els if e.serial == 0 or id(e) in occurring)
                 if len(kept) != len(els):
                     changed = True
                 new_doms[d] = kept
@@ -290,7 +355,7 @@ class Canonicalizer:
         if not elements:
             if not changed:
                 return state
-            return self._rebuild(state, new_doms, {}, {})
+            return self._rebuild(state, keys, vals, sc, new_doms, {})
         # number per domain by colour, ties by old serial
         by_dom: dict = {}
         for e in elements:
@@ -301,14 +366,27 @@ class Canonicalizer:
                 g.append(e)
         mapping = {}
         color = None
+        zero = None
         for d, els in by_dom.items():
             if len(els) == 1:
                 e = els[0]
                 if e.serial != 1:
                     mapping[e] = fresh_value(d, 1)
                 continue
+            if zero is None:
+                # the texts of round 0 hold only elements with a colour (none shows as '#?')
+                zero = sc.texts.keys() <= {id(e) for e in elements}
+            if zero and color is None:
+                # a domain whose elements round 0 tells apart keeps that order in later rounds
+                sig0 = sc.sig0
+                sigs = [sig0(id(e)) for e in els]
+                if len(set(sigs)) == len(els):
+                    for i, (_, e) in enumerate(sorted(zip(sigs, els)), 1):
+                        if e.serial != i:
+                            mapping[e] = fresh_value(d, i)
+                    continue
             if color is None:
-                color = self._colours(elements, entries, texts)
+                color = self._colours(elements, sc)
             els.sort(key=lambda e: (color[id(e)], e.serial))
             for i, e in enumerate(els, 1):
                 if e.serial != i:
@@ -316,20 +394,111 @@ class Canonicalizer:
         self.last_mapping = mapping
         if not mapping and not changed:
             return state
-        return self._rebuild(state, new_doms, mapping, touched)
+        return self._rebuild(state, keys, vals, sc, new_doms, mapping)
 
-    def _colours(self, elements: list, entries: list, texts: dict) -> dict:
+    def _slot(self, k, v):
+        """What the location ``k`` holding ``v`` is to the canonicaliser: _DOM_SLOT for a
+        domain, its _Loc when elements occur or renaming may change it, else None."""
+        if type(k) is tuple:
+            kinds = self._kinds
+            kind = kinds.get(id(k))
+            if kind is None or kind[0] is not k:
+                if len(kinds) >= _CACHE_LIMIT:
+                    kinds.clear()
+                kind = kinds[id(k)] = (k, _key_kind(k))
+            kind = kind[1]
+            if kind == _DOM:
+                return _DOM_SLOT
+            if kind == _PLAIN and type(v) in _ATOMS:
+                return None
+        elif type(v) in _ATOMS:
+            return None
+        cache = self._locs
+        loc = cache.get((id(k), id(v)))
+        if loc is None or loc.key is not k or loc.value is not v:
+            if len(cache) >= _CACHE_LIMIT:
+                cache.clear()
+            # an equal location met before, when equality leaves nothing to tell apart
+            eq = _same_key(k, v)
+            if eq is not None:
+                twin = self._equal.get(eq)
+                if twin is not None:
+                    loc = twin.twin(k, v)
+                else:
+                    loc = _scan(k, v, self.machine.fname)
+                    if len(self._equal) >= _CACHE_LIMIT:
+                        self._equal.clear()
+                    self._equal[eq] = loc
+            else:
+                loc = _scan(k, v, self.machine.fname)
+            cache[(id(k), id(v))] = loc
+        return loc if loc.elems or loc.bound else None
+
+    def _follow(self, sc: "_Scanned", keys: list, vals: list) -> None:
+        """Make ``sc``, the scan of the state before, the scan of the state of locations
+        ``keys`` holding ``vals``.  Consecutive states mostly list the same key objects in
+        the same order with a few keys changed in between: the common beginning and end are
+        compared value by value (by identity), the keys in between are taken out and added."""
+        okeys = sc.keys
+        ovals = sc.vals
+        oslots = sc.slots
+        n = len(keys)
+        m = len(okeys)
+        head = next(compress(count(), map(is_not, keys, okeys)), min(n, m))
+        if head == n == m:
+            for pos in compress(count(), map(is_not, vals, ovals)):
+                self._move(sc, pos, keys[pos], vals[pos])
+            sc.vals = vals
+            return
+        tail = min(next(compress(count(), map(is_not, reversed(keys), reversed(okeys))), m), n - head, m - head)
+        # the middle of the state before goes
+        for s in oslots[head:m - tail]:
+            if s is not None and s is not _DOM_SLOT:
+                sc.remove(s)
+        slots = oslots[:head]
+        slots.extend(repeat(None, n - tail - head))
+        slots.extend(oslots[m - tail:])
+        sc.slots = slots
+        for pos in compress(count(), map(is_not, vals[:head], ovals[:head])):
+            self._move(sc, pos, keys[pos], vals[pos])
+        for q in compress(count(), map(is_not, vals[n - tail:], ovals[m - tail:])):
+            self._move(sc, n - tail + q, keys[n - tail + q], vals[n - tail + q])
+        # the middle of this state comes
+        slot = self._slot
+        for pos in range(head, n - tail):
+            s = slots[pos] = slot(keys[pos], vals[pos])
+            if s is not None and s is not _DOM_SLOT:
+                sc.add(s)
+        sc.keys = keys
+        sc.vals = vals
+        sc.doms = list(compress(count(), map(is_, slots, repeat(_DOM_SLOT))))
+
+    def _move(self, sc: "_Scanned", pos: int, k, v) -> None:
+        """Location ``k`` at position ``pos`` now holds ``v``."""
+        old = sc.slots[pos]
+        new = self._slot(k, v)
+        if new is old:
+            return
+        sc.slots[pos] = new
+        if old is not None:
+            sc.remove(old)
+        if new is not None:
+            sc.add(new)
+
+    def _colours(self, elements: list, sc: "_Scanned") -> dict:
         """Colours (id -> int) whose order within each domain numbers the elements.
 
         Round ``r`` ranks the signatures ``(domain, colour, sorted texts of the element's
         locations)`` of all elements; the rank is the next colour.  Signatures are compared
         group by group (same domain and colour): an element alone in its group needs no
         texts, and once every element is alone the order within a domain no longer changes.
-        ``texts`` are the texts of round 0, where every element has colour 0."""
+        ``sc`` is the scanned state, with the texts of round 0 (every element colour 0)."""
         uniq: dict = {}
         for e in elements:
             uniq[id(e)] = e
         color = dict.fromkeys(uniq, 0)
+        texts = sc.texts
+        entries = None
         occ = None
         fixed: dict = {}            # id -> _split of the element
         for r in range(ROUNDS):
@@ -347,6 +516,7 @@ class Canonicalizer:
             # ('#?') occurs
             zero = r == 0 and texts.keys() <= color.keys()
             if not zero and occ is None:
+                entries = [loc for loc in sc.slots if loc is not None and loc is not _DOM_SLOT and loc.elems]
                 occ = {}
                 for n, loc in enumerate(entries):
                     for i, _, c in loc.elems:
@@ -369,13 +539,7 @@ class Canonicalizer:
                 for e in g:
                     ie = id(e)
                     if zero:
-                        parts = texts.get(ie)
-                        if parts is None:
-                            sigs[ie] = ()
-                            continue
-                        parts = parts.copy()
-                        parts.sort()
-                        sigs[ie] = tuple(parts)
+                        sigs[ie] = sc.sig0(ie)
                         continue
                     split = fixed.get(ie)
                     if split is None:
@@ -409,49 +573,73 @@ class Canonicalizer:
         return color
 
     @staticmethod
-    def _rebuild(state: dict, new_doms: dict, mapping: dict, touched: dict) -> dict:
-        """``state`` with the domains ``new_doms`` and the elements renamed by ``mapping``
-        (only the locations ``touched``, position -> _Loc, can change)."""
+    def _rebuild(state: dict, keys: list, vals: list, sc: "_Scanned", new_doms: dict, mapping: dict) -> dict:
+        """``state`` (locations ``keys`` holding ``vals``, scanned as ``sc``) with the domains
+        ``new_doms`` and the elements renamed by ``mapping``."""
+        changes = []                # (position, renamed key, renamed value)
+        moved = False               # some key is renamed
         if mapping:
             ids = {id(e): id(n) for e, n in mapping.items()}
-            out = {}
-            for pos, (k, v) in enumerate(state.items()):
-                if type(k) is tuple and k[0] == "#dom" and len(k) == 2:
+            slots = sc.slots
+            for pos in compress(count(), slots):
+                loc = slots[pos]
+                if loc is _DOM_SLOT:
                     continue
-                loc = touched.get(pos)
-                if loc is None:
-                    out[k] = v
-                    continue
+                k = loc.key
                 if loc.bound:
                     # a rule value's agent may be renamed: no shortcut
-                    if type(k) is tuple:
-                        out[(k[0], rename(k[1], mapping))] = rename(v, mapping)
-                    else:
-                        out[k] = rename(v, mapping)
+                    nk = (k[0], rename(k[1], mapping)) if type(k) is tuple else k
+                    changes.append((pos, nk, rename(loc.value, mapping)))
+                    if nk is not k and nk != k:
+                        moved = True
                     continue
                 # the new names of the location's elements decide the renamed location
-                sig = tuple([ids.get(i, i) for i, _, _ in loc.elems])
+                elems = loc.elems
+                if len(elems) == 1:
+                    sig = ids.get(elems[0][0])
+                    if sig is None:
+                        continue
+                else:
+                    sig = tuple([ids.get(i, i) for i, _, _ in elems])
+                    if sig == tuple([i for i, _, _ in elems]):
+                        continue
                 memo = loc.renamed
                 if memo is None:
                     memo = loc.renamed = {}
                 kv = memo.get(sig)
                 if kv is None:
-                    if all(i == j for (i, _, _), j in zip(loc.elems, sig)):
-                        # none of its elements is renamed
-                        out[k] = v
-                        continue
                     if type(k) is tuple:
-                        kv = memo[sig] = ((k[0], rename(k[1], mapping)), rename(v, mapping))
+                        nk = (k[0], rename(k[1], mapping))
+                        kv = memo[sig] = (nk, rename(loc.value, mapping), nk != k)
                     else:
-                        kv = memo[sig] = (k, rename(v, mapping))
-                out[kv[0]] = kv[1]
-            for d, els in new_doms.items():
-                if els:
-                    out[("#dom", d)] = tuple(sorted((mapping.get(e, e) for e in els), key=vkey))
-            return out
-        out = {k: v for k, v in state.items() if not (type(k) is tuple and k[0] == "#dom" and len(k) == 2)}
+                        kv = memo[sig] = (k, rename(loc.value, mapping), False)
+                changes.append((pos, kv[0], kv[1]))
+                if kv[2]:
+                    moved = True
+        if moved:
+            # renamed keys take the places of the old ones
+            keys = keys.copy()
+            vals = vals.copy()
+            for pos, k, v in changes:
+                keys[pos] = k
+                vals[pos] = v
+            for p in reversed(sc.doms):
+                del keys[p]
+                del vals[p]
+            out = dict(zip(keys, vals))
+        else:
+            out = state.copy()
+            for pos, k, v in changes:
+                out[keys[pos]] = v
+            for p in sc.doms:
+                del out[keys[p]]
+        idmap = {id(e): n for e, n in mapping.items()}
         for d, els in new_doms.items():
             if els:
+                if mapping:
+                    els = list(map(idmap.get, map(id, els), els))
+                    els.sort(key=_ORDER if set(map(type, els)) == _ABSTRACT_ONLY else vkey)
+                    els = tuple(els)
                 out[("#dom", d)] = els
         return out
 
