@@ -1,6 +1,6 @@
-"""RobotController to completion, CompleteApplication bounded (its 70,867 states take minutes:
-scripts/rtpattern_audit.py explores it to completion), and the VisualServoing set-up under
-nondeterministic scheduling (tests/rtpattern/RtNondetVS.asm) bounded in depth. See test_rtpattern.py."""
+"""RobotController to completion, CompleteApplication bounded (test_rtpattern_complete_app.py explores it
+to completion), and the VisualServoing set-up under nondeterministic scheduling (tests/rtpattern/RtNondetVS.asm)
+bounded in depth (test_rtpattern_nondet_vs.py: to completion). See test_rtpattern.py."""
 import pytest
 
 from rtpattern.rtlib import PROPS_NONDET, PROPS_SB, app, explore_json, nondet_spec, trace_steps, verdicts, violated

@@ -1,0 +1,21 @@
+"""VisualServoing's set-up under nondeterministic scheduling (tests/rtpattern/RtNondetVS.asm) explored
+to completion (a few minutes): the paper's properties hold, the freshness property does not. See
+test_rtpattern.py and test_rtpattern_apps.py (the same, bounded in depth)."""
+import pytest
+
+from rtpattern.rtlib import PROPS_NONDET, explore_json, nondet_spec, trace_steps, verdicts, violated
+
+pytestmark = pytest.mark.slow
+
+
+def test_nondet_visual_servoing_to_completion(capsys):
+    path, imp = nondet_spec("RtNondetVS")
+    code, out = explore_json(capsys, path, PROPS_NONDET, "--deadlock", *imp)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 132077, 392131, 81)
+    assert "incomplete" not in out
+    v = verdicts(out)
+    assert len(v) == 17
+    assert violated(out) == {"stp_swap_publishes_latest"}
+    assert {p for p, x in v.items() if x != "violated"} == set(v) - {"stp_swap_publishes_latest"}
+    assert set(v.values()) == {"holds", "violated"}
+    assert trace_steps(out) == {"stp_swap_publishes_latest": 18}
