@@ -381,38 +381,101 @@ def _first_matches(machine, st, step, fixed):
 
 
 def _match_renamed(machine, before, new, ups, lines):
-    """``new`` with this step's new elements renamed so that it shows ``lines``, or None."""
-    import itertools
-    from .semantics.values import rename_state
+    """``new`` with this step's new elements renamed so that it shows ``lines``, or None.
+
+    Each new element first gets the names it may take: a name is ruled out when a location
+    that mentions this element (and no other new one) would print differently from the
+    transcript under it.  The assignments left are then tried, distinct names per domain."""
+    from .semantics.values import fresh_value, rename_state
     printed_doms = {}
+    want: dict = {}
     for _, loc, val in lines:
+        want.setdefault(loc, []).append(val)
         if val.startswith("{") and "(" not in loc:
             printed_doms[loc] = set(val[1:-1].split(",")) if val != "{}" else set()
-    groups = []
+    ours_all = []
+    names: dict = {}
     for dom in sorted({d for d, _ in ups.fresh}):
         ours = [e for d, e in ups.fresh if d == dom]
         old = {e.name for e in before.get(("#dom", dom), ())}
         theirs = sorted(n for n in printed_doms.get(dom, set()) if n not in old and "!" in n)
-        if len(theirs) != len(ours) or len(ours) > 6:
+        if len(theirs) != len(ours):
             return None
-        groups.append((ours, theirs))
-    if not groups:
+        for o in ours:
+            names[o] = [fresh_value(dom, int(t.partition("!")[2])) for t in theirs]
+        ours_all.extend(ours)
+    if not ours_all:
         return None
-    from .semantics.values import fresh_value
-    import math
-    if math.prod(math.factorial(len(t)) for _, t in groups) > 5040:
+    fresh = set(ours_all)
+    # the entries of the state that mention exactly one new element
+    alone: dict = {o: [] for o in ours_all}
+    for k, v in new.items():
+        if is_dom_key(k):
+            continue
+        found: list = []
+        _collect_fresh(k, fresh, found)
+        _collect_fresh(v, fresh, found)
+        if len(set(found)) == 1:
+            alone[found[0]].append((k, v))
+    cands = {}
+    for o in ours_all:
+        ok = []
+        for t in names[o]:
+            text = _state_text_plain(machine, rename_state(dict(alone[o]), {o: t}))
+            if all(sorted(want[loc]) == vals or (len(want[loc]) == 1 and want[loc][0] in vals)
+                   for loc, vals in text.items() if loc in want):
+                ok.append(t)
+        if not ok:
+            return None
+        cands[o] = ok
+    order = sorted(ours_all, key=lambda o: len(cands[o]))
+    budget = [5040]
+
+    def search(i, used, mapping):
+        if budget[0] <= 0:
+            return None
+        if i == len(order):
+            budget[0] -= 1
+            cand = rename_state(new, mapping)
+            return cand if _matches(machine, cand, lines)[0] else None
+        o = order[i]
+        for t in cands[o]:
+            if t in used:
+                continue
+            mapping[o] = t
+            used.add(t)
+            got = search(i + 1, used, mapping)
+            if got is not None:
+                return got
+            used.discard(t)
+            del mapping[o]
         return None
-    options = [list(itertools.permutations(theirs)) for _, theirs in groups]
-    for combo in itertools.product(*options):
-        mapping = {}
-        for (ours, _), perm in zip(groups, combo):
-            for o, t in zip(ours, perm):
-                dom, _, k = t.partition("!")
-                mapping[o] = fresh_value(dom, int(k))
-        cand = rename_state(new, mapping)
-        if _matches(machine, cand, lines)[0]:
-            return cand
-    return None
+
+    return search(0, set(), {})
+
+
+def _collect_fresh(v, fresh: set, out: list) -> None:
+    if isinstance(v, AbstractValue):
+        if v in fresh:
+            out.append(v)
+    elif isinstance(v, (tuple, list, SeqV, SetV, BagV)):
+        for x in v:
+            _collect_fresh(x, fresh, out)
+    elif isinstance(v, MapV):
+        for a, b in v:
+            _collect_fresh(a, fresh, out)
+            _collect_fresh(b, fresh, out)
+
+
+def _state_text_plain(machine: Machine, state: dict) -> dict:
+    """Location text -> sorted value texts, for locations only (no domains)."""
+    out: dict = {}
+    for k, v in state.items():
+        if not is_dom_key(k) and printable(machine, k):
+            out.setdefault(location_text_asmeta(machine, k), []).append(show_asmeta(v))
+    for k in out:
+        out[k].sort()
+    return out
 
 
 def _freeze(state: dict):
