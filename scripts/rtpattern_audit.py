@@ -547,7 +547,7 @@ The audit found five shortcomings of asmcheck itself; all are fixed, with tests:
    successor, whose extend-made elements are renamed independently of the state before the step, so an
    element carried across the step by a `let` could denote another one after it (a first version of
    `stp_exit_releases_semaphore` was reported violated on VisualServoing for steps that do not break it).
-   Step properties now see the successor as the step made it; tests/test_rtpattern.py keeps the
+   Step properties now see the successor as the step made it; tests/test_trace_names.py keeps the
    two-element reproducer (`test_step_property_keeps_extend_made_elements_across_the_step`).
 2. **Trace names.** Traces printed each state under its own canonical names, so a step listed "changes" that
    were only renamings. Traces now name extend-made elements as a plain simulation of the same run does

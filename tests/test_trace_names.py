@@ -504,3 +504,24 @@ def test_the_names_do_not_depend_on_the_run(tmp_path):
         outs.append(re.sub(r'"seconds": [0-9.e-]+', '"seconds": 0', out))
     assert outs[0] and outs[0] == outs[1] == outs[2]
     assert '"D!2"' in outs[0]
+
+
+STEP_PROPS = """applies to Rep
+step stp_swap: started implies (let ($x = cur) in next(other = $x) endlet)
+step stp_mark_kept: started implies (let ($x = cur) in next(mark($x)) = mark($x) endlet)
+"""
+
+
+def test_step_property_keeps_extend_made_elements_across_the_step(tmp_path, capsys):
+    """A step property reads the successor as the step made it: an element carried across the step
+    by a let is the same element after it, whatever names the explorer stores the states under."""
+    import json
+
+    from asmcheck.cli import main
+
+    (tmp_path / "Rep.asm").write_text(REP, encoding="utf-8")
+    (tmp_path / "rep.prop").write_text(STEP_PROPS, encoding="utf-8")
+    assert main(["explore", str(tmp_path / "Rep.asm"), "--no-default-properties", "--properties",
+                 str(tmp_path / "rep.prop"), "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {p["property"]: p["verdict"] for p in out["properties"]} == {"stp_swap": "holds", "stp_mark_kept": "holds"}
