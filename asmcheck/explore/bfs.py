@@ -278,18 +278,22 @@ class Explorer:
         successor, renaming)]: the state is canonical (as stored), the raw successor the
         state as the step function made it from the previous one (None for the initial
         state) and the renaming the canonicaliser's (raw element -> canonical element)."""
+        steps = [(self.via[path[i + 1]], path[i + 1]) for i in range(len(path) - 1)]
+        if last_picks is not None:
+            steps.append((last_picks, last_target))
+        return self.replay_steps(path[0], steps)
+
+    def replay_steps(self, first: int, steps: list) -> list:
+        """Replay from the stored initial state ``first`` the ``steps`` [(choices, stored target
+        state)], checking each target; the entries are those of :meth:`replay`."""
         m = self.m
-        first = path[0]
         ch = ScriptChooser(self.via[first])
         st0 = self._norm(m.initial_state(ch))
         if self.layout.freeze(st0) != self.frozen[first]:
             raise ReplayError("the initial state does not replay")
         out = [(st0, ch.log, None, getattr(m, "init_mon", {}), None, None)]
         cur = st0
-        steps = [(path[i], path[i + 1], self.via[path[i + 1]]) for i in range(len(path) - 1)]
-        if last_picks is not None:
-            steps.append((path[-1], last_target, last_picks))
-        for src, dst, picks in steps:
+        for picks, dst in steps:
             ch = ScriptChooser(picks)
             ups, raw, ctx = m.step(cur, ch)
             nxt, mapping = self.normalise(raw)

@@ -23,7 +23,6 @@ from __future__ import annotations
 import time
 
 from ..errors import AsmError
-from ..semantics.machine import ScriptChooser
 from .formula import AG, Atoms, Builder, FormulaError, atoms_of, span_text
 from .kripke import AtomError, build_kripke
 
@@ -136,7 +135,6 @@ def _is_step(line: str, n: int) -> bool:
 def _replay(explorer, K, nodes, loop):
     """Re-run the path of Kripke nodes through the step function; check every state
     against the explored graph.  Returns (Trace, loop index, inputs_step)."""
-    from ..explore.bfs import ReplayError
     from ..report.trace import Trace, trace_steps
 
     if K.mode == "state":
@@ -154,22 +152,8 @@ def _replay(explorer, K, nodes, loop):
         inputs_step = loop is None and bool(K.mon_atoms)
         if loop is not None or inputs_step:
             steps.append((K.picks[last], K.tgt[last]))
-    m = explorer.m
-    first = sids[0]
-    ch = ScriptChooser(explorer.via[first])
-    st0 = explorer._norm(m.initial_state(ch))
-    if explorer.layout.freeze(st0) != explorer.frozen[first]:
-        raise ReplayError("the initial state does not replay")
-    replayed = [(st0, ch.log, None, None, None)]
-    cur = st0
-    for picks, dst in steps:
-        ch = ScriptChooser(picks)
-        ups, raw, ctx = m.step(cur, ch)
-        nxt, mapping = explorer.normalise(raw)
-        if explorer.layout.freeze(nxt) != explorer.frozen[dst]:
-            raise ReplayError(f"step to state {dst} does not replay")
-        replayed.append((nxt, ch.log, ups, raw, mapping))
-        cur = nxt
+    replayed = [(st, log, ups, raw, mapping)
+                for st, log, ups, _, raw, mapping in explorer.replay_steps(sids[0], steps)]
     tsteps = trace_steps(replayed)
     return Trace(None, tsteps, "temporal"), loop, inputs_step
 
