@@ -20,6 +20,7 @@ from .semantics.machine import Machine, NoAlternative, Prune, TooManySuccessors,
 from .semantics.machine import Ctx, Chooser
 from .semantics.printer import (asmeta_state_lines, location_text_asmeta, parse_asmeta_value, printable, show_asmeta,
                                 split_top)
+from .explore.canonical import _walk_fresh
 from .semantics.state import is_dom_key
 from .semantics.values import AbstractValue, BagV, MapV, SeqV, SetV
 
@@ -192,21 +193,17 @@ class Mismatch:
 
 def _state_text(machine: Machine, state: dict) -> dict:
     """Location text -> sorted list of value texts (two modules may declare the same name)."""
-    out: dict = {}
+    out = _state_text_plain(machine, state)
     doms: dict = {}
     for k, v in state.items():
-        if is_dom_key(k):
-            if v:
-                doms.setdefault(k[1], set()).update(e.name for e in v)
-        elif printable(machine, k):
-            out.setdefault(location_text_asmeta(machine, k), []).append(show_asmeta(v))
+        if is_dom_key(k) and v:
+            doms.setdefault(k[1], set()).update(e.name for e in v)
     for d, els in machine.static_elements.items():
         if els:
             doms.setdefault(d.name, set()).update(e.name for e in els)
     for name, names in doms.items():
         out.setdefault(name, []).append("{" + ",".join(sorted(names)) + "}")
-    for k in out:
-        out[k].sort()
+        out[name].sort()
     return out
 
 
@@ -413,10 +410,12 @@ def _match_renamed(machine, before, new, ups, lines):
         if is_dom_key(k):
             continue
         found: list = []
-        _collect_fresh(k, fresh, found)
-        _collect_fresh(v, fresh, found)
-        if len(set(found)) == 1:
-            alone[found[0]].append((k, v))
+        if type(k) is tuple:
+            _walk_fresh(k[1], found)
+        _walk_fresh(v, found)
+        found = {e for e in found if e in fresh}
+        if len(found) == 1:
+            alone[found.pop()].append((k, v))
     cands = {}
     for o in ours_all:
         ok = []
@@ -452,19 +451,6 @@ def _match_renamed(machine, before, new, ups, lines):
         return None
 
     return search(0, set(), {})
-
-
-def _collect_fresh(v, fresh: set, out: list) -> None:
-    if isinstance(v, AbstractValue):
-        if v in fresh:
-            out.append(v)
-    elif isinstance(v, (tuple, list, SeqV, SetV, BagV)):
-        for x in v:
-            _collect_fresh(x, fresh, out)
-    elif isinstance(v, MapV):
-        for a, b in v:
-            _collect_fresh(a, fresh, out)
-            _collect_fresh(b, fresh, out)
 
 
 def _state_text_plain(machine: Machine, state: dict) -> dict:
