@@ -149,9 +149,7 @@ def cmd_explore(args) -> int:
 
 def _property_table(result, temporal_results) -> list[dict]:
     bad = {v.prop.name for v in result.violations}
-    # a limit that stopped the search leaves every property not violated so far undecided, even
-    # when another property is violated (the overall verdict is then "violated")
-    incomplete = result.verdict == "incomplete" or bool(result.reason)
+    incomplete = result.stopped_early
     rows = []
     for p in result.checked:
         verdict = "violated" if p.name in bad else ("incomplete" if incomplete else "holds")

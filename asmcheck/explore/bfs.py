@@ -40,6 +40,12 @@ class Result:
     reason: str = ""             # why incomplete
     checked: list = field(default_factory=list)    # the properties checked
 
+    @property
+    def stopped_early(self) -> bool:
+        """A limit (or an error) ended the search before it covered every state, so a property
+        not violated so far is undecided, even beside a violation of another one."""
+        return self.verdict == "incomplete" or bool(self.reason)
+
 
 class PseudoProperty:
     def __init__(self, name, kind, span=None, body=None):

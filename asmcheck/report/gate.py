@@ -524,7 +524,7 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         return None
 
     bad = {v.prop.name: v for v in result.violations}
-    incomplete = result.verdict == "incomplete" or bool(result.reason)
+    incomplete = result.stopped_early
     rows: list[PropertyOutcome] = []
 
     def counterexample(v) -> Counterexample:

@@ -33,6 +33,11 @@ def set_import_path(dirs) -> None:
     _SEARCH_PATH[:] = [str(d) for d in dirs]
 
 
+def _asm_file(p: Path) -> Path:
+    """An import's path as a file name: with ``.asm`` added unless it is there."""
+    return p if str(p).endswith(".asm") else Path(str(p) + ".asm")
+
+
 def import_path() -> list[str]:
     """The folders searched for imports: those set by set_import_path, then ASMCHECK_PATH's."""
     env = [d for d in os.environ.get("ASMCHECK_PATH", "").split(os.pathsep) if d]
@@ -170,9 +175,7 @@ class Loader:
         stem = Path(raw).name
         if stem.endswith(".asm"):
             stem = stem[:-4]
-        target = (base / raw)
-        if not str(target).endswith(".asm"):
-            target = Path(str(target) + ".asm")
+        target = _asm_file(base / raw)
         if stem in LIBRARIES:
             # Provided by asmcheck; a path that leads nowhere is still an error
             # (as for AsmetaL's own tools) unless the library is named bare.
@@ -182,9 +185,7 @@ class Loader:
             return self.library(stem)
         if not target.exists() and not os.path.isabs(raw):
             for d in import_path():
-                cand = Path(d) / raw
-                if not str(cand).endswith(".asm"):
-                    cand = Path(str(cand) + ".asm")
+                cand = _asm_file(Path(d) / raw)
                 if cand.exists():
                     target = cand
                     break
