@@ -29,9 +29,10 @@ from . import library as L
 class _TextLoader(R.Loader):
     """A Loader whose root comes from a string; it remembers which import of the root is being read."""
 
-    def __init__(self, text: str) -> None:
+    def __init__(self, text: str, parser=None) -> None:
         super().__init__()
         self.text = text
+        self.parser = parser
         self.root: R.Module | None = None
         self.current_import: A.Import | None = None
         self.declared = False
@@ -42,7 +43,7 @@ class _TextLoader(R.Loader):
         if stem in R.REFUSED:
             raise AsmError(Span(path, 1, 1), f"{Path(path).name} names a library that asmcheck provides itself; "
                                              f"it is not read as a spec (import it instead)")
-        syntax = parse_text(self.text, path)
+        syntax = self.parser.parse(self.text) if self.parser is not None else parse_text(self.text, path)
         if syntax is None:
             return None
         mod = R.Module(syntax.name, path, syntax)
@@ -108,10 +109,14 @@ def _load_spec(loader: _TextLoader, path: str) -> ir.Spec | None:
     return root
 
 
-def analyse(path: str, text: str) -> Analysis:
-    """Parse and check ``text`` as the file ``path``; errors become problems."""
+def analyse(path: str, text: str, parser=None) -> Analysis:
+    """Parse and check ``text`` as the file ``path``; errors become problems.
+
+    ``parser``: an :class:`asmcheck.lsp.incremental.IncrementalParser` for this path, which parses
+    only the declaration an edit changed (the document's imports come from the parser's file cache).
+    """
     an = Analysis(path, text)
-    loader = _TextLoader(text)
+    loader = _TextLoader(text, parser)
     an.loader = loader
     try:
         _load_spec(loader, path)

@@ -26,6 +26,7 @@ from ..syntax import ast as A
 from . import analysis as AN
 from . import library as L
 from . import runs
+from .incremental import IncrementalParser
 
 CMD_EXPLORE = "asmcheck.explore"
 CMD_COUNTEREXAMPLE = "asmcheck.showCounterexample"
@@ -80,6 +81,7 @@ class AsmServer(LanguageServer):
         self.virtual: dict[str, str] = {}                        # asmcheck: uri -> text
         self.cancel_events: dict[str, threading.Event] = {}      # progress token -> event
         self.run_lock = threading.Lock()
+        self.parsers: dict[str, IncrementalParser] = {}
 
     # ------------------------------------------------------------- settings
     def apply_settings(self, raw) -> None:
@@ -112,7 +114,10 @@ class AsmServer(LanguageServer):
         if path is None:
             return None
         self.texts.open[os.path.abspath(path)] = text
-        an = AN.analyse(path, text)
+        parser = self.parsers.get(uri)
+        if parser is None:
+            parser = self.parsers[uri] = IncrementalParser(path)
+        an = AN.analyse(path, text, parser)
         old = self.docs.get(uri)
         good = an if an.root is not None else (old.good if old else None)
         doc = Doc(uri, path, version, an, good)
@@ -203,6 +208,7 @@ def did_save(ls: AsmServer, params: lsp.DidSaveTextDocumentParams):
 def did_close(ls: AsmServer, params: lsp.DidCloseTextDocumentParams):
     uri = params.text_document.uri
     d = ls.docs.pop(uri, None)
+    ls.parsers.pop(uri, None)
     if d is not None:
         ls.texts.open.pop(os.path.abspath(d.path), None)
     ls.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
