@@ -50,14 +50,14 @@ def test_extension_builds_into_a_vsix(node_modules, tmp_path):
     r = _run(["npx", "tsc", "-p", "./"])
     assert r.returncode == 0, r.stdout + r.stderr
     out = tmp_path / "asmetal.vsix"
-    r = _run(["npx", "vsce", "package", "--out", str(out)])
+    r = _run(["npx", "vsce", "package", "--no-rewrite-relative-links", "--out", str(out)])
     assert r.returncode == 0, r.stdout + r.stderr
     with zipfile.ZipFile(out) as z:
         names = set(z.namelist())
         manifest = json.loads(z.read("extension/package.json"))
     for must in ("extension/package.json", "extension/out/extension.js", "extension/readme.md",
                  "extension/syntaxes/asmetal.tmLanguage.json", "extension/snippets/asmetal.json",
-                 "extension/language-configuration.json",
+                 "extension/language-configuration.json", "extension/media/screenshot.png",
                  "extension/node_modules/vscode-languageclient/package.json"):
         assert must in names, must
     assert not any(n.startswith("extension/src/") or n.endswith(".ts") for n in names)

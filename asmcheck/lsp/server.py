@@ -541,6 +541,10 @@ def _verdict_diags(ls: AsmServer, spec_uri: str, spec_path: str, outcome: runs.E
             continue
         p = sp.path if os.path.isabs(sp.path) else os.path.abspath(sp.path)
         uri = _uri_of(p)
+        if not sp.end_line:                   # a property file's position: underline the name written there
+            tok = AN.token_at(ls.texts.get(p) or "", sp.line, sp.col)
+            if tok is not None and tok.col == sp.col:
+                sp = Span(sp.path, sp.line, sp.col, sp.line, tok.end_col)
         msg = f"{v.name}: {v.verdict} ({outcome.states:,} states, {outcome.spec})"
         if v.verdict == "incomplete" and outcome.reason:
             msg += f": {outcome.reason}"
