@@ -345,3 +345,34 @@ async def test_a_long_exploration_can_be_cancelled(client: LanguageClient, tmp_p
     assert result == {"cancelled": True}
     assert client.progress_reports[reports[0]][-1].kind == "end"
     assert client.progress_reports[reports[0]][-1].message == "cancelled"
+
+
+@pytest.mark.asyncio
+async def test_settings_import_path_and_monitored_bounds(client: LanguageClient, tmp_path):
+    lib_dir = tmp_path / "libs"
+    lib_dir.mkdir()
+    (lib_dir / "Lib.asm").write_text("module Lib\nimport StandardLibrary\nexport *\nsignature:\n"
+                                     "\tmonitored speed: Integer\ndefinitions:\n", encoding="utf-8")
+    spec = tmp_path / "Car.asm"
+    spec.write_text("asm Car\nimport StandardLibrary\nimport Lib\nsignature:\n\tcontrolled fast: Boolean\n"
+                    "definitions:\n\tmain rule r_main = fast := speed > 2\ndefault init s0:\n"
+                    "\tfunction fast = false\n", encoding="utf-8")
+    uri = await _open(client, spec)
+    [d] = client.diagnostics[uri]
+    assert d.message.startswith("import not found") and d.range.start.line == 2
+    # -I libs, as a workspace setting: the import is found, the spec is clean
+    client.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(
+        settings={"asmetal": {"importPath": [str(lib_dir)], "exploreTimeLimit": 60}}))
+    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert list(client.diagnostics[uri]) == []
+    # exploring needs the monitored Integer bounded: without a bound it says so
+    result = await client.workspace_execute_command_async(lsp.ExecuteCommandParams(
+        command="asmcheck.explore", arguments=[uri]))
+    assert "speed" in result["error"]
+    client.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(
+        settings={"asmetal": {"importPath": [str(lib_dir)], "monitored": ["speed=0..4"]}}))
+    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    result = await client.workspace_execute_command_async(lsp.ExecuteCommandParams(
+        command="asmcheck.explore", arguments=[uri]))
+    assert result["verdict"] == "holds"
+    assert result["summary"].startswith("Car: 2 states, 4 transitions, depth 1")  # as the CLI with -I and --monitored

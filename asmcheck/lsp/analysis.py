@@ -212,8 +212,7 @@ def token_at(text: str, line: int, col: int) -> Token | None:
     s = lines[line - 1]
     for m in _TOKEN.finditer(s):
         if m.lastgroup == "name" and m.start() + 1 <= col <= m.end() + 1:
-            if m.lastgroup == "name":
-                return Token(m.group(), line, m.start() + 1)
+            return Token(m.group(), line, m.start() + 1)
     return None
 
 

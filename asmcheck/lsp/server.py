@@ -328,8 +328,8 @@ def definition(ls: AsmServer, params: lsp.DefinitionParams):
     if hit is None:
         return None
     d, an, tok, found = hit
-    if tok is None or (isinstance(found, list) and not found and tok.name not in ("import",)):
-        target = _import_target(d, params.position)
+    if tok is None or (isinstance(found, list) and not found):
+        target = _import_target(d, params.position)       # on an import clause: the module it reads
         if target is not None:
             z = lsp.Range(lsp.Position(0, 0), lsp.Position(0, 0))
             return [lsp.Location(target, z)]
@@ -475,7 +475,7 @@ def completion(ls: AsmServer, params: lsp.CompletionParams):
         for kind in AN.KINDS:
             for name in sorted(getattr(scope, kind)):
                 objs = getattr(scope, kind)[name]
-                if not objs or name in ("self", "result") and kind == "functions" and False:
+                if not objs:
                     continue
                 items.append(lsp.CompletionItem(label=name, kind=_ITEM_KIND[AN.kind_of(objs[0])],
                                                 detail=AN.describe(objs[0]), sort_text="1" + name))
