@@ -176,6 +176,15 @@ async def test_completion_offers_the_variables_in_scope(client: LanguageClient, 
     # in the main rule: only $c
     main_vars = {x for x in await complete(_at(18, "r_fill")) if x.startswith("$")}
     assert main_vars == {"$c"}
+    # while typing, the text does not parse: the last text that did gives the scopes
+    client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+        lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
+        [lsp.TextDocumentContentChangePartial(range=lsp.Range(_at(19, "light"), _at(19, "light")),
+                                              text="stock($")]))
+    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert len(client.diagnostics[uri]) == 1
+    typing = await complete(lsp.Position(19, _at(19, "light").character + len("stock($")))
+    assert {x for x in typing if x.startswith("$")} == {"$c"} and "stock" in typing
 
 
 @pytest.mark.asyncio
@@ -252,6 +261,10 @@ async def test_definition_and_references_across_imports(client: LanguageClient):
         context=lsp.ReferenceContext(include_declaration=True)))
     got = [(Path(r.uri).name, r.range.start.line + 1) for r in refs]
     assert got == [("VisualServoing.asm", 85), ("VisualServoing.asm", 86), ("SwingingBuffer.asm", 38)]
+    # on an import clause, definition opens the module it reads
+    [loc] = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(5, 12)))
+    assert loc.uri == from_fs_path(str(RTP / "CommonBehaviour" / "Scheduler.asm"))
 
 
 def _cli_trace(spec: Path, prop: str) -> str:
