@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from asmcheck.lsp.analysis import _TOKEN
+from asmcheck.lsp.analysis import TOKEN_RE
 from asmcheck.syntax.parser import RESERVED, decode_source, parse_text
 
 from conftest import ROOT
@@ -91,7 +91,7 @@ def _expected(text: str):
         ln = bisect.bisect_right(starts, off) - 1
         return ln, off - starts[ln]
 
-    for m in _TOKEN.finditer(text):
+    for m in TOKEN_RE.finditer(text):
         if m.lastgroup == "name" and (m.group() in RESERVED or m.group() in OPERATOR_WORDS):
             ln, col = pos(m.start())
             keywords.append((ln, col, col + len(m.group()), m.group()))

@@ -170,7 +170,7 @@ def _problem(an: Analysis, loader: _TextLoader, err: AsmError) -> Problem:
 
 
 # ----------------------------------------------------------------- tokens
-_TOKEN = re.compile(r"""
+TOKEN_RE = re.compile(r"""
     (?P<comment>//[^\n]*|/\*.*?\*/)
   | (?P<string>"(?:[^"\\\n]|\\.)*"|'(?:[^'\\\n]|\\.)*')
   | (?P<name>\$?[A-Za-z_][A-Za-z0-9_]*)
@@ -195,7 +195,7 @@ def tokens(text: str) -> list[Token]:
     for m in re.finditer("\n", text):
         line_starts.append(m.end())
     import bisect
-    for m in _TOKEN.finditer(text):
+    for m in TOKEN_RE.finditer(text):
         if m.lastgroup != "name":
             continue
         pos = m.start()
@@ -210,7 +210,7 @@ def token_at(text: str, line: int, col: int) -> Token | None:
     if not (1 <= line <= len(lines)):
         return None
     s = lines[line - 1]
-    for m in _TOKEN.finditer(s):
+    for m in TOKEN_RE.finditer(s):
         if m.lastgroup == "name" and m.start() + 1 <= col <= m.end() + 1:
             return Token(m.group(), line, m.start() + 1)
     return None
@@ -226,17 +226,17 @@ class Binder:
     detail: str = ""        # e.g. "$x in Task"
 
 
-def _pos(sp: Span) -> tuple[int, int]:
+def span_start(sp: Span) -> tuple[int, int]:
     return (sp.line, sp.col)
 
 
-def _end(sp: Span) -> tuple[int, int]:
+def span_end(sp: Span) -> tuple[int, int]:
     if sp.end_line:
         return (sp.end_line, sp.end_col)
     return (sp.line, sp.col + 1)
 
 
-def _node_end(node) -> tuple[int, int]:
+def node_end(node) -> tuple[int, int]:
     """The farthest end of a node and its children (rule declarations carry only their name's span)."""
     best = (0, 0)
 
@@ -245,14 +245,14 @@ def _node_end(node) -> tuple[int, int]:
         if isinstance(x, A.Node):
             sp = x.span
             if sp.line:
-                best = max(best, _end(sp))
+                best = max(best, span_end(sp))
             for f in fields(x):
                 walk(getattr(x, f.name))
         elif isinstance(x, (list, tuple)):
             for y in x:
                 walk(y)
         elif isinstance(x, Span) and x.line:
-            best = max(best, _end(x))
+            best = max(best, span_end(x))
     walk(node)
     return best
 
@@ -280,13 +280,13 @@ def binders(syntax: A.Spec | None) -> list[Binder]:
             if isinstance(x, (A.ChooseRule, A.ForallRule, A.QuantTerm, A.ComprTerm)):
                 for b in x.bindings:
                     rt = _range_text(b.range)
-                    add(b.var, b.span, _pos(sp), _end(sp), f"{b.var} in {rt}" if rt else b.var)
+                    add(b.var, b.span, span_start(sp), span_end(sp), f"{b.var} in {rt}" if rt else b.var)
             elif isinstance(x, (A.LetRule, A.LetTerm)):
                 for name, bspan, _ in x.bindings:
-                    add(name, bspan, _pos(sp), _end(sp), f"let {name}")
+                    add(name, bspan, span_start(sp), span_end(sp), f"let {name}")
             elif isinstance(x, A.ExtendRule):
                 for name, bspan in x.vars:
-                    add(name, bspan, _pos(sp), _end(sp), f"{name} in {x.domain}")
+                    add(name, bspan, span_start(sp), span_end(sp), f"{name} in {x.domain}")
             for f in fields(x):
                 walk(getattr(x, f.name))
         elif isinstance(x, (list, tuple)):
@@ -294,14 +294,14 @@ def binders(syntax: A.Spec | None) -> list[Binder]:
                 walk(y)
 
     for r in syntax.rules:
-        end = _node_end(r)
+        end = node_end(r)
         for p in r.params:
-            add(p.name, p.span, _pos(r.span), end, f"{p.name} in {p.type}")
+            add(p.name, p.span, span_start(r.span), end, f"{p.name} in {p.type}")
         walk(r.body)
     for fd in list(syntax.function_defs) + [f for ib in syntax.inits for f in ib.functions]:
-        end = _node_end(fd)
+        end = node_end(fd)
         for p in fd.params:
-            add(p.name, p.span, _pos(fd.span), end, f"{p.name} in {p.type}")
+            add(p.name, p.span, span_start(fd.span), end, f"{p.name} in {p.type}")
         walk(fd.body)
     for dd in syntax.domain_defs + [d for ib in syntax.inits for d in ib.domains]:
         walk(dd.body)
@@ -357,7 +357,7 @@ def _span_place(sp: Span) -> Place | None:
         where = L.library_uri(sp.path[1:-1])
     else:
         where = os.path.abspath(sp.path)
-    end_line, end_col = _end(sp)
+    end_line, end_col = span_end(sp)
     return Place(where, sp.line, sp.col, end_line, end_col)
 
 

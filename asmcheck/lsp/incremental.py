@@ -15,10 +15,13 @@ reported exactly as ``asmcheck parse`` reports it.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import os
 import re
+import tempfile
 import threading
 from dataclasses import dataclass
+from pathlib import Path
 
 from lark import Lark, Tree
 from lark.exceptions import UnexpectedInput, VisitError
@@ -34,7 +37,7 @@ _BODY = {"domain_def": ("domain_def", "domain_defs"), "function_def": ("function
          "invar_constraint": ("invar_constraint", "properties"), "justice": ("fairness", "properties"),
          "compassion": ("fairness", "properties"), "invariant": ("property", "properties"),
          "ctlspec": ("property", "properties"), "ltlspec": ("property", "properties")}
-_STARTS = ["domain_decl", "function_decl", "domain_def", "function_def", "rule_decl", "main_decl",
+_STARTS = ["start", "domain_decl", "function_decl", "domain_def", "function_def", "rule_decl", "main_decl",
            "invar_constraint", "fairness", "property", "domain_init", "function_init"]
 _GAP = re.compile(r"(?:\s+|//[^\n]*|/\*.*?\*/)*\Z", re.S)
 
@@ -42,16 +45,36 @@ _lock = threading.Lock()
 _parts: Lark | None = None
 
 
+GRAMMAR = Path(P.__file__).with_name("asmetal.lark")
+
+
+def _cache_file():
+    """Where lark keeps this parser's tables between runs (False: nowhere)."""
+    text = GRAMMAR.read_bytes()
+    digest = hashlib.sha256(text + repr(_STARTS).encode()).hexdigest()[:16]
+    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
+    try:
+        os.makedirs(base, exist_ok=True)
+    except OSError:
+        base = tempfile.gettempdir()
+    return os.path.join(base, f"grammar-{digest}-parts.lark.cache")
+
+
 def _part_parser() -> Lark:
-    """The front end's grammar, with each kind of declaration as a start symbol."""
+    """The front end's grammar (asmcheck/syntax/asmetal.lark), with each kind of declaration as a
+    start symbol besides the whole file."""
     global _parts
     with _lock:
         if _parts is None:
-            cache = P._cache_file()
-            cache = cache[:-len(".lark.cache")] + "-parts.lark.cache" if cache.endswith(".lark.cache") else False
-            _parts = Lark(P._GRAMMAR_PATH.read_text(encoding="utf-8"), parser="lalr", lexer="contextual",
-                          propagate_positions=True, maybe_placeholders=False, start=_STARTS, cache=cache)
+            _parts = Lark(GRAMMAR.read_text(encoding="utf-8"), parser="lalr", lexer="contextual",
+                          propagate_positions=True, maybe_placeholders=False, start=_STARTS, cache=_cache_file())
         return _parts
+
+
+def _build(tree, path: str):
+    """The syntax tree node of a parse tree, as the front end builds it."""
+    return P._Builder(path).transform(tree)
 
 
 @dataclass
@@ -169,21 +192,16 @@ class IncrementalParser:
     # -- a whole text
     def _full(self, text: str) -> A.Spec | None:
         self.state = None
+        try:
+            tree = _part_parser().parse(text, start="start")
+            spec = _build(tree.children[0], self.path) if tree.children else None
+        except (UnexpectedInput, VisitError, RecursionError):
+            # the front end's parser says what is wrong, exactly as `asmcheck parse` does
+            spec = P.parse_text(text, self.path)
+            self.state = State(text, spec, None)
+            return spec
         SOURCES.add(self.path, text)
-        try:
-            tree = P._grammar().parse(text)
-        except UnexpectedInput as exc:
-            raise P._convert(exc, text, self.path) from None
-        if not tree.children:
-            self.state = State(text, None, None)
-            return None
-        try:
-            spec = P._Builder(self.path).transform(tree.children[0])
-        except VisitError as exc:
-            if isinstance(exc.orig_exc, AsmError):
-                raise exc.orig_exc from None
-            raise
-        self.state = State(text, spec, _items(tree.children[0], spec))
+        self.state = State(text, spec, _items(tree.children[0], spec) if spec is not None else None)
         return spec
 
     # -- one declaration
@@ -208,7 +226,7 @@ class IncrementalParser:
         pad = "\n" * (it.line - 1) + " " * col
         try:
             tree = _part_parser().parse(pad + piece, start=it.symbol)
-            node = P._Builder(self.path).transform(tree)
+            node = _build(tree, self.path)
         except (UnexpectedInput, VisitError, AsmError, RecursionError):
             return None
         spec = st.spec

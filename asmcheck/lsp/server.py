@@ -46,7 +46,7 @@ class Doc:
 
 
 def _range(sp: Span) -> lsp.Range:
-    end_line, end_col = AN._end(sp)
+    end_line, end_col = AN.span_end(sp)
     if (end_line, end_col) <= (sp.line, sp.col):
         end_line, end_col = sp.line, sp.col + 1
     return lsp.Range(lsp.Position(sp.line - 1, max(sp.col - 1, 0)),
@@ -115,7 +115,7 @@ class AsmServer(LanguageServer):
             return None
         self.texts.open[os.path.abspath(path)] = text
         parser = self.parsers.get(uri)
-        if parser is None:
+        if parser is None and os.environ.get("ASMCHECK_LSP_INCREMENTAL") != "0":   # "0": whole texts (to measure)
             parser = self.parsers[uri] = IncrementalParser(path)
         an = AN.analyse(path, text, parser)
         old = self.docs.get(uri)
@@ -238,7 +238,7 @@ def document_symbols(syn: A.Spec, text: str) -> list[lsp.DocumentSymbol]:
         sel = _range(d.span)
         if d.kind == "enum":
             kids = [_symbol(el, lsp.SymbolKind.EnumMember, d.name, _range(sp), _range(sp)) for el, sp in d.elements]
-            end = max((AN._end(sp) for _, sp in d.elements), default=AN._end(d.span))
+            end = max((AN.span_end(sp) for _, sp in d.elements), default=AN.span_end(d.span))
             out.append(_symbol(d.name, lsp.SymbolKind.Enum, "enum domain", _full(d.span, end), sel, kids))
         else:
             detail = {"subset": "domain subsetof " + str(d.base) if d.base is not None else "domain",
@@ -254,7 +254,7 @@ def document_symbols(syn: A.Spec, text: str) -> list[lsp.DocumentSymbol]:
         params = ", ".join(f"{p.name} in {p.type}" for p in r.params)
         detail = ("main rule" if r is syn.main else "turbo rule" if r.kind == "turbo" else "rule") + (
             f"({params})" if params else "")
-        out.append(_symbol(r.name, lsp.SymbolKind.Method, detail, _full(r.span, AN._node_end(r)), _range(r.span)))
+        out.append(_symbol(r.name, lsp.SymbolKind.Method, detail, _full(r.span, AN.node_end(r)), _range(r.span)))
     for i, p in enumerate(syn.properties):
         name = p.name or f"{_PROP_KIND.get(p.kind, p.kind)} (line {p.span.line})"
         full = _range(p.span)
