@@ -99,6 +99,30 @@ async def test_error_in_an_imported_module_shows_on_the_import_line(client: Lang
 
 
 @pytest.mark.asyncio
+async def test_saving_an_imported_module_updates_its_importers(client: LanguageClient, tmp_path):
+    lib = tmp_path / "Lib.asm"
+    lib.write_text("module Lib\nimport StandardLibrary\nexport *\nsignature:\n\tcontrolled x: Integer\n"
+                   "definitions:\n", encoding="utf-8")
+    main = tmp_path / "Main.asm"
+    main.write_text("asm Main\nimport StandardLibrary\nimport Lib\nsignature:\ndefinitions:\n"
+                    "\tmain rule r_main = y := 1\n", encoding="utf-8")
+    main_uri = await _open(client, main)
+    [d] = client.diagnostics[main_uri]
+    assert d.message == "unknown function 'y'" and d.range.start.line == 5
+    lib_uri = await _open(client, lib)
+    fixed = lib.read_text().replace("x: Integer", "y: Integer")
+    client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+        lsp.VersionedTextDocumentIdentifier(uri=lib_uri, version=2),
+        [lsp.TextDocumentContentChangeWholeDocument(text=fixed)]))
+    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    lib.write_text(fixed, encoding="utf-8")
+    client.text_document_did_save(lsp.DidSaveTextDocumentParams(lsp.TextDocumentIdentifier(lib_uri)))
+    for _ in range(2):                     # the saved module, then its importer
+        await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert list(client.diagnostics[main_uri]) == []
+
+
+@pytest.mark.asyncio
 async def test_diagnostics_follow_edits(client: LanguageClient, tmp_path):
     path = tmp_path / "T.asm"
     good = "asm T\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n" \

@@ -202,6 +202,11 @@ def did_change(ls: AsmServer, params: lsp.DidChangeTextDocumentParams):
 def did_save(ls: AsmServer, params: lsp.DidSaveTextDocumentParams):
     td = ls.workspace.get_text_document(params.text_document.uri)
     ls.analyse(td.uri, td.source, td.version)
+    # the open specs that import the saved file read it again
+    saved = os.path.abspath(_path_of(td.uri) or "")
+    for uri, d in list(ls.docs.items()):
+        if uri != td.uri and d.analysis.loader is not None and saved in d.analysis.loader.modules:
+            ls.analyse(uri, d.analysis.text, d.version)
 
 
 @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
