@@ -8,6 +8,9 @@ Every error is an :class:`~asmcheck.errors.AsmError` with a source position.
 from __future__ import annotations
 
 import os
+import sys
+import threading
+from collections import ChainMap
 from importlib import resources
 from pathlib import Path
 
@@ -335,6 +338,19 @@ class _Overlay:
         return getattr(self.base, kind).get(name, [])
 
 
+class _LocalScope:
+    """A scope plus one local function (a layer over the scope, not a copy of it)."""
+
+    def __init__(self, base, name: str, func) -> None:
+        self.domains = base.domains
+        self.rules = base.rules
+        self.enums = base.enums
+        self.functions = ChainMap({name: list(base.functions.get(name, [])) + [func]}, base.functions)
+
+    def has(self, name: str) -> bool:
+        return any(name in getattr(self, k) for k in ("domains", "functions", "rules", "enums"))
+
+
 def _lookup(scope, kind: str, name: str) -> list:
     if isinstance(scope, _Overlay):
         return scope.get(kind, name)
@@ -361,6 +377,64 @@ def resolve_type(t: A.TypeExpr, scope) -> T.Type:
         mods = ", ".join(sorted({getattr(d, "module", "?") for d in found}))
         raise AsmTypeError(t.span, f"domain {t.name!r} is ambiguous: declared in {mods}")
     return found[0]
+
+
+# ----------------------------------------------------------------- deep input
+# Terms and rules nest at most this deep (an if inside an if ..., a sum of this many terms);
+# deeper input is a located error.  Resolution runs on a thread with a large stack and a raised
+# recursion limit (deep_call), so every depth up to this one resolves.
+MAX_NESTING = 3000
+_DEEP_RECURSION = 40_000
+_DEEP_STACK = 512 * 1024 * 1024
+_deep_state = threading.local()
+_deep_lock = threading.Lock()
+
+
+def _too_deep(span: Span, what: str) -> AsmError:
+    return AsmTypeError(span, f"the spec nests too deeply: this {what} is more than {MAX_NESTING} terms and rules "
+                              f"deep (group a long sum or conjunction with parentheses, or split the rule)")
+
+
+def deep_call(fn, *args, **kwargs):
+    """``fn(*args, **kwargs)`` on a thread with a large stack and a high recursion limit.
+
+    Deeply nested specs (hundreds of nested ifs, long sums) then resolve and run instead of
+    stopping at Python's default recursion limit.  Called inside a deep call, it just calls."""
+    if getattr(_deep_state, "active", False):
+        return fn(*args, **kwargs)
+    box: dict = {}
+
+    def run():
+        _deep_state.active = True
+        try:
+            box["value"] = fn(*args, **kwargs)
+        except BaseException as exc:        # handed to the caller's thread as is
+            box["error"] = exc
+
+    with _deep_lock:
+        try:
+            old_stack = threading.stack_size(_DEEP_STACK)
+        except (ValueError, RuntimeError):
+            return fn(*args, **kwargs)
+        old_limit = sys.getrecursionlimit()
+        sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION))
+        try:
+            try:
+                worker = threading.Thread(target=run, name="asmcheck-deep", daemon=True)
+                worker.start()
+            except RuntimeError:            # no room for the stack (a memory limit): run here
+                worker = None
+            finally:
+                threading.stack_size(old_stack)
+            if worker is not None:
+                worker.join()
+        finally:
+            sys.setrecursionlimit(old_limit)
+        if worker is None:
+            return fn(*args, **kwargs)
+    if "error" in box:
+        raise box["error"]
+    return box.get("value")
 
 
 # ----------------------------------------------------------------- bodies
@@ -395,6 +469,7 @@ class Resolver:
         self.step_ok = False        # next/updated/changed/updatedBy allowed (step properties)
         self.used: set[ir.Function] | None = None   # functions referenced (for static/derived checks)
         self.in_rule: ir.RuleDecl | None = None
+        self.depth = 0                  # terms and rules being resolved, one inside the other
 
     def uid(self) -> int:
         return self.loader.uid()
@@ -412,7 +487,13 @@ class Resolver:
     # -- terms
     def term(self, t: A.Term, env: Env) -> ir.Term:
         meth = getattr(self, "t_" + type(t).__name__)
-        return meth(t, env)
+        self.depth += 1
+        try:
+            if self.depth > MAX_NESTING:
+                raise _too_deep(t.span, "term")
+            return meth(t, env)
+        finally:
+            self.depth -= 1
 
     def t_Const(self, t: A.Const, env: Env) -> ir.Term:
         kind = t.kind
@@ -659,7 +740,14 @@ class Resolver:
 
     # -- rules
     def rule(self, r: A.Rule, env: Env) -> ir.Rule:
-        return getattr(self, "r_" + type(r).__name__)(r, env)
+        meth = getattr(self, "r_" + type(r).__name__)
+        self.depth += 1
+        try:
+            if self.depth > MAX_NESTING:
+                raise _too_deep(r.span, "rule")
+            return meth(r, env)
+        finally:
+            self.depth -= 1
 
     def r_SkipRule(self, r, env):
         return ir.Skip(r.span)
@@ -783,10 +871,7 @@ class Resolver:
             domain = list(dt.args) if isinstance(dt, T.Struct) and dt.kind == "Prod" else [dt]
         func = ir.Function(d.name, "local", domain, self.type_of(d.codomain), self.mod.name, d.span)
         saved = self.scope
-        local = Table()
-        local.merge(self.scope)
-        local.add("functions", d.name, func)
-        self.scope = local
+        self.scope = _LocalScope(self.scope, d.name, func)
         try:
             init = self.rule(r.init, env)
             body = self.rule(r.body, env)
@@ -1037,12 +1122,11 @@ def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
         func.params = vs
         func.body = body
     # rule bodies
-    by_syntax = {}
-    for r in syn.rules:
-        by_syntax.setdefault(r.name, []).append(r)
-    for rd in mod.rules:
-        srcs = by_syntax[rd.name]
-        src = srcs[[x for x in mod.rules if x.name == rd.name].index(rd)]
+    # mod.rules was made from syn.rules, one declaration per syntax rule, in the same order
+    # (one pass: a spec of many rules resolves in linear time)
+    if len(mod.rules) != len(syn.rules):
+        raise AssertionError("rule declarations and their syntax differ in number")
+    for rd, src in zip(mod.rules, syn.rules):
         res.in_rule = rd
         env = Env().bind(*rd.params)
         rd.body = res.rule(src.body, env)
@@ -1102,6 +1186,10 @@ def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
 
 def load_spec(path: str) -> ir.Spec:
     """Read, resolve and type-check the spec at ``path`` and everything it imports."""
+    return deep_call(_load_spec, path)
+
+
+def _load_spec(path: str) -> ir.Spec:
     loader = Loader()
     root = loader.load_root(path)
     for mod in loader.order:

@@ -9,7 +9,8 @@ import os
 import threading
 from pathlib import Path
 
-from lark import Lark, Token, Transformer, Tree, v_args
+from lark import Lark, Token, Tree, v_args
+from lark.visitors import Transformer_NonRecursive
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from ..errors import AsmError, AsmSyntaxError, SOURCES, Span
@@ -263,8 +264,8 @@ _KIND_TOKENS = {"STATIC": "static", "DERIVED": "derived", "CONTROLLED": "control
 
 
 @v_args(meta=True)
-class _Builder(Transformer):
-    """lark parse tree -> :mod:`asmcheck.syntax.ast`."""
+class _Builder(Transformer_NonRecursive):
+    """lark parse tree -> :mod:`asmcheck.syntax.ast` (iterative: deep nesting does not exhaust the stack)."""
 
     def __init__(self, path: str):
         super().__init__(visit_tokens=False)
