@@ -26,7 +26,7 @@ successor list ``cls_succ[c]``; ``member_of[w]`` are the classes containing w an
 from __future__ import annotations
 
 from ..errors import AsmError, UsageError
-from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, _Enumerator
+from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show
 from .formula import Atoms
@@ -106,7 +106,7 @@ def joint_values(machine, items, state, mon) -> list[tuple]:
     seen = set()
     prefix: list = []
     while True:
-        ch = _Enumerator(prefix)
+        ch = Enumerator(prefix)
         ctx = Ctx(machine, state, ch)
         if mon:
             ctx.mon = dict(mon)
