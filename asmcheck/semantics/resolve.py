@@ -202,7 +202,7 @@ class Loader:
             where = import_path()
             hint = f" (also looked in: {', '.join(where)})" if where and not os.path.isabs(raw) else ""
             raise AsmError(imp.span, f"import not found: {target}{hint}")
-        syntax = parse_file(p)
+        syntax = parse_file(p, imp.span)
         if syntax is None:
             raise AsmError(imp.span, f"imported file {target} is empty")
         if syntax.name != Path(p).stem:

@@ -6,6 +6,7 @@ This is the only module that imports lark.  Parse errors become
 from __future__ import annotations
 
 import os
+import stat
 import threading
 from pathlib import Path
 
@@ -117,18 +118,85 @@ def parse_text(text: str, path: str) -> A.Spec | None:
 
 _CACHE: dict[tuple, A.Spec | None] = {}
 
+MAX_SOURCE_BYTES = 64 * 1024 * 1024
+# Pseudo-file systems: their files can look regular (/proc/self/environ) but are not specs.
+_SPECIAL_ROOTS = ("/proc/", "/sys/", "/dev/")
 
-def parse_file(path: str | Path) -> A.Spec | None:
-    """Parse a file (cached by path, size and modification time: imports are read once)."""
+
+def _file_kind(mode: int) -> str:
+    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def read_source_bytes(path: str | Path, origin: Span | None = None) -> bytes:
+    """The bytes of a regular file; anything else is an error located at ``origin``.
+
+    ``origin`` is where the file is named (an import clause); by default the file itself
+    (line 1, column 1).  FIFOs, devices, folders and the files of /proc, /sys and /dev (also
+    through a symbolic link) are refused before anything is read from them; at most the
+    size the file system reports is read, and never more than MAX_SOURCE_BYTES."""
+    p = str(path)
+    where = origin or Span(p, 1, 1)
+    try:
+        st = os.stat(p)
+    except OSError as exc:
+        raise AsmError(where, f"cannot read {p}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise AsmError(where, f"cannot read {p}: it is {_file_kind(st.st_mode)}; asmcheck reads regular files only")
+    real = os.path.realpath(p)
+    if real.startswith(_SPECIAL_ROOTS) or real in ("/proc", "/sys", "/dev"):
+        shown = f" (it leads to {real})" if real != os.path.abspath(p) else ""
+        raise AsmError(where, f"cannot read {p}: a special file of the system{shown}; asmcheck reads regular "
+                              f"files only")
+    if st.st_size > MAX_SOURCE_BYTES:
+        raise AsmError(where, f"cannot read {p}: {st.st_size} bytes, more than the {MAX_SOURCE_BYTES} a spec "
+                              f"file may have")
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(p, flags)
+    except OSError as exc:
+        raise AsmError(where, f"cannot read {p}: {exc.strerror or exc}") from None
+    try:
+        st2 = os.fstat(fd)
+        if not stat.S_ISREG(st2.st_mode) or (st2.st_dev, st2.st_ino) != (st.st_dev, st.st_ino):
+            raise AsmError(where, f"cannot read {p}: the file changed while it was opened")
+        size = min(st2.st_size, MAX_SOURCE_BYTES)
+        chunks, got = [], 0
+        while got < size:
+            chunk = os.read(fd, min(size - got, 1 << 20))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            got += len(chunk)
+        return b"".join(chunks)
+    except OSError as exc:
+        raise AsmError(where, f"cannot read {p}: {exc.strerror or exc}") from None
+    finally:
+        os.close(fd)
+
+
+def read_source_file(path: str | Path, origin: Span | None = None) -> str:
+    """The text of a regular file (see :func:`read_source_bytes` and :func:`decode_source`)."""
+    return decode_source(read_source_bytes(path, origin))
+
+
+def parse_file(path: str | Path, origin: Span | None = None) -> A.Spec | None:
+    """Parse a file (cached by path, size and modification time: imports are read once).
+
+    Only regular files are read; ``origin`` locates the error for any other (an import)."""
     p = str(path)
     try:
         st = os.stat(p)
-        key = (p, st.st_mtime_ns, st.st_size)
-        if key in _CACHE:
-            return _CACHE[key]
-        data = Path(p).read_bytes()
     except OSError as exc:
-        raise AsmError(None, f"{p}: cannot read file: {exc.strerror or exc}") from None
+        raise AsmError(origin or Span(p, 1, 1), f"cannot read {p}: {exc.strerror or exc}") from None
+    key = (p, st.st_mtime_ns, st.st_size, st.st_ino)
+    if key in _CACHE:
+        return _CACHE[key]
+    data = read_source_bytes(p, origin)
     spec = parse_text(decode_source(data), p)
     if len(_CACHE) > 2000:
         _CACHE.clear()
@@ -856,4 +924,5 @@ def _shift(node, path, oline=1, ocol=1):
     return node
 
 
-__all__ = ["parse_file", "parse_text", "parse_term", "decode_source", "RESERVED", "Tree"]
+__all__ = ["parse_file", "parse_text", "parse_term", "decode_source", "read_source_bytes", "read_source_file",
+           "RESERVED", "Tree"]
