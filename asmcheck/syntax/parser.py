@@ -60,17 +60,13 @@ _TERMINAL_NAMES = {
 
 
 def _cache_file():
-    """Where lark keeps the parser tables between runs (False: no caching possible)."""
+    """Where lark keeps the parser tables between runs: a file in asmcheck's private cache
+    folder (see :mod:`asmcheck.cache`), or False (no caching) when none can be trusted."""
     import hashlib
-    import tempfile
+    from ..cache import private_cache_file
     digest = hashlib.sha256(_GRAMMAR_PATH.read_bytes()).hexdigest()[:16]
-    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
-    try:
-        os.makedirs(base, exist_ok=True)
-        return os.path.join(base, f"grammar-{digest}.lark.cache")
-    except OSError:
-        return os.path.join(tempfile.gettempdir(), f"asmcheck-grammar-{digest}.lark.cache")
+    path = private_cache_file(f"grammar-{digest}.lark.cache")
+    return str(path) if path is not None else False
 
 
 def _grammar() -> Lark:
