@@ -100,3 +100,22 @@ def test_name_resolution_is_linear(tmp_path, monkeypatch):
     assert len(spec.rules) == n + 1
     assert spec.main.body.rule.name == "r_7"
     assert 0 < _CountingList.handed <= 5 * (n + 1)
+
+
+def test_deep_term_outside_a_spec(tmp_path):
+    """A long conjunction in a property file or a scenario: parsed and resolved like a spec's."""
+    from asmcheck.semantics.resolve import Env, Resolver
+    from asmcheck.syntax.parser import parse_term
+    p = tmp_path / "B.asm"
+    p.write_text("asm B\nimport StandardLibrary\nsignature:\n\tcontrolled b: Boolean\ndefinitions:\n"
+                 "\tmain rule r_main = skip\ndefault init s0:\n\tfunction b = true\n")
+    spec = check_file(str(p))
+    text = " and ".join(["b"] * 1500)
+    term = parse_term(text, "B.prop", (4, 9))
+    assert (term.span.line, term.span.col) == (4, 9)
+    assert (term.span.end_line, term.span.end_col) == (4, 9 + len(text))
+    body = Resolver(spec.loader, spec.root_module).bool_term(term, Env())
+    n = 1
+    while isinstance(body, ir.Call) and body.name == "and":
+        body, n = body.args[0], n + 1
+    assert n == 1500 and isinstance(body, ir.Loc)

@@ -486,6 +486,8 @@ class Resolver:
 
     # -- terms
     def term(self, t: A.Term, env: Env) -> ir.Term:
+        if self.depth == 0 and not getattr(_deep_state, "active", False):
+            return deep_call(self.term, t, env)     # a term of a property file or a scenario
         meth = getattr(self, "t_" + type(t).__name__)
         self.depth += 1
         try:
@@ -740,6 +742,8 @@ class Resolver:
 
     # -- rules
     def rule(self, r: A.Rule, env: Env) -> ir.Rule:
+        if self.depth == 0 and not getattr(_deep_state, "active", False):
+            return deep_call(self.rule, r, env)
         meth = getattr(self, "r_" + type(r).__name__)
         self.depth += 1
         try:

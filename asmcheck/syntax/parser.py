@@ -893,10 +893,11 @@ def _shift(node, path, oline=1, ocol=1):
         return Span(path, l1, c1, l2, c2)
 
     seen = set()
-
-    def walk(n):
+    todo = [node]            # iterative: a deeply nested term does not exhaust the stack
+    while todo:
+        n = todo.pop()
         if id(n) in seen:
-            return
+            continue
         seen.add(id(n))
         if isinstance(n, A.Node):
             for f in n.__dataclass_fields__:
@@ -907,16 +908,15 @@ def _shift(node, path, oline=1, ocol=1):
                     for i, x in enumerate(v):
                         if isinstance(x, tuple) and len(x) == 3 and isinstance(x[1], Span):
                             v[i] = (x[0], fix(x[1]), x[2])
-                            walk(x[2])
+                            todo.append(x[2])
                         else:
-                            walk(x)
+                            todo.append(x)
                 else:
-                    walk(v)
+                    todo.append(v)
         elif isinstance(n, (list, tuple)):
             for x in n:
                 if isinstance(x, (A.Node, list, tuple)):
-                    walk(x)
-    walk(node)
+                    todo.append(x)
     return node
 
 
