@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..errors import AsmError, AsmSyntaxError, AsmTypeError, NO_SPAN, Span
 from ..syntax import ast as A
-from ..syntax.parser import parse_file, parse_text
+from ..syntax.parser import gc_paused, parse_file, parse_text
 from . import ir
 from . import stdlib
 from . import types as T
@@ -1194,6 +1194,11 @@ def load_spec(path: str) -> ir.Spec:
 
 
 def _load_spec(path: str) -> ir.Spec:
+    with gc_paused():
+        return _load_spec_now(path)
+
+
+def _load_spec_now(path: str) -> ir.Spec:
     loader = Loader()
     root = loader.load_root(path)
     for mod in loader.order:
