@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 from .errors import AsmError, AsmRuntimeError, Span
 from .semantics import types as T
-from .semantics.machine import Chooser, InputChooser, Machine, RandomChooser, NO_VALUE
+from .semantics.machine import DrawingChooser, InputChooser, Machine, RandomChooser, NO_VALUE
 from .semantics.printer import show_asmeta
 from .semantics.state import is_dom_key
 
@@ -90,7 +90,10 @@ def simulate(machine: Machine, steps: int, seed: int | None = None, random_choic
     """Run ``steps`` steps; yield the initial state then one SimStep per step (stops at an error
     or an invariant violation)."""
     def chooser_for(k):
-        base = RandomChooser((seed or 0) * 1_000_003 + k) if (random_choices or seed is not None) else Chooser()
+        # choose takes the first candidate, unless random; a choose over Integer, Natural or Real,
+        # which has no first, draws from a source seeded by the step number
+        base = RandomChooser((seed or 0) * 1_000_003 + k) if (random_choices or seed is not None) \
+            else DrawingChooser(k)
         j = max(k - 1, 0)       # the first block of the inputs is for step 1 (and the initial state)
         if inputs is not None and j < len(inputs):
             return _TextInputs(inputs[j], base)

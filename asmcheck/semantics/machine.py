@@ -13,21 +13,22 @@ from __future__ import annotations
 
 import itertools
 import random
+import time
 
-from ..errors import AsmRuntimeError, NO_SPAN, Span
+from ..errors import AsmError, AsmRuntimeError, NO_SPAN, Span
 from . import ir
 from . import types as T
 from .state import UpdateSet, apply_updates, dom_key, is_dom_key
 from .values import SetV, show
 from .analysis import is_subdomain, mentions_monitored
-from .choice import (Choice, Chooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
+from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors)
 from .rules import MAX_LOOP, RuleExecutor
 from .terms import LONG_MAX, LONG_MIN, Ctx, TermEvaluator, Thunk, Undetermined
 
 
 # The public names of the step function's parts, importable from here as before the split.
-__all__ = ["Machine", "Choice", "Chooser", "Enumerator", "InputChooser", "NO_VALUE", "NoAlternative", "Prune",
+__all__ = ["Machine", "Choice", "Chooser", "DeadlineReached", "DrawingChooser", "Enumerator", "InputChooser", "NO_VALUE", "NoAlternative", "Prune",
            "RandomChooser", "Sampler", "ScriptChooser", "TooManySuccessors", "MAX_LOOP", "LONG_MAX", "LONG_MIN",
            "Ctx", "Thunk", "Undetermined"]
 
@@ -36,9 +37,19 @@ class Machine(TermEvaluator, RuleExecutor):
     """The step function: terms (:class:`TermEvaluator`) and rules (:class:`RuleExecutor`) compiled
     into closures, plus the initial states, the step and the enumeration of successors."""
 
+    #: evaluations between two looks at the clock when a deadline is set
+    TICKS = 1024
+
     def __init__(self, spec: ir.Spec, options: dict | None = None):
+        """``options``: ``monitored_ranges``, ``int_range``, ``dedupe``; ``max_loop`` (iterations of
+        one ``while``/``iterate`` within a step, default :data:`MAX_LOOP`); ``deadline`` (a
+        ``time.monotonic()`` value: past it, a step raises :class:`DeadlineReached`, checked every
+        :attr:`TICKS` loop iterations, bindings and successors, so one long step is stopped too)."""
         self.spec = spec
         self.options = options or {}
+        self.max_loop = int(self.options.get("max_loop") or MAX_LOOP)
+        self.deadline = self.options.get("deadline")
+        self._ticks = 0
         self.functions = spec.functions
         self.fname = [f.name for f in spec.functions]
         self._static_cache: dict = {}
@@ -66,6 +77,14 @@ class Machine(TermEvaluator, RuleExecutor):
         for p in spec.properties:
             if p.kind == "invariant":
                 self.invariants.append((p, self.term(p.body), mentions_monitored(p.body)))
+
+    def tick(self):
+        """Count one evaluation; every :attr:`TICKS`, raise :class:`DeadlineReached` if the deadline passed."""
+        self._ticks += 1
+        if self._ticks >= self.TICKS:
+            self._ticks = 0
+            if self.deadline is not None and time.monotonic() >= self.deadline:
+                raise DeadlineReached("the time limit was reached inside a step")
 
     # -------------------------------------------------------------- text of locations
     def location_text(self, key) -> str:
@@ -106,12 +125,21 @@ class Machine(TermEvaluator, RuleExecutor):
                 return list(range(max(lo, 0) if dom is T.NATURAL else lo, hi + 1))
             if dom is T.UNDEF:
                 return [None]
+            if dom is T.REAL:
+                raise Undetermined(span, "the domain Real is infinite: asmcheck cannot enumerate it (bound it "
+                                         "with a subset domain or an interval, or give the values of a monitored "
+                                         "function with --monitored NAME=V1,V2,...)")
             raise Undetermined(span, f"the domain {dom} is infinite: asmcheck cannot enumerate it "
                                      f"(bound it with a subset domain, or give --int-range LO..HI)")
         if isinstance(dom, T.Struct):
             if dom.kind == "Prod":
                 parts = [self.domain_values(a, ctx, span) for a in dom.args]
-                return [tuple(p) for p in itertools.product(*parts)]
+                tick = self.tick
+                out = []
+                for p in itertools.product(*parts):
+                    tick()
+                    out.append(tuple(p))
+                return out
             if dom.kind == "Powerset":
                 base = self.domain_values(dom.args[0], ctx, span)
                 if len(base) > 16:
@@ -233,6 +261,7 @@ class Machine(TermEvaluator, RuleExecutor):
         prefix: list[int] = []
         out = []
         while True:
+            self.tick()
             ch = Enumerator(prefix, fixed, parse)
             st = self.initial_state(ch)
             out.append((ch.log, st))
@@ -269,6 +298,7 @@ class Machine(TermEvaluator, RuleExecutor):
         out = []
         memo: dict = {}
         while True:
+            self.tick()
             ch = Enumerator(prefix, fixed, parse)
             ch.memo = memo
             try:
@@ -276,6 +306,11 @@ class Machine(TermEvaluator, RuleExecutor):
                 out.append((ch.log, ups, nxt, ctx.mon))
             except Prune:
                 pass
+            except AsmError as e:
+                # the inputs and choices of the failing step, for its trace
+                if getattr(e, "choices", None) is None:
+                    e.choices = list(ch.log)
+                raise
             if len(out) >= limit:
                 raise TooManySuccessors(None, f"more than {limit} successors of one state")
             # next prefix: the last choice point with an untried alternative

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import itertools
+from decimal import Decimal
 
 from ..errors import AsmRuntimeError
 from . import ir
@@ -49,6 +50,21 @@ LONG_MAX = (1 << 63) - 1
 def wrap64(r):
     """Integers are 64-bit in ASMETA: arithmetic wraps around like Java's long."""
     return ((r - LONG_MIN) % (1 << 64)) + LONG_MIN
+
+
+
+def _real_interval(lo, hi, step) -> list:
+    """A Real interval counted in decimal, as ASMETA's parser expands it (BigDecimal): the elements
+    of ``{0.6 : 0.9, 0.1}`` are exactly 0.6, 0.7, 0.8 and 0.9, each the double nearest its decimal."""
+    d_lo, d_hi, d_st = (Decimal(repr(float(x))) if type(x) is float else Decimal(x) for x in (lo, hi, step))
+    if not all(d.is_finite() for d in (d_lo, d_hi, d_st)):
+        raise ValueError("an interval bound is not a finite number")
+    out = []
+    x = d_lo
+    while x <= d_hi:
+        out.append(float(x))
+        x += d_st
+    return out
 
 
 
@@ -492,17 +508,20 @@ class TermEvaluator:
         """Yield once per combination of values, with the variables bound in ctx.env
         (restored afterwards).  Later ranges may use earlier variables."""
         env = ctx.env
+        tick = self.tick
         saved = {uid: env[uid] for uid, _, _, _ in ranges if uid in env}
         try:
             if len(ranges) == 1:
                 uid, items, _, _ = ranges[0]
                 for x in items(ctx):
+                    tick()
                     env[uid] = x
                     yield
             elif not any(dep for _, _, _, dep in ranges):
                 lists = [items(ctx) for _, items, _, _ in ranges]
                 uids = [uid for uid, _, _, _ in ranges]
                 for combo in itertools.product(*lists):
+                    tick()
                     for uid, x in zip(uids, combo):
                         env[uid] = x
                     yield
@@ -520,7 +539,9 @@ class TermEvaluator:
             yield
             return
         uid, items, _, _ = ranges[i]
+        tick = self.tick
         for x in items(ctx):
+            tick()
             ctx.env[uid] = x
             yield from self._nested(ctx, ranges, i + 1)
 
@@ -627,10 +648,16 @@ class TermEvaluator:
             if st <= 0:
                 raise AsmRuntimeError(span, f"the step of an interval must be positive, not {show(st)}")
             vals = []
-            x = lo
-            while x <= hi:
-                vals.append(x)
-                x += st
+            if type(lo) is float or type(hi) is float or type(st) is float:
+                try:
+                    vals = _real_interval(lo, hi, st)
+                except ValueError:
+                    raise AsmRuntimeError(span, "an interval bound is not a finite number") from None
+            else:
+                x = lo
+                while x <= hi:
+                    vals.append(x)
+                    x += st
             if kind == "set":
                 return SetV(vals)
             if kind == "seq":

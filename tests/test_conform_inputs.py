@@ -1,0 +1,47 @@
+"""conform: what is and is not a transcript, and reals counted by either ASMETA build."""
+import os
+
+from asmcheck.cli import main
+from asmcheck.conform import conform, read_transcript, real_text
+
+from helpers import machine, spec, write
+
+SPEC = spec("\tenum domain C = {AA | BB}\n\tmonitored m: C\n\tcontrolled x: C", "\tmain rule r_main = x := m")
+
+
+def test_a_file_that_is_not_a_transcript_is_an_input_error(tmp_path, capsys):
+    path = write(tmp_path, SPEC)
+    empty = tmp_path / "empty.trace"
+    empty.write_bytes(b"")
+    noise = tmp_path / "noise.trace"
+    noise.write_bytes(bytes(range(256)) * 8)
+    words = tmp_path / "passwd"
+    words.write_text("root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n")
+    for bad in (empty, noise, words):
+        assert main(["conform", path, str(bad)]) == 2
+        err = capsys.readouterr()
+        assert f"{bad}:1:1" in err.out + err.err
+        assert "not a transcript of ASMETA's simulator" in err.out + err.err
+        assert "conforms" not in err.out
+    assert main(["conform", path, str(tmp_path)]) == 2
+    assert "not a regular file" in "".join(capsys.readouterr())
+    # a run of 0 steps is a transcript
+    zero = tmp_path / "zero.trace"
+    zero.write_text("# java -jar AsmetaS.jar -n 0 S.asm\nFinal state:\n")
+    assert main(["conform", path, str(zero)]) == 0
+    assert "conforms (0 step(s) checked)" in capsys.readouterr().out
+
+
+def test_reals_of_an_interval_conform_whichever_way_asmeta_counted_them(tmp_path):
+    # older AsmetaS builds add the step in doubles ({-0.8 : 0.8} = {-0.8, 0.19999999999999996}), newer
+    # ones in decimal ({-0.8, 0.2}); asmcheck counts in decimal and accepts both transcripts
+    assert real_text("(0.19999999999999996,VALID)") == "(0.2,VALID)" == real_text("(0.2,VALID)")
+    assert real_text("0.7999999999999999") == real_text("0.8") and real_text("X0.5") == "X0.5"
+    m = machine(tmp_path, spec("\tdomain D subsetof Real\n\tmonitored r: D\n\tcontrolled y: Real",
+                               "\tdomain D = {-0.8 : 0.8}\n\tmain rule r_main = y := r"))
+    for shown in ("0.19999999999999996", "0.2"):
+        t = tmp_path / "r.trace"
+        t.write_text(f"taking {shown} for r\n<State 1 (controlled)>\ny={shown}\n</State 1 (controlled)>\n")
+        assert conform(m, read_transcript(str(t))) is None
+    t.write_text("taking 0.3 for r\n<State 1 (controlled)>\ny=0.3\n</State 1 (controlled)>\n")
+    assert conform(m, read_transcript(str(t))) is not None
