@@ -137,3 +137,36 @@ def test_choose_over_an_infinite_domain_with_a_guard_is_an_error(tmp_path):
         run(m, chooser_factory=lambda: DrawingChooser(1))
     assert info.value.message.startswith("choose over the infinite domain Integer with a guard")
     assert (info.value.span.line, info.value.span.col) == (6, 47)
+
+
+INIT_CHOICE = ("\tenum domain Account = {AA | BB}\n\tcontrolled balance: Account -> Integer\n"
+               "\tcontrolled total: Integer\n\tcontrolled pick: Integer",
+               "\tmain rule r_main = par total := balance(AA) + balance(BB) pick := chooseone({5, 6}) endpar",
+               "\tfunction balance($a in Account) = chooseone({1000, 2000, 3000})\n\tfunction total = 0")
+
+
+def test_nondeterministic_initial_values_explore_simulate_conform(tmp_path):
+    from asmcheck.conform import conform, read_transcript
+    from asmcheck.semantics.values import show
+    from asmcheck.simulate import simulate
+    from helpers import view
+    m = machine(tmp_path, spec(*INIT_CHOICE))
+    inits = m.initial_states()
+    balances = sorted((view(m, st)["balance(AA)"], view(m, st)["balance(BB)"]) for _, st in inits)
+    assert balances == [(a, b) for a in ("1000", "2000", "3000") for b in ("1000", "2000", "3000")]
+    # simulate takes the first value, or a random one
+    first = list(simulate(m, 1))
+    assert [(c.kind, c.value) for c in first[0].choices] == [("chooseone", 1000), ("chooseone", 1000)]
+    assert view(m, first[1].state)["total"] == "2000"
+    drawn = {tuple(c.value for c in list(simulate(m, 0, seed=s))[0].choices) for s in range(12)}
+    assert len(drawn) > 1 and drawn <= {(a, b) for a in (1000, 2000, 3000) for b in (1000, 2000, 3000)}
+    # in a rule chooseone is a function (its first element), not a choice: one successor
+    assert [view(m, nxt)["pick"] for _, _, nxt, _ in m.successors(inits[0][1])] == ["5"]
+    # a transcript in which ASMETA drew 2000 (its hash order) conforms
+    t = tmp_path / "s.trace"
+    t.write_text("<State 1 (controlled)>\nbalance(AA)=2000\nbalance(BB)=2000\npick=5\ntotal=4000\n"
+                 "</State 1 (controlled)>\n")
+    assert conform(m, read_transcript(str(t))) is None
+    t.write_text("<State 1 (controlled)>\nbalance(AA)=2000\nbalance(BB)=2000\npick=5\ntotal=4500\n"
+                 "</State 1 (controlled)>\n")
+    assert conform(m, read_transcript(str(t))) is not None

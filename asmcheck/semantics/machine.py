@@ -227,6 +227,7 @@ class Machine(TermEvaluator, RuleExecutor):
         st: dict = {}
         init = self.spec.default_init
         ctx = Ctx(self, st, chooser or Chooser())
+        ctx.init = True
         if init is not None:
             for dom, body in init.domains:
                 if isinstance(dom, T.Domain) and dom.kind in ("abstract", "subset"):

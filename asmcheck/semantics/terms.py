@@ -72,7 +72,7 @@ class Ctx:
     """Evaluation context of one step."""
 
     __slots__ = ("st", "env", "mon", "chooser", "self_", "machine", "agent", "rule", "fresh", "base", "prune",
-                 "depth", "lazy", "post", "ups")
+                 "depth", "lazy", "post", "ups", "init")
 
     def __init__(self, machine, state, chooser):
         self.machine = machine
@@ -90,6 +90,7 @@ class Ctx:
         self.agent = None
         self.rule = None
         self.fresh = {}      # domain name -> next serial handed out in this step
+        self.init = False    # evaluating the initial state: chooseone is a choice point
 
 
 
@@ -194,12 +195,13 @@ class TermEvaluator:
                     if key in cache:
                         return cache[key]
                 b = body_fn()
-                saved = ctx.env
+                saved, saved_init = ctx.env, ctx.init
                 ctx.env = {}
+                ctx.init = False        # a definition is not an initial value: chooseone is not a choice
                 try:
                     v = b(ctx)
                 finally:
-                    ctx.env = saved
+                    ctx.env, ctx.init = saved, saved_init
                 if static:
                     cache[(f, ())] = v
                 return v
@@ -216,12 +218,13 @@ class TermEvaluator:
                 except TypeError:
                     static_ok = False
             b = body_fn()
-            saved = ctx.env
+            saved, saved_init = ctx.env, ctx.init
             ctx.env = dict(zip(uids, vals))
+            ctx.init = False
             try:
                 v = b(ctx)
             finally:
-                ctx.env = saved
+                ctx.env, ctx.init = saved, saved_init
             if static:
                 try:
                     cache[(f, vals)] = v
@@ -334,6 +337,19 @@ class TermEvaluator:
                 x = a(ctx)
                 return None if x is None else not x
             return not_
+
+        if name == "chooseone" and len(args) == 1:
+            a0 = args[0]
+            label = f"chooseone at {span.short()}"
+
+            def chooseone(ctx):
+                c = a0(ctx)
+                if ctx.init and c is not None and len(c) > 1:
+                    # a nondeterministic initial value: every element is an initial state
+                    options = ordered(c, span)
+                    return options[ctx.chooser.choose("chooseone", label, options)]
+                return impl(c)
+            return chooseone
 
         def call(ctx):
             vals = [x(ctx) for x in args]
