@@ -170,3 +170,22 @@ def test_nondeterministic_initial_values_explore_simulate_conform(tmp_path):
     t.write_text("<State 1 (controlled)>\nbalance(AA)=2000\nbalance(BB)=2000\npick=5\ntotal=4500\n"
                  "</State 1 (controlled)>\n")
     assert conform(m, read_transcript(str(t))) is not None
+
+
+def test_a_property_over_an_infinite_domain_is_found_before_the_search(tmp_path):
+    m = machine(tmp_path, spec("\tdomain Small subsetof Integer\n\tcontrolled x: Integer",
+                               "\tdomain Small = {1 : 3}\n"
+                               "\tinvariant inv_a over x: (forall $i in Integer with $i > x implies $i > 0)\n"
+                               "\tinvariant inv_b over x: (exists $i in Small with $i = x + 1)\n"
+                               "\tinvariant inv_c over x: (exists $r in Real with $r > 0.0)\n"
+                               "\tmain rule r_main = x := 1", "\tfunction x = 0"))
+    errs = m.unbounded_properties()
+    assert [(e.span.line, e.span.col, e.message) for e in errs] == [
+        (8, 40, "the property inv_a quantifies over Integer, which is infinite: asmcheck cannot evaluate it "
+                "(bound the variable with a subset domain, or give --int-range LO..HI)"),
+        (10, 40, "the property inv_c quantifies over Real, which is infinite: asmcheck cannot evaluate it "
+                 "(bound the variable with a subset domain)")]
+    bounded = machine(tmp_path, spec("\tcontrolled x: Integer", "\tinvariant inv_a over x: "
+                                     "(forall $i in Integer with $i > x implies $i > 0)\n\tmain rule r_main = x := 1",
+                                     "\tfunction x = 0"), int_range=(-2, 2))
+    assert bounded.unbounded_properties() == []

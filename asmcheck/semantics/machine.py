@@ -20,7 +20,7 @@ from . import ir
 from . import types as T
 from .state import UpdateSet, apply_updates, dom_key, is_dom_key
 from .values import SetV, show
-from .analysis import is_subdomain, mentions_monitored
+from .analysis import infinite_ranges, is_subdomain, mentions_monitored
 from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors)
 from .rules import MAX_LOOP, RuleExecutor
@@ -77,6 +77,22 @@ class Machine(TermEvaluator, RuleExecutor):
         for p in spec.properties:
             if p.kind == "invariant":
                 self.invariants.append((p, self.term(p.body), mentions_monitored(p.body)))
+
+    def unbounded_properties(self, props=None) -> list:
+        """The errors a property over an infinite domain would raise when evaluated, found before
+        any state is explored: one :class:`Undetermined` (at the range) per quantifier, comprehension
+        or choose term of the properties (default: the spec's) whose range is Integer, Natural
+        (without --int-range), Real or String.  An explorer reports them as input errors (exit 2),
+        as a rule over such a range is, rather than as a violation in the initial state."""
+        out = []
+        for p in (self.spec.properties if props is None else props):
+            body = getattr(p, "body", p)
+            for rg, dom in infinite_ranges(body, self.int_range is not None):
+                out.append(Undetermined(rg.span, f"the property {getattr(p, 'name', '')} quantifies over "
+                                                 f"{dom}, which is infinite: asmcheck cannot evaluate it (bound the "
+                                                 f"variable with a subset domain" +
+                                        (", or give --int-range LO..HI)" if dom in (T.INTEGER, T.NATURAL) else ")")))
+        return out
 
     def tick(self):
         """Count one evaluation; every :attr:`TICKS`, raise :class:`DeadlineReached` if the deadline passed."""
