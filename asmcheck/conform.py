@@ -342,14 +342,19 @@ def conform(machine: Machine, transcript: Transcript):
 
 def _follow(machine, st, step, fixed, use_prune, nxt, seen, misses):
     """Add to ``nxt`` the successors of ``st`` that show the block; record why others do not."""
+    errors: list = []
     try:
         try:
+            # a sequence of choices that fails (a choose over a range that is undef there, say) is
+            # not the step the simulator made, which did not fail: it is skipped
             succ = machine.successors(st, limit=ENUMERATE, fixed=fixed, parse=_parser(step.taking, machine),
-                                      prune=_pruner(machine, step, st) if use_prune else None)
+                                      prune=_pruner(machine, step, st) if use_prune else None, errors=errors)
         except TooManySuccessors:
             if not use_prune:
                 raise
             succ = _first_matches(machine, st, step, fixed)
+        if not succ and errors:
+            raise errors[0]
     except NoAlternative as e:
         misses.append((None, e.message))
         return None

@@ -45,3 +45,30 @@ def test_reals_of_an_interval_conform_whichever_way_asmeta_counted_them(tmp_path
         assert conform(m, read_transcript(str(t))) is None
     t.write_text("taking 0.3 for r\n<State 1 (controlled)>\ny=0.3\n</State 1 (controlled)>\n")
     assert conform(m, read_transcript(str(t))) is not None
+
+
+UNDEF_RANGE = spec("\tcontrolled outs: Integer -> Powerset(Integer)\n\tcontrolled x: Integer",
+                   "\tmain rule r_main =\n\t\tchoose $k in {1, 2} with true do\n"
+                   "\t\t\tchoose $t in outs($k) with $t > 0 do x := $t ifnone x := 99",
+                   "\tfunction outs($i in Integer) = if $i = 1 then {5} else undef endif\n\tfunction x = 0")
+
+
+def test_choose_over_an_undef_range(tmp_path):
+    # AsmetaS (RuleEvaluator.evaluateRanges) casts the range's value to a collection: over undef the
+    # run stops with an error.  asmcheck stops with a located error where the step takes that branch;
+    # following a transcript, a branch that fails is not the step the simulator made (its run went on)
+    from asmcheck.errors import AsmRuntimeError
+    from asmcheck.semantics.machine import ScriptChooser
+    import pytest
+    m = machine(tmp_path, UNDEF_RANGE)
+    t = tmp_path / "u.trace"
+    t.write_text("<State 1 (controlled)>\nouts(1)={5}\nx=5\n</State 1 (controlled)>\n")
+    assert conform(m, read_transcript(str(t))) is None
+    with pytest.raises(AsmRuntimeError) as info:
+        m.successors(m.initial_state())
+    assert info.value.message == "the range of $t is undef"
+    assert (info.value.span.line, info.value.span.col) == (9, 17)
+    assert [(c.kind, c.value) for c in info.value.choices] == [("choose", {"$k": 2})]
+    st = m.initial_state()
+    _, nxt, _ = m.step(st, ScriptChooser([0]))
+    assert [v for k, v in nxt.items() if k == m.fname.index("x")] == [5]

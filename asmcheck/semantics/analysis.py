@@ -14,9 +14,10 @@ def hkey(v):
 
 
 
-def ordered(coll, span) -> list:
+def ordered(coll, span, var: str = "") -> list:
     if coll is None:
-        raise AsmRuntimeError(span, "the range is undef")
+        # ASMETA's simulator stops here too (its evaluation of the range is not a collection)
+        raise AsmRuntimeError(span, f"the range of {var} is undef" if var else "the range is undef")
     if isinstance(coll, SetV):
         return coll.ordered()
     if isinstance(coll, MapV):

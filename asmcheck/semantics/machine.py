@@ -306,11 +306,14 @@ class Machine(TermEvaluator, RuleExecutor):
                     nxt[k] = v
         return ups, nxt, ctx
 
-    def successors(self, state: dict, limit: int = 1_000_000, fixed=None, parse=None, prune=None):
+    def successors(self, state: dict, limit: int = 1_000_000, fixed=None, parse=None, prune=None, errors=None):
         """Every (choices, update set, next state, monitored values) from ``state``.
 
         ``prune`` (a function of location key, value and seq depth) may raise Prune to cut
-        the sequences of choices that cannot lead to a wanted successor."""
+        the sequences of choices that cannot lead to a wanted successor.  With ``errors`` (a
+        list), a sequence of choices whose step fails is skipped and its error appended there
+        (following a transcript, a branch that fails is not the step the simulator made);
+        without it the error ends the enumeration."""
         prefix: list[int] = []
         out = []
         memo: dict = {}
@@ -327,7 +330,9 @@ class Machine(TermEvaluator, RuleExecutor):
                 # the inputs and choices of the failing step, for its trace
                 if getattr(e, "choices", None) is None:
                     e.choices = list(ch.log)
-                raise
+                if errors is None or isinstance(e, Undetermined):
+                    raise
+                errors.append(e)
             if len(out) >= limit:
                 raise TooManySuccessors(None, f"more than {limit} successors of one state")
             # next prefix: the last choice point with an untried alternative

@@ -498,11 +498,11 @@ class TermEvaluator:
         out = []
         bound = set()
         for v, r in bindings:
-            out.append((v.uid, self._range_list(r), r.span, bool(free_uids(r) & bound)))
+            out.append((v.uid, self._range_list(r, v.name), r.span, bool(free_uids(r) & bound)))
             bound.add(v.uid)
         return out
 
-    def _range_list(self, r: ir.Term):
+    def _range_list(self, r: ir.Term, var: str = ""):
         span = r.span
         if isinstance(r, ir.DomainTerm):
             dom = r.domain
@@ -514,11 +514,11 @@ class TermEvaluator:
             def const_items(ctx):
                 items = cache.get("v")
                 if items is None:
-                    items = cache["v"] = ordered(self.term(r)(ctx), span)
+                    items = cache["v"] = ordered(self.term(r)(ctx), span, var)
                 return items
             return const_items
         fn = self.term(r)
-        return lambda ctx: ordered(fn(ctx), span)
+        return lambda ctx: ordered(fn(ctx), span, var)
 
     def _iter_bindings(self, ctx, ranges):
         """Yield once per combination of values, with the variables bound in ctx.env
