@@ -149,11 +149,33 @@ def real_text(text: str) -> str:
     return _REAL.sub(lambda m: format(float(m.group(0)), ".12g"), text)
 
 
-def _fixed_from(taking: dict) -> _Fixed:
+_INT = re.compile(r"(?<![\w.])-?\d+(?![\w.])")
+MAX_NUMBERS = 64
+
+
+def _numbers(texts) -> dict:
+    """Candidate values of a choose over Integer, Natural or Real, which the simulator draws at
+    random: the numbers the step's block shows (a drawn value that reaches the state is printed
+    there), then 0 (a drawn value that leaves no trace can be any)."""
+    ints: set = set()
+    reals: set = set()
+    for t in texts:
+        for m in _REAL.finditer(t):
+            reals.add(float(m.group(0)))
+        for m in _INT.finditer(t):
+            ints.add(int(m.group(0)))
+    ints_l = sorted(ints)[:MAX_NUMBERS]
+    reals_l = sorted(reals)[:MAX_NUMBERS]
+    return {T.INTEGER: ints_l + [0] * (0 not in ints), T.NATURAL: [i for i in ints_l if i >= 0] + [0] * (0 not in ints),
+            T.REAL: reals_l + [0.0] * (0.0 not in reals)}
+
+
+def _fixed_from(taking: dict, lines=()) -> _Fixed:
     fx = _Fixed()
     for loc, vals in taking.items():
         norm = {real_text(v) for v in vals}
         fx[loc] = (lambda v, vals=vals, norm=norm: show_asmeta(v) in vals or real_text(show_asmeta(v)) in norm)
+    fx.numbers = _numbers([v for _, _, v in lines] + [v for vals in taking.values() for v in vals])
     return fx
 
 
@@ -300,7 +322,7 @@ def conform(machine: Machine, transcript: Transcript):
     except NoAlternative as e:
         return Mismatch(0, 0, "", "", [], f"initial state: {e.message}")
     for step in transcript.steps:
-        fixed = _fixed_from(step.taking)
+        fixed = _fixed_from(step.taking, step.lines)
         nxt = []
         seen = set()
         misses = []

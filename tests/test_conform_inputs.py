@@ -72,3 +72,18 @@ def test_choose_over_an_undef_range(tmp_path):
     st = m.initial_state()
     _, nxt, _ = m.step(st, ScriptChooser([0]))
     assert [v for k, v in nxt.items() if k == m.fname.index("x")] == [5]
+
+
+def test_a_choose_over_integer_or_real_conforms_with_the_value_the_simulator_drew(tmp_path):
+    # AsmetaS draws a random value for a choose over Integer, Natural or Real (guard true): the
+    # transcript shows it through the locations the body updates
+    m = machine(tmp_path, spec("\tcontrolled foo: Integer\n\tcontrolled r: Real",
+                               "\tmain rule r_main = par\n\t\tchoose $s in Integer with true do foo := $s\n"
+                               "\t\tchoose $q in Real with true do r := $q\n\tendpar", "\tfunction foo = 1"))
+    t = tmp_path / "c.trace"
+    t.write_text("<State 1 (controlled)>\nfoo=-1234567\nr=0.4411\n</State 1 (controlled)>\n"
+                 "<State 2 (controlled)>\nfoo=99\nr=0.5\n</State 2 (controlled)>\n")
+    assert conform(m, read_transcript(str(t))) is None
+    t.write_text("<State 1 (controlled)>\nfoo=7\nr=abc\n</State 1 (controlled)>\n")
+    res = conform(m, read_transcript(str(t)))
+    assert (res.step, res.location, res.expected, res.allowed) == (1, "r", "abc", ["0.0"])

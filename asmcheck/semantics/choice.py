@@ -81,6 +81,11 @@ class Chooser:
             self.log.append(Choice("choose", label, 0, 0, {var: v}))
         return v
 
+    def draw_options(self, dom):
+        """The values an enumerating chooser tries for a choose over the infinite ``dom`` (None:
+        it has none, and the choose cannot be enumerated)."""
+        return None
+
     def choose(self, kind, label, options, values_repr=None) -> int:
         self.log.append(Choice(kind, label, len(options), 0, options[0] if options else None))
         return 0
@@ -231,6 +236,11 @@ class Enumerator(Chooser):
         j = allowed[i]
         self.log.append(Choice(kind, label, len(allowed), i, options[j], j))
         return j
+
+    def draw_options(self, dom):
+        # a transcript's numbers (``fixed.numbers``: dom -> values) for a choose over an infinite domain
+        numbers = getattr(self.fixed, "numbers", None)
+        return numbers.get(dom) if numbers else None
 
     def value(self, label, dom):
         if self.parse is not None and self.fixed is not None and label in self.fixed:

@@ -232,6 +232,8 @@ class RuleExecutor:
 
         def choose(ctx, ups):
             ch = ctx.chooser
+            if draw_choose is not None and draw_choose(ctx, ups):
+                return
             if dedupe and ch.enumerates:
                 memo = ch.memo
                 key = None
@@ -266,8 +268,6 @@ class RuleExecutor:
                 ctx.fresh = dict(fresh_after)
                 ups.merge_par(sub, machine)
                 return
-            if draw_choose is not None and draw_choose(ctx, ups):
-                return
             cands = candidates(ctx)
             if not cands:
                 if ifnone is not None:
@@ -301,6 +301,7 @@ class RuleExecutor:
         rest_uids = [v.uid for i, (v, _) in enumerate(r.bindings) if i not in infinite]
         rest_names = [v.name for i, (v, _) in enumerate(r.bindings) if i not in infinite]
         true_guard = r.guard is None or (isinstance(r.guard, ir.Const) and r.guard.value is True)
+        d0 = doms[0]
         gspan = r.guard.span if r.guard is not None else r.span
         machine = self
 
@@ -308,13 +309,19 @@ class RuleExecutor:
             if machine.int_range is not None and all(d is not T.REAL for d in doms):
                 return False
             ch = ctx.chooser
-            if ch.rng is None and type(ch).draw is Chooser.draw:
+            if ch.rng is None and type(ch).draw is Chooser.draw and ch.draw_options(d0) is None:
                 return False
             env = ctx.env
             saved = {u: env[u] for u in uids + rest_uids if u in env}
             try:
                 for u, name, d in zip(uids, names, doms):
-                    v = ch.draw(label, name, d)
+                    opts = ch.draw_options(d)
+                    if opts is not None:
+                        # an enumerating chooser with candidate values (those a transcript shows)
+                        v = opts[ch.choose("choose", label, [{name: x} for x in opts])] if len(opts) > 1 \
+                            else opts[0]
+                    else:
+                        v = ch.draw(label, name, d)
                     if v is NO_VALUE:
                         return False
                     if not true_guard:
