@@ -23,17 +23,20 @@ import shutil
 import subprocess
 import tempfile
 import time
+from array import array
 from importlib import resources
 from pathlib import Path
 
 from ..errors import AsmError, AsmRuntimeError
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.machine import Machine, Undetermined
+from ..semantics.machine import MAX_LOOP, Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, EnumValue
 
 UNDEF_C = "UNDEF"
+UNDEF_V = -(1 << 63)
+MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
 
 
@@ -118,6 +121,16 @@ class Generator:
             self.codec.to_c(v)
         return list(vals)
 
+    def codomain_values(self, f):
+        """The values a controlled function's locations hold, or None for an integer codomain
+        (a wide slot: the value itself, 64 bits, is stored)."""
+        try:
+            return self.values_of(f.codomain)
+        except Unsupported:
+            if T.root(f.codomain) in (T.INTEGER, T.NATURAL):
+                return None
+            raise
+
     def table(self, values: list) -> str:
         key = tuple(self.codec.to_c(v) for v in values)
         name = self.dom_tables.get(key)
@@ -142,7 +155,7 @@ class Generator:
             if f.index in self.m.lazy:
                 raise Unsupported(f"the lazily initialised function {f.name}")
             arg_values = [self.values_of(d) for d in f.domain]
-            cod = self.values_of(f.codomain)
+            cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
                 combos = [c + (v,) for c in combos for v in vals]
@@ -193,7 +206,7 @@ class Generator:
     def t_Loc(self, t, env):
         f = t.func
         if f is self.spec.self_func:
-            raise Unsupported("agents (self)")
+            return "c->self"
         if f.kind == "static" and f.arity == 0 and isinstance(f.codomain, T.Domain) and \
                 isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
             from ..semantics.values import abstract_value
@@ -268,6 +281,11 @@ class Generator:
     def encoder(self, f) -> str:
         """C function: value -> code for the locations of f (fails outside the codomain)."""
         base, arg_values, cod = self.fn_base[f.index]
+        if cod is None:
+            if "encW" not in self.defined_done:
+                self.defined_done.add("encW")
+                self.funcs.append("static inline V encW(Ctx *c, V v, int site) { return v; }")
+            return "encW"
         key = ("enc", tuple(self.codec.to_c(v) for v in cod))
         name = self.enc_tables.get(key)
         if name is not None:
@@ -447,16 +465,75 @@ class Generator:
             raise Unsupported(f"an update of {f.name}")
         args = [self.term(a, env) for a in r.args]
         v = self.fresh("v")
-        s = self.fresh("sl")
+        s = self.fresh("lsl")
         self.reader(f)
         enc = self.encoder(f)
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def r_Block(self, r, env):
-        if r.kind != "par":
-            raise Unsupported("seq")
-        return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
+        if r.kind == "par":
+            return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
+        f = self.fresh("sf")
+        steps = " ".join(f"seq_step_begin(c); {{ {self.rule(x, env)} }} if (c->err) {{ seq_end(c, &{f}); return; }} "
+                         f"seq_step_end(c, &{f});" for x in r.rules)
+        return f"{{ SeqFrame {f}; seq_begin(c, &{f}); {steps} seq_end(c, &{f}); if (c->err) return; }}"
+
+    def r_Loop(self, r, env):
+        f = self.fresh("sf")
+        n = self.fresh("n")
+        mark = self.fresh("mk")
+        body = self.rule(r.body, env)
+        if r.cond is not None:
+            g = self.fresh("g")
+            test = (f"V {g} = {self.term(r.cond, env)}; if (c->err) break; "
+                    f"if ({g} == UNDEF) {{ fail(c, E_MODEL, 0); break; }} if (!{g}) break;")
+            idle = ""
+        else:
+            test = ""
+            idle = f"if (seq_step_idle(c, &{f}, {mark})) {{ seq_step_drop(c, {mark}); break; }}"
+        return (f"{{ SeqFrame {f}; seq_begin(c, &{f}); int {n} = 0; "
+                f"for (;; {n}++) {{ if ({n} >= {MAX_LOOP}) {{ fail(c, E_MODEL, 0); break; }} {test} "
+                f"seq_step_begin(c); int32_t {mark} = c->nupd; {{ {body} }} if (c->err) break; {idle} "
+                f"seq_step_end(c, &{f}); if (c->err) break; }} "
+                f"seq_end(c, &{f}); if (c->err) return; }}")
+
+    def r_TermCall(self, r, env):
+        t = r.term
+        if isinstance(t, ir.RuleRef):
+            rd = t.rule
+            if len(r.args) != len(rd.params):
+                raise Unsupported("a rule value called with the wrong number of arguments")
+            self.check_by_name(rd, r.args)
+            name = self.rule_fn(rd)
+            args = [self.term(a, env) for a in r.args]
+            return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+        if isinstance(t, ir.Call) and t.name == "program" and not r.args:
+            x = self.fresh("ag")
+            sv = self.fresh("sv")
+            parts = [f"{{ V {x} = {self.term(t.args[0], env)}; if (c->err) return; V {sv} = c->self; "
+                     f"if ({x} == UNDEF) {{ fail(c, E_MODEL, 0); return; }}"]
+            first = True
+            for dom, ag in self.m.agent_programs.items():
+                if ag.rule.params:
+                    raise Unsupported("an agent program with parameters")
+                vals = self.values_of(dom)
+                tab = self.table(vals)
+                q = self.fresh("q")
+                fn = self.rule_fn(ag.rule)
+                kw = "if" if first else "else if"
+                parts.append(f"{kw} (({{ int {q} = 0; while ({q} < {len(vals)} && {tab}[{q}] != {x}) {q}++; "
+                             f"{q} < {len(vals)}; }})) {{ c->self = {x}; {fn}(c); c->self = {sv}; }}")
+                first = False
+            parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
+            parts.append("if (c->err) return; }")
+            return " ".join(parts)
+        raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+
+    def check_by_name(self, rd, args):
+        from ..semantics.machine import _has_sequencing, _is_simple
+        if any(not _is_simple(a) for a in args) and _has_sequencing(rd):
+            raise Unsupported(f"an argument passed by name to {rd.name}, which has sequencing")
 
     def r_If(self, r, env):
         g = self.fresh("g")
@@ -555,6 +632,7 @@ class Generator:
         if r.turbo:
             raise Unsupported("turbo rules")
         rd = r.rule
+        self.check_by_name(rd, r.args)
         name = self.rule_fn(rd)
         args = [self.term(a, env) for a in r.args]
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
@@ -585,17 +663,33 @@ class Generator:
         for p in self.props:
             invs.append(self.term(p.prop.body, {}))
         nslots = len(self.slots)
-        bits = [_ceil_log2(len(vals) + 1) for vals in self.slot_values]
+        bits = [64 if vals is None else _ceil_log2(len(vals) + 1) for vals in self.slot_values]
         words, shifts = [], []
+        # the narrow slots packed first, then one word per wide slot
         w, sh = 0, 0
-        for b in bits:
+        for s, b in enumerate(bits):
+            if b == 64:
+                continue
             if sh + b > 64:
                 w += 1
                 sh = 0
             words.append(w)
             shifts.append(sh)
             sh += b
-        nwords = w + 1 if nslots else 1
+        words_full = [0] * nslots
+        shifts_full = [0] * nslots
+        k = 0
+        for s, b in enumerate(bits):
+            if b != 64:
+                words_full[s], shifts_full[s] = words[k], shifts[k]
+                k += 1
+        nxt = w + 1 if sh > 0 else w
+        for s, b in enumerate(bits):
+            if b == 64:
+                words_full[s] = nxt
+                nxt += 1
+        words, shifts = words_full, shifts_full
+        nwords = max(nxt, 1)
         self.words, self.shifts, self.bits = words, shifts, bits
         self.nwords = nwords
         head = [f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
@@ -609,6 +703,8 @@ class Generator:
         dec_names = {}
         decs = []
         for vals in self.slot_values:
+            if vals is None:
+                continue
             key = tuple(self.codec.to_c(v) for v in vals)
             if key not in dec_names:
                 dec_names[key] = f"DEC{len(dec_names)}"
@@ -619,7 +715,8 @@ class Generator:
             f"static const int SLOT_SHIFT[{max(nslots, 1)}] = {{{', '.join(map(str, shifts)) or '0'}}};",
             f"static const int SLOT_BITS[{max(nslots, 1)}] = {{{', '.join(map(str, bits)) or '1'}}};",
             f"static const V *SLOT_DECODE[{max(nslots, 1)}] = {{"
-            + ", ".join(dec_names[tuple(self.codec.to_c(v) for v in vals)] for vals in self.slot_values) + "};",
+            + ", ".join("0" if vals is None else dec_names[tuple(self.codec.to_c(v) for v in vals)]
+                        for vals in self.slot_values) + "};",
         ]
         inv_code = ["static V check_invariant(Ctx *c, int k) {", "    switch (k) {"]
         for i, e in enumerate(invs):
@@ -636,6 +733,10 @@ class Generator:
         for s, key in enumerate(self.slots):
             vals = self.slot_values[s]
             v = st.get(key)
+            if vals is None:
+                x = self.codec.to_c(v)
+                words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
+                continue
             if v is None:
                 code = len(vals)
             else:
@@ -648,8 +749,15 @@ class Generator:
     def unpack(self, words) -> dict:
         st = {}
         for s, key in enumerate(self.slots):
-            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
             vals = self.slot_values[s]
+            if vals is None:
+                x = words[self.words[s]]
+                if x >= 1 << 63:
+                    x -= 1 << 64
+                if x != UNDEF_V:
+                    st[key] = x
+                continue
+            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
             if code < len(vals):
                 st[key] = vals[code]
         return st
@@ -698,15 +806,25 @@ def build(src: str) -> ctypes.CDLL:
                     f.unlink()
                 except OSError:
                     pass
-    dll = ctypes.CDLL(str(lib))
-    dll.asm_explore.restype = ctypes.c_int64
-    dll.asm_explore.argtypes = [ctypes.POINTER(ctypes.c_uint64), ctypes.c_int64, ctypes.c_int64, ctypes.c_int64,
-                                ctypes.c_double, ctypes.c_int64, ctypes.POINTER(ctypes.c_int64)]
-    dll.asm_parent.restype = ctypes.c_int64
-    dll.asm_parent.argtypes = [ctypes.c_int64]
-    dll.asm_state.restype = None
-    dll.asm_state.argtypes = [ctypes.c_int64, ctypes.POINTER(ctypes.c_uint64)]
-    dll.asm_free.restype = None
+    return ctypes.CDLL(str(lib))
+
+
+def bind(dll: ctypes.CDLL) -> ctypes.CDLL:
+    """Declare the entry points of a compiled model."""
+    i64, f64, u64p, i64p = ctypes.c_int64, ctypes.c_double, ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_int64)
+    u32p = ctypes.POINTER(ctypes.c_uint32)
+    for name, res, args in (("asm_start", i64, [u64p, i64, i64, i64, f64, i64, i64]),
+                            ("asm_run", i64, [f64, i64p]),
+                            ("asm_parent", i64, [i64]),
+                            ("asm_state", None, [i64, u64p]),
+                            ("asm_edges", None, [u32p, u32p]),
+                            ("asm_range", None, [i64, i64p]),
+                            ("asm_inv_error", i64, [i64]),
+                            ("asm_err_code", i64, []),
+                            ("asm_free", None, [])):
+        fn = getattr(dll, name)
+        fn.restype = res
+        fn.argtypes = args
     return dll
 
 
@@ -714,24 +832,49 @@ class NativeExplorer:
     """The explorer's interface (run, path_to, replay) over the native search."""
 
     engine = "native"
+    SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, **_ignored):
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, **_ignored):
         if step_props:
             raise Unsupported("step properties")
+        if any(p.kind == "invar" for p in machine.spec.properties):
+            raise Unsupported("INVAR constraints")
         self.m = machine
         self.state_props = list(state_props or [])
         for p in self.state_props:
             if type(p).__name__ != "StateProperty":
                 raise Unsupported("this kind of property")
+        t0 = time.perf_counter()
         self.gen = Generator(machine, self.state_props)
         src = self.gen.generate()
-        self.dll = build(src)
+        self.dll = bind(build(src))
+        self.compile_seconds = time.perf_counter() - t0
         self.max_states = max_states
         self.max_depth = max_depth
         self.max_seconds = max_seconds
         self.deadlock = deadlock
+        self.keep_graph = keep_graph
+        self.progress = progress
+        self.warn = warn
+        self.edge_src = None
+        self.edge_dst = None
+        self.warnings: list = []
         self._states: dict = {}
+
+    def _growing(self, depth: int) -> list:
+        """Integer locations that took a new least or greatest value at each of the last levels."""
+        g = self.gen
+        out = []
+        buf = (ctypes.c_int64 * 3)()
+        for s, vals in enumerate(g.slot_values):
+            if vals is not None:
+                continue
+            self.dll.asm_range(s, buf)
+            lo, hi, grew = buf[0], buf[1], buf[2]
+            if grew >= 0 and grew >= depth - 1:
+                out.append((self.m.location_text(g.slots[s]), lo, hi))
+        return out
 
     def run(self):
         from .bfs import DEADLOCK, PseudoProperty, Result, Violation
@@ -743,45 +886,100 @@ class NativeExplorer:
                 inits.append(w)
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
-        out = (ctypes.c_int64 * (8 + 2 * (nprops + 2)))()
+        out = (ctypes.c_int64 * (12 + 2 * (nprops + 2)))()
         t0 = time.perf_counter()
-        self.dll.asm_explore(flat, len(inits), -1 if self.max_states is None else self.max_states,
-                             -1 if self.max_depth is None else self.max_depth,
-                             -1.0 if self.max_seconds is None else float(self.max_seconds),
-                             1 if self.deadlock else 0, out)
+        self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
+                           -1 if self.max_depth is None else self.max_depth,
+                           -1.0 if self.max_seconds is None else float(self.max_seconds),
+                           1 if self.deadlock else 0, 1 if self.keep_graph else 0)
+        # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
+        # watches for integer locations that grow level after level
+        growth_depth = -1
+        streak: dict = {}
+        while True:
+            status = self.dll.asm_run(self.SLICE, out)
+            if status != 6:
+                break
+            now = time.perf_counter() - t0
+            if self.progress is not None:
+                self.progress(out[0], out[8], out[1], now)
+            depth = out[8]
+            if depth != growth_depth:
+                growth_depth = depth
+                for name, lo, hi in self._growing(depth):
+                    streak[name] = streak.get(name, 0) + 1
+                    if streak[name] == 3:
+                        msg = (f"{name} keeps taking new values level after level (range {lo}..{hi} at depth "
+                               f"{depth}): the search may not end; bound it in the model (a subset domain "
+                               f"or a guard), or stop the search with --max-depth or --max-states")
+                        self.warnings.append(msg)
+                        if self.warn is not None:
+                            self.warn(msg)
         secs = time.perf_counter() - t0
-        nstates, transitions, depth, status = out[0], out[1], out[2], out[3]
+        nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates
+        self._err_code = self.dll.asm_err_code()
         if status == 4:
-            code, sid = out[4], out[5]
-            if code == 4:   # E_UNSUPPORTED met at run time
-                raise Unsupported("a value outside the native encoding at run time")
-            # let the Python step function produce the located message
-            st = self.state(sid)
-            self.m.successors(st)
-            for p in self.state_props:
-                p.check_state(self.m, st)
-            raise AsmRuntimeError(None, f"the native search stopped on a runtime error (code {code}) that the "
-                                        f"Python step function does not reproduce")
+            code = out[4]
+            raise Unsupported("a value outside the native encoding at run time" if code == 4 else
+                              "more choices in one step than the native search follows" if code == 6 else
+                              f"a run-time condition the native search does not handle (code {code})")
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
+        if self.keep_graph:
+            n = out[9]
+            src = (ctypes.c_uint32 * max(n, 1))()
+            dst = (ctypes.c_uint32 * max(n, 1))()
+            self.dll.asm_edges(src, dst)
+            self.edge_src = array("I", src[:n])
+            self.edge_dst = array("I", dst[:n])
         violations = []
         for i in range(out[7]):
-            k, sid = out[8 + 2 * i], out[9 + 2 * i]
-            prop = DEADLOCK if k == nprops else self.state_props[k]
-            msg = "" if k != nprops else "no successor, or only the state itself"
-            violations.append(Violation(prop, sid, message=msg))
-        # the same order as the Python explorer: by property declaration, deadlock last
-        order = {p.name: i for i, p in enumerate(self.state_props)}
-        violations.sort(key=lambda v: order.get(v.prop.name, len(order)))
-        incomplete = status in (1, 2, 3)
+            k, sid = out[12 + 2 * i], out[13 + 2 * i]
+            if k == nprops + 1:
+                violations.append(self._step_error(sid, self._err_code, PseudoProperty, Violation))
+            elif k == nprops:
+                none = not any(True for _ in self.m.successors(self.state(sid)))
+                violations.append(Violation(DEADLOCK, sid, message="no successor" if none else
+                                            "the only successor is the state itself"))
+            else:
+                prop = self.state_props[k]
+                v = Violation(prop, sid)
+                if self.dll.asm_inv_error(k):
+                    try:
+                        prop.check_state(self.m, self.state(sid))
+                    except AsmError as e:
+                        v = Violation(prop, sid, message=f"cannot be evaluated: {e.message}", error=e)
+                violations.append(v)
+        # the order of the Python explorer: by when they were found
+        stopped = out[11] != 0
+        incomplete = status in (1, 2, 3) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
                   3: f"time limit {self.max_seconds} s reached"}.get(status, "")
+        if stopped and not reason:
+            reason = "a step could not be computed"
+        if status == 3 and self.warnings:
+            reason += "; " + self.warnings[-1]
         verdict = "violated" if violations else ("incomplete" if incomplete else "holds")
-        res = Result(verdict, nstates, transitions, depth, secs, violations, reason, list(self.state_props))
+        res = Result(verdict, nstates, transitions, depth, secs, violations, reason if incomplete else "",
+                     list(self.state_props))
         res.deadlock_checked = self.deadlock
         res.engine = "native"
+        res.compile_seconds = self.compile_seconds
         return res
+
+    def _step_error(self, sid, code, PseudoProperty, Violation):
+        """The run-time error of a step from ``sid``, as the Python step function reports it."""
+        from ..semantics.machine import TooManySuccessors
+        if code == 9:
+            e = TooManySuccessors(None, "more than 1000000 successors of one state")
+            return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+        st = self.state(sid)
+        try:
+            self.m.successors(st)
+        except AsmError as e:
+            return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+        raise Unsupported("a run-time error of the native search that the Python step function does not make")
 
     # -------------------------------------------------------------- traces
     def state(self, sid: int) -> dict:
