@@ -17,14 +17,8 @@ runs instead.
 from __future__ import annotations
 
 import ctypes
-import hashlib
-import os
-import shutil
-import subprocess
-import tempfile
 import time
 from importlib import resources
-from pathlib import Path
 
 from ..errors import AsmError, AsmRuntimeError
 from ..semantics import ir
@@ -32,6 +26,7 @@ from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, EnumValue
+from . import native_build
 
 UNDEF_C = "UNDEF"
 MAX_CANDIDATES = 1 << 16
@@ -656,58 +651,13 @@ class Generator:
 
 
 # ----------------------------------------------------------------- compile and load
-def _cache_dir() -> Path:
-    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
-    p = Path(base)
-    try:
-        p.mkdir(parents=True, exist_ok=True)
-        return p
-    except OSError:
-        return Path(tempfile.gettempdir())
-
-
-def compiler() -> str | None:
-    for cc in (os.environ.get("CC"), "gcc", "cc", "clang"):
-        if cc and shutil.which(cc):
-            return shutil.which(cc)
-    return None
-
-
-def build(src: str) -> ctypes.CDLL:
-    cc = compiler()
-    if cc is None:
-        raise Unsupported("no C compiler (gcc, cc or clang) on this machine")
-    digest = hashlib.sha256(src.encode()).hexdigest()[:24]
-    d = _cache_dir()
-    lib = d / f"model-{digest}.so"
-    if not lib.exists():
-        # several processes may build the same model at once: each works on its own files
-        c_file = d / f"model-{digest}.{os.getpid()}.c"
-        c_file.write_text(src)
-        tmp = d / f"model-{digest}.{os.getpid()}.so"
-        try:
-            proc = subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(c_file)],
-                                  capture_output=True, text=True)
-            if proc.returncode != 0:
-                raise Unsupported(f"the C compiler failed: {proc.stderr.strip()[:500]}")
-            os.replace(tmp, lib)
-        finally:
-            for f in (c_file, tmp):
-                try:
-                    f.unlink()
-                except OSError:
-                    pass
-    dll = ctypes.CDLL(str(lib))
-    dll.asm_explore.restype = ctypes.c_int64
-    dll.asm_explore.argtypes = [ctypes.POINTER(ctypes.c_uint64), ctypes.c_int64, ctypes.c_int64, ctypes.c_int64,
-                                ctypes.c_double, ctypes.c_int64, ctypes.POINTER(ctypes.c_int64)]
-    dll.asm_parent.restype = ctypes.c_int64
-    dll.asm_parent.argtypes = [ctypes.c_int64]
-    dll.asm_state.restype = None
-    dll.asm_state.argtypes = [ctypes.c_int64, ctypes.POINTER(ctypes.c_uint64)]
-    dll.asm_free.restype = None
-    return dll
+_SYMBOLS = {
+    "asm_explore": (ctypes.c_int64, [ctypes.POINTER(ctypes.c_uint64), ctypes.c_int64, ctypes.c_int64, ctypes.c_int64,
+                                     ctypes.c_double, ctypes.c_int64, ctypes.POINTER(ctypes.c_int64)]),
+    "asm_parent": (ctypes.c_int64, [ctypes.c_int64]),
+    "asm_state": (None, [ctypes.c_int64, ctypes.POINTER(ctypes.c_uint64)]),
+    "asm_free": (None, []),
+}
 
 
 class NativeExplorer:
@@ -726,7 +676,8 @@ class NativeExplorer:
                 raise Unsupported("this kind of property")
         self.gen = Generator(machine, self.state_props)
         src = self.gen.generate()
-        self.dll = build(src)
+        self.dll = native_build.build(src, _SYMBOLS)
+        self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
         self.max_seconds = max_seconds
