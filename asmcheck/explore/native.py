@@ -387,10 +387,11 @@ class Generator:
                     d.kind == "subset" and isinstance(T.root(d), T.Domain) and T.root(d).kind == "abstract")):
                 raise Unsupported(f"ranging over the dynamic domain {d}")
             return self.values_of(d)
-        from ..semantics.machine import _is_constant, _ordered, Ctx, Chooser
-        if _is_constant(r):
+        from ..semantics.machine import Ctx, Chooser
+        from ..semantics.analysis import is_constant, ordered
+        if is_constant(r):
             v = self.m.term(r)(Ctx(self.m, {}, Chooser()))
-            vals = _ordered(v, r.span)
+            vals = ordered(v, r.span)
             for x in vals:
                 self.codec.to_c(x)
             return vals

@@ -28,7 +28,7 @@ from __future__ import annotations
 from bisect import bisect_left
 
 from ..errors import AsmError, UsageError
-from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, _Enumerator
+from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show
 from .formula import Atoms
@@ -113,7 +113,7 @@ def joint_values(machine, items, state, mon) -> list[tuple]:
     seen = set()
     prefix: list = []
     while True:
-        ch = _Enumerator(prefix)
+        ch = Enumerator(prefix)
         ctx = Ctx(machine, state, ch)
         if mon:
             ctx.mon = dict(mon)
