@@ -175,5 +175,15 @@ def test_compile_error_is_one_line(cache):
     need_compiler()
     with pytest.raises(Unsupported) as e:
         native_build.build("int f( {\n")
-    assert str(e.value).startswith("the C compiler failed:") and "\n" not in str(e.value)
+    msg = str(e.value)
+    assert msg.startswith("the C compiler failed on line 1 of the generated code: ") and "\n" not in msg
+    assert str(cache) not in msg        # no temporary file name: the same error gives the same line
     assert list(cache.iterdir()) == []
+
+
+def test_fallback_note_is_one_line():
+    assert native_build.fallback_note(native_build.NO_COMPILER) == (
+        "engine: python (native engine not used: no C compiler found (gcc, cc, clang or $CC); "
+        "for native speed: pip install 'asmcheck[native]')")
+    assert native_build.fallback_note("the infinite domain\nInteger") == \
+        "engine: python (native engine not used: the infinite domain Integer)"

@@ -19,6 +19,7 @@ import atexit
 import ctypes
 import hashlib
 import os
+import re
 import shlex
 import shutil
 import stat
@@ -154,8 +155,7 @@ def _compile(cmd: list[str], src: str, folder: Path, lib: Path) -> None:
         except OSError as e:
             raise _unsupported(f"the C compiler {shlex.join(cmd)} cannot be run: {e.strerror}") from None
         if proc.returncode != 0:
-            first = next((ln for ln in proc.stderr.splitlines() if "error" in ln), proc.stderr.strip()[:200])
-            raise _unsupported(f"the C compiler failed: {' '.join(first.split())[:300]}")
+            raise _unsupported(compile_error_line(proc.stderr))
         os.chmod(tmp_name, 0o700)
         os.replace(tmp_name, lib)     # atomic: a concurrent build of the same source is harmless
     finally:
@@ -164,6 +164,16 @@ def _compile(cmd: list[str], src: str, folder: Path, lib: Path) -> None:
                 os.unlink(f)
             except OSError:
                 pass
+
+
+def compile_error_line(stderr: str) -> str:
+    """The compiler's first error as one line, without the temporary file's name."""
+    for ln in stderr.splitlines():
+        m = re.match(r"^.*?\.c:(\d+):(?:\d+:)? (?:fatal )?error: (.*)$", ln)
+        if m:
+            return f"the C compiler failed on line {m.group(1)} of the generated code: {' '.join(m.group(2).split())[:300]}"
+    first = next((ln for ln in stderr.splitlines() if ln.strip()), "no message")
+    return f"the C compiler failed: {' '.join(first.split())[:300]}"
 
 
 def library_path(src: str, cmd: list[str] | None = None) -> tuple[Path, str]:
@@ -204,3 +214,10 @@ def build(src: str, symbols: dict | None = None) -> ctypes.CDLL:
         fn.restype = restype
         fn.argtypes = argtypes
     return dll
+
+
+def fallback_note(reason: str) -> str:
+    """The one line a report prints when ``--engine auto`` runs the Python engine because the
+    native one cannot (``reason``: the ``Unsupported`` message, itself one line)."""
+    reason = " ".join(str(reason).split())
+    return f"engine: python (native engine not used: {reason})"
