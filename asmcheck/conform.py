@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 from .errors import AsmError, AsmRuntimeError, InconsistentUpdate, Span
 from .semantics import types as T
-from .semantics.machine import Machine, NoAlternative, Prune, TooManySuccessors, Undetermined, _NO_VALUE
+from .semantics.machine import Machine, NoAlternative, Prune, TooManySuccessors, Undetermined, NO_VALUE
 from .semantics.machine import Ctx, Chooser
 from .semantics.printer import (asmeta_state_lines, location_text_asmeta, parse_asmeta_value, printable, show_asmeta,
                                 split_top)
@@ -172,12 +172,12 @@ def _parser(taking: dict, machine=None):
     def parse(label, dom):
         texts = taking.get(label)
         if not texts:
-            return _NO_VALUE
+            return NO_VALUE
         text = texts[0]
         try:
             return parse_asmeta_value(text, dom, machine)
         except (ValueError, IndexError):
-            return _NO_VALUE
+            return NO_VALUE
     return parse
 
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 from .errors import AsmError, AsmRuntimeError, Span
 from .semantics import types as T
-from .semantics.machine import Chooser, InputChooser, Machine, RandomChooser, _NO_VALUE
+from .semantics.machine import Chooser, InputChooser, Machine, RandomChooser, NO_VALUE
 from .semantics.printer import show_asmeta
 from .semantics.state import is_dom_key
 
@@ -80,7 +80,7 @@ class _TextInputs(InputChooser):
             self.log.append(Choice("monitored", label, 0, 0, v))
             return v
         v = self.fallback.value(label, dom)
-        if v is not _NO_VALUE:
+        if v is not NO_VALUE:
             self.log.append(self.fallback.log.pop())
         return v
 

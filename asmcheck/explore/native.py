@@ -17,22 +17,18 @@ runs instead.
 from __future__ import annotations
 
 import ctypes
-import hashlib
-import os
-import shutil
-import subprocess
-import tempfile
 import time
 from array import array
 from importlib import resources
-from pathlib import Path
 
 from ..errors import AsmError, AsmRuntimeError
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.machine import MAX_LOOP, Machine, Undetermined
+from ..semantics.machine import Machine, Undetermined
+from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, EnumValue
+from . import native_build
 
 UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
@@ -410,10 +406,11 @@ class Generator:
                     d.kind == "subset" and isinstance(T.root(d), T.Domain) and T.root(d).kind == "abstract")):
                 raise Unsupported(f"ranging over the dynamic domain {d}")
             return self.values_of(d)
-        from ..semantics.machine import _is_constant, _ordered, Ctx, Chooser
-        if _is_constant(r):
+        from ..semantics.machine import Ctx, Chooser
+        from ..semantics.analysis import is_constant, ordered
+        if is_constant(r):
             v = self.m.term(r)(Ctx(self.m, {}, Chooser()))
-            vals = _ordered(v, r.span)
+            vals = ordered(v, r.span)
             for x in vals:
                 self.codec.to_c(x)
             return vals
@@ -531,7 +528,7 @@ class Generator:
         raise Unsupported("a rule called through a term other than program(agent) or a rule name")
 
     def check_by_name(self, rd, args):
-        from ..semantics.machine import _has_sequencing, _is_simple
+        from ..semantics.analysis import has_sequencing as _has_sequencing, is_simple as _is_simple
         if any(not _is_simple(a) for a in args) and _has_sequencing(rd):
             raise Unsupported(f"an argument passed by name to {rd.name}, which has sequencing")
 
@@ -764,68 +761,20 @@ class Generator:
 
 
 # ----------------------------------------------------------------- compile and load
-def _cache_dir() -> Path:
-    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
-    p = Path(base)
-    try:
-        p.mkdir(parents=True, exist_ok=True)
-        return p
-    except OSError:
-        return Path(tempfile.gettempdir())
-
-
-def compiler() -> str | None:
-    for cc in (os.environ.get("CC"), "gcc", "cc", "clang"):
-        if cc and shutil.which(cc):
-            return shutil.which(cc)
-    return None
-
-
-def build(src: str) -> ctypes.CDLL:
-    cc = compiler()
-    if cc is None:
-        raise Unsupported("no C compiler (gcc, cc or clang) on this machine")
-    digest = hashlib.sha256(src.encode()).hexdigest()[:24]
-    d = _cache_dir()
-    lib = d / f"model-{digest}.so"
-    if not lib.exists():
-        # several processes may build the same model at once: each works on its own files
-        c_file = d / f"model-{digest}.{os.getpid()}.c"
-        c_file.write_text(src)
-        tmp = d / f"model-{digest}.{os.getpid()}.so"
-        try:
-            proc = subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(c_file)],
-                                  capture_output=True, text=True)
-            if proc.returncode != 0:
-                raise Unsupported(f"the C compiler failed: {proc.stderr.strip()[:500]}")
-            os.replace(tmp, lib)
-        finally:
-            for f in (c_file, tmp):
-                try:
-                    f.unlink()
-                except OSError:
-                    pass
-    return ctypes.CDLL(str(lib))
-
-
-def bind(dll: ctypes.CDLL) -> ctypes.CDLL:
-    """Declare the entry points of a compiled model."""
-    i64, f64, u64p, i64p = ctypes.c_int64, ctypes.c_double, ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_int64)
-    u32p = ctypes.POINTER(ctypes.c_uint32)
-    for name, res, args in (("asm_start", i64, [u64p, i64, i64, i64, f64, i64, i64]),
-                            ("asm_run", i64, [f64, i64p]),
-                            ("asm_parent", i64, [i64]),
-                            ("asm_state", None, [i64, u64p]),
-                            ("asm_edges", None, [u32p, u32p]),
-                            ("asm_range", None, [i64, i64p]),
-                            ("asm_inv_error", i64, [i64]),
-                            ("asm_err_code", i64, []),
-                            ("asm_free", None, [])):
-        fn = getattr(dll, name)
-        fn.restype = res
-        fn.argtypes = args
-    return dll
+_i64, _f64 = ctypes.c_int64, ctypes.c_double
+_u64p, _i64p, _u32p = ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_int64), ctypes.POINTER(ctypes.c_uint32)
+_SYMBOLS = {
+    "asm_start": (_i64, [_u64p, _i64, _i64, _i64, _f64, _i64, _i64]),
+    "asm_run": (_i64, [_f64, _i64p]),
+    "asm_parent": (_i64, [_i64]),
+    "asm_state": (None, [_i64, _u64p]),
+    "asm_find": (_i64, [_u64p]),
+    "asm_edges": (None, [_u32p, _u32p]),
+    "asm_range": (None, [_i64, _i64p]),
+    "asm_inv_error": (_i64, [_i64]),
+    "asm_err_code": (_i64, []),
+    "asm_free": (None, []),
+}
 
 
 class NativeExplorer:
@@ -848,8 +797,8 @@ class NativeExplorer:
         t0 = time.perf_counter()
         self.gen = Generator(machine, self.state_props)
         src = self.gen.generate()
-        self.dll = bind(build(src))
-        self.compile_seconds = time.perf_counter() - t0
+        self.dll = native_build.build(src, _SYMBOLS)
+        self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
         self.max_seconds = max_seconds

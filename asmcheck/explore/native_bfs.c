@@ -324,6 +324,20 @@ int64_t asm_parent(int64_t sid) { return parents[sid] == 0xffffffffu ? -1 : (int
 
 void asm_state(int64_t sid, uint64_t *out) { memcpy(out, states + sid * NWORDS, NWORDS * sizeof(uint64_t)); }
 
+/* the number of a stored state, or -1 */
+int64_t asm_find(const uint64_t *w) {
+    if (!table) return -1;
+    uint64_t hh = hash_state(w);
+    uint32_t fp = (uint32_t)(hh >> 32);
+    uint64_t h = hh & tmask;
+    while (table[h].id != 0xffffffffu) {
+        if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * NWORDS, w, NWORDS * sizeof(uint64_t)) == 0)
+            return table[h].id;
+        h = (h + 1) & tmask;
+    }
+    return -1;
+}
+
 int64_t asm_words(void) { return NWORDS; }
 
 /* the edges found so far, copied out */

@@ -2,7 +2,8 @@
 from __future__ import annotations
 
 from ..errors import AsmRuntimeError
-from ..semantics.machine import Chooser, Ctx, _mentions_monitored
+from ..semantics.machine import Chooser, Ctx
+from ..semantics.analysis import mentions_monitored
 
 
 class StateProperty:
@@ -64,10 +65,10 @@ class MonitoredInvariant:
 def evaluate_all(machine, fn, state, mon=None):
     """The values of a term for every choice of the monitored values it reads (those in
     ``mon`` are fixed)."""
-    from ..semantics.machine import _Enumerator
+    from ..semantics.machine import Enumerator
     prefix: list = []
     while True:
-        ch = _Enumerator(prefix)
+        ch = Enumerator(prefix)
         ctx = Ctx(machine, state, ch)
         if mon:
             ctx.mon = dict(mon)
@@ -87,7 +88,7 @@ def spec_properties(machine):
     for p in machine.spec.properties:
         if p.kind != "invariant":
             continue
-        if _mentions_monitored(p.body):
+        if mentions_monitored(p.body):
             step.append(MonitoredInvariant(p, machine))
         else:
             state.append(StateProperty(p, machine))

@@ -228,10 +228,10 @@ class StepProperty:
 
 
 def evaluate_all_step(machine, fn, state, ups, nxt, mon):
-    from ..semantics.machine import _Enumerator
+    from ..semantics.machine import Enumerator
     prefix: list = []
     while True:
-        ch = _Enumerator(prefix)
+        ch = Enumerator(prefix)
         ctx = Ctx(machine, state, ch)
         ctx.post = nxt
         ctx.ups = ups
@@ -251,7 +251,7 @@ def properties_for(spec, machine, spec_path, files=None, use_default=True):
     """(state properties, step properties, temporal properties and fairness) that apply to
     the spec: the given files, plus by default the property files beside the specs."""
     from . import MonitoredInvariant, StateProperty
-    from ..semantics.machine import _mentions_monitored
+    from ..semantics.analysis import mentions_monitored
 
     paths = list(files or [])
     if use_default:
@@ -275,7 +275,7 @@ def properties_for(spec, machine, spec_path, files=None, use_default=True):
                                                    f"another property file)")
             names.add(prop.name)
             if prop.kind == "invariant":
-                if _mentions_monitored(prop.body):
+                if mentions_monitored(prop.body):
                     step.append(MonitoredInvariant(prop, machine))
                 else:
                     state.append(StateProperty(prop, machine))

@@ -167,13 +167,13 @@ def violating_inputs(machine, prop, state: dict, mon: dict) -> dict:
     functions is false in ``state``: ``mon`` (the next step's inputs) completed with values
     of the locations the step did not read."""
     from ..errors import AsmError
-    from ..semantics.machine import Ctx, _Enumerator
+    from ..semantics.machine import Ctx, Enumerator
     fn = getattr(prop, "fn", None)
     if fn is None:
         return dict(mon or {})
     prefix: list = []
     while True:
-        ch = _Enumerator(prefix)
+        ch = Enumerator(prefix)
         ctx = Ctx(machine, state, ch)
         if mon:
             ctx.mon = dict(mon)

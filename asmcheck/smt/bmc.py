@@ -19,7 +19,7 @@ import z3
 
 from ..errors import AsmError
 from ..report.trace import Trace, TraceStep
-from ..semantics.machine import Prune, _Enumerator
+from ..semantics.machine import Prune, Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show
 from . import sym
@@ -235,7 +235,7 @@ def all_successors(machine, state):
     prefix: list = []
     memo: dict = {}
     while True:
-        ch = _Enumerator(prefix)
+        ch = Enumerator(prefix)
         ch.memo = memo
         try:
             ups, nxt, ctx = machine.step(state, ch)

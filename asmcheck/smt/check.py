@@ -11,7 +11,7 @@ def aux_properties(spec, machine, terms: list[str]) -> list:
     """``--aux 'name: term'`` / ``--aux 'term'`` as state properties named aux1, aux2, ..."""
     from ..props import StateProperty
     from ..props.files import PropDecl, resolve_decl
-    from ..semantics.machine import _mentions_monitored
+    from ..semantics.analysis import mentions_monitored
 
     out = []
     for i, text in enumerate(terms, 1):
@@ -26,7 +26,7 @@ def aux_properties(spec, machine, terms: list[str]) -> list:
         decl = PropDecl("invariant", name, body, 1, col, path, Span(path, 1, 1))
         prop = resolve_decl(spec, decl)
         prop.source = "aux"
-        if _mentions_monitored(prop.body):
+        if mentions_monitored(prop.body):
             raise AsmTypeError(Span(path, 1, col), f"auxiliary invariant {name} reads a monitored function")
         out.append(StateProperty(prop, machine))
     return out

@@ -31,8 +31,9 @@ import z3
 from ..errors import AsmError, NO_SPAN
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.machine import (Chooser, Ctx, LONG_MAX, LONG_MIN, Undetermined, _abstract_codomain, _free_uids,
-                                 _has_sequencing, _is_simple, _ordered, _wrap64)
+from ..semantics.machine import Chooser, Ctx, LONG_MAX, LONG_MIN, Undetermined
+from ..semantics.terms import wrap64
+from ..semantics.analysis import abstract_codomain, free_uids, has_sequencing, is_simple, ordered
 from ..semantics.stdlib import BuiltinError
 from ..semantics.values import BagV, MapV, RuleValue, SeqV, SetV, abstract_value, show
 from . import sym
@@ -311,7 +312,7 @@ class Encoder:
         f = t.func
         if f is self.spec.self_func:
             return ctx.self_
-        if f.kind == "static" and f.arity == 0 and _abstract_codomain(f):
+        if f.kind == "static" and f.arity == 0 and abstract_codomain(f):
             return const(abstract_value(f.codomain.name, f.name))
         if f.kind in ("static", "derived") and f.body is not None:
             return self.defined(f, t, ctx)
@@ -542,7 +543,7 @@ class Encoder:
         bound = set()
         plan = []
         for v, r in binds:
-            plan.append((v, r, bool(_free_uids(r) & bound)))
+            plan.append((v, r, bool(free_uids(r) & bound)))
             bound.add(v.uid)
         if len(plan) > 1 and not any(dep for _, _, dep in plan):
             # independent ranges: all evaluated first (as the step function does)
@@ -604,7 +605,7 @@ class Encoder:
                 out.append((g, ERR))
                 continue
             try:
-                out.append((g, _ordered(coll, r.span)))
+                out.append((g, ordered(coll, r.span)))
             except (AsmError, TypeError):
                 out.append((g, ERR))
         return out
@@ -931,7 +932,7 @@ class Encoder:
         rd = r.rule
         if ctx.depth > MAX_INLINE:
             raise unsupported(r.span, f"the recursive rule {rd.name}")
-        by_name = not r.turbo and _has_sequencing(rd)
+        by_name = not r.turbo and has_sequencing(rd)
         vals = []
         errs = []
         for a in r.args:
@@ -945,7 +946,7 @@ class Encoder:
             elif isinstance(a, ir.Loc) and a.func.is_location and a.func.kind != "monitored" and not (
                     a.func.kind == "static"):
                 v = Thunk(a, ctx.env, ctx.self_, (a.func, a.args))
-            elif by_name and not _is_simple(a):
+            elif by_name and not is_simple(a):
                 v = Thunk(a, ctx.env, ctx.self_)
             else:
                 v = self.ev(a, ctx)
@@ -1073,7 +1074,7 @@ def _concrete(name, impl, vals):
         except TypeError:
             return ERR
         if type(r) is int and not (LONG_MIN <= r <= LONG_MAX):
-            return _wrap64(r)
+            return wrap64(r)
         return r
     try:
         return impl(*vals)

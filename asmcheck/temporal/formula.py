@@ -23,7 +23,8 @@ from __future__ import annotations
 
 from ..errors import AsmError, SOURCES, Span
 from ..semantics import ir
-from ..semantics.machine import Chooser, Ctx, _mentions_monitored
+from ..semantics.machine import Chooser, Ctx
+from ..semantics.analysis import mentions_monitored
 
 TRUE = ("true",)
 FALSE = ("false",)
@@ -185,7 +186,7 @@ class Atoms:
                 binds = ", ".join(f"{names.get(u, '$?')} = {show(v)}" for u, v in envkey)
                 text = f"{text} [{binds}]"
         i = len(self.items)
-        self.items.append(Atom(term, dict(env), fn, _mentions_monitored(term), text, i))
+        self.items.append(Atom(term, dict(env), fn, mentions_monitored(term), text, i))
         self._key[key] = i
         return i
 

@@ -1,0 +1,142 @@
+"""Static questions about IR terms and rules, shared by the engines and the properties."""
+from __future__ import annotations
+
+
+from ..errors import AsmRuntimeError
+from . import ir
+from . import types as T
+from .values import (MapV, SetV)
+
+
+def hkey(v):
+    """A hashable stand-in for a value that keeps True apart from 1."""
+    return (type(v) is bool, v)
+
+
+
+def ordered(coll, span) -> list:
+    if coll is None:
+        raise AsmRuntimeError(span, "the range is undef")
+    if isinstance(coll, SetV):
+        return coll.ordered()
+    if isinstance(coll, MapV):
+        return [k for k, _ in coll]
+    return list(coll)
+
+
+
+def is_constant(t: ir.Term) -> bool:
+    """A term with no variables and no dynamic function: its value never changes."""
+    if isinstance(t, ir.Const):
+        return True
+    if isinstance(t, (ir.Collection, ir.TupleLit)):
+        return all(is_constant(x) for x in t.items)
+    if isinstance(t, ir.Range):
+        return is_constant(t.start) and is_constant(t.end) and (t.step is None or is_constant(t.step))
+    if isinstance(t, ir.Call) and t.name not in ("program",):
+        return all(is_constant(x) for x in t.args)
+    return False
+
+
+
+def free_uids(t) -> set:
+    out = set()
+
+    def walk(x):
+        if isinstance(x, ir.VarRef):
+            out.add(x.var.uid)
+        if isinstance(x, (ir.Term, ir.Rule)):
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    walk(t)
+    return out
+
+
+
+def abstract_codomain(f: ir.Function) -> bool:
+    c = f.codomain
+    return isinstance(c, T.Domain) and isinstance(T.root(c), T.Domain) and T.root(c).kind == "abstract"
+
+
+
+def is_subdomain(d: T.Type, of: T.Type) -> bool:
+    seen = 0
+    while isinstance(d, T.Domain) and seen < 50:
+        if d is of:
+            return True
+        if d.kind != "subset" or d.base is None:
+            return False
+        d = d.base
+        seen += 1
+    return d is of
+
+
+
+def is_simple(t: ir.Term) -> bool:
+    """Terms whose value cannot change within a step: constants and variables."""
+    return isinstance(t, (ir.Const, ir.VarRef, ir.RuleRef, ir.DomainTerm)) or (
+        isinstance(t, ir.Loc) and t.func.kind == "static" and all(is_simple(a) for a in t.args))
+
+
+
+def has_sequencing(rd: ir.RuleDecl, seen=None) -> bool:
+    """Could the body see a location change mid-step (seq, loops, nested calls that do)?"""
+    seen = set() if seen is None else seen
+    if rd in seen:
+        return False
+    seen.add(rd)
+    found = False
+
+    def walk(x):
+        nonlocal found
+        if found:
+            return
+        if isinstance(x, ir.Block) and x.kind == "seq" or isinstance(x, (ir.Loop, ir.LocalRule)):
+            found = True
+            return
+        if isinstance(x, ir.CallRule):
+            if has_sequencing(x.rule, seen):
+                found = True
+                return
+        if isinstance(x, ir.TermCall):
+            found = True
+            return
+        if isinstance(x, ir.Rule):
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    walk(rd.body)
+    return found
+
+
+
+def mentions_monitored(t: ir.Term, seen=None) -> bool:
+    seen = set() if seen is None else seen
+    found = False
+
+    def walk(x):
+        nonlocal found
+        if found:
+            return
+        if isinstance(x, ir.Loc):
+            f = x.func
+            if f.kind == "monitored":
+                found = True
+                return
+            if f.body is not None and f not in seen:
+                seen.add(f)
+                walk(f.body)
+        if isinstance(x, ir.Term):
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    walk(t)
+    return found
+
