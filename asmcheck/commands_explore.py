@@ -23,6 +23,13 @@ def _progress_printer():
     return show
 
 
+def _warn_printer():
+    def warn(msg):
+        sys.stderr.write(("\r" + " " * 78 + "\r" if sys.stderr.isatty() else "") + f"asmcheck: {msg}\n")
+        sys.stderr.flush()
+    return warn
+
+
 def run_exploration(path: str, args, prop_files=None):
     """Load a spec and its properties, explore, return (spec, machine, explorer, result, props)."""
     from .commands import _load, machine_options
@@ -40,27 +47,29 @@ def run_exploration(path: str, args, prop_files=None):
     keep_graph = bool(getattr(args, "graph", None)) or bool(temporal)
     engine = getattr(args, "engine", "auto")
     ex = None
-    has_invar = any(p.kind == "invar" for p in spec.properties)
-    if engine != "python" and not keep_graph and not step_props and not has_invar:
+    refused = ""
+    if engine != "python":
         from .explore.native import NativeExplorer, Unsupported
         try:
+            if getattr(args, "graph", None):
+                raise Unsupported("--graph writes every step with its choices")
             ex = NativeExplorer(machine, max_states=args.max_states, max_depth=args.max_depth,
-                                max_seconds=args.max_seconds, deadlock=args.deadlock, state_props=state_props)
+                                max_seconds=args.max_seconds, deadlock=args.deadlock, state_props=state_props,
+                                step_props=step_props, keep_graph=keep_graph, progress=progress,
+                                warn=_warn_printer())
             result = ex.run()
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(path).name}: {e}") from None
             ex = None
-    elif engine == "native":
-        why = "step properties" if step_props else "INVAR constraints" if has_invar else "LTL/CTL properties or --graph"
-        raise UsageError(f"the native explorer cannot run {Path(path).name}: it needs the state graph or "
-                         f"checks {why}")
+            refused = str(e)
     if ex is None:
         ex = Explorer(machine, max_states=args.max_states, max_depth=args.max_depth, max_seconds=args.max_seconds,
                       deadlock=args.deadlock, progress=progress, keep_graph=keep_graph,
                       state_props=state_props, step_props=step_props)
         result = ex.run()
         result.engine = "python"
+        result.native_refused = refused
     if progress is not None:
         sys.stderr.write("\r" + " " * 78 + "\r")
     return spec, machine, ex, result, temporal

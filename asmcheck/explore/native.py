@@ -769,6 +769,7 @@ _SYMBOLS = {
     "asm_parent": (_i64, [_i64]),
     "asm_state": (None, [_i64, _u64p]),
     "asm_find": (_i64, [_u64p]),
+    "asm_parents": (None, [_i64p]),
     "asm_edges": (None, [_u32p, _u32p]),
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
@@ -810,6 +811,8 @@ class NativeExplorer:
         self.edge_dst = None
         self.warnings: list = []
         self._states: dict = {}
+        self._parent = None
+        self.nstates = 0
 
     def _growing(self, depth: int) -> list:
         """Integer locations that took a new least or greatest value at each of the last levels."""
@@ -880,8 +883,8 @@ class NativeExplorer:
             src = (ctypes.c_uint32 * max(n, 1))()
             dst = (ctypes.c_uint32 * max(n, 1))()
             self.dll.asm_edges(src, dst)
-            self.edge_src = array("I", src[:n])
-            self.edge_dst = array("I", dst[:n])
+            self.edge_src = array("q", src[:n])
+            self.edge_dst = array("q", dst[:n])
         violations = []
         for i in range(out[7]):
             k, sid = out[12 + 2 * i], out[13 + 2 * i]
@@ -930,15 +933,60 @@ class NativeExplorer:
             return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
         raise Unsupported("a run-time error of the native search that the Python step function does not make")
 
-    # -------------------------------------------------------------- traces
+    # -------------------------------------------------------------- the explorer's interface
+    STATE_CACHE = 65536
+
+    @property
+    def n_states(self) -> int:
+        return self.nstates
+
     def state(self, sid: int) -> dict:
         st = self._states.get(sid)
         if st is None:
             buf = (ctypes.c_uint64 * self.gen.nwords)()
             self.dll.asm_state(sid, buf)
             st = self.gen.unpack(list(buf))
+            if len(self._states) >= self.STATE_CACHE:
+                self._states.clear()
             self._states[sid] = st
         return st
+
+    @property
+    def parent(self):
+        if self._parent is None:
+            n = self.nstates
+            buf = (ctypes.c_int64 * max(n, 1))()
+            self.dll.asm_parents(buf)
+            self._parent = array("q", buf[:n])
+        return self._parent
+
+    def edge_arrays(self):
+        """(sources, targets) of the transitions, sources ascending (recorded with keep_graph)."""
+        if self.edge_src is None:
+            raise Unsupported("the state graph was not recorded (keep_graph)")
+        return self.edge_src, self.edge_dst
+
+    @property
+    def edges(self):
+        return _NativeEdges(self)
+
+    def find(self, st: dict):
+        """The number of the explored state equal to ``st``, or None."""
+        try:
+            w = self.gen.pack(st)
+        except Unsupported:
+            return None
+        sid = self.dll.asm_find((ctypes.c_uint64 * self.gen.nwords)(*w))
+        return None if sid < 0 else sid
+
+    def picks_between(self, src: int, dst: int) -> tuple:
+        """The choices of the first step of the Python step function from ``src`` to ``dst``."""
+        from .bfs import ReplayError
+        want = self.state(dst)
+        for log, ups, nxt, mon in self.m.successors(self.state(src)):
+            if nxt == want:
+                return tuple(c.pick for c in log)
+        raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
 
     def path_to(self, sid: int) -> list[int]:
         path = []
@@ -948,29 +996,42 @@ class NativeExplorer:
         return path[::-1]
 
     def replay(self, path, last_picks=None, last_target=None):
-        """Rebuild each step of ``path`` with the Python step function: the successor that
-        equals the next stored state gives the choices; no such successor is an internal error."""
+        """Rebuild each step of ``path`` with the Python step function (the first successor that
+        equals the next stored state gives the choices); entries as the Python explorer's."""
+        steps = [(None, sid) for sid in path[1:]]
+        if last_picks is not None:
+            steps.append((last_picks, last_target))
+        return self.replay_steps(path[0], steps)
+
+    def replay_steps(self, first: int, steps: list) -> list:
+        from ..semantics.machine import ScriptChooser
         from .bfs import ReplayError
         m = self.m
-        first = self.state(path[0])
+        st0 = self.state(first)
         init_log = None
         for log, st in m.initial_states():
-            if st == first:
+            if st == st0:
                 init_log = log
                 break
         if init_log is None:
             raise ReplayError("the initial state does not replay")
-        out = [(first, init_log, None, {})]
-        cur = first
-        for sid in path[1:]:
-            want = self.state(sid)
+        out = [(st0, init_log, None, getattr(m, "init_mon", {}), None, None)]
+        cur = st0
+        for picks, dst in steps:
+            want = self.state(dst)
             found = None
-            for log, ups, nxt, mon in m.successors(cur):
-                if nxt == want:
-                    found = (nxt, log, ups, mon)
-                    break
+            if picks is not None:
+                ch = ScriptChooser(picks)
+                ups, raw, ctx = m.step(cur, ch)
+                if raw == want:
+                    found = (raw, ch.log, ups, ctx.mon, raw, {})
+            else:
+                for log, ups, nxt, mon in m.successors(cur):
+                    if nxt == want:
+                        found = (nxt, log, ups, mon, nxt, {})
+                        break
             if found is None:
-                raise ReplayError(f"no step of the Python step function reaches state {sid}")
+                raise ReplayError(f"step to state {dst} does not replay")
             out.append(found)
             cur = want
         return out
@@ -980,3 +1041,23 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+class _NativeEdges:
+    """The transitions as (source, target, choices), the choices found on demand by the Python
+    step function (only traces and the step mode of the temporal checks ask for them)."""
+
+    def __init__(self, ex: NativeExplorer):
+        self.ex = ex
+        self.src, self.dst = ex.edge_arrays()
+
+    def __len__(self):
+        return len(self.src)
+
+    def __getitem__(self, i):
+        a, b = self.src[i], self.dst[i]
+        return a, b, self.ex.picks_between(a, b)
+
+    def __iter__(self):
+        for i in range(len(self.src)):
+            yield self[i]

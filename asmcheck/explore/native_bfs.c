@@ -202,6 +202,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             S.level_end = nstates;
         }
         load_state(c, states + sid * NWORDS);
+        c->self = UNDEF;
         c->epoch = ++global_epoch;
         /* invariants */
         for (int k = 0; k < NINV; k++) {
@@ -232,6 +233,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             c->nlog = 0;
             c->seqstart = -1;
             c->curstep = 0;
+            c->self = UNDEF;
             c->gen++;
             if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
             c->err = 0;
@@ -336,6 +338,10 @@ int64_t asm_find(const uint64_t *w) {
         h = (h + 1) & tmask;
     }
     return -1;
+}
+
+void asm_parents(int64_t *out) {
+    for (int64_t i = 0; i < nstates; i++) out[i] = parents[i] == 0xffffffffu ? -1 : (int64_t)parents[i];
 }
 
 int64_t asm_words(void) { return NWORDS; }
