@@ -58,6 +58,7 @@ class Codec:
                 if e not in self.abstract_ids:
                     self.abstract_ids[e] = len(self.abstract_ids)
         self.abstract_by_id = {i: e for e, i in self.abstract_ids.items()}
+        self.enum_base: dict = {}
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -71,11 +72,15 @@ class Codec:
                 raise Unsupported("an integer beyond 64 bits")
             return v
         if t is EnumValue:
-            return v.index
+            # distinct enum domains get distinct codes (a union or Any mixes them)
+            base = self.enum_base.get(v.domain)
+            if base is None:
+                base = self.enum_base[v.domain] = len(self.enum_base) << 20
+            return base + v.index
         if t is AbstractValue:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
-            return self.abstract_ids[v]
+            return (1 << 40) + self.abstract_ids[v]
         raise Unsupported(f"a value of kind {t.__name__}")
 
     def literal(self, v) -> str:
@@ -100,6 +105,9 @@ class Generator:
         self.dom_tables: dict = {}       # tuple of values -> C table name
         self.enc_tables: dict = {}       # codomain id -> encoder name
         self.defined_done: set = set()
+        self.step_mode = False
+        self.step_props: list = []
+        self.invars: list = []
         self.rules_done: dict = {}
         self.uid = 0
 
@@ -245,7 +253,7 @@ class Generator:
         body.append("}")
         body.append(f"static V {name}(Ctx *c{sig}) {{")
         body.append(f"    int s = sl{f.index}(c{''.join(', ' + p for p in params)});")
-        body.append("    return s < 0 ? UNDEF : c->cur[s];")
+        body.append("    return s < 0 ? UNDEF : c->rd[s];")
         body.append("}")
         self.funcs.append("\n".join(body))
         return name
@@ -267,6 +275,7 @@ class Generator:
         body.append(f"    int s = mi{f.index}(c{''.join(', ' + p for p in params)});")
         body.append("    if (s < 0) return UNDEF;")
         body.append("    if (c->mgen[s] == c->gen) return c->mon[s];")
+        body.append("    if (c->in_prop) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }")
         body.append(f"    int i = {len(cod)} > 1 ? choice(c, {len(cod)}) : 0;")
         body.append(f"    c->mgen[s] = c->gen; c->mon[s] = {tab}[i];")
         body.append("    return c->mon[s];")
@@ -398,6 +407,31 @@ class Generator:
             decls.append(f"V {name} = {self.term(x, env)};")
             env[v.uid] = name
         return "({ " + " ".join(decls) + f" {self.term(t.body, env)}; }})"
+
+    def t_StepOp(self, t, env):
+        if not self.step_mode:
+            raise Unsupported(f"{t.op}(...) outside a step property")
+        if t.op == "next":
+            sv, r = self.fresh("sv"), self.fresh("r")
+            return (f"({{ V *{sv} = c->rd; c->rd = c->post; V {r} = {self.term(t.args[0], env)}; "
+                    f"c->rd = {sv}; {r}; }})")
+        loc = t.args[-1]
+        f = loc.func
+        if f.index not in self.fn_base:
+            raise Unsupported(f"{t.op} of {f.name}")
+        self.reader(f)
+        args = [self.term(a, env) for a in loc.args]
+        sl = self.fresh("s")
+        head = f"int {sl} = sl{f.index}(c{''.join(', ' + a for a in args)});"
+        if t.op == "updated":
+            return f"({{ {head} (V)({sl} >= 0 && c->wgen[{sl}] == c->gen); }})"
+        if t.op == "updatedBy":
+            ag = self.term(t.args[0], env)
+            return (f"({{ {head} V a_{sl} = {ag}; (V)({sl} >= 0 && c->wgen[{sl}] == c->gen && "
+                    f"c->uagent[c->wpos[{sl}]] == a_{sl}); }})")
+        if t.op == "changed":
+            return f"({{ {head} (V)({sl} >= 0 && c->cur[{sl}] != c->post[{sl}]); }})"
+        raise Unsupported(f"the step operator {t.op}")
 
     def range_values(self, r: ir.Term) -> list:
         if isinstance(r, ir.DomainTerm):
@@ -659,6 +693,12 @@ class Generator:
         invs = []
         for p in self.props:
             invs.append(self.term(p.prop.body, {}))
+        steps = []
+        self.step_mode = True
+        for p in self.step_props:
+            steps.append(self.term(p.prop.body, {}))
+        self.step_mode = False
+        invar_terms = [self.term(t, {}) for t in self.invars]
         nslots = len(self.slots)
         bits = [64 if vals is None else _ceil_log2(len(vals) + 1) for vals in self.slot_values]
         words, shifts = [], []
@@ -690,7 +730,7 @@ class Generator:
         self.words, self.shifts, self.bits = words, shifts, bits
         self.nwords = nwords
         head = [f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
-                f"#define NINV {len(invs)}"]
+                f"#define NINV {len(invs)}", f"#define NSTEP {len(steps)}", f"#define NINVAR {len(invar_terms)}"]
         rt = resources.files("asmcheck.explore").joinpath("native_rt.c").read_text()
         bfs = resources.files("asmcheck.explore").joinpath("native_bfs.c").read_text()
         tables = []
@@ -719,6 +759,14 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
+        inv_code += ["static V check_step_prop(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        for i, e in enumerate(steps):
+            inv_code.append(f"    case {i}: r = {e}; break;")
+        inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
+        inv_code += ["static V check_invar(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        for i, e in enumerate(invar_terms):
+            inv_code.append(f"    case {i}: r = {e}; break;")
+        inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
@@ -786,17 +834,26 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, **_ignored):
-        if step_props:
-            raise Unsupported("step properties")
-        if any(p.kind == "invar" for p in machine.spec.properties):
-            raise Unsupported("INVAR constraints")
+        from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
+        self.step_props = list(step_props or [])
         for p in self.state_props:
             if type(p).__name__ != "StateProperty":
-                raise Unsupported("this kind of property")
-        t0 = time.perf_counter()
+                raise Unsupported(f"the property {p.name} (of kind {type(p).__name__})")
+        for p in self.step_props:
+            if type(p).__name__ not in ("StepProperty", "MonitoredInvariant"):
+                raise Unsupported(f"the property {p.name} (of kind {type(p).__name__})")
+        if len(self.step_props) > 64:
+            raise Unsupported("more than 64 step properties")
+        self.invars = [p.body for p in machine.spec.properties if p.kind == "invar"]
+        if any(mentions_monitored(t) for t in self.invars):
+            raise Unsupported("an INVAR constraint over monitored functions")
+        if self.invars and any(type(p).__name__ == "MonitoredInvariant" for p in self.step_props):
+            raise Unsupported("an invariant over monitored functions beside INVAR constraints")
         self.gen = Generator(machine, self.state_props)
+        self.gen.step_props = self.step_props
+        self.gen.invars = self.invars
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
         self.compile_seconds = native_build.last_compile_seconds
@@ -832,13 +889,18 @@ class NativeExplorer:
         from .bfs import DEADLOCK, PseudoProperty, Result, Violation
         g = self.gen
         inits = []
+        invar_fns = [self.m.term(t) for t in self.invars]
         for st in g.init_states:
+            if invar_fns:
+                from ..props import evaluate_all
+                if not all(any(v is True for v in evaluate_all(self.m, fn, st, None)) for fn in invar_fns):
+                    continue
             w = g.pack(st)
             if w not in inits:
                 inits.append(w)
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
-        out = (ctypes.c_int64 * (12 + 2 * (nprops + 2)))()
+        out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
         t0 = time.perf_counter()
         self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
                            -1 if self.max_depth is None else self.max_depth,
@@ -887,13 +949,16 @@ class NativeExplorer:
             self.edge_dst = array("q", dst[:n])
         violations = []
         for i in range(out[7]):
-            k, sid = out[12 + 2 * i], out[13 + 2 * i]
+            k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
             if k == nprops + 1:
                 violations.append(self._step_error(sid, self._err_code, PseudoProperty, Violation))
             elif k == nprops:
                 none = not any(True for _ in self.m.successors(self.state(sid)))
                 violations.append(Violation(DEADLOCK, sid, message="no successor" if none else
                                             "the only successor is the state itself"))
+            elif k > nprops + 1:
+                violations.append(self._step_violation(self.step_props[k - nprops - 2], src, sid,
+                                                       self.dll.asm_inv_error(k), Violation))
             else:
                 prop = self.state_props[k]
                 v = Violation(prop, sid)
@@ -914,11 +979,29 @@ class NativeExplorer:
             reason += "; " + self.warnings[-1]
         verdict = "violated" if violations else ("incomplete" if incomplete else "holds")
         res = Result(verdict, nstates, transitions, depth, secs, violations, reason if incomplete else "",
-                     list(self.state_props))
+                     list(self.state_props) + list(self.step_props))
         res.deadlock_checked = self.deadlock
         res.engine = "native"
         res.compile_seconds = self.compile_seconds
         return res
+
+    def _step_violation(self, prop, src, dst, failed, Violation):
+        """The violation of a step property by a step from ``src`` to ``dst``: the first such step
+        of the Python step function gives the choices (and the message, when it cannot be evaluated)."""
+        st = self.state(src)
+        want = self.state(dst)
+        for log, ups, nxt, mon in self.m.successors(st):
+            if nxt != want:
+                continue
+            picks = tuple(c.pick for c in log)
+            try:
+                ok = prop.check_step(self.m, st, ups, nxt, mon)
+            except AsmError as e:
+                return Violation(prop, dst, src, picks, message=f"cannot be evaluated: {e.message}", error=e)
+            if not ok:
+                return Violation(prop, dst, src, picks)
+        raise Unsupported(f"a violation of {prop.name} found by the native search that the Python step "
+                          f"function does not make")
 
     def _step_error(self, sid, code, PseudoProperty, Violation):
         """The run-time error of a step from ``sid``, as the Python step function reports it."""

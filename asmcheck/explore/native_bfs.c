@@ -104,7 +104,13 @@ static void store_state(const Ctx *c, const uint64_t *old, uint64_t *w) {
 }
 
 static Ctx ctx_static;
-static uint64_t *sbuf = 0;
+
+/* the successor's values (for step properties and INVAR) */
+static void make_post(Ctx *c) {
+    memcpy(c->post, c->cur, sizeof(c->post));
+    for (int i = 0; i < c->nupd; i++) { int s = c->upd_slot[i]; c->post[s] = slot_decode(s, c->upd_code[i]); }
+}
+static uint64_t *sbuf = 0, *smask = 0;
 static int64_t cap_sbuf = 0;
 static int64_t global_epoch = 0;     /* never reset: choose caches compare against it */
 
@@ -119,8 +125,8 @@ static struct {
     int64_t transitions, nviol, sid, level_end, depth, maxd;
     int64_t max_states, max_depth, deadlock, keep_graph;
     double t0, max_seconds;
-    int violated[NINV + 2];
-    int err_code, step_failed, inv_err[NINV + 1];
+    int violated[NINV + 2 + NSTEP];
+    int err_code, step_failed, inv_err[NINV + 2 + NSTEP];
     int status, depth_hit;
     /* the state graph: edges (from, to) in the order the search finds them */
     uint32_t *esrc, *edst;
@@ -128,10 +134,21 @@ static struct {
     /* wide slots: the least and greatest value reached, and the depth where each last grew */
     V lo[NSLOTS > 0 ? NSLOTS : 1], hi[NSLOTS > 0 ? NSLOTS : 1];
     int64_t grew[NSLOTS > 0 ? NSLOTS : 1];
-    int64_t viol[2 * (NINV + 2)];
+    int64_t viol[3 * (NINV + 2 + NSTEP)];
 } S;
 
 void asm_free(void);
+
+/* property k (state properties, then deadlock, error, step properties) violated in state sid
+   (by the step from src, for a step property) */
+static void record(int k, int64_t sid, int64_t src) {
+    if (S.violated[k]) return;
+    S.violated[k] = 1;
+    S.viol[3 * S.nviol] = k;
+    S.viol[3 * S.nviol + 1] = sid;
+    S.viol[3 * S.nviol + 2] = src;
+    S.nviol++;
+}
 
 static int add_edge(uint32_t a, uint32_t b) {
     if (S.nedges >= S.cap_edges) {
@@ -163,6 +180,7 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     asm_free();                      /* a previous search in this process */
     memset(&ctx_static, 0, sizeof(Ctx));
     ctx_static.seqstart = -1;
+    ctx_static.rd = ctx_static.cur;
     memset(&S, 0, sizeof(S));
     for (int s = 0; s < NSLOTS; s++) { S.lo[s] = INT64_MAX; S.hi[s] = INT64_MIN + 1; S.grew[s] = -1; }
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
@@ -214,12 +232,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 status = 4; goto finish;
             }
             if (c->err || v == UNDEF) S.inv_err[k] = 1;
-            if (c->err || v == UNDEF || !v) {
-                S.violated[k] = 1;
-                S.viol[2 * S.nviol] = k;
-                S.viol[2 * S.nviol + 1] = sid;
-                S.nviol++;
-            }
+            if (c->err || v == UNDEF || !v) record(k, sid, -1);
         }
         if (S.max_depth >= 0 && S.depth >= S.max_depth) { S.depth_hit = 1; continue; }
         /* successors: every sequence of choices, kept aside until the whole step has run
@@ -246,15 +259,48 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 steperr = c->err;
                 break;
             }
+#if NSTEP > 0 || NINVAR > 0
+            if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+#endif
+#if NINVAR > 0
+            {   /* INVAR: a successor that breaks one does not exist */
+                int ok = 1;
+                c->rd = c->post;
+                for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+                c->rd = c->cur;
+                if (c->err == E_UNSUPPORTED) { out[4] = c->err; out[5] = sid; out[6] = 0; status = 4; goto finish; }
+                c->err = 0;
+                if (!ok) goto next_choice;
+            }
+#endif
             if (nbuf >= cap_sbuf) {
                 int64_t nc = cap_sbuf ? cap_sbuf * 2 : 64;
                 uint64_t *x = (uint64_t *)realloc(sbuf, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
                 if (!x) { status = 5; goto finish; }
-                sbuf = x; cap_sbuf = nc;
+                sbuf = x;
+                uint64_t *y = (uint64_t *)realloc(smask, nc * 2 * sizeof(uint64_t));
+                if (!y) { status = 5; goto finish; }
+                smask = y;
+                cap_sbuf = nc;
             }
+            smask[2 * nbuf] = smask[2 * nbuf + 1] = 0;
+#if NSTEP > 0
+            for (int k = 0; k < NSTEP; k++) {
+                if (S.violated[NINV + 2 + k]) continue;
+                c->err = 0;
+                V v = check_step_prop(c, k);
+                if (c->err == E_UNSUPPORTED || c->err == E_CHOICES) {
+                    out[4] = c->err; out[5] = sid; out[6] = 0; status = 4; goto finish;
+                }
+                if (c->err || v == UNDEF) smask[2 * nbuf + 1] |= 1ULL << k;
+                if (c->err || v != 1) smask[2 * nbuf] |= 1ULL << k;
+            }
+            c->err = 0;
+#endif
             store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
             nbuf++;
             if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
+        next_choice: ;
             /* the next sequence of choices */
             int j = c->pos - 1;
             while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
@@ -264,13 +310,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             c->plen = j + 1;
         }
         if (steperr) {
-            if (!S.violated[NINV + 1]) {
-                S.violated[NINV + 1] = 1;
-                S.viol[2 * S.nviol] = NINV + 1;
-                S.viol[2 * S.nviol + 1] = sid;
-                S.nviol++;
-                S.err_code = steperr;
-            }
+            if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = steperr; }
             S.step_failed = 1;
             continue;
         }
@@ -293,15 +333,16 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; goto finish; }
             }
             if (tid != sid) only_self = 0;
+            uint64_t bad = smask[2 * b];
+            for (int k = 0; bad && k < NSTEP; k++)
+                if (bad >> k & 1) {
+                    if (!S.violated[NINV + 2 + k] && (smask[2 * b + 1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
+                    record(NINV + 2 + k, tid, sid);
+                }
         }
-        if (S.deadlock && only_self && !S.violated[NINV]) {
-            S.violated[NINV] = 1;
-            S.viol[2 * S.nviol] = NINV;
-            S.viol[2 * S.nviol + 1] = sid;
-            S.nviol++;
-        }
+        if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
         /* every property violated already: nothing more to learn (as the Python explorer does) */
-        if (!S.keep_graph && NINV + (S.deadlock ? 1 : 0) > 0 && S.nviol >= NINV + (S.deadlock ? 1 : 0)) {
+        if (!S.keep_graph && NINV + NSTEP + (S.deadlock ? 1 : 0) > 0 && S.nviol >= NINV + NSTEP + (S.deadlock ? 1 : 0)) {
             S.sid++; status = S.depth_hit ? 2 : 0; goto finish;
         }
         if (S.max_states >= 0 && nstates >= S.max_states) { S.sid++; status = 1; goto finish; }
@@ -318,7 +359,7 @@ done:
     out[8] = S.depth;
     out[9] = S.nedges;
     out[11] = S.step_failed;
-    for (int64_t i = 0; i < 2 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
+    for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
     return status;
 }
 
@@ -360,7 +401,7 @@ int64_t asm_inv_error(int64_t k) { return S.inv_err[k]; }
 int64_t asm_err_code(void) { return S.err_code; }
 
 void asm_free(void) {
-    free(sbuf); sbuf = 0; cap_sbuf = 0;
+    free(sbuf); sbuf = 0; free(smask); smask = 0; cap_sbuf = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;

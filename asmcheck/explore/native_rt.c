@@ -31,6 +31,9 @@ typedef int64_t V;
 
 typedef struct {
     V cur[NSLOTS > 0 ? NSLOTS : 1];      /* decoded values of the state being expanded */
+    V post[NSLOTS > 0 ? NSLOTS : 1];     /* the successor's values (step properties, INVAR) */
+    V *rd;                               /* where locations are read: cur, or post inside next() */
+    V uagent[MAXUPD];                    /* the agent (self) that made each update */
     /* update buffer: slot and code (a wide slot's code is the value itself) */
     int32_t upd_slot[MAXUPD];
     V upd_code[MAXUPD];
@@ -55,6 +58,7 @@ typedef struct {
     int32_t idx[MAXCH];
     int32_t cnt[MAXCH];
     int err;
+    int in_prop;         /* evaluating a property: a monitored value the step did not read is not followed */
     int err_site;
     int clash_slot;
     int64_t epoch;       /* which expanded state: candidates of a choose can be reused within it */
@@ -98,6 +102,7 @@ static inline void upd(Ctx *c, int slot, V code, int site) {
         if (c->seqstart >= 0 && p >= c->seqstart) {   /* an earlier step of this seq block */
             c->upd_code[p] = code;
             c->ustamp[p] = c->curstep;
+            c->uagent[p] = c->self;
             return;
         }
         prev = p;                                     /* made outside this seq block */
@@ -109,6 +114,7 @@ static inline void upd(Ctx *c, int slot, V code, int site) {
     c->upd_code[c->nupd] = code;
     c->ustamp[c->nupd] = c->curstep;
     c->uprev[c->nupd] = prev;
+    c->uagent[c->nupd] = c->self;
     c->nupd++;
 }
 
@@ -156,11 +162,13 @@ static void seq_end(Ctx *c, SeqFrame *f) {
             if (c->seqstart >= 0 && q >= c->seqstart) {  /* an earlier step of the enclosing seq */
                 c->upd_code[q] = c->upd_code[i];
                 c->ustamp[q] = c->curstep;
+                c->uagent[q] = c->uagent[i];
                 c->wpos[s] = q;
                 continue;
             }
         }
         c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->ustamp[w] = c->curstep; c->uprev[w] = q;
+        c->uagent[w] = c->uagent[i];
         c->wpos[s] = w;
         w++;
     }
@@ -176,6 +184,7 @@ static inline void seq_step_drop(Ctx *c, int32_t mark) {
             continue;
         }
         c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->ustamp[w] = c->ustamp[i]; c->uprev[w] = c->uprev[i];
+        c->uagent[w] = c->uagent[i];
         c->wpos[s] = w; w++;
     }
     c->nupd = w;
