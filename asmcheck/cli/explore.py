@@ -14,7 +14,8 @@ def run(args) -> int:
     model = api.load(args.file, **load_options(args))
     use_bar = args.format == "text"
     with (Progress() if use_bar else _NoProgress()) as progress:
-        run_ = model.explore(graph=bool(args.graph), progress=progress, **explore_options(args))
+        run_ = model.explore(graph=bool(args.graph), progress=progress, warn=lambda msg: error(f"asmcheck: {msg}"),
+                             **explore_options(args))
     try:
         violations = run_.violations
     except api.ReplayError as e:
