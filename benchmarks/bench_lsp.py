@@ -68,7 +68,7 @@ async def over_stdio(path: Path, n: int, incremental: bool = True) -> tuple[floa
 
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
            "ASMCHECK_LSP_INCREMENTAL": "1" if incremental else "0"}
-    await client.start_io(sys.executable, "-m", "asmcheck.lsp", env=env)
+    await client.start_io(sys.executable, "-m", "asmcheck", "lsp", env=env)
     await client.initialize_async(lsp.InitializeParams(capabilities=lsp.ClientCapabilities()))
     client.initialized(lsp.InitializedParams())
     text = decode(path.read_bytes())

@@ -22,7 +22,7 @@ from asmcheck.syntax.parser import decode_source  # noqa: E402
 from conftest import ASMETA, ROOT  # noqa: E402
 from test_bad_inputs import CASES  # noqa: E402
 
-SERVER = [sys.executable, "-m", "asmcheck.lsp"]
+SERVER = [sys.executable, "-m", "asmcheck", "lsp"]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
 RTP = ASMETA / "asm_examples" / "RTPatternLibrary"
 
@@ -50,8 +50,9 @@ async def _open(client: LanguageClient, path: Path, text: str | None = None) -> 
 
 def _cli_positions(paths: list[Path]) -> dict[str, tuple[int, int, str]]:
     """``asmcheck parse`` on each file: the line, column and message it prints."""
-    out = subprocess.run([sys.executable, "-m", "asmcheck", "parse", *map(str, paths)], capture_output=True,
-                         text=True, cwd=ROOT).stdout
+    r = subprocess.run([sys.executable, "-m", "asmcheck", "parse", *map(str, paths)], capture_output=True,
+                       text=True, cwd=ROOT)
+    out = r.stdout + r.stderr
     found = {}
     for p in paths:
         m = re.search(rf"^{re.escape(str(p))}:(\d+):(\d+): (.*)$", out, re.M)

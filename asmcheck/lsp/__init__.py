@@ -16,12 +16,12 @@ def available() -> str | None:
     return None
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Serve the Language Server Protocol over stdin and stdout."""
+def main(import_path: list[str] | None = None) -> int:
+    """Serve the Language Server Protocol over stdin and stdout (``asmcheck lsp [-I DIR]``)."""
     import sys
     why = available()
     if why is not None:
         print(f"asmcheck: error: {why}", file=sys.stderr)
         return 2
     from .server import main as serve
-    return serve()
+    return serve(import_path or [])

@@ -16,9 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import os
 import re
-import tempfile
 import threading
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +24,7 @@ from pathlib import Path
 from lark import Lark, Tree
 from lark.exceptions import UnexpectedInput, VisitError
 
+from ..cache import private_cache_file
 from ..errors import AsmError, SOURCES, Span
 from ..syntax import ast as A
 from ..syntax import parser as P
@@ -49,16 +48,11 @@ GRAMMAR = Path(P.__file__).with_name("asmetal.lark")
 
 
 def _cache_file():
-    """Where lark keeps this parser's tables between runs (False: nowhere)."""
-    text = GRAMMAR.read_bytes()
-    digest = hashlib.sha256(text + repr(_STARTS).encode()).hexdigest()[:16]
-    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
-    try:
-        os.makedirs(base, exist_ok=True)
-    except OSError:
-        base = tempfile.gettempdir()
-    return os.path.join(base, f"grammar-{digest}-parts.lark.cache")
+    """Where lark keeps this parser's tables between runs: a file of asmcheck's private cache
+    (:mod:`asmcheck.cache`), or False when none can be trusted."""
+    digest = hashlib.sha256(GRAMMAR.read_bytes() + repr(_STARTS).encode()).hexdigest()[:16]
+    path = private_cache_file(f"grammar-{digest}-parts.lark.cache")
+    return str(path) if path is not None else False
 
 
 def _part_parser() -> Lark:
@@ -193,8 +187,9 @@ class IncrementalParser:
     def _full(self, text: str) -> A.Spec | None:
         self.state = None
         try:
-            tree = _part_parser().parse(text, start="start")
-            spec = _build(tree.children[0], self.path) if tree.children else None
+            with P.gc_paused():
+                tree = _part_parser().parse(text, start="start")
+                spec = _build(tree.children[0], self.path) if tree.children else None
         except (UnexpectedInput, VisitError, RecursionError):
             # the front end's parser says what is wrong, exactly as `asmcheck parse` does
             spec = P.parse_text(text, self.path)

@@ -1,19 +1,16 @@
 """Long runs started from the editor: explore with a time limit, simulate N steps.
 
-This is the only module of the language server that runs specs; it returns
-plain data (verdicts with the property's position, trace texts) that the
-server turns into diagnostics and documents.  A run is cancelled by the
-``cancelled`` callback (checked with each progress report of the explorer).
+This is the only module of the language server that runs specs, and it does so through
+asmcheck's public API (:func:`asmcheck.load`); it returns plain data (verdicts with the
+property's position, trace texts) that the server turns into diagnostics and documents.  A run
+is cancelled by the ``cancelled`` callback, checked with each progress report of the explorer.
 """
 from __future__ import annotations
 
-import argparse
-import io
-from contextlib import redirect_stdout
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import AsmError, Span
+from ..errors import Span
 
 
 class Cancelled(Exception):
@@ -30,24 +27,17 @@ class Settings:
     explore_seconds: float = 30.0                            # the time limit of the Explore lens
     simulate_steps: int = 10
 
-    def args(self, **extra) -> argparse.Namespace:
-        ns = argparse.Namespace(int_range=self.int_range, monitored=list(self.monitored) or None,
-                                max_states=None, max_depth=None, max_seconds=self.explore_seconds,
-                                deadlock=False, properties=None, no_default_properties=False,
-                                engine="python", fair=[], format="text")
-        for k, v in extra.items():
-            setattr(ns, k, v)
-        return ns
-
-    def cli_flags(self) -> list[str]:
-        out: list[str] = []
-        for d in self.import_path:
-            out += ["-I", d]
-        if self.int_range:
-            out += ["--int-range", self.int_range]
-        for m in self.monitored:
-            out += ["--monitored", m]
-        return out
+    def load(self, path: str):
+        """The spec at ``path`` with these settings, as :func:`asmcheck.load` reads it."""
+        from .. import api
+        mons = {}
+        for item in self.monitored:
+            if "=" not in item:
+                raise api.UsageError(f"asmetal.monitored expects NAME=LO..HI or NAME=v1,v2,..., not {item!r}")
+            name, values = item.split("=", 1)
+            mons[name.strip()] = api.parse_range(values, f"asmetal.monitored {name.strip()}")
+        return api.load(path, import_path=self.import_path, monitored=mons or None,
+                        int_range=self.int_range or None)
 
 
 @dataclass
@@ -82,19 +72,7 @@ def explore(path: str, settings: Settings, progress=None, cancelled=None) -> Exp
 
     ``progress(states, depth, transitions, seconds)`` is called about twice a second.
     """
-    from ..commands import _load, machine_options
-    from ..commands_explore import _property_table
-    from ..explore.bfs import Explorer
-    from ..props import spec_properties
-    from ..props.files import properties_for
-    from ..report.trace import build_trace, trace_text
-
-    args = settings.args()
-    spec, machine = _load(path, machine_options(args))
-    state_props, step_props = spec_properties(machine)
-    extra_state, extra_step, temporal = properties_for(spec, machine, path, None, use_default=True)
-    state_props += extra_state
-    step_props += extra_step
+    model = settings.load(path)
 
     def report(states, depth, transitions, secs):
         if cancelled is not None and cancelled():
@@ -102,54 +80,40 @@ def explore(path: str, settings: Settings, progress=None, cancelled=None) -> Exp
         if progress is not None:
             progress(states, depth, transitions, secs)
 
-    ex = Explorer(machine, max_states=None, max_depth=None, max_seconds=settings.explore_seconds,
-                  deadlock=False, progress=report, keep_graph=bool(temporal),
-                  state_props=state_props, step_props=step_props)
-    result = ex.run()
+    # the Python engine reports progress (and so can be cancelled) whatever the spec
+    run = model.explore(engine="python", max_seconds=settings.explore_seconds, progress=report)
     if cancelled is not None and cancelled():
         raise Cancelled()
     traces: dict[str, str] = {}
-    for v in result.violations:
-        tr = build_trace(ex, v)
-        where = f" ({v.prop.span.short()})" if getattr(v.prop, "span", None) is not None and v.prop.span.line else ""
-        what = "deadlock" if v.prop.name == "deadlock" else f"{v.prop.name}{where} is violated"
+    for v in run.violations:
+        if hasattr(v.raw, "holds") or v.trace is None:
+            continue
+        p, tr = v.raw.prop, v.trace.raw
+        where = f" ({p.span.short()})" if getattr(p, "span", None) is not None and p.span.line else ""
+        what = "deadlock" if p.name == "deadlock" else f"{p.name}{where} is violated"
         steps = len(tr.steps) - 1
         head = (f"{what}" + (f": {v.message}" if v.message else "") +
                 f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
                 (" (the last step breaks it)" if tr.kind == "step" else "") + ":")
-        traces.setdefault(v.prop.name, "\n".join([head] + ["  " + line for line in trace_text(machine, tr, False)]))
-    temporal_results = []
-    if temporal and result.verdict != "incomplete":
-        from ..temporal import check_temporal
-        temporal_results = check_temporal(ex, temporal, fair=[])
-        for t in temporal_results:
-            if not t.holds:
-                result.verdict = "violated"
-                traces.setdefault(t.name, "\n".join(t.text(machine, False)))
-    spans = {}
-    for p in result.checked:
+        body = ["  " + line for line in v.trace.text().rstrip("\n").split("\n")]
+        traces.setdefault(v.property, "\n".join([head] + body))
+    failed = [t for t in run.temporal if not t.holds]
+    for t, lines in zip(failed, run.temporal_text()):
+        traces.setdefault(t.name, "\n".join(lines))
+    spans: dict[str, Span | None] = {}
+    for p in list(model.state_props) + list(model.step_props) + list(model.temporal):
         spans.setdefault(p.name, getattr(p, "span", None))
-    for t in temporal_results:
-        spans.setdefault(t.name, getattr(t.prop, "span", None))
     verdicts = [Verdict(row["property"], row["kind"], row["verdict"], spans.get(row["property"]),
                         traces.get(row["property"]))
-                for row in _property_table(result, temporal_results)]
-    return ExploreOutcome(spec.name, result.verdict, result.states, result.transitions, result.depth,
-                          result.seconds, result.reason, verdicts)
+                for row in run.rows]
+    return ExploreOutcome(model.name, run.verdict, run.states, run.transitions, run.depth, run.seconds,
+                          run.reason, verdicts)
 
 
 def simulate(path: str, settings: Settings, steps: int | None = None) -> str:
     """What ``asmcheck simulate FILE -n N`` prints for the spec saved at ``path``."""
-    from ..commands import cmd_simulate
-    args = settings.args(file=path, steps=steps or settings.simulate_steps, seed=None, random=False,
-                         input=None, format="text")
-    buf = io.StringIO()
-    try:
-        with redirect_stdout(buf):
-            cmd_simulate(args)
-    except AsmError as err:
-        buf.write(err.render() + "\n")
-    return buf.getvalue()
+    model = settings.load(path)
+    return model.simulate(steps or settings.simulate_steps).text()
 
 
 def spec_name(path: str) -> str:

@@ -82,6 +82,7 @@ class AsmServer(LanguageServer):
         self.cancel_events: dict[str, threading.Event] = {}      # progress token -> event
         self.run_lock = threading.Lock()
         self.parsers: dict[str, IncrementalParser] = {}
+        self.base_import_path: list[str] = []                    # asmcheck lsp -I DIR
 
     # ------------------------------------------------------------- settings
     def apply_settings(self, raw) -> None:
@@ -95,7 +96,8 @@ class AsmServer(LanguageServer):
         ip = raw.get("importPath") or []
         if isinstance(ip, str):
             ip = [ip]
-        s.import_path = [os.path.abspath(os.path.join(base, os.path.expanduser(d))) for d in ip if d]
+        s.import_path = list(self.base_import_path) + [
+            os.path.abspath(os.path.join(base, os.path.expanduser(d))) for d in ip if d]
         s.int_range = raw.get("intRange") or None
         mon = raw.get("monitored") or []
         if isinstance(mon, dict):
@@ -106,7 +108,7 @@ class AsmServer(LanguageServer):
         if raw.get("simulateSteps") is not None:
             s.simulate_steps = int(raw["simulateSteps"])
         self.settings = s
-        R.set_import_path(s.import_path)
+        R.set_import_path(s.import_path)      # for the diagnostics; runs give it to asmcheck.load
 
     # ------------------------------------------------------------- analysis
     def analyse(self, uri: str, text: str, version: int | None) -> Doc | None:
@@ -703,6 +705,18 @@ def text_document_content(ls: AsmServer, params):
     return {"text": text}
 
 
-def main() -> int:
-    server.start_io()
+def main(import_path: list[str] | None = None) -> int:
+    """Serve over the process's stdin and stdout; anything printed meanwhile goes to stderr, so the
+    protocol's channel carries only the protocol.  ``import_path`` (``asmcheck lsp -I DIR``) comes
+    before the folders of the editor's ``importPath`` setting."""
+    import sys
+    server.base_import_path = [os.path.abspath(d) for d in import_path or []]
+    server.apply_settings({})
+    stdin, stdout = sys.__stdin__.buffer, sys.__stdout__.buffer
+    saved = sys.stdout
+    sys.stdout = sys.stderr
+    try:
+        server.start_io(stdin, stdout)
+    finally:
+        sys.stdout = saved
     return 0

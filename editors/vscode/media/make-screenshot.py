@@ -3,7 +3,7 @@
 
     python editors/vscode/media/make-screenshot.py      (needs node, the extension's npm packages, chromium)
 
-It starts the language server (``python -m asmcheck.lsp``) over stdio with pygls' client, opens
+It starts the language server (``python -m asmcheck lsp``) over stdio with pygls' client, opens
 specs/buggy/sb_async_master_no_release.asm, asks for its code lenses, runs the Explore lens, and
 opens the counterexample (``asmcheck:`` document) as the Show counterexample lens does.  The
 texts are coloured by the extension's own TextMate grammar (test/grammar.js, vscode-textmate).
@@ -55,7 +55,7 @@ async def server_answers():
         return lsp.ShowDocumentResult(success=True)
 
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
-    await client.start_io(sys.executable, "-m", "asmcheck.lsp", env=env)
+    await client.start_io(sys.executable, "-m", "asmcheck", "lsp", env=env)
     caps = lsp.ClientCapabilities(window=lsp.WindowClientCapabilities(
         show_document=lsp.ShowDocumentClientCapabilities(support=True)))
     await client.initialize_async(lsp.InitializeParams(capabilities=caps, root_uri=from_fs_path(str(ROOT))))
