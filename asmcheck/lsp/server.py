@@ -20,7 +20,7 @@ from pygls.lsp.server import LanguageServer
 from pygls.uris import from_fs_path, to_fs_path
 
 from .. import __version__
-from ..errors import AsmError, Span
+from ..errors import AsmError, Span, UsageError
 from ..semantics import resolve as R
 from ..syntax import ast as A
 from . import analysis as AN
@@ -625,7 +625,7 @@ async def _explore(ls: AsmServer, uri: str):
         ls.window_show_message(lsp.ShowMessageParams(lsp.MessageType.Info, f"Exploration of {Path(path).name} "
                                                                           f"cancelled"))
         return {"cancelled": True}
-    except AsmError as err:
+    except (AsmError, UsageError) as err:
         ls.window_show_message(lsp.ShowMessageParams(lsp.MessageType.Error, str(err)))
         return {"error": str(err)}
     ls.outcomes[uri] = outcome
@@ -691,7 +691,11 @@ async def cmd_simulate(ls: AsmServer, *args):
         with ls.run_lock:
             return runs.simulate(path, settings)
 
-    text = await _with_progress(ls, f"Simulating {Path(path).name}", work)
+    try:
+        text = await _with_progress(ls, f"Simulating {Path(path).name}", work)
+    except (AsmError, UsageError) as err:
+        ls.window_show_message(lsp.ShowMessageParams(lsp.MessageType.Error, str(err)))
+        return {"error": str(err)}
     target = simulation_uri(path)
     ls.virtual[target] = text
     await _show(ls, target)
