@@ -357,6 +357,8 @@ class Review:
             if groups is not None and group not in groups:
                 continue
             where = getattr(self, check)()
+            if where and all(w["kind"] == "rule" for w in where):
+                where.sort(key=lambda w: (w["path"], w["line"], w["column"]))
             bad = any(w.get("status") in VIOLATING for w in where)
             if bad and (not self.incomplete or check in EXISTENTIAL):
                 verdict = "violated"
@@ -413,8 +415,10 @@ def _finding_text(w: dict) -> str:
         extra = " (never: " + ", ".join(w["unused"][:12]) + (" ..." if len(w["unused"]) > 12 else "") + ")"
     elif "calls" in w:
         extra = f" ({w['calls']} calls)"
-    kind = w["kind"] if w["kind"] != "rule" else w["rule"]
-    return f"{pos}{kind} {what}: {w['status']}{extra}"
+    if w["kind"] == "rule":
+        loc = f" [{w['location']}]" if w.get("location") and w["rule"] == "update" else ""
+        return f"{pos}{what}{loc}: {w['status']}{extra}"
+    return f"{pos}{w['kind']} {what}: {w['status']}{extra}"
 
 
 def advise_text(doc: dict) -> list[str]:

@@ -79,13 +79,16 @@ class _RecordingUpdates:
         try:
             self.ups.add(key, value, span, agent, rule, machine)
         except InconsistentUpdate:
+            if not tr.lenient:
+                raise
             tr.inconsistent = True
 
 
 class Tracer:
     """The rule hook: wraps each compiled rule so that running it records an :class:`Event`."""
 
-    def __init__(self):
+    def __init__(self, lenient: bool = True):
+        self.lenient = lenient          # an inconsistent update is recorded and the step goes on
         self.events: list[Event] = []
         self.stack: list[int] = []
         self.clashes: list[Clash] = []
@@ -197,10 +200,10 @@ class Configuration:
         self.mon = mon
 
 
-def review_machine(spec, options: dict | None = None):
+def review_machine(spec, options: dict | None = None, lenient: bool = True):
     """A machine for review: the rule hook on, every choose candidate a configuration of its own."""
     opts = dict(options or {})
-    tracer = Tracer()
+    tracer = Tracer(lenient)
     opts["rule_hook"] = tracer
     opts["dedupe"] = False
     return Machine(spec, opts), tracer
