@@ -53,10 +53,15 @@ EXISTENTIAL = {"InconsistentUpdate", "CondRuleIsComplete", "CaseRuleIsComplete"}
 class Review:
     """The explored configurations of one spec and the rule tree, ready for the checks."""
 
-    def __init__(self, spec, options=None, *, max_states=None, max_seconds=None):
+    def __init__(self, spec, options=None, *, max_states=None, max_seconds=None, extra_observer=None):
         self.spec = spec
         self.obs = Observations()
-        self.space = Space(spec, options, max_states=max_states, max_seconds=max_seconds, observer=self.obs)
+        observer = self.obs
+        if extra_observer is not None:
+            def observer(c, a=self.obs, b=extra_observer):
+                a(c)
+                b(c)
+        self.space = Space(spec, options, max_states=max_states, max_seconds=max_seconds, observer=observer)
         self.space.run(on_state=self.obs.on_state)
         self.m = self.space.machine
         self.unf = Unfolding(self.m)

@@ -86,7 +86,7 @@ def coverage(unf, obs, sources: Sources | None = None, *, whole_space: bool = Tr
     items = []
     totals = {c: [0, 0] for c in CRITERIA}
     for crit, key, node, label in targets(unf):
-        hit = obs.first.get(key)
+        hit = obs.first.get(key) or obs.first_failing.get(key)
         totals[crit][0] += 1
         if hit is not None:
             totals[crit][1] += 1

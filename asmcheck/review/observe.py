@@ -24,7 +24,8 @@ class Observations:
         self.error_configs = 0
         self.node_configs: dict = defaultdict(int)     # id(node) -> configurations activating it
         self.nodes: dict = {}                          # id(node) -> node
-        self.first: dict = {}                          # target -> (state id, picks, depth-order number)
+        self.first: dict = {}                          # target -> (state id, picks, successor id)
+        self.first_failing: dict = {}                  # the same, through a failing step
         self.outcomes: dict = defaultdict(set)         # id(node) -> outcomes seen (if/switch/choose)
         self.forall_cfg: dict = defaultdict(int)       # id(forall) -> configurations with a non-empty activation
         self.inst_fired: dict = {}                     # update instance -> (node, key)
@@ -62,7 +63,9 @@ class Observations:
             if len(self.errors) < 20:
                 self.errors.append((c.state, c.error))
         seen = set()
-        first = self.first
+        # targets are first covered by steps that succeed (a test can replay them); a failing
+        # step's activations still count for the checks
+        first = self.first if c.error is None else self.first_failing
         fa_nonempty = set()
         for ev in c.events:
             node = ev.node
@@ -72,7 +75,7 @@ class Observations:
                 self.node_configs[nid] += 1
                 self.nodes[nid] = node
                 if ("rule", nid) not in first:
-                    first[("rule", nid)] = (c.state, c.picks)
+                    first[("rule", nid)] = (c.state, c.picks, c.target)
             out = ev.outcome
             t = type(node)
             if t is ir.Update:
@@ -83,14 +86,14 @@ class Observations:
                         self.inst_nontrivial.add(inst)
                     self.written.add(ev.key)
                     if ("update", nid) not in first:
-                        first[("update", nid)] = (c.state, c.picks)
+                        first[("update", nid)] = (c.state, c.picks, c.target)
             elif t is ir.Forall:
                 if out:
                     fa_nonempty.add(nid)
             elif out is not None:
                 self.outcomes[nid].add(out)
                 if ("branch", nid, out) not in first:
-                    first[("branch", nid, out)] = (c.state, c.picks)
+                    first[("branch", nid, out)] = (c.state, c.picks, c.target)
         for nid in fa_nonempty:
             self.forall_cfg[nid] += 1
         for cl in c.clashes:
