@@ -225,3 +225,42 @@ def scenario_coverage(paths: list[str], max_until: int = 1000) -> tuple[dict, li
     doc = coverage(unf, obs, whole_space=False) if unf is not None else {"criteria": {}, "targets": []}
     doc.update({"spec": spec.name if spec else None, "scenarios": paths})
     return doc, outcomes
+
+
+def add_coverage_options(p) -> None:
+    p.add_argument("--coverage", nargs="?", const="-", default=None, metavar="HTML",
+                   help="report rule, branch and update coverage (with a file name: also the HTML view)")
+
+
+def coverage_main(argv=None) -> int:
+    """``coverage FILE [--html OUT] [--format json]`` over the explored state space, or
+    ``coverage --scenarios S.avalla ..`` over scenarios."""
+    import argparse
+    import json
+    import sys
+    from ..errors import AsmError
+    p = argparse.ArgumentParser(prog="asmcheck coverage")
+    p.add_argument("files", nargs="+", help="a spec, or scenarios with --scenarios")
+    p.add_argument("--scenarios", action="store_true", help="the files are Avalla scenarios")
+    p.add_argument("--html", default=None)
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.add_argument("--max-states", type=int, default=200_000)
+    args = p.parse_args(argv)
+    try:
+        if args.scenarios:
+            doc, _ = scenario_coverage(args.files)
+            title = f"{doc['spec']} by {len(args.files)} scenario(s)"
+        else:
+            _, doc = explore_coverage(args.files[0], max_states=args.max_states)
+            title = f"{doc['spec']} over {doc['states']} states"
+    except AsmError as e:
+        sys.stderr.write(e.render() + "\n")
+        return 2
+    if args.html:
+        from pathlib import Path
+        Path(args.html).write_text(coverage_html(doc, title), encoding="utf-8")
+    if args.format == "json":
+        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+    else:
+        sys.stdout.write("\n".join(coverage_text(doc, title)) + "\n")
+    return 0
