@@ -203,6 +203,11 @@ def explore_coverage(path: str, options=None, *, max_states=None, max_seconds=No
     return rv, doc
 
 
+def _node_key(n):
+    sp = n.span
+    return (type(n).__name__, getattr(n, "kind", None), sp.path, sp.line, sp.col, sp.end_line, sp.end_col)
+
+
 def scenario_coverage(paths: list[str], max_until: int = 1000) -> tuple[dict, list]:
     """Coverage of the spec by the scenarios ``paths`` (all loading the same spec): (document, outcomes)."""
     from ..avalla.runner import Scenario
@@ -212,16 +217,21 @@ def scenario_coverage(paths: list[str], max_until: int = 1000) -> tuple[dict, li
     obs = Observations()
     outcomes = []
     spec = unf = None
+    canon: dict = {}
     for p in paths:
         sc = Scenario(p, max_until)
         machine, tracer = review_machine(sc.spec, {}, lenient=False)
         sc.machine = machine
         tracer.reset()
         outcomes.append(sc.run())
-        obs(Configuration(0, (), [], tracer.events, [], None, None, {}))
         if unf is None:
             spec = sc.spec
             unf = Unfolding(machine)
+            canon = {_node_key(n): n for n in unf.nodes}
+        # each scenario loads the spec again: its rule occurrences are matched by position
+        for ev in tracer.events:
+            ev.node = canon.get(_node_key(ev.node), ev.node)
+        obs(Configuration(0, (), [], tracer.events, [], None, None, {}))
     doc = coverage(unf, obs, whole_space=False) if unf is not None else {"criteria": {}, "targets": []}
     doc.update({"spec": spec.name if spec else None, "scenarios": paths})
     return doc, outcomes
