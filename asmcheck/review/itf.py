@@ -98,6 +98,11 @@ def trace_itf(machine, trace, *, source: str, description: str, loop: int | None
                     mon.items(), key=lambda kv: machine.location_text(kv[0]))}
         doc["states"].append({"#meta": meta, **state_values(machine, s.display, variables)})
     if loop is not None:
+        # ITF's lasso: the last state steps back to states[loop]; the trace repeats that state
+        # at its end, which goes (its step's inputs and choices move to the trace's #meta)
+        if len(doc["states"]) > loop + 1 and trace.steps[-1].display == trace.steps[loop].display:
+            last = doc["states"].pop()
+            doc["#meta"]["loop-step"] = {k: v for k, v in last["#meta"].items() if k != "index"}
         doc["loop"] = loop
     return doc
 
@@ -160,3 +165,29 @@ def itf_main(argv=None) -> int:
         return 2
     sys.stdout.write(json.dumps(docs, indent=1) + "\n")
     return 1 if docs else 0
+
+
+def temporal_itf(path: str, options=None, prop_files=None) -> list[dict]:
+    """The ITF of each LTL/CTL counterexample of ``path`` (a lasso carries ``loop``)."""
+    from ..commands import _load
+    from ..explore.bfs import Explorer
+    from ..props.files import properties_for
+    from ..report.gate import step_inputs
+    from ..temporal import check_temporal
+    spec, machine = _load(path, options or {})
+    _, _, temporal = properties_for(spec, machine, path, prop_files, use_default=True)
+    ex = Explorer(machine, keep_graph=True)
+    ex.run()
+    out = []
+    for r in check_temporal(ex, temporal):
+        if r.holds:
+            continue
+        got = r.trace()
+        if got is None:
+            continue
+        tr, loop, _ = got
+        name = getattr(r.prop, "name", "property")
+        out.append(trace_itf(machine, tr, source=path, loop=loop, inputs=step_inputs(machine, tr),
+                             description=f"counterexample of {name} on {spec.name}"
+                                         + (f", a lasso back to state {loop}" if loop is not None else "")))
+    return out

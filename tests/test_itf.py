@@ -1,0 +1,71 @@
+"""ITF traces (Apalache/Quint's Informal Trace Format): counterexamples, lassos and testgen paths,
+validated with itf-py; a golden file pins the ITF of one counterexample."""
+import json
+
+import pytest
+
+from asmcheck.review.itf import explore_itf, itf_value, temporal_itf, testgen_itf as itf_of_tests
+from asmcheck.semantics.values import SetV, SeqV
+from conftest import ROOT
+
+itf_py = pytest.importorskip("itf_py", reason="itf-py is not installed (pip install itf-py; the test extra has it)")
+
+GOLDEN = ROOT / "tests" / "data" / "golden" / "producer_consumer_reader_takes_writer_array.inv_no_concurrent_rw.itf.json"
+
+
+def _valid(doc):
+    """itf-py reads it, writes it back the same, and every state gives every variable a value."""
+    tr = itf_py.trace_from_json(doc)
+    back = itf_py.trace_to_json(tr)            # and writes it again
+    assert back["vars"] == doc["vars"] and len(back["states"]) == len(doc["states"])
+    assert tr.vars == doc["vars"] and tr.loop == doc.get("loop")
+    for st in doc["states"]:
+        assert set(st) - {"#meta"} == set(doc["vars"])
+    assert [s["#meta"]["index"] for s in doc["states"]] == list(range(len(doc["states"])))
+    if "loop" in doc:
+        assert 0 <= doc["loop"] < len(doc["states"])
+    return tr
+
+
+def test_golden_counterexample(monkeypatch):
+    monkeypatch.chdir(ROOT)
+    (doc,) = explore_itf("specs/buggy/producer_consumer_reader_takes_writer_array.asm")
+    tr = _valid(doc)
+    assert json.dumps(doc, indent=1) + "\n" == GOLDEN.read_text()
+    assert len(tr.states) == 6 and tr.loop is None
+    last = tr.states[-1].values
+    # the reader reads the array the writer writes: the invariant inv_no_concurrent_rw fails
+    assert last["readingArr"] == {("consumer", "SB1"): 1} and last["writingArr"] == {("producer", "SB1"): 1}
+
+
+def test_lasso_has_loop(monkeypatch):
+    monkeypatch.chdir(ROOT)
+    docs = temporal_itf("specs/temporal/peterson.asm")
+    assert [d["#meta"]["description"] for d in docs] == [
+        "counterexample of ltlSpec_p1_enters on peterson, a lasso back to state 2",
+        "counterexample of ltlSpec_p2_enters on peterson, a lasso back to state 2",
+        "counterexample of ctlSpec_p1_enters on peterson, a lasso back to state 2"]
+    d = docs[0]
+    tr = _valid(d)
+    assert (len(tr.states), tr.loop) == (3, 2)
+    assert d["#meta"]["loop-step"] == {"choices": ["choose at peterson.asm:59:3: $p = p2"]}
+    assert tr.states[2].values["pc"] == {"p1": "WAIT", "p2": "WAIT"}
+
+
+def test_testgen_paths(monkeypatch):
+    monkeypatch.chdir(ROOT)
+    docs = itf_of_tests("specs/sb_async_master.asm", "branch")
+    assert len(docs) == 11
+    for d in docs:
+        _valid(d)
+    assert sum(len(d["states"]) - 1 for d in docs) == 45
+
+
+def test_values():
+    assert itf_value(None) == {"#unserializable": "undef"}
+    assert itf_value(3) == {"#bigint": "3"}
+    assert itf_value(True) is True
+    assert itf_value(SetV([2, 1])) == {"#set": [{"#bigint": "1"}, {"#bigint": "2"}]}
+    assert itf_value(SeqV([1])) == [{"#bigint": "1"}]
+    assert itf_value((1, "a")) == {"#tup": [{"#bigint": "1"}, "a"]}
+    assert itf_value(1.5) == {"#unserializable": "1.5"}
