@@ -43,3 +43,17 @@ def test_visual_servoing_spec(tmp_path):
     assert [u["target"] for u in doc["uncoverable"]] == [
         "visual_servoing.asm:127:3 branch else (guard false, no else)",
         "visual_servoing.asm:140:3 branch else (guard false, no else)"]
+
+
+def test_mcdc(tmp_path):
+    spec = str(ROOT / "tests" / "data" / "review" / "mcdc_demo.asm")
+    doc = generate_tests(spec, "mcdc", str(tmp_path))
+    assert (doc["targets"], doc["coverable"], len(doc["scenarios"]), doc["total_steps"]) == (13, 13, 3, 4)
+    mc = sorted(c for s in doc["scenarios"] for c in s["covers"] if " mcdc " in c)
+    assert mc == [f"mcdc_demo.asm:16:4 mcdc condition {i} of 3 {side}" for i in (1, 2, 3) for side in ("false", "true")]
+    # condition 3 (c, a controlled location) needs the state after one step: a then b false, c true
+    assert "set a := true;\nset b := false;\nstep\ncheck c = false;\ncheck hits = true;" in doc["scenarios"][0]["text"]
+    for path in doc["written"]:
+        assert run_scenario(path).ok
+    branch = generate_tests(spec, "branch", None)
+    assert (branch["targets"], len(branch["scenarios"])) == (7, 2)

@@ -53,7 +53,8 @@ EXISTENTIAL = {"InconsistentUpdate", "CondRuleIsComplete", "CaseRuleIsComplete"}
 class Review:
     """The explored configurations of one spec and the rule tree, ready for the checks."""
 
-    def __init__(self, spec, options=None, *, max_states=None, max_seconds=None, extra_observer=None):
+    def __init__(self, spec, options=None, *, max_states=None, max_seconds=None, extra_observer=None,
+                 conditions=False):
         self.spec = spec
         self.obs = Observations()
         observer = self.obs
@@ -61,7 +62,8 @@ class Review:
             def observer(c, a=self.obs, b=extra_observer):
                 a(c)
                 b(c)
-        self.space = Space(spec, options, max_states=max_states, max_seconds=max_seconds, observer=observer)
+        self.space = Space(spec, options, max_states=max_states, max_seconds=max_seconds, observer=observer,
+                           conditions=conditions)
         self.space.run(on_state=self.obs.on_state)
         self.m = self.space.machine
         self.unf = Unfolding(self.m)

@@ -138,7 +138,7 @@ def testgen_itf(path: str, criterion: str = "branch", max_states=None) -> list[d
     from .advise import Review
     from .common import load_spec
     from .testgen import generate, trace_of
-    rv = Review(load_spec(path), max_states=max_states)
+    rv = Review(load_spec(path), max_states=max_states, conditions=criterion == "mcdc")
     paths, *_ = generate(rv, criterion)
     out = []
     for i, p in enumerate(paths, start=1):

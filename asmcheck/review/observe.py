@@ -91,6 +91,10 @@ class Observations:
                 if out:
                     fa_nonempty.add(nid)
             elif out is not None:
+                if ev.vector is not None:
+                    vk = ("vector", nid, ev.vector, out)
+                    if vk not in first:
+                        first[vk] = (c.state, c.picks, c.target)
                 self.outcomes[nid].add(out)
                 if ("branch", nid, out) not in first:
                     first[("branch", nid, out)] = (c.state, c.picks, c.target)

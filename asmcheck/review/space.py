@@ -22,7 +22,7 @@ import time
 
 from ..errors import AsmError, InconsistentUpdate
 from ..semantics import ir
-from ..semantics.choice import Enumerator, Prune
+from ..semantics.choice import Chooser, Enumerator, Prune
 from ..semantics.machine import Machine
 from ..semantics.state import UpdateSet, apply_updates, same_value
 from ..semantics.terms import Ctx, Thunk, Undetermined
@@ -31,9 +31,10 @@ from ..semantics.terms import Ctx, Thunk, Undetermined
 class Event:
     """One activation of a rule occurrence in one configuration."""
 
-    __slots__ = ("node", "parent", "outcome", "key", "value", "binding", "before")
+    __slots__ = ("node", "parent", "outcome", "key", "value", "binding", "before", "vector")
 
     def __init__(self, node, parent):
+        self.vector = None      # if, with conditions on: the value of each condition of the guard
         self.node = node
         self.parent = parent
         self.outcome = None     # if: "then"/"else"; switch: case number or "otherwise"/"none";
@@ -87,8 +88,10 @@ class _RecordingUpdates:
 class Tracer:
     """The rule hook: wraps each compiled rule so that running it records an :class:`Event`."""
 
-    def __init__(self, lenient: bool = True):
+    def __init__(self, lenient: bool = True, conditions: bool = False):
         self.lenient = lenient          # an inconsistent update is recorded and the step goes on
+        self.conditions = conditions    # record the value of each condition of an if's guard (MC/DC)
+        self.machine = None
         self.events: list[Event] = []
         self.stack: list[int] = []
         self.clashes: list[Clash] = []
@@ -114,6 +117,23 @@ class Tracer:
                 finally:
                     tracer.stack.pop()
             return update
+        if isinstance(r, ir.If) and self.conditions and len(conditions(r.cond)) > 1:
+            atoms = [self.machine.term(a) for a in conditions(r.cond)]
+
+            def if_conditions(ctx, ups):
+                ev = tracer._enter(r)
+                p = len(tracer.events) - 1
+                st, env = ctx.st, dict(ctx.env)
+                ok = False
+                try:
+                    fn(ctx, ups)
+                    ok = True
+                finally:
+                    tracer.stack.pop()
+                    _outcome(r, ev, tracer.events, p, ok)
+                if ok:
+                    ev.vector = _condition_values(ctx, st, env, atoms)
+            return if_conditions
         if isinstance(r, (ir.If, ir.SwitchRule, ir.Choose, ir.Forall)):
             def branching(ctx, ups):
                 ev = tracer._enter(r)
@@ -140,6 +160,47 @@ class Tracer:
         self.stack.append(len(self.events))
         self.events.append(ev)
         return ev
+
+
+def conditions(t) -> list:
+    """The conditions of a guard: its operands under and, or, implies and not."""
+    if isinstance(t, ir.Call) and t.name in ("and", "or", "implies") and len(t.args) == 2:
+        return conditions(t.args[0]) + conditions(t.args[1])
+    if isinstance(t, ir.Call) and t.name == "not" and len(t.args) == 1:
+        return conditions(t.args[0])
+    return [t]
+
+
+class _NoChoice(Chooser):
+    """Refuses every choice: a condition that reads a monitored location the step did not read
+    has no value in this configuration."""
+
+    def choose(self, kind, label, options, values_repr=None):
+        raise _Unread()
+
+
+class _Unread(Exception):
+    pass
+
+
+def _condition_values(ctx, st, env, atoms) -> tuple:
+    """Each condition's value (True/False, None for undef, "?" when it reads a monitored location
+    the step did not read), in the state and bindings of the guard's evaluation."""
+    c = Ctx(ctx.machine, st, _NoChoice())
+    c.base = ctx.base
+    c.env = dict(env)
+    c.mon = dict(ctx.mon)
+    c.self_ = ctx.self_
+    c.lazy = dict(ctx.lazy)
+    c.fresh = dict(ctx.fresh)
+    out = []
+    for a in atoms:
+        try:
+            v = a(c)
+        except (_Unread, AsmError):
+            v = "?"
+        out.append(v if v in (True, False, None, "?") else "?")
+    return tuple(out)
 
 
 def _binding(ctx) -> tuple:
@@ -200,13 +261,17 @@ class Configuration:
         self.mon = mon
 
 
-def review_machine(spec, options: dict | None = None, lenient: bool = True):
+def review_machine(spec, options: dict | None = None, lenient: bool = True, conditions: bool = False):
     """A machine for review: the rule hook on, every choose candidate a configuration of its own."""
     opts = dict(options or {})
-    tracer = Tracer(lenient)
+    tracer = Tracer(lenient, conditions)
     opts["rule_hook"] = tracer
     opts["dedupe"] = False
-    return Machine(spec, opts), tracer
+    # the tracer compiles the conditions of guards with the machine it observes
+    m = Machine.__new__(Machine)
+    tracer.machine = m
+    Machine.__init__(m, spec, opts)
+    return m, tracer
 
 
 def run_step(machine: Machine, tracer: Tracer, state: dict, chooser):
@@ -242,10 +307,10 @@ class Space:
     """The explored configurations (see the module text)."""
 
     def __init__(self, spec, options: dict | None = None, *, max_states=None, max_seconds=None,
-                 max_configurations=1_000_000, observer=None):
+                 max_configurations=1_000_000, observer=None, conditions=False):
         from ..explore.bfs import Explorer
         self.spec = spec
-        self.machine, self.tracer = review_machine(spec, options)
+        self.machine, self.tracer = review_machine(spec, options, conditions=conditions)
         self.explorer = Explorer(self.machine)
         self.max_states = max_states
         self.max_seconds = max_seconds

@@ -8,7 +8,11 @@ through the step function with the rule hook on), and repeats until every covera
 covered.  Targets no reachable configuration covers are listed: dead code.
 
 Criteria: ``rule`` (every rule occurrence fires), ``branch`` (every rule occurrence and every
-``if`` branch, ``switch`` case), ``update`` (every update rule executes).
+``if`` branch, ``switch`` case), ``update`` (every update rule executes), ``mcdc`` (``branch``,
+plus for each condition of a guard made of several -- its operands under ``and``, ``or``,
+``implies``, ``not`` -- two activations of the ``if`` whose outcomes differ and whose condition
+values differ in that condition only; a condition that reads a monitored location the step did
+not read is a don't-care).  A condition that no such pair shows is listed as uncoverable.
 
 Each scenario is written with AsmetaV's commands only (``set``, ``pick``, ``step``, ``check``):
 the checks pin the run down state by state, so it passes exactly when the run is the path's.
@@ -21,7 +25,7 @@ from pathlib import Path
 from ..semantics.choice import ScriptChooser
 from .coverage import targets as all_targets
 
-CRITERIA = ("rule", "branch", "update")
+CRITERIA = ("rule", "branch", "update", "mcdc")
 
 
 class TestPath:
@@ -33,11 +37,54 @@ class TestPath:
 
 
 def _wanted(criterion: str):
+    # mcdc adds its condition targets to branch's (see generate)
     if criterion == "rule":
         return {"rule"}
     if criterion == "update":
         return {"update"}
     return {"rule", "branch"}
+
+
+def mcdc_targets(rv) -> tuple[list, dict]:
+    """MC/DC targets [(criterion, key, node, label)] and their witnesses (key -> the key of the
+    configuration seen first that shows it, in the observations)."""
+    from ..semantics import ir
+    from .space import conditions
+    vectors: dict = {}
+    for k in rv.obs.first:
+        if k[0] == "vector":
+            vectors.setdefault(k[1], []).append(k)
+    depth = rv.space.depth
+    out, alias = [], {}
+    for n in rv.unf.nodes:
+        if not isinstance(n, ir.If):
+            continue
+        conds = conditions(n.cond)
+        if len(conds) < 2:
+            continue
+        vs = vectors.get(id(n), [])
+        for i, c in enumerate(conds):
+            best = None
+            for a in vs:
+                for b in vs:
+                    va, vb = a[2], b[2]
+                    if a[3] == b[3] or va[i] not in (True, False) or vb[i] not in (True, False) or va[i] == vb[i]:
+                        continue
+                    if va[i] is not True:
+                        continue
+                    if any(va[j] != vb[j] and "?" not in (va[j], vb[j]) for j in range(len(conds)) if j != i):
+                        continue
+                    da, db = depth(rv.obs.first[a][0]), depth(rv.obs.first[b][0])
+                    cost = (max(da, db), da + db, str(va), str(vb))
+                    if best is None or cost < best[0]:
+                        best = (cost, a, b)
+            text = f"condition {i + 1} of {len(conds)}"
+            for side in (0, 1):
+                key = ("mcdc", id(n), i, side)
+                out.append(("mcdc", key, n, text + (" true" if side == 0 else " false")))
+                if best is not None:
+                    alias[key] = best[1 + side]
+    return out, alias
 
 
 def generate(rv, criterion: str = "branch", mcdc=None):
@@ -46,9 +93,12 @@ def generate(rv, criterion: str = "branch", mcdc=None):
     wanted = _wanted(criterion)
     tg = [t for t in all_targets(rv.unf) if t[0] in wanted]
     first = dict(rv.obs.first)
-    if mcdc is not None:
-        tg += mcdc.targets()
-        first.update(mcdc.first)
+    alias: dict = {}
+    if criterion == "mcdc":
+        extra, alias = mcdc_targets(rv)
+        tg += extra
+        for k, w in alias.items():
+            first[k] = first[w]
     keys = [t[1] for t in tg]
     coverable = [k for k in keys if k in first]
     failing_only = [t for t in tg if t[1] not in first and t[1] in rv.obs.first_failing]
@@ -63,7 +113,8 @@ def generate(rv, criterion: str = "branch", mcdc=None):
         if k in covered:
             continue
         sid, picks, tid = first[k]
-        hits = path_targets(rv, sid, picks, tid, mcdc)
+        hits = path_targets(rv, sid, picks, tid)
+        hits |= {a for a, w in alias.items() if w in hits}
         hits &= want
         hits.add(k)
         covered |= hits
@@ -71,7 +122,7 @@ def generate(rv, criterion: str = "branch", mcdc=None):
     return paths, tg, uncoverable, failing_only
 
 
-def path_targets(rv, sid, picks, tid, mcdc=None) -> set:
+def path_targets(rv, sid, picks, tid) -> set:
     """The targets the steps of the path to (sid, then picks) cover, replayed with the rule hook on."""
     from .observe import Observations
     from .space import Configuration, run_step
@@ -84,10 +135,8 @@ def path_targets(rv, sid, picks, tid, mcdc=None) -> set:
     for pk, dst in steps:
         events, clashes, err, nxt, mon = run_step(m, tracer, cur, ScriptChooser(pk))
         obs(Configuration(0, pk, [], events, clashes, err, dst, mon))
-        if mcdc is not None:
-            mcdc.observe_into(obs, events)
         cur = ex.state(dst)
-    return set(obs.first) | (set(mcdc.hits_of(obs)) if mcdc is not None else set())
+    return set(obs.first)
 
 
 def trace_of(rv, p: TestPath):
@@ -144,9 +193,12 @@ def testgen(path: str, criterion: str, out_dir: str | None, *, options=None, max
     from .common import load_spec
     from .coverage import Sources
     spec = load_spec(path)
-    mc = None
-    rv = Review(spec, options, max_states=max_states, max_seconds=max_seconds)
-    paths, tg, uncoverable, failing_only = generate(rv, criterion, mc)
+    rv = Review(spec, options, max_states=max_states, max_seconds=max_seconds, conditions=criterion == "mcdc")
+    paths, tg, uncoverable, failing_only = generate(rv, criterion)
+    first = dict(rv.obs.first)
+    if criterion == "mcdc":
+        _, alias = mcdc_targets(rv)
+        first.update({k: first[w] for k, w in alias.items()})
     labels = {t[1]: target_label(t) for t in tg}
     src = Sources()
     written = []
@@ -161,10 +213,8 @@ def testgen(path: str, criterion: str, out_dir: str | None, *, options=None, max
         steps = len(rv.space.explorer.path_to(p.sid))
         scen.append({"name": f"{rv.spec.name}_test{i}", "file": out_path, "steps": steps,
                      "covers": sorted(labels[k] for k in p.covers if k in labels), "text": text})
-    per_target = sum(len(rv.space.explorer.path_to(rv.obs.first[k][0])) if k in rv.obs.first else
-                     len(rv.space.explorer.path_to(mc.first[k][0]))
-                     for k in {t[1] for t in tg} if k in rv.obs.first or (mc is not None and k in mc.first))
-    coverable = sum(1 for t in tg if t[1] in rv.obs.first or (mc is not None and t[1] in mc.first))
+    per_target = sum(len(rv.space.explorer.path_to(first[k][0])) for k in {t[1] for t in tg} if k in first)
+    coverable = sum(1 for t in tg if t[1] in first)
     return {"spec": rv.spec.name, "path": path, "criterion": criterion, "states": rv.space.states,
             "incomplete": rv.incomplete, "targets": len(tg), "coverable": coverable,
             "scenarios": scen, "total_steps": sum(s["steps"] for s in scen),
