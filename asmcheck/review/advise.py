@@ -46,6 +46,8 @@ VIOLATING = {
     "initialized_but_used_only_in_unreachable_code", "never_updated", "could_be_static", "never_reached",
     "never_called",
 }
+_DYNAMIC = object()     # stands for the reachable code that reads or writes a location of an extend-made element
+
 # checks a single configuration can prove violated (so they stand on a partial exploration)
 EXISTENTIAL = {"InconsistentUpdate", "CondRuleIsComplete", "CaseRuleIsComplete"}
 
@@ -68,12 +70,33 @@ class Review:
         self.m = self.space.machine
         self.unf = Unfolding(self.m)
         self.src = Sources()
+        self.refs = self._with_dynamic_locations()
 
+    def _with_dynamic_locations(self) -> dict:
+        """The referenced locations, plus the locations of elements ``extend`` made (the unfolding
+        cannot name them): each one defined in a reachable state or written counts as referenced
+        from reachable code."""
+        from ..semantics import types as T
+        refs = dict(self.unf.refs)
+        dyn = set()
+        for f in user_functions(self.spec):
+            for t in f.domain:
+                r = T.root(t) if isinstance(t, T.Domain) else None
+                if isinstance(t, T.Domain) and (t.dynamic or (isinstance(r, T.Domain) and r.dynamic)):
+                    dyn.add(f.index)
+        if not dyn:
+            return refs
+        for k in list(self.obs.values) + list(self.obs.written):
+            if type(k) is tuple and k[0] in dyn and k not in refs:
+                refs[k] = {_DYNAMIC}
+        return refs
     @property
     def incomplete(self):
         return self.space.incomplete
 
     def acts(self, node) -> int:
+        if node is _DYNAMIC:
+            return 1
         return self.obs.node_configs.get(id(node), 0)
 
     def loc(self, key) -> str:
@@ -86,7 +109,7 @@ class Review:
         return [n for n in self.unf.nodes if isinstance(n, types)]
 
     def reachable_ref(self, key) -> bool:
-        return any(self.acts(n) for n in self.unf.refs.get(key, ()))
+        return any(self.acts(n) for n in self.refs.get(key, ()))
 
     def category(self, f) -> str:
         return f.kind if f.kind != "static" or f.body is not None else "static"
@@ -169,7 +192,7 @@ class Review:
     def DomainAllUsed(self):
         out = []
         m = self.m
-        refs = self.unf.refs
+        refs = self.refs
         funcs = self.m.functions
         for d in user_domains(self.spec):
             try:
@@ -224,8 +247,8 @@ class Review:
                 continue
             codk = [vkey(v) for v in cod]
             keys = all_locations(self.m, f)
-            refd = [k for k in (keys if keys is not None else self.unf.refs) if k in self.unf.refs and
-                    (k == f.index if type(k) is int else k[0] == f.index)]
+            refd = sorted((k for k in self.refs if (k == f.index if type(k) is int else k[0] == f.index)),
+                          key=self.loc)
             union = set()
             locs = []
             for k in refd:
@@ -234,7 +257,7 @@ class Review:
                 if len(vals) < len(set(codk)):
                     locs.append(self._loc_values(k, cod, vals, f))
             for k in (keys or []):
-                if k not in self.unf.refs:
+                if k not in self.refs:
                     st = "initialized_and_never_used" if f in init or f.kind == "controlled" else "never_used"
                     locs.append({"kind": "location", "location": self.loc(k), "status": st,
                                  "category": "controlled"})
@@ -269,7 +292,7 @@ class Review:
                 continue
             explicit = f in init
             for k in keys:
-                refs = self.unf.refs.get(k)
+                refs = self.refs.get(k)
                 if not refs:
                     st = "initialized_but_never_used" if explicit else "never_used"
                 elif not self.reachable_ref(k):
@@ -285,7 +308,7 @@ class Review:
         for f in self._controlled():
             keys = all_locations(self.m, f)
             if keys is None:
-                keys = [k for k in self.unf.refs if (k == f.index if type(k) is int else k[0] == f.index)]
+                keys = [k for k in self.refs if (k == f.index if type(k) is int else k[0] == f.index)]
             for k in keys:
                 if k not in self.obs.written:
                     out.append({"kind": "location", "location": self.loc(k), "status": "never_updated",
@@ -296,9 +319,10 @@ class Review:
         out = []
         for f in self._controlled():
             keys = all_locations(self.m, f)
-            refd = [k for k in self.unf.refs if (k == f.index if type(k) is int else k[0] == f.index)]
+            refd = sorted((k for k in self.refs if (k == f.index if type(k) is int else k[0] == f.index)),
+                          key=self.loc)
             static = [k for k in refd if len(self.obs.values_of(k)) == 1]
-            if keys is not None and refd and len(static) == len(keys):
+            if refd and len(static) == len(refd) and (keys is None or set(keys) <= set(refd)):
                 out.append({"kind": "function", "function": f.name, "status": "could_be_static",
                             "category": "controlled", "path": _name(f.span.path), "line": f.span.line,
                             "column": f.span.col})
@@ -343,7 +367,7 @@ class Review:
             sts = []
             locs = []
             for k in keys:
-                refs = self.unf.refs.get(k)
+                refs = self.refs.get(k)
                 st = "never_used" if not refs else "used" if self.reachable_ref(k) else \
                     "used_only_in_unreachable_code"
                 sts.append(st)
