@@ -69,3 +69,33 @@ def test_values():
     assert itf_value(SeqV([1])) == [{"#bigint": "1"}]
     assert itf_value((1, "a")) == {"#tup": [{"#bigint": "1"}, "a"]}
     assert itf_value(1.5) == {"#unserializable": "1.5"}
+
+
+def test_documents_of_api_violations(monkeypatch):
+    """itf_documents reads what the public API's violations carry: the replayed trace, or the
+    temporal result's lasso."""
+    from types import SimpleNamespace
+    from asmcheck.commands import _load
+    from asmcheck.explore.bfs import Explorer
+    from asmcheck.props.files import properties_for
+    from asmcheck.report.trace import build_trace
+    from asmcheck.review.itf import itf_documents
+    from asmcheck.temporal import check_temporal
+    monkeypatch.chdir(ROOT)
+    path = "specs/buggy/producer_consumer_reader_takes_writer_array.asm"
+    spec, m = _load(path)
+    xs, xt, _ = properties_for(spec, m, path, None, use_default=True)
+    ex = Explorer(m, state_props=xs, step_props=xt)
+    res = ex.run()
+    vs = [SimpleNamespace(raw=v, trace=SimpleNamespace(raw=build_trace(ex, v))) for v in res.violations]
+    (doc,) = itf_documents(m, vs, path)
+    assert json.dumps(doc, indent=1) + "\n" == GOLDEN.read_text()
+    path = "specs/temporal/peterson.asm"
+    spec, m = _load(path)
+    _, _, temporal = properties_for(spec, m, path, None, use_default=True)
+    ex = Explorer(m, keep_graph=True)
+    ex.run()
+    results = [SimpleNamespace(raw=r) for r in check_temporal(ex, temporal) if not r.holds]
+    docs = itf_documents(m, results, path)
+    assert [(len(d["states"]), d["loop"]) for d in docs] == [(3, 2), (3, 2), (3, 2)]
+    assert docs == temporal_itf(path)

@@ -274,3 +274,24 @@ def coverage_main(argv=None) -> int:
     else:
         sys.stdout.write("\n".join(coverage_text(doc, title)) + "\n")
     return 0
+
+
+def cli_coverage(path: str, target: str, options=None, *, fmt: str = "text", max_states=None, max_seconds=None):
+    """For ``explore --coverage[=OUT.html]``: the coverage over the explored state space, as text
+    lines (or the JSON document), and the HTML view written to ``target`` unless it is ``-``."""
+    rv, doc = explore_coverage(path, options, max_states=max_states, max_seconds=max_seconds)
+    title = f"{doc['spec']} over {doc['states']} states"
+    if target and target != "-":
+        from pathlib import Path
+        Path(target).write_text(coverage_html(doc, title, rv.src), encoding="utf-8")
+    return doc if fmt == "json" else coverage_text(doc, title)
+
+
+def cli_scenario_coverage(paths: list[str], target: str, *, fmt: str = "text", max_until: int = 1000):
+    """For ``scenario --coverage[=OUT.html]``: the coverage of the spec by the scenarios."""
+    doc, _ = scenario_coverage(paths, max_until)
+    title = f"{doc['spec']} by {len(paths)} scenario{'s' if len(paths) != 1 else ''}"
+    if target and target != "-":
+        from pathlib import Path
+        Path(target).write_text(coverage_html(doc, title), encoding="utf-8")
+    return doc if fmt == "json" else coverage_text(doc, title)

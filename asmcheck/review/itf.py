@@ -191,3 +191,26 @@ def temporal_itf(path: str, options=None, prop_files=None) -> list[dict]:
                              description=f"counterexample of {name} on {spec.name}"
                                          + (f", a lasso back to state {loop}" if loop is not None else "")))
     return out
+
+
+def itf_documents(machine, violations, source: str) -> list[dict]:
+    """The ITF of each counterexample of a list of the public API's violations (explore's and
+    bmc's: ``v.trace.raw`` is the replayed trace; an LTL/CTL result gives its lasso)."""
+    from ..report.gate import step_inputs
+    out = []
+    for v in violations:
+        raw = getattr(v, "raw", v)
+        loop = None
+        if hasattr(raw, "holds"):              # an LTL/CTL result
+            got = raw.trace()
+            if got is None:
+                continue
+            tr, loop, _ = got
+        else:
+            tr = v.trace.raw
+        name = getattr(getattr(raw, "prop", None), "name", None) or getattr(v, "property", "property")
+        desc = f"counterexample of {name} on {machine.spec.name}" + (
+            f", a lasso back to state {loop}" if loop is not None else "")
+        out.append(trace_itf(machine, tr, source=source, loop=loop, inputs=step_inputs(machine, tr),
+                             description=desc))
+    return out
