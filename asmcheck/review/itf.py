@@ -209,8 +209,11 @@ def itf_documents(machine, violations, source: str) -> list[dict]:
         else:
             tr = v.trace.raw
         name = getattr(getattr(raw, "prop", None), "name", None) or getattr(v, "property", "property")
-        desc = f"counterexample of {name} on {machine.spec.name}" + (
-            f", a lasso back to state {loop}" if loop is not None else "")
+        if hasattr(raw, "holds"):
+            desc = f"counterexample of {name} on {machine.spec.name}" + (
+                f", a lasso back to state {loop}" if loop is not None else "")
+        else:
+            desc = f"shortest counterexample of {name} on {machine.spec.name}"
         out.append(trace_itf(machine, tr, source=source, loop=loop, inputs=step_inputs(machine, tr),
                              description=desc))
     return out
