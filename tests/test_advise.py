@@ -127,3 +127,25 @@ def test_spec_of_specs_folder():
     assert v["CondRuleIsComplete"] == ("violated", 12)
     assert v["TrivialUpdate"] == ("violated", 7)
     assert v["RuleIsReached"] == ("satisfied", 0)
+
+
+def test_domain_used_inside_a_product_argument(tmp_path):
+    p = tmp_path / "prod.asm"
+    p.write_text("""asm prod
+import StandardLibrary
+signature:
+	enum domain Col = {AA | BB | CC}
+	enum domain Dir = {UP | DOWN}
+	controlled f: Prod(Prod(Col, Boolean), Dir) -> Boolean
+	controlled g: Prod(Col, Dir)
+definitions:
+	main rule r_main =
+		par
+			f((BB, true), UP) := true
+			g := (CC, UP)
+		endpar
+""")
+    doc = advise(str(p), groups={"5"})
+    (mp5,) = doc["meta_properties"]
+    assert [(w["domain"], w["used"], w["unused"]) for w in mp5["where"]] == [
+        ("Col", ["BB", "CC"], ["AA"]), ("Dir", ["UP"], ["DOWN"])]

@@ -208,8 +208,12 @@ class Review:
                 else:
                     f, args = funcs[key[0]], key[1]
                 for t, a in zip(f.domain, args):
-                    if t is d:
-                        used.add(vkey(a))
+                    for e in _parts(t, a, d):
+                        used.add(vkey(e))
+                if f.codomain is not d and f.kind != "monitored" and _holds(f.codomain, d):
+                    for v in self.obs.values_of(key):
+                        if v[0] != "repr" and v[1] is not None:
+                            used.update(vkey(e) for e in _parts(f.codomain, v[1], d))
                 if f.codomain is d:
                     if f.kind == "monitored":
                         used.update(vkey(e) for e in elems)
@@ -399,6 +403,25 @@ class Review:
                 verdict = "satisfied"
             out.append({"id": mid, "check": check, "name": name, "verdict": verdict, "where": where})
         return out
+
+
+def _parts(t, v, d):
+    """The components of value ``v`` (of type ``t``) that belong to domain ``d``: ``v`` itself, or
+    the matching components of a tuple of a product type."""
+    from ..semantics import types as T
+    if t is d:
+        return [v]
+    if isinstance(t, T.Struct) and t.kind == "Prod" and isinstance(v, tuple) and len(v) == len(t.args):
+        out = []
+        for ti, vi in zip(t.args, v):
+            out.extend(_parts(ti, vi, d))
+        return out
+    return []
+
+
+def _holds(t, d) -> bool:
+    from ..semantics import types as T
+    return isinstance(t, T.Struct) and t.kind == "Prod" and any(a is d or _holds(a, d) for a in t.args)
 
 
 def _name(path: str) -> str:
