@@ -25,7 +25,7 @@ def test_demo_every_check():
     assert (doc["states"], doc["transitions"], doc["configurations"], doc["failing_configurations"]) == (3, 3, 6, 3)
     assert [e["check"] for e in doc["meta_properties"]] == [c[1] for c in CHECKS] and len(CHECKS) == 16
     s = _summary(doc)
-    assert s["InconsistentUpdate"] == ("violated", [(None, "fooD", "inconsistent")])
+    assert s["InconsistentUpdate"] == ("violated", [(30, "fooD", "inconsistent")])
     mp1 = doc["meta_properties"][0]["where"][0]
     assert (mp1["pairs"], mp1["updates"]) == (1, [[30, "AA"], [31, "CC"]])
     assert s["CondRuleIsComplete"] == ("violated", [(30, None, "incomplete"), (31, None, "incomplete"),
@@ -39,16 +39,19 @@ def test_demo_every_check():
     assert s["DomainAllUsed"] == ("violated", [(6, "Col", "all_used"), (7, "Unused", "unuseful"),
                                                (8, "Small", "all_used")])
     assert s["ContrLocTakesEveryValue"][1] == [
-        (9, "fooA", "could_be_resized"), (None, "fooA", "could_be_resized"), (10, "fooB", "never_used"),
-        (None, "fooB", "never_used"), (11, "fooD", "never_used"), (None, "fooD", "never_used"),
-        (13, "never", "never_used"), (None, "never", "initialized_and_never_used"), (14, "u", "never_used"),
-        (None, "u", "initialized_and_never_used")]
-    assert s["LocationCouldBeRemoved"] == ("violated", [(None, "fooB", "used_only_in_unreachable_code"),
-                                                        (None, "never", "never_used"), (None, "u", "never_used")])
-    assert s["ContrLocIsUpdated"] == ("violated", [(None, "fooB", "never_updated"), (None, "never", "never_updated"),
-                                                   (None, "u", "never_updated")])
-    assert [x for x in s["ContrLocCouldBeStatic"][1] if x[0] is None] == [
-        (None, "fooA", "could_be_static"), (None, "fooB", "could_be_static"), (None, "fooD", "could_be_static")]
+        (9, "fooA", "could_be_resized"), (9, "fooA", "could_be_resized"), (10, "fooB", "never_used"),
+        (10, "fooB", "never_used"), (11, "fooD", "never_used"), (11, "fooD", "never_used"),
+        (13, "never", "never_used"), (13, "never", "initialized_and_never_used"), (14, "u", "never_used"),
+        (14, "u", "initialized_and_never_used")]
+    assert s["LocationCouldBeRemoved"] == ("violated", [(10, "fooB", "used_only_in_unreachable_code"),
+                                                        (13, "never", "never_used"), (14, "u", "never_used")])
+    assert s["ContrLocIsUpdated"] == ("violated", [(10, "fooB", "never_updated"), (13, "never", "never_updated"),
+                                                   (14, "u", "never_updated")])
+    assert s["ContrLocCouldBeStatic"][1] == [
+        (9, "fooA", "could_be_static"), (9, "fooA", "could_be_static"), (10, "fooB", "could_be_static"),
+        (10, "fooB", "could_be_static"), (11, "fooD", "could_be_static"), (11, "fooD", "could_be_static")]
+    kinds = [w["kind"] for w in doc["meta_properties"][11]["where"]]
+    assert kinds == ["function", "location"] * 3
     reached = s["RuleIsReached"][1]
     assert [x for x in reached if x[2] == "never_reached"] == [(33, "fooB", "never_reached"),
                                                                (34, "fooB", "never_reached")]
@@ -65,7 +68,7 @@ def test_text_lists_violations_first_with_their_line():
     assert lines[0] == ("advise advisor_demo (" + DEMO + "): 3 states, 3 transitions, 6 configurations, "
                         "3 of them fail")
     assert lines[2] == "MP1 InconsistentUpdate violated (No inconsistent update is ever performed): 1 finding"
-    assert lines[3] == "  location fooD: inconsistent (1 pair of updates: line 30 := AA, line 31 := CC)"
+    assert lines[3] == "  advisor_demo.asm:30:14  location fooD: inconsistent (1 pair of updates: line 30 := AA, line 31 := CC)"
     assert "  advisor_demo.asm:29:4  fooA := AA [fooA]: always_trivial" in lines
     assert lines[-1] == ("satisfied: MP2 CaseRuleIsComplete, MP3 ForallRuleIsEmpty, MP MacroCallRuleIsReached, "
                          "MP StatDerIsUsed")

@@ -385,6 +385,28 @@ class Review:
             out.extend(locs)
         return out
 
+    def _place(self, where: list) -> None:
+        """Give each location finding a source position: its function's declaration (an
+        inconsistent update: its first update site)."""
+        funcs = None
+        for w in where:
+            if w.get("line") or w["kind"] not in ("location", "function"):
+                continue
+            if funcs is None:
+                funcs = {f.name: f for f in user_functions(self.spec)}
+            name = (w.get("location") or w.get("function") or "").split("(")[0]
+            f = funcs.get(name)
+            if w.get("status") == "inconsistent":
+                key = next(k for k in self.obs.clash_example if self.loc(k) == w["location"])
+                sp = min((self.obs.clash_example[key][0].span, self.obs.clash_example[key][2].span),
+                         key=lambda x: (x.line, x.col))
+            elif f is not None:
+                sp = f.span
+            else:
+                continue
+            if sp is not None and sp.line:
+                w.update({"path": _name(sp.path), "line": sp.line, "column": sp.col})
+
     # ------------------------------------------------------------------ verdicts
     def run_checks(self, groups=None) -> list[dict]:
         out = []
@@ -392,6 +414,7 @@ class Review:
             if groups is not None and group not in groups:
                 continue
             where = getattr(self, check)()
+            self._place(where)
             if where and all(w["kind"] == "rule" for w in where):
                 where.sort(key=lambda w: (w["path"], w["line"], w["column"]))
             bad = any(w.get("status") in VIOLATING for w in where)
