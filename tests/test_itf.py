@@ -75,11 +75,10 @@ def test_documents_of_api_violations(monkeypatch):
     """itf_documents reads what the public API's violations carry: the replayed trace, or the
     temporal result's lasso."""
     from types import SimpleNamespace
-    from asmcheck.commands import _load
     from asmcheck.explore.bfs import Explorer
     from asmcheck.props.files import properties_for
     from asmcheck.report.trace import build_trace
-    from asmcheck.review.itf import itf_documents
+    from asmcheck.review.itf import itf_documents, load_machine as _load
     from asmcheck.temporal import check_temporal
     monkeypatch.chdir(ROOT)
     path = "specs/buggy/producer_consumer_reader_takes_writer_array.asm"

@@ -12,7 +12,7 @@ from .. import __version__
 from ..errors import AsmError
 from ..semantics import ir
 from ..semantics.values import show
-from .common import (Sources, all_locations, codomain_values, load_spec, rule_where, user_domains,
+from .common import (Sources, add_domain_options, all_locations, machine_options, codomain_values, load_spec, rule_where, user_domains,
                      user_functions)
 from .observe import Observations, vkey
 from .space import Space
@@ -543,11 +543,17 @@ def add_advise_options(p) -> None:
                                               "default: all 16)")
     p.add_argument("--max-states", type=int, default=200_000)
     p.add_argument("--max-seconds", type=float, default=None)
+    add_domain_options(p)
 
 
 def run_advise(args) -> int:
     import json
     import sys
+    try:
+        options = machine_options(args)
+    except ValueError as e:
+        sys.stderr.write(f"asmcheck advise: {e}\n")
+        return 2
     groups = None
     if args.mp:
         groups = {g.strip().lower().removeprefix("mp") for g in args.mp.split(",") if g.strip()}
@@ -557,7 +563,8 @@ def run_advise(args) -> int:
             return 2
         if "all" in groups:
             groups = None
-    doc = advise(args.file, groups=groups, max_states=args.max_states, max_seconds=args.max_seconds)
+    doc = advise(args.file, groups=groups, options=options, max_states=args.max_states,
+                 max_seconds=args.max_seconds)
     if args.format == "json":
         sys.stdout.write(json.dumps(doc, indent=1) + "\n")
     else:

@@ -128,3 +128,49 @@ def codomain_values(machine, f):
         return list(machine.domain_values(f.codomain, None, NO_SPAN))
     except AsmError:
         return None
+
+
+def add_domain_options(p) -> None:
+    p.add_argument("--monitored", action="append", default=[], metavar="NAME=LO..HI|v1,v2,..",
+                   help="the values a monitored function with an infinite codomain takes (repeatable)")
+    p.add_argument("--int-range", default=None, metavar="LO..HI", help="bound Integer and Natural to LO..HI")
+
+
+def _values(text: str) -> list:
+    if ".." in text:
+        lo, hi = text.split("..", 1)
+        try:
+            return list(range(int(lo), int(hi) + 1))
+        except ValueError:
+            raise ValueError(f"bad range {text!r}: expected LO..HI with integers") from None
+    out = []
+    for part in text.split(","):
+        p = part.strip()
+        if p in ("true", "false"):
+            out.append(p == "true")
+            continue
+        try:
+            out.append(int(p))
+        except ValueError:
+            try:
+                out.append(float(p))
+            except ValueError:
+                out.append(p.strip('"'))
+    return out
+
+
+def machine_options(args) -> dict:
+    """The machine's options from --monitored and --int-range (ValueError on a bad value)."""
+    opts: dict = {}
+    if getattr(args, "int_range", None):
+        r = _values(args.int_range)
+        opts["int_range"] = (min(r), max(r))
+    mons = {}
+    for item in getattr(args, "monitored", None) or []:
+        if "=" not in item:
+            raise ValueError(f"--monitored expects NAME=LO..HI or NAME=v1,v2,..., not {item!r}")
+        name, rng = item.split("=", 1)
+        mons[name.strip()] = _values(rng)
+    if mons:
+        opts["monitored_ranges"] = mons
+    return opts

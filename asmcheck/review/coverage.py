@@ -255,13 +255,20 @@ def coverage_main(argv=None) -> int:
     p.add_argument("--html", default=None)
     p.add_argument("--format", choices=["text", "json"], default="text")
     p.add_argument("--max-states", type=int, default=200_000)
+    from .common import add_domain_options, machine_options
+    add_domain_options(p)
     args = p.parse_args(argv)
+    try:
+        options = machine_options(args)
+    except ValueError as e:
+        sys.stderr.write(f"asmcheck coverage: {e}\n")
+        return 2
     try:
         if args.scenarios:
             doc, _ = scenario_coverage(args.files)
             title = f"{doc['spec']} by {len(args.files)} scenario(s)"
         else:
-            _, doc = explore_coverage(args.files[0], max_states=args.max_states)
+            _, doc = explore_coverage(args.files[0], options, max_states=args.max_states)
             title = f"{doc['spec']} over {doc['states']} states"
     except AsmError as e:
         sys.stderr.write(e.render() + "\n")

@@ -107,6 +107,14 @@ def trace_itf(machine, trace, *, source: str, description: str, loop: int | None
     return doc
 
 
+def load_machine(path: str, options=None):
+    """The spec and its (plain) machine."""
+    from ..semantics.machine import Machine
+    from .common import load_spec
+    spec = load_spec(path)
+    return spec, Machine(spec, dict(options or {}))
+
+
 def violation_itf(machine, explorer, violation, source: str) -> dict:
     """The ITF of the shortest counterexample of a violation found by the explorer."""
     from ..report.gate import step_inputs
@@ -120,11 +128,10 @@ def violation_itf(machine, explorer, violation, source: str) -> dict:
 def explore_itf(path: str, options=None, prop_files=None) -> list[dict]:
     """Explore ``path`` with its properties (the spec's, its default property files and
     ``prop_files``); the ITF of each counterexample of a state or step property."""
-    from ..commands import _load
     from ..explore.bfs import Explorer
     from ..props import spec_properties
     from ..props.files import properties_for
-    spec, machine = _load(path, options or {})
+    spec, machine = load_machine(path, options)
     sp, tp = spec_properties(machine)
     xs, xt, _ = properties_for(spec, machine, path, prop_files, use_default=True)
     ex = Explorer(machine, state_props=sp + xs, step_props=tp + xt)
@@ -132,13 +139,13 @@ def explore_itf(path: str, options=None, prop_files=None) -> list[dict]:
     return [violation_itf(machine, ex, v, path) for v in res.violations]
 
 
-def testgen_itf(path: str, criterion: str = "branch", max_states=None) -> list[dict]:
+def testgen_itf(path: str, criterion: str = "branch", max_states=None, options=None) -> list[dict]:
     """The ITF of each path testgen chooses."""
     from ..report.gate import step_inputs
     from .advise import Review
     from .common import load_spec
     from .testgen import generate, trace_of
-    rv = Review(load_spec(path), max_states=max_states, conditions=criterion == "mcdc")
+    rv = Review(load_spec(path), options, max_states=max_states, conditions=criterion == "mcdc")
     paths, *_ = generate(rv, criterion)
     out = []
     for i, p in enumerate(paths, start=1):
@@ -169,12 +176,11 @@ def itf_main(argv=None) -> int:
 
 def temporal_itf(path: str, options=None, prop_files=None) -> list[dict]:
     """The ITF of each LTL/CTL counterexample of ``path`` (a lasso carries ``loop``)."""
-    from ..commands import _load
     from ..explore.bfs import Explorer
     from ..props.files import properties_for
     from ..report.gate import step_inputs
     from ..temporal import check_temporal
-    spec, machine = _load(path, options or {})
+    spec, machine = load_machine(path, options)
     _, _, temporal = properties_for(spec, machine, path, prop_files, use_default=True)
     ex = Explorer(machine, keep_graph=True)
     ex.run()

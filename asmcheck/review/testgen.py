@@ -231,14 +231,23 @@ def add_testgen_options(p) -> None:
     p.add_argument("--format", choices=["text", "json", "itf"], default="text")
     p.add_argument("--max-states", type=int, default=200_000)
     p.add_argument("--max-seconds", type=float, default=None)
+    from .common import add_domain_options
+    add_domain_options(p)
 
 
 def run_testgen(args) -> int:
     import json
     import sys
     from ..errors import AsmError
+    from .common import machine_options
     try:
-        doc = testgen(args.file, args.criterion, args.out, max_states=args.max_states, max_seconds=args.max_seconds)
+        options = machine_options(args)
+    except ValueError as e:
+        sys.stderr.write(f"asmcheck testgen: {e}\n")
+        return 2
+    try:
+        doc = testgen(args.file, args.criterion, args.out, options=options, max_states=args.max_states,
+                      max_seconds=args.max_seconds)
     except AsmError as e:
         sys.stderr.write(e.render() + "\n")
         return 2
@@ -246,7 +255,7 @@ def run_testgen(args) -> int:
         sys.stdout.write(json.dumps({k: v for k, v in doc.items()}, indent=1) + "\n")
     elif args.format == "itf":
         from .itf import testgen_itf
-        sys.stdout.write(json.dumps(testgen_itf(args.file, args.criterion, args.max_states), indent=1) + "\n")
+        sys.stdout.write(json.dumps(testgen_itf(args.file, args.criterion, args.max_states, options), indent=1) + "\n")
     else:
         n = len(doc["scenarios"])
         lines = [f"testgen {doc['spec']} ({doc['criterion']}): {doc['coverable']} of {doc['targets']} targets "
