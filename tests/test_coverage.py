@@ -85,7 +85,8 @@ SPECS = {
 import pytest  # noqa: E402
 
 
-@pytest.mark.parametrize("name", sorted(SPECS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "visual_servoing.asm" else n
+                                  for n in sorted(SPECS)])
 def test_specs_coverage(name):
     totals, missing = SPECS[name]
     rv, doc = explore_coverage(str(ROOT / "specs" / name))

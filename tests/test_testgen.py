@@ -30,6 +30,7 @@ def test_demo_update_criterion():
     assert doc["written"] == [] and len(doc["scenarios"]) == 1
 
 
+@pytest.mark.slow
 def test_visual_servoing_spec(tmp_path):
     doc = generate_tests(str(ROOT / "specs" / "visual_servoing.asm"), "branch", str(tmp_path))
     assert doc["states"] == 5219
