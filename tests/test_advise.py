@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from asmcheck.review.advise import CHECKS, advise, advise_text, run_advise, advise_main
+from asmcheck.cli import main as cli_main
+from asmcheck.review.advise import CHECKS, advise, advise_text
 from conftest import ROOT, need_asmeta
 
 DEMO = str(ROOT / "tests" / "data" / "review" / "advisor_demo.asm")
@@ -75,10 +76,15 @@ def test_text_lists_violations_first_with_their_line():
 
 
 def test_mp_selection_and_exit_codes(capsys):
-    assert advise_main([DEMO, "--mp", "4", "--format", "json"]) == 1
+    assert cli_main(["advise", DEMO, "--mp", "4", "--format", "json"]) == 1
     doc = json.loads(capsys.readouterr().out)
     assert [e["check"] for e in doc["meta_properties"]] == ["TrivialUpdate"]
-    assert advise_main([DEMO, "--mp", "9"]) == 2
+    assert cli_main(["advise", DEMO, "--mp", "9"]) == 2
+    assert "--mp takes 1..7 and rules, not 9" in capsys.readouterr().err
+    assert cli_main(["advise", DEMO, "--mp", "1,rules"]) == 1
+    text = capsys.readouterr().out
+    assert "MP1 InconsistentUpdate violated" in text and "MP MacroRuleCalled violated" in text
+    assert "TrivialUpdate" not in text
 
 
 def test_deterministic():

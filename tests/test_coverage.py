@@ -97,3 +97,27 @@ def test_specs_coverage(name):
     # every rule that fires somewhere is covered: the uncovered rules are never reached (dead)
     never = {(w["line"], w["column"]) for w in rv.RuleIsReached() if w["status"] == "never_reached"}
     assert {(i["line"], i["column"]) for i in miss if i["criterion"] == "rule"} == never
+
+
+def test_command_line(tmp_path, capsys):
+    from asmcheck.cli import main
+    import json as _json
+    spec = str(ROOT / "specs" / "sb_sync_slave.asm")
+    html = tmp_path / "cov.html"
+    assert main(["explore", spec, "--coverage", str(html)]) == 0
+    text = capsys.readouterr().out
+    assert "coverage of sb_sync_slave over 267 states:\n  rule: 110 of 110 (100.0 %)" in text
+    assert html.read_text().count("class='l none'") == 0 and "class='l part'" in html.read_text()
+    assert main(["explore", spec, "--coverage", "--format", "json"]) == 0
+    doc = _json.loads(capsys.readouterr().out)
+    assert doc["coverage"]["criteria"]["branch"] == {"targets": 58, "covered": 56, "percent": 96.6}
+    out = tmp_path / "tests"
+    assert main(["testgen", spec, "--out", str(out)]) == 0
+    first = capsys.readouterr().out.split("\n")[0]
+    assert first == ("testgen sb_sync_slave (branch): 166 of 168 targets coverable, covered by 12 scenarios of "
+                     "47 steps in all (one scenario per target: 166 scenarios, 468 steps)")
+    assert main(["scenario", str(out), "--coverage"]) == 0
+    text = capsys.readouterr().out
+    assert "12 scenarios: 12 passed, 0 failed, 0 with input errors" in text
+    assert "coverage of sb_sync_slave by 12 scenarios:\n  rule: 110 of 110 (100.0 %)\n  branch: 56 of 58" in text
+    assert "true in every scenario step that reaches it" in text

@@ -4,7 +4,8 @@ import json
 
 import pytest
 
-from asmcheck.review.itf import explore_itf, itf_value, temporal_itf, testgen_itf as itf_of_tests
+from asmcheck.review.itf import explore_itf, itf_value, temporal_itf
+from asmcheck.review.testgen import testgen_itf as itf_of_tests
 from asmcheck.semantics.values import SetV, SeqV
 from conftest import ROOT
 
@@ -98,3 +99,23 @@ def test_documents_of_api_violations(monkeypatch):
     docs = itf_documents(m, results, path)
     assert [(len(d["states"]), d["loop"]) for d in docs] == [(3, 2), (3, 2), (3, 2)]
     assert docs == temporal_itf(path)
+
+
+def test_command_line(capsys, monkeypatch):
+    from asmcheck.cli import main
+    monkeypatch.chdir(ROOT)
+    spec = "specs/buggy/producer_consumer_reader_takes_writer_array.asm"
+    assert main(["explore", spec, "--format", "itf"]) == 1
+    (doc,) = json.loads(capsys.readouterr().out)
+    assert json.dumps(doc, indent=1) + "\n" == GOLDEN.read_text()
+    assert main(["bmc", spec, "-k", "6", "--format", "itf"]) == 1
+    (doc,) = json.loads(capsys.readouterr().out)
+    tr = _valid(doc)
+    assert len(tr.states) == 6 and doc["#meta"]["description"].endswith("inv_no_concurrent_rw on "
+                                                                      "producer_consumer_reader_takes_writer_array")
+    assert main(["explore", "specs/temporal/peterson.asm", "--format", "itf"]) == 1
+    docs = json.loads(capsys.readouterr().out)
+    assert [(len(d["states"]), d["loop"]) for d in docs] == [(3, 2), (3, 2), (3, 2)]
+    assert main(["testgen", "specs/sb_async_master.asm", "--format", "itf"]) == 0
+    docs = json.loads(capsys.readouterr().out)
+    assert len(docs) == 11 and all(_valid(d) for d in docs)

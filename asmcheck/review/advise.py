@@ -12,7 +12,7 @@ from .. import __version__
 from ..errors import AsmError
 from ..semantics import ir
 from ..semantics.values import show
-from .common import (Sources, add_domain_options, all_locations, machine_options, codomain_values, load_spec, rule_where, user_domains,
+from .common import (Sources, add_domain_options, all_locations, machine_options, use_import_path, codomain_values, load_spec, rule_where, user_domains,
                      user_functions)
 from .observe import Observations, vkey
 from .space import Space
@@ -524,18 +524,6 @@ def advise_text(doc: dict) -> list[str]:
     return lines
 
 
-def advise_main(argv=None) -> int:
-    """``asmcheck advise FILE [--format json|text] [--mp 1,2,..]``: exit 0 satisfied, 1 violated,
-    2 error, 3 incomplete."""
-    import argparse
-    import json
-    import sys
-    p = argparse.ArgumentParser(prog="asmcheck advise", description="AsmetaMA's model-advisor checks, exactly")
-    add_advise_options(p)
-    args = p.parse_args(argv)
-    return run_advise(args)
-
-
 def add_advise_options(p) -> None:
     p.add_argument("file")
     p.add_argument("--format", choices=["text", "json"], default="text")
@@ -554,6 +542,8 @@ def run_advise(args) -> int:
     except ValueError as e:
         sys.stderr.write(f"asmcheck advise: {e}\n")
         return 2
+    if getattr(args, "import_path", None):
+        use_import_path(args.import_path)
     groups = None
     if args.mp:
         groups = {g.strip().lower().removeprefix("mp") for g in args.mp.split(",") if g.strip()}

@@ -174,3 +174,15 @@ def machine_options(args) -> dict:
     if mons:
         opts["monitored_ranges"] = mons
     return opts
+
+
+def use_import_path(dirs) -> None:
+    """The folders searched for imports not found beside the importing file (the ``-I`` option)."""
+    import os
+    from ..errors import UsageError
+    from ..semantics.resolve import set_import_path
+    dirs = [os.fspath(d) for d in dirs or ()]
+    for d in dirs:
+        if not os.path.isdir(d):
+            raise UsageError(f"--import-path {d}: no such folder")
+    set_import_path(os.path.abspath(d) for d in dirs)

@@ -111,7 +111,7 @@ def coverage(unf, obs, sources: Sources | None = None, *, whole_space: bool = Tr
 
 def _why(node, key, obs, parents, sources, whole_space) -> str:
     acts = obs.node_configs.get(id(node), 0)
-    run = "configuration" if whole_space else "scenario step"
+    run = "reachable configuration" if whole_space else "scenario step"
     if key[0] in ("rule", "update") and not acts:
         p = parents.get(id(node))
         seen = set()
@@ -124,24 +124,24 @@ def _why(node, key, obs, parents, sources, whole_space) -> str:
                 if isinstance(encl, ir.If):
                     want = "true" if label == "then" else "false"
                     return (f"the enclosing if (line {encl.span.line}) never has its guard {ctext} {want} "
-                            f"in a reachable {run}")
-                return f"the enclosing switch (line {encl.span.line}) never takes this case in a reachable {run}"
+                            f"in a {run}")
+                return f"the enclosing switch (line {encl.span.line}) never takes this case in a {run}"
             if label is None and isinstance(encl, (ir.Choose, ir.Forall)) and obs.node_configs.get(id(encl), 0):
                 return (f"the enclosing {rule_kind(encl)} (line {encl.span.line}) never finds an element "
-                        f"satisfying its condition in a reachable {run}")
+                        f"satisfying its condition in a {run}")
             p = parents.get(id(encl))
-        return f"no reachable {run} runs the rule that holds it"
+        return f"no {run} runs the rule that holds it"
     if key[0] == "update":
-        return f"it runs, but its location or value cannot be computed (a step error) in every reachable {run}"
+        return f"it runs, but its location or value cannot be computed (a step error) in every {run}"
     if not acts:
         return f"the {rule_kind(node)} itself is never reached"
     if isinstance(node, ir.If):
         ctext = sources.excerpt(node.cond.span)
         return (f"the guard {ctext} is " + ("false" if key[2] == "then" else "true") +
-                f" in every reachable {run} that reaches it")
+                f" in every {run} that reaches it")
     if isinstance(node, ir.SwitchRule):
-        return f"the subject {sources.excerpt(node.subject.span)} never matches this case in a reachable {run}"
-    return f"not taken in any reachable {run}"
+        return f"the subject {sources.excerpt(node.subject.span)} never matches this case in a {run}"
+    return f"not taken in any {run}"
 
 
 def coverage_text(doc: dict, title: str) -> list[str]:
@@ -240,47 +240,6 @@ def scenario_coverage(paths: list[str], max_until: int = 1000) -> tuple[dict, li
 def add_coverage_options(p) -> None:
     p.add_argument("--coverage", nargs="?", const="-", default=None, metavar="HTML",
                    help="report rule, branch and update coverage (with a file name: also the HTML view)")
-
-
-def coverage_main(argv=None) -> int:
-    """``coverage FILE [--html OUT] [--format json]`` over the explored state space, or
-    ``coverage --scenarios S.avalla ..`` over scenarios."""
-    import argparse
-    import json
-    import sys
-    from ..errors import AsmError
-    p = argparse.ArgumentParser(prog="asmcheck coverage")
-    p.add_argument("files", nargs="+", help="a spec, or scenarios with --scenarios")
-    p.add_argument("--scenarios", action="store_true", help="the files are Avalla scenarios")
-    p.add_argument("--html", default=None)
-    p.add_argument("--format", choices=["text", "json"], default="text")
-    p.add_argument("--max-states", type=int, default=200_000)
-    from .common import add_domain_options, machine_options
-    add_domain_options(p)
-    args = p.parse_args(argv)
-    try:
-        options = machine_options(args)
-    except ValueError as e:
-        sys.stderr.write(f"asmcheck coverage: {e}\n")
-        return 2
-    try:
-        if args.scenarios:
-            doc, _ = scenario_coverage(args.files)
-            title = f"{doc['spec']} by {len(args.files)} scenario(s)"
-        else:
-            _, doc = explore_coverage(args.files[0], options, max_states=args.max_states)
-            title = f"{doc['spec']} over {doc['states']} states"
-    except AsmError as e:
-        sys.stderr.write(e.render() + "\n")
-        return 2
-    if args.html:
-        from pathlib import Path
-        Path(args.html).write_text(coverage_html(doc, title), encoding="utf-8")
-    if args.format == "json":
-        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
-    else:
-        sys.stdout.write("\n".join(coverage_text(doc, title)) + "\n")
-    return 0
 
 
 def cli_coverage(path: str, target: str, options=None, *, fmt: str = "text", max_states=None, max_seconds=None):

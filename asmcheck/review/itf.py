@@ -139,41 +139,6 @@ def explore_itf(path: str, options=None, prop_files=None) -> list[dict]:
     return [violation_itf(machine, ex, v, path) for v in res.violations]
 
 
-def testgen_itf(path: str, criterion: str = "branch", max_states=None, options=None) -> list[dict]:
-    """The ITF of each path testgen chooses."""
-    from ..report.gate import step_inputs
-    from .advise import Review
-    from .common import load_spec
-    from .testgen import generate, trace_of
-    rv = Review(load_spec(path), options, max_states=max_states, conditions=criterion == "mcdc")
-    paths, *_ = generate(rv, criterion)
-    out = []
-    for i, p in enumerate(paths, start=1):
-        tr = trace_of(rv, p)
-        out.append(trace_itf(rv.space.machine, tr, source=path, inputs=step_inputs(rv.space.machine, tr),
-                             description=f"{rv.spec.name}_test{i}: test {i} of testgen ({criterion})"))
-    return out
-
-
-def itf_main(argv=None) -> int:
-    """``itf FILE [-p PROPS]``: the ITF of each counterexample (a JSON list)."""
-    import argparse
-    import json
-    import sys
-    from ..errors import AsmError
-    p = argparse.ArgumentParser(prog="asmcheck itf")
-    p.add_argument("file")
-    p.add_argument("-p", "--properties", action="append", default=None)
-    args = p.parse_args(argv)
-    try:
-        docs = explore_itf(args.file, prop_files=args.properties)
-    except AsmError as e:
-        sys.stderr.write(e.render() + "\n")
-        return 2
-    sys.stdout.write(json.dumps(docs, indent=1) + "\n")
-    return 1 if docs else 0
-
-
 def temporal_itf(path: str, options=None, prop_files=None) -> list[dict]:
     """The ITF of each LTL/CTL counterexample of ``path`` (a lasso carries ``loop``)."""
     from ..explore.bfs import Explorer

@@ -245,6 +245,9 @@ def run_testgen(args) -> int:
     except ValueError as e:
         sys.stderr.write(f"asmcheck testgen: {e}\n")
         return 2
+    if getattr(args, "import_path", None):
+        from .common import use_import_path
+        use_import_path(args.import_path)
     try:
         doc = testgen(args.file, args.criterion, args.out, options=options, max_states=args.max_states,
                       max_seconds=args.max_seconds)
@@ -254,7 +257,6 @@ def run_testgen(args) -> int:
     if args.format == "json":
         sys.stdout.write(json.dumps({k: v for k, v in doc.items()}, indent=1) + "\n")
     elif args.format == "itf":
-        from .itf import testgen_itf
         sys.stdout.write(json.dumps(testgen_itf(args.file, args.criterion, args.max_states, options), indent=1) + "\n")
     else:
         n = len(doc["scenarios"])
@@ -278,8 +280,17 @@ def run_testgen(args) -> int:
     return 0
 
 
-def testgen_main(argv=None) -> int:
-    import argparse
-    p = argparse.ArgumentParser(prog="asmcheck testgen", description="Avalla scenarios covering a spec")
-    add_testgen_options(p)
-    return run_testgen(p.parse_args(argv))
+def testgen_itf(path: str, criterion: str = "branch", max_states=None, options=None) -> list[dict]:
+    """The ITF of each path testgen chooses."""
+    from ..report.gate import step_inputs
+    from .advise import Review
+    from .common import load_spec
+    from .itf import trace_itf
+    rv = Review(load_spec(path), options, max_states=max_states, conditions=criterion == "mcdc")
+    paths, *_ = generate(rv, criterion)
+    out = []
+    for i, p in enumerate(paths, start=1):
+        tr = trace_of(rv, p)
+        out.append(trace_itf(rv.space.machine, tr, source=path, inputs=step_inputs(rv.space.machine, tr),
+                             description=f"{rv.spec.name}_test{i}: test {i} of testgen ({criterion})"))
+    return out
