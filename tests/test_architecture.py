@@ -14,7 +14,7 @@ PKG = ROOT / "asmcheck"
 
 # the pipeline, lowest first: a module may import modules of its own layer or of lower ones
 LAYERS = [
-    ("base", ["asmcheck.errors", "asmcheck.version", "asmcheck.stdlib"]),
+    ("base", ["asmcheck.errors", "asmcheck.version", "asmcheck.stdlib", "asmcheck.cache"]),
     ("syntax", ["asmcheck.syntax"]),
     ("semantics", ["asmcheck.semantics"]),
     ("props", ["asmcheck.props"]),

@@ -14,7 +14,8 @@ def run(args) -> int:
     model = api.load(args.file, **load_options(args))
     use_bar = args.format == "text"
     with (Progress() if use_bar else _NoProgress()) as progress:
-        run_ = model.explore(graph=bool(args.graph), progress=progress, **explore_options(args))
+        run_ = model.explore(graph=bool(args.graph), progress=progress, warn=lambda msg: error(f"asmcheck: {msg}"),
+                             **explore_options(args))
     try:
         violations = run_.violations
     except api.ReplayError as e:
@@ -47,7 +48,9 @@ def run(args) -> int:
     color = color_on()
     r = run_.result
     out(f"{Path(args.file).name}: {r.states:,} states, {r.transitions:,} transitions, "
-        f"depth {r.depth}, {r.seconds:.2f} s")
+        f"depth {r.depth}, {r.seconds:.2f} s, {run_.engine} engine")
+    if run_.engine_note:
+        out(f"  (native engine not used: {run_.engine_note})")
     verdict_rows([(row["property"], row["verdict"]) for row in run_.rows])
     for v in violations:
         if hasattr(v.raw, "holds"):
