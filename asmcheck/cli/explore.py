@@ -91,9 +91,8 @@ def run(args) -> int:
 
 def _coverage(args, fmt):
     """``--coverage[=OUT.html]``: rule, branch and update coverage over the explored configurations."""
-    from ..review.coverage import cli_coverage
-    return cli_coverage(args.file, args.coverage, load_options(args), fmt=fmt, max_states=args.max_states,
-                        max_seconds=args.max_seconds)
+    from ..review.coverage import explore_coverage_for
+    return explore_coverage_for(args, fmt)
 
 
 class _NoProgress:
