@@ -512,6 +512,10 @@ class Exploration:
         self.depth = result.depth
         self.seconds = result.seconds
         self.engine = getattr(result, "engine", "python")
+        # why the native engine did not run this search ("" when it did, or was not asked)
+        self.engine_note = getattr(result, "native_refused", "") if self.engine == "python" else ""
+        # seconds spent compiling the native engine (0.0 when it came from the cache)
+        self.compile_seconds = float(getattr(explorer, "compile_seconds", 0.0) or 0.0)
         self._violations = None
 
     @property
@@ -604,11 +608,14 @@ class Exploration:
             "depth": r.depth,
             "seconds": round(r.seconds, 3),
             "engine": self.engine,
+            "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
                             "trace": v.trace.json()} for v in self.violations if not hasattr(v.raw, "holds")]
                           + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
         }
+        if self.engine_note:
+            out["engine_note"] = f"native engine not used: {self.engine_note}"
         if r.reason:
             out["incomplete"] = r.reason
         return out

@@ -197,7 +197,8 @@ def test_the_command_line_uses_the_api_only():
         for target, _, line in found:
             t = internal(target)
             if t is None or t.startswith("asmcheck.cli") or t in ("asmcheck.api", "asmcheck.version",
-                                                                   "asmcheck.errors"):
+                                                                   "asmcheck.errors") or \
+                    t.startswith("asmcheck.review"):      # the review tools, beside the API
                 continue
             if t == "asmcheck.lsp" and mod == "asmcheck.cli.lsp":
                 continue        # `asmcheck lsp` starts the language server, which sits beside the command line
