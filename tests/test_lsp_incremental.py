@@ -93,3 +93,17 @@ def test_edit_inside_a_rule_moves_what_follows(tmp_path):
     assert dump(spec) == dump(parse_text(new, path))
     assert [(r.name, r.span.line) for r in spec.rules] == [("r_a", 6), ("r_b", 8), ("r_main", 9)]
     assert spec.inits[0].functions[0].span.line == 11
+
+
+def test_edit_of_the_declaration_that_ends_the_file(tmp_path):
+    text = ("asm T\nimport StandardLibrary\nsignature:\n\tcontrolled f: Boolean\ndefinitions:\n"
+            "main rule r_main = f := true and false\n")
+    path = str(tmp_path / "T.asm")
+    inc = IncrementalParser(path)
+    inc.parse(text)
+    for new in (text.replace("main rule", "\nmain rule"), text.replace("false", "false\n\t\tor true")):
+        spec = inc.parse(new)
+        assert inc.last_was_partial
+        assert dump(spec) == dump(parse_text(new, path))
+        text = new
+    assert (spec.span.end_line, spec.span.end_col) == (7, 10)      # after "\t\tor true" on line 7

@@ -77,6 +77,7 @@ class Item:
     end: int
     line: int           # first and last line (1-based)
     end_line: int
+    end_col: int        # just after its last character (1-based)
     symbol: str         # the start symbol that parses it alone
     where: tuple        # where its node is in the Spec: ("rules", 3), ("main",), ("inits", 0, "functions", 2)
 
@@ -120,7 +121,7 @@ def _items(tree: Tree, spec: A.Spec) -> list[Item] | None:
         counts[field] += 1
         if symbol is not None:
             m = t.meta
-            out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, symbol, (field, idx)))
+            out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, m.end_column, symbol, (field, idx)))
 
     for c in (sig.children if sig is not None else []):
         if not isinstance(c, Tree):
@@ -140,7 +141,7 @@ def _items(tree: Tree, spec: A.Spec) -> list[Item] | None:
         return None
     if main is not None:
         m = main.meta
-        out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, "main_decl", ("main",)))
+        out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, m.end_column, "main_decl", ("main",)))
     init = next((c for c in tree.children if isinstance(c, Tree) and c.data == "init_section"), None)
     if init is not None:
         blocks = [c for c in init.children if isinstance(c, Tree) and c.data == "init_block"]
@@ -153,10 +154,10 @@ def _items(tree: Tree, spec: A.Spec) -> list[Item] | None:
                 return None
             for i, c in enumerate(doms):
                 m = c.meta
-                out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, "domain_init", ("inits", b, "domains", i)))
+                out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, m.end_column, "domain_init", ("inits", b, "domains", i)))
             for i, c in enumerate(funcs):
                 m = c.meta
-                out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, "function_init",
+                out.append(Item(m.start_pos, m.end_pos, m.line, m.end_line, m.end_column, "function_init",
                                 ("inits", b, "functions", i)))
     out.sort(key=lambda it: it.start)
     return out
@@ -177,7 +178,10 @@ class IncrementalParser:
             if text == st.text:
                 SOURCES.add(self.path, text)
                 return st.spec
-            spec = self._partial(st, text)
+            try:
+                spec = self._partial(st, text)
+            except Exception:                 # never worse than parsing the whole text
+                spec = None
             if spec is not None:
                 self.last_was_partial = True
                 return spec
@@ -232,9 +236,12 @@ class IncrementalParser:
             return None
         lines_delta = text.count("\n", it.start, new_end) - old.count("\n", it.start, it.end)
         new_spec = _replace(spec, it.where, node)
+        m = tree.meta
+        ends_file = (spec.span.end_line, spec.span.end_col) == (it.end_line, it.end_col)
         new_items = [dataclasses.replace(x) for x in items]
         new_items[k].end = new_end
-        new_items[k].end_line = it.end_line + lines_delta
+        new_items[k].end_line = m.end_line
+        new_items[k].end_col = m.end_column
         for x in new_items[k + 1:]:
             x.start += delta
             x.end += delta
@@ -243,6 +250,8 @@ class IncrementalParser:
         if lines_delta:
             after = it.end_line           # every span that starts on a later line moves
             _shift_spec(new_spec, items[k + 1:], after, lines_delta)
+        if ends_file:                         # the declaration ends the file: so does the new one
+            new_spec.span = Span(spec.span.path, spec.span.line, spec.span.col, m.end_line, m.end_column)
         SOURCES.add(self.path, text)
         self.state = State(text, new_spec, new_items)
         return new_spec
