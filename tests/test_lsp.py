@@ -414,3 +414,30 @@ async def test_settings_import_path_and_monitored_bounds(client: LanguageClient,
         command="asmcheck.explore", arguments=[uri]))
     assert result["verdict"] == "holds"
     assert result["summary"].startswith("Car: 2 states, 4 transitions, depth 1")  # as the CLI with -I and --monitored
+
+
+@pytest.mark.asyncio
+async def test_cancelling_the_request_stops_the_run(client: LanguageClient, tmp_path):
+    spec = tmp_path / "Count.asm"
+    spec.write_text("asm Count\nimport StandardLibrary\nsignature:\n\tcontrolled n: Integer\ndefinitions:\n"
+                    "\tmain rule r_main = n := n + 1\ndefault init s0:\n\tfunction n = 0\n", encoding="utf-8")
+    uri = await _open(client, spec)
+    before = set(client.progress_reports)
+    task = asyncio.ensure_future(client.protocol.send_request_async(
+        lsp.WORKSPACE_EXECUTE_COMMAND, lsp.ExecuteCommandParams(command="asmcheck.explore", arguments=[uri]),
+        msg_id="explore-1"))
+    for _ in range(200):        # wait until the run reports progress, then cancel the request itself
+        tokens = [t for t in client.progress_reports if t not in before]
+        if tokens and any(v.kind == "report" for v in client.progress_reports[tokens[0]]):
+            break
+        await asyncio.sleep(0.05)
+    assert tokens, "no $/progress arrived"
+    client.protocol.notify(lsp.CANCEL_REQUEST, lsp.CancelParams(id="explore-1"))
+    with pytest.raises(Exception, match="cancel"):
+        await asyncio.wait_for(task, 20)
+    for _ in range(200):        # the exploration stops: its progress ends as cancelled
+        if client.progress_reports[tokens[0]][-1].kind == "end":
+            break
+        await asyncio.sleep(0.05)
+    assert client.progress_reports[tokens[0]][-1].kind == "end"
+    assert client.progress_reports[tokens[0]][-1].message == "cancelled"

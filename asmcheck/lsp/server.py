@@ -17,6 +17,7 @@ from pathlib import Path
 
 from lsprotocol import types as lsp
 from pygls.lsp.server import LanguageServer
+from pygls.protocol import LanguageServerProtocol
 from pygls.uris import from_fs_path, to_fs_path
 
 from .. import __version__
@@ -69,9 +70,20 @@ def _path_of(uri: str) -> str | None:
     return to_fs_path(uri)
 
 
+class _Protocol(LanguageServerProtocol):
+    """pygls' protocol, which also stops a run whose request the client cancels ($/cancelRequest)."""
+
+    def _handle_cancel_notification(self, msg_id):
+        ev = self._server.request_events.get(msg_id)
+        if ev is not None:
+            ev.set()
+        super()._handle_cancel_notification(msg_id)
+
+
 class AsmServer(LanguageServer):
     def __init__(self) -> None:
-        super().__init__("asmcheck", __version__)
+        super().__init__("asmcheck", __version__, protocol_cls=_Protocol)
+        self.request_events: dict = {}                           # request id -> event of its run
         self.docs: dict[str, Doc] = {}
         self.settings = runs.Settings()
         self.root_dir: str | None = None
@@ -573,6 +585,9 @@ async def _with_progress(ls: AsmServer, title: str, work):
     """Run ``work(report, cancelled)`` in a thread under a cancellable $/progress."""
     token = str(uuid.uuid4())
     event = threading.Event()
+    request = ls.protocol.msg_id              # the workspace/executeCommand request this run answers
+    if request is not None:
+        ls.request_events[request] = event
     use = _progress_supported(ls)
     if use:
         try:
@@ -595,6 +610,8 @@ async def _with_progress(ls: AsmServer, title: str, work):
         event.set()
         raise
     finally:
+        if request is not None:
+            ls.request_events.pop(request, None)
         if use:
             ls.cancel_events.pop(token, None)
             ls.work_done_progress.end(token, lsp.WorkDoneProgressEnd(
