@@ -86,6 +86,14 @@ def cmd_simulate(args) -> int:
     from .semantics.values import show
     from .simulate import read_inputs, simulate
 
+    if getattr(args, "swarm", None) is not None:
+        from .parallel.cli import cmd_swarm
+        from .props import spec_properties
+        from .props.files import properties_for
+        spec, machine = _load(args.file, machine_options(args))
+        sp, stp = spec_properties(machine)
+        es, est, temporal = properties_for(spec, machine, args.file, None)
+        return cmd_swarm(args, spec, machine, sp + es, stp + est, temporal)
     spec, machine = _load(args.file, {**machine_options(args), "dedupe": False})
     inputs = read_inputs(args.input) if args.input else None
     if args.random and args.seed is None:
@@ -218,6 +226,8 @@ def register(sub) -> None:
     p.add_argument("--format", choices=["text", "asmeta", "json"], default="text",
                    help="text: changes per step; asmeta: ASMETA's <State n (controlled)> blocks; json")
     _add_domain_options(p)
+    from .parallel.cli import add_simulate_options
+    add_simulate_options(p)
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("conform", help="check a transcript of ASMETA's simulator against asmcheck",

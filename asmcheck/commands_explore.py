@@ -41,7 +41,11 @@ def run_exploration(path: str, args, prop_files=None):
     engine = getattr(args, "engine", "auto")
     ex = None
     has_invar = any(p.kind == "invar" for p in spec.properties)
-    if engine != "python" and not keep_graph and not step_props and not has_invar:
+    from .parallel import cli as scaling
+    if scaling.wanted(args):
+        ex, result = scaling.explore(path, machine, state_props, step_props, temporal, args, keep_graph=keep_graph,
+                                     progress=progress, options=machine_options(args), prop_files=prop_files)
+    elif engine != "python" and not keep_graph and not step_props and not has_invar:
         from .explore.native import NativeExplorer, Unsupported
         try:
             ex = NativeExplorer(machine, max_states=args.max_states, max_depth=args.max_depth,
@@ -119,6 +123,8 @@ def cmd_explore(args) -> int:
         }
         if result.reason:
             out["incomplete"] = result.reason
+        if getattr(result, "bitstate", None):
+            out["bitstate"] = result.bitstate
         print(json.dumps(out, indent=2))
         return code
     color = sys.stdout.isatty() and not os.environ.get("NO_COLOR")
@@ -143,6 +149,8 @@ def cmd_explore(args) -> int:
                 print(line)
     if result.reason:
         print(f"incomplete: {result.reason}")
+    for line in getattr(result, "notes", ()):
+        print(line)
     print(f"verdict: {result.verdict}")
     return code
 
@@ -186,6 +194,8 @@ def add_explore_options(p) -> None:
                    help="weak fairness for LTL/CTL: every agent of DOMAIN (or every choice, 'all') that is "
                         "continuously enabled eventually moves")
     _add_domain_options(p)
+    from .parallel.cli import add_explore_options as add_scaling_options
+    add_scaling_options(p)
 
 
 def register(sub) -> None:

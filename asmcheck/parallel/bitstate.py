@@ -119,7 +119,7 @@ class BitstateExplorer(Explorer):
         r = self.report()
         return (f"bitstate search: 2^{r['bits']} bits ({_size(r['table_bytes'])}), {K} hashes, {r['fill']:.2%} set; "
                 f"probability that a reachable state was missed <= {_p(r['p_missed'])} "
-                f"(expected states missed directly {_p(r["expected_missed"])})")
+                f"(expected states missed directly {_p(r['expected_missed'])})")
 
 
 class _Count:

@@ -148,7 +148,8 @@ def _walk_temporal(machine, state_props, step_props, temporal, fair, w, path, wa
         keep[w] = (ex, results)
     for k, r in enumerate(results):
         if not r.holds and getattr(r, "verdict", None) != "error" and not getattr(r, "message", ""):
-            note(r.name, Found("ltl", k, last, w, path[:last + 1]))
+            # its length: the lasso's states (steps to the loop and around it once)
+            note(r.name, Found("ltl", k, len(r.nodes) or last, w, path[:last + 1]))
 
 
 def merge(parts: list, walks: int, depth: int, seed: int) -> SwarmResult:
