@@ -72,7 +72,7 @@ class Recipe:
 def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes", state_props=(),
                         step_props=(), deadlock=False, max_states=None, max_depth=None, max_seconds=None,
                         keep_graph=False, progress=None, memory_share=None, recipe: Recipe | None = None,
-                        cluster: str | None = None, make_expander=None):
+                        cluster: str | None = None, make_expander=None, on_level=None):
     """Explore ``machine`` with the states partitioned among ``workers`` partitions.
 
     ``backend``: 'inline' (partitions in this process: simulated workers), 'processes' (forked
@@ -104,7 +104,7 @@ def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes"
         search = PartitionedSearch(b, PythonExpander(machine, state_props, step_props, deadlock),
                                    state_props=state_props, step_props=step_props, deadlock=deadlock,
                                    max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
-                                   keep_graph=keep_graph, progress=progress)
+                                   keep_graph=keep_graph, progress=progress, on_level=on_level)
         result = search.run()
         ex = PartitionedExplorer(machine, search, state_props, step_props, deadlock, keep_graph)
         ex.finish(result)

@@ -200,4 +200,6 @@ def cmd_swarm(args, spec, machine, state_props, step_props, temporal) -> int:
 def _row(f, note="") -> str:
     if f is None:
         return "no violation found" + note
+    if f.prop_kind == "ltl":
+        return f"violated (shortest lasso found: {f.length} states, walk {f.walk})"
     return f"violated (shortest found: {f.length} step{'s' if f.length != 1 else ''}, walk {f.walk})"

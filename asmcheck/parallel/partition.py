@@ -96,6 +96,7 @@ class Partition:
         self.sources = []
         report = {"transitions": 0, "failures": failures, "stopped": None, "expanded": 0}
         try:
+            self._check_memory()
             for count, sid in enumerate(self.frontier):
                 if deadline is not None and time.monotonic() > deadline:
                     report["stopped"] = "time"

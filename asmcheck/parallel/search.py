@@ -61,7 +61,7 @@ class PartitionedSearch:
 
     def __init__(self, backend, expander, *, state_props=(), step_props=(), deadlock=False,
                  max_states=None, max_depth=None, max_seconds=None,
-                 keep_graph=False, progress=None):
+                 keep_graph=False, progress=None, on_level=None):
         self.b = backend
         self.x = expander
         self.n = backend.n
@@ -73,6 +73,7 @@ class PartitionedSearch:
         self.max_seconds = max_seconds
         self.keep_graph = keep_graph
         self.progress = progress
+        self.on_level = on_level        # called as on_level(search, depth) after each level
         self.owner = bytearray()        # owner of each state number
         self.edges: list = []
         self.levels: list = []          # per level: (depth, frontier size, new states, seconds)
@@ -220,6 +221,8 @@ class PartitionedSearch:
                 depth_seen = depth
             if self.progress is not None:
                 self.progress(n_states, depth, transitions, time.perf_counter() - t0)
+            if self.on_level is not None:
+                self.on_level(self, depth)
             if not stop and self.max_seconds is not None and time.monotonic() > deadline and frontier_size:
                 incomplete = True
                 reason = f"time limit {self.max_seconds} s reached"
