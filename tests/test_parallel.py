@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from asmcheck.commands import _load
+from asmcheck.props.load import load_machine as _load
 from asmcheck.explore.bfs import Explorer
 from asmcheck.parallel import WorkerLost, explore_partitioned, parse_workers
 from asmcheck.parallel import partition as partition_module
@@ -211,13 +211,27 @@ def test_cli_workers_prints_what_one_worker_prints():
     assert j1 == j2
 
 
-def test_cli_workers_usage_errors():
+COUNTER = """asm Counter
+import StandardLibrary
+signature:
+	dynamic controlled n: Integer
+definitions:
+	invariant inv_small over n: n < 10
+	main rule r_main = if n < 5 then n := n + 1 endif
+default init s0:
+	function n = 0
+"""
+
+
+def test_cli_workers_usage_errors(write_spec):
     r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "0")
     assert r.returncode == 2 and "--workers expects 1 to 255 workers, not 0" in r.stderr
     r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "many")
     assert r.returncode == 2 and "--workers expects a number or 'auto', not 'many'" in r.stderr
-    r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "2", "--engine", "native")
+    r = run_cli("explore", write_spec(COUNTER), "--workers", "2", "--engine", "native")
     assert r.returncode == 2 and "drop --engine native" in r.stderr
+    r = run_cli("explore", write_spec(COUNTER), "--workers", "2")
+    assert r.returncode == 0 and r.stdout.startswith("Counter.asm: 6 states, 6 transitions, depth 5, ")
     assert parse_workers("auto") >= 1 and parse_workers(None) == 1
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from asmcheck.commands import _load
+from asmcheck.props.load import load_machine as _load
 from asmcheck.explore.bfs import Explorer
 from asmcheck.parallel.bitstate import BitstateExplorer
 from asmcheck.parallel.swarm import swarm, swarm_traces

@@ -49,19 +49,27 @@ class Recipe:
     use_default: bool = True
     import_path: list = field(default_factory=list)
     deadlock: bool = False
+    state_names: list | None = None     # the properties checked (None: all that apply), in order
+    step_names: list | None = None
 
     def load(self):
-        from ..commands import _load
         from ..props import spec_properties
         from ..props.files import properties_for
+        from ..props.load import load_machine
         from ..semantics.resolve import set_import_path
         if self.import_path:
             set_import_path(self.import_path)
-        spec, machine = _load(self.path, self.options)
+        spec, machine = load_machine(self.path, self.options)
         state_props, step_props = spec_properties(machine)
         extra_state, extra_step, temporal = properties_for(spec, machine, self.path, self.prop_files,
                                                            use_default=self.use_default)
-        return machine, state_props + extra_state, step_props + extra_step
+        state_props += extra_state
+        step_props += extra_step
+        if self.state_names is not None:
+            state_props = [p for p in state_props if p.name in self.state_names]
+        if self.step_names is not None:
+            step_props = [p for p in step_props if p.name in self.step_names]
+        return machine, state_props, step_props
 
     def __call__(self):
         from .expand import PythonExpander

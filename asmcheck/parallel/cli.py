@@ -48,21 +48,26 @@ def add_simulate_options(p) -> None:
                    help="worker processes for --swarm (default: one per core)")
 
 
-def wanted(args) -> bool:
-    """Whether ``explore`` runs in one of the scaling modes."""
-    return (parse_workers(getattr(args, "workers", None)) > 1 or bool(getattr(args, "cluster", None))
-            or getattr(args, "bitstate", None) is not None)
+def options(args) -> dict:
+    """The scaling options of :meth:`asmcheck.Model.explore` given on the command line."""
+    return {"workers": parse_workers(getattr(args, "workers", None)), "cluster": getattr(args, "cluster", None),
+            "bitstate": getattr(args, "bitstate", None), "worker_memory": getattr(args, "worker_memory", None)}
 
 
-def memory_share(args, workers: int):
-    mb = getattr(args, "worker_memory", None)
-    if mb is not None:
-        if mb <= 0:
+def wanted(workers=1, cluster=None, bitstate=None, worker_memory=None) -> bool:
+    """Whether an exploration runs in one of the scaling modes."""
+    return (workers or 1) > 1 or bool(cluster) or bitstate is not None
+
+
+def memory_share(worker_memory, max_memory, workers: int):
+    """Bytes of resident memory each worker may use: ``worker_memory`` (MB), else an equal share of
+    ``max_memory`` (bytes), else of nine tenths of the memory available now."""
+    if worker_memory is not None:
+        if worker_memory <= 0:
             raise UsageError("--worker-memory expects a positive number of megabytes")
-        return int(mb * 1024 * 1024)
-    total = getattr(args, "max_memory_bytes", None)
-    if total:
-        return total // workers
+        return int(worker_memory * 1024 * 1024)
+    if max_memory:
+        return max_memory // workers
     try:
         with open("/proc/meminfo") as f:
             for line in f:
@@ -73,55 +78,66 @@ def memory_share(args, workers: int):
     return None
 
 
-def explore(path: str, machine, state_props, step_props, temporal, args, *, keep_graph: bool, progress=None,
-            options=None, prop_files=None):
-    """Run ``explore`` in the scaling mode ``args`` asks for.  Returns (explorer, result)."""
-    workers = parse_workers(getattr(args, "workers", None))
-    cluster = getattr(args, "cluster", None)
-    bits = getattr(args, "bitstate", None)
-    engine = getattr(args, "engine", "auto")
+def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bitstate=None, worker_memory=None,
+                  max_states=None, max_depth=None, max_seconds=None, max_memory=None, deadlock=False,
+                  engine="auto", keep_graph=False, progress=None):
+    """Explore a loaded :class:`asmcheck.api.Model` in the scaling mode asked for (more workers, a
+    Ray cluster, bitstate).  Returns (explorer, result) as the sequential search does."""
+    workers = parse_workers(workers)
     if engine == "native":
         raise UsageError("--workers, --cluster and --bitstate run the Python step function; the native engine "
                          "does not offer its successor function to them (drop --engine native)")
-    if bits is not None:
+    machine = model.machine
+    if bitstate is not None:
         if workers > 1 or cluster:
             raise UsageError("--bitstate runs on one worker (drop --workers/--cluster)")
         if keep_graph:
             raise UsageError("--bitstate keeps no state graph, so it cannot check LTL/CTL properties or write "
                              "--graph: drop them (--no-default-properties, --properties FILE) or drop --bitstate")
-        if not 10 <= bits <= 40:
+        if not 10 <= bitstate <= 40:
             raise UsageError("--bitstate expects BITS from 10 to 40 (a table of 2**BITS bits)")
         from .bitstate import BitstateExplorer
-        ex = BitstateExplorer(machine, bits, max_states=args.max_states, max_depth=args.max_depth,
-                              max_seconds=args.max_seconds, deadlock=args.deadlock, progress=progress,
+        ex = BitstateExplorer(machine, bitstate, max_states=max_states, max_depth=max_depth,
+                              max_seconds=max_seconds, deadlock=deadlock, progress=progress,
                               state_props=state_props, step_props=step_props)
         result = ex.run()
         result.engine = "python"
         result.notes = [ex.note()]
         result.bitstate = ex.report()
         return ex, result
+    backend = "processes"
     if cluster:
-        if getattr(args, "workers", None) is None:
-            workers = 2
+        from .cluster import import_ray
+        import_ray()
         backend = "ray"
-    else:
-        backend = "processes"
-    recipe = Recipe(str(Path(path).resolve()), dict(options or {}), prop_files,
-                    not getattr(args, "no_default_properties", False),
-                    [os.path.abspath(d) for d in getattr(args, "import_path", []) or []], args.deadlock)
+    from ..semantics.resolve import import_path
+    recipe = Recipe(str(Path(model.path).resolve()), dict(model.options), model.prop_files,
+                    model.default_properties, list(import_path()), deadlock,
+                    [p.name for p in state_props], [p.name for p in step_props])
     try:
         return explore_partitioned(machine, workers=workers, backend=backend, cluster=cluster,
-                                   state_props=state_props, step_props=step_props, deadlock=args.deadlock,
-                                   max_states=args.max_states, max_depth=args.max_depth,
-                                   max_seconds=args.max_seconds, keep_graph=keep_graph, progress=progress,
-                                   memory_share=memory_share(args, workers), recipe=recipe)
+                                   state_props=state_props, step_props=step_props, deadlock=deadlock,
+                                   max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
+                                   keep_graph=keep_graph, progress=progress,
+                                   memory_share=memory_share(worker_memory, max_memory, workers), recipe=recipe)
     except WorkerLost as e:
         raise UsageError(str(e)) from None
 
 
+def report_lines(result) -> list:
+    """What a scaling mode adds to the text report (the bitstate miss probability)."""
+    return list(getattr(result, "notes", ()))
+
+
+def report_json(result) -> dict:
+    return {"bitstate": result.bitstate} if getattr(result, "bitstate", None) else {}
+
+
 # ----------------------------------------------------------------- swarm
-def cmd_swarm(args, spec, machine, state_props, step_props, temporal) -> int:
+def cmd_swarm(args, model) -> int:
     """``simulate --swarm``: print the report; returns the exit code (1: a violation found)."""
+    spec, machine = model.spec, model.machine
+    state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
     from ..report.trace import trace_json, trace_text
     from .swarm import run_walks, swarm, swarm_traces
     if args.swarm < 1 or args.depth < 1:
