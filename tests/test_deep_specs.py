@@ -119,3 +119,14 @@ def test_deep_term_outside_a_spec(tmp_path):
     while isinstance(body, ir.Call) and body.name == "and":
         body, n = body.args[0], n + 1
     assert n == 1500 and isinstance(body, ir.Loc)
+
+
+def test_without_a_deep_stack_the_error_is_still_located(tmp_path, monkeypatch):
+    monkeypatch.setattr(resolve, "_DEEP_STACK", 1 << 62)      # a stack that cannot be had
+    p = tmp_path / "Ifs.asm"
+    p.write_text(_spec("Ifs", "\tcontrolled x: Integer", _nested_ifs(800)))
+    with pytest.raises(AsmError) as info:
+        check_file(str(p))
+    err = info.value
+    assert err.span.path == str(p) and err.span.line == 6 and err.span.col > 21
+    assert "nests too deeply: this term is deeper than the stack allows" in err.message
