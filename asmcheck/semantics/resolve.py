@@ -4,6 +4,11 @@
 name (respecting export and import lists), checks arities and domains the way
 AsmetaL's own parser does, and returns an :class:`asmcheck.semantics.ir.Spec`.
 Every error is an :class:`~asmcheck.errors.AsmError` with a source position.
+
+It is one module of about 1,050 lines: loading (:class:`Loader`), declaring
+(:class:`Declarer`) and resolving (:class:`Resolver`) share the module tables and the
+scopes of one spec and its imports, and the resolver's one method per syntax form is a
+single recursive walk.
 """
 from __future__ import annotations
 

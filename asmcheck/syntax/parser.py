@@ -2,6 +2,11 @@
 
 This is the only module that imports lark.  Parse errors become
 :class:`~asmcheck.errors.AsmSyntaxError` with the file, line and column.
+
+It is one module of about a thousand lines on purpose: the lark grammar's callbacks (the
+tree builder, one method per grammar rule) and the error recovery that turns lark's
+exceptions into located messages share the grammar's rule names, and splitting them would
+spread one table over several files.
 """
 from __future__ import annotations
 
