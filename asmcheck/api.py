@@ -166,8 +166,13 @@ class Model:
     # ------------------------------------------------------------- explore
     def explore(self, properties=None, *, engine: str = "auto", workers: int = 1, max_states=None,
                 max_depth=None, max_seconds=None, max_memory=None, deadlock: bool = False, fair=(),
-                graph: bool = False, progress=None, started=None, warn=None) -> "Exploration":
+                graph: bool = False, progress=None, started=None, warn=None, cluster=None, bitstate=None,
+                worker_memory=None) -> "Exploration":
         """Explore every reachable state (breadth first) and check the properties.
+
+        ``workers`` > 1 partitions the states among worker processes, ``cluster`` (a Ray address,
+        'auto' or 'local') among Ray actors, with the result of one worker; ``bitstate`` (BITS)
+        runs a bitstate search (see :mod:`asmcheck.parallel`).
 
         ``max_seconds`` bounds the wall-clock time of the whole call (counted from ``started``, a
         ``time.perf_counter()`` reading, when given: the command line counts from its start).
@@ -175,7 +180,8 @@ class Model:
         keeps taking new values, for instance)."""
         return _explore(self, properties, engine=engine, workers=workers, max_states=max_states,
                         max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
-                        fair=fair, graph=graph, progress=progress, started=started, warn=warn)
+                        fair=fair, graph=graph, progress=progress, started=started, warn=warn,
+                        scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory})
 
     # ------------------------------------------------------------- simulate
     def simulate(self, steps: int = 10, *, seed=None, random: bool = False, inputs=None) -> "Simulation":
@@ -347,7 +353,7 @@ WATCHDOG_GRACE = 1.0
 
 
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
-             deadlock, fair, graph, progress, started=None, warn=None) -> "Exploration":
+             deadlock, fair, graph, progress, started=None, warn=None, scaling=None) -> "Exploration":
     t0 = time.perf_counter()
     begin = started if started is not None else t0
     machine, spec = model.machine, model.spec
@@ -381,7 +387,13 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     result = None
     interrupted = False
     refused = ""
-    if which == "native":
+    from .parallel import cli as scaled
+    if scaled.wanted(workers, **(scaling or {})):
+        ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
+                                          max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                                          max_memory=max_memory, deadlock=deadlock, engine=engine,
+                                          keep_graph=keep_graph, progress=progress)
+    elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
             if graph:
