@@ -856,9 +856,9 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
     except ReplayError as err:
         return _gate.error_outcome(path, AsmError(None, f"internal error: a counterexample does not replay ({err})"),
                                    root, clock() - t0)
-    except RecursionError:
-        return _gate.error_outcome(path, AsmError(None, f"{path}: the spec nests too deeply (recursion limit "
-                                                        f"reached)"), root, clock() - t0)
+    except RecursionError as exc:
+        from .errors import located_recursion_error
+        return _gate.error_outcome(path, located_recursion_error(exc, path), root, clock() - t0)
     except (KeyboardInterrupt, MemoryError, TimeUp) as exc:
         why = {"KeyboardInterrupt": "interrupted (Ctrl-C)", "MemoryError": "out of memory"}.get(
             type(exc).__name__, "time limit reached")
