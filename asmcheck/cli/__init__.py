@@ -19,10 +19,10 @@ import sys
 
 from ..version import __version__
 from ..errors import AsmError, UsageError
-from . import advise, bmc, check, common, conform, explore, parse, scenario, simulate, testgen
+from . import advise, bmc, check, common, conform, explore, lsp, parse, scenario, simulate, testgen
 from .common import EXIT_ERROR, EXIT_INCOMPLETE
 
-COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen)
+COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen, lsp)
 
 
 def build_parser() -> argparse.ArgumentParser:
