@@ -69,8 +69,9 @@ def main(argv: list[str] | None = None) -> int:
         except KeyboardInterrupt:
             common.error("asmcheck: interrupted before any result")
             code = EXIT_INCOMPLETE
-        except RecursionError:
-            common.error("asmcheck: error: the spec nests too deeply (recursion limit reached)")
+        except RecursionError as exc:
+            from ..errors import located_recursion_error
+            common.input_error(args, located_recursion_error(exc))
             code = EXIT_ERROR
         except MemoryError:
             common.error("asmcheck: out of memory before any result (bound the search with --max-states or "
