@@ -39,12 +39,27 @@ async def client(lsp_client: LanguageClient):
     await lsp_client.shutdown_session()
 
 
+async def _until(check, what: str, seconds: float = 60) -> None:
+    """Wait until ``check()`` holds (notifications that come together are handled before a wait)."""
+    for _ in range(int(seconds / 0.05)):
+        if check():
+            return
+        await asyncio.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+async def _diagnostics(client: LanguageClient, uri: str) -> None:
+    """Wait for the next diagnostics of ``uri`` (call ``client.diagnostics.pop(uri)`` before the change)."""
+    await _until(lambda: uri in client.diagnostics, f"diagnostics of {uri}")
+
+
 async def _open(client: LanguageClient, path: Path, text: str | None = None) -> str:
     uri = from_fs_path(str(path))
+    client.diagnostics.pop(uri, None)
     client.text_document_did_open(lsp.DidOpenTextDocumentParams(lsp.TextDocumentItem(
         uri=uri, language_id="asmetal", version=1,
         text=decode_source(path.read_bytes()) if text is None else text)))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await _diagnostics(client, uri)
     return uri
 
 
@@ -112,15 +127,14 @@ async def test_saving_an_imported_module_updates_its_importers(client: LanguageC
     assert d.message == "unknown function 'y'" and d.range.start.line == 5
     lib_uri = await _open(client, lib)
     fixed = lib.read_text().replace("x: Integer", "y: Integer")
+    client.diagnostics.pop(lib_uri)
     client.text_document_did_change(lsp.DidChangeTextDocumentParams(
         lsp.VersionedTextDocumentIdentifier(uri=lib_uri, version=2),
         [lsp.TextDocumentContentChangeWholeDocument(text=fixed)]))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await _diagnostics(client, lib_uri)
     lib.write_text(fixed, encoding="utf-8")
     client.text_document_did_save(lsp.DidSaveTextDocumentParams(lsp.TextDocumentIdentifier(lib_uri)))
-    for _ in range(2):                     # the saved module, then its importer
-        await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-    assert list(client.diagnostics[main_uri]) == []
+    await _until(lambda: list(client.diagnostics[main_uri]) == [], "the importer's diagnostics to clear")
 
 
 @pytest.mark.asyncio
@@ -130,11 +144,12 @@ async def test_diagnostics_follow_edits(client: LanguageClient, tmp_path):
            "\tmain rule r_main = x := x + 1\n"
     uri = await _open(client, path, good)
     assert list(client.diagnostics[uri]) == []
+    client.diagnostics.pop(uri)
     client.text_document_did_change(lsp.DidChangeTextDocumentParams(
         lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
         [lsp.TextDocumentContentChangePartial(
             range=lsp.Range(lsp.Position(5, 25), lsp.Position(5, 26)), text="y")]))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await _diagnostics(client, uri)
     [d] = client.diagnostics[uri]
     assert d.message == "unknown function 'y'"
     assert (d.range.start.line, d.range.start.character) == (5, 25)
@@ -202,11 +217,12 @@ async def test_completion_offers_the_variables_in_scope(client: LanguageClient, 
     main_vars = {x for x in await complete(_at(18, "r_fill")) if x.startswith("$")}
     assert main_vars == {"$c"}
     # while typing, the text does not parse: the last text that did gives the scopes
+    client.diagnostics.pop(uri)
     client.text_document_did_change(lsp.DidChangeTextDocumentParams(
         lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
         [lsp.TextDocumentContentChangePartial(range=lsp.Range(_at(19, "light"), _at(19, "light")),
                                               text="stock($")]))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await _diagnostics(client, uri)
     assert len(client.diagnostics[uri]) == 1
     typing = await complete(lsp.Position(19, _at(19, "light").character + len("stock($")))
     assert {x for x in typing if x.startswith("$")} == {"$c"} and "stock" in typing
@@ -399,17 +415,19 @@ async def test_settings_import_path_and_monitored_bounds(client: LanguageClient,
     [d] = client.diagnostics[uri]
     assert d.message.startswith("import not found") and d.range.start.line == 2
     # -I libs, as a workspace setting: the import is found, the spec is clean
+    client.diagnostics.pop(uri)
     client.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(
         settings={"asmetal": {"importPath": [str(lib_dir)], "exploreTimeLimit": 60}}))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await _diagnostics(client, uri)
     assert list(client.diagnostics[uri]) == []
     # exploring needs the monitored Integer bounded: without a bound it says so
     result = await client.workspace_execute_command_async(lsp.ExecuteCommandParams(
         command="asmcheck.explore", arguments=[uri]))
     assert "speed" in result["error"]
+    client.diagnostics.pop(uri)
     client.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(
         settings={"asmetal": {"importPath": [str(lib_dir)], "monitored": ["speed=0..4"]}}))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await _diagnostics(client, uri)
     result = await client.workspace_execute_command_async(lsp.ExecuteCommandParams(
         command="asmcheck.explore", arguments=[uri]))
     assert result["verdict"] == "holds"

@@ -66,6 +66,11 @@ def _part_parser() -> Lark:
         return _parts
 
 
+def warm_up() -> None:
+    """Build (or read from the cache) the parser tables before the first edit needs them."""
+    _part_parser()
+
+
 def _build(tree, path: str):
     """The syntax tree node of a parse tree, as the front end builds it."""
     return P._Builder(path).transform(tree)

@@ -27,7 +27,7 @@ from ..syntax import ast as A
 from . import analysis as AN
 from . import library as L
 from . import runs
-from .incremental import IncrementalParser
+from .incremental import IncrementalParser, warm_up
 
 CMD_EXPLORE = "asmcheck.explore"
 CMD_COUNTEREXAMPLE = "asmcheck.showCounterexample"
@@ -191,6 +191,8 @@ def initialize(ls: AsmServer, params: lsp.InitializeParams):
     ls.root_dir = root or None
     if params.initialization_options:
         ls.apply_settings(params.initialization_options)
+    # load the declaration parser's tables now, not at the first edit
+    threading.Thread(target=warm_up, name="asmcheck-lsp-warm-up", daemon=True).start()
 
 
 @server.feature(lsp.WORKSPACE_DID_CHANGE_CONFIGURATION)
