@@ -143,3 +143,15 @@ def test_fifo_in_a_checked_folder_and_as_a_property_file(tmp_path):
         assert r.returncode == 2, out
         assert "Traceback" not in out and "internal error" not in out
     assert "P.prop" in out and "regular file" in out, out
+
+
+def test_scenario_that_is_a_fifo(tmp_path):
+    import subprocess
+    os.mkfifo(tmp_path / "S.avalla")
+    root = Path(__file__).resolve().parent.parent
+    r = subprocess.run([sys.executable, "-m", "asmcheck", "scenario", str(tmp_path / "S.avalla")],
+                       capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=str(root)), timeout=120,
+                       cwd=str(tmp_path))
+    out = r.stdout + r.stderr
+    assert r.returncode == 2, out
+    assert f"{tmp_path / 'S.avalla'}:1:1: cannot read" in out and "a FIFO (named pipe)" in out, out
