@@ -777,9 +777,10 @@ def find_specs(paths) -> list[str]:
 
 
 def _is_module(path: Path) -> bool:
+    from .syntax.parser import decode_source, read_source_bytes
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except OSError:
+        text = decode_source(read_source_bytes(path))   # regular files only: a FIFO would block
+    except AsmError:
         return False
     m = re.search(r"\b(asm|module)\s+[A-Za-z_]", strip_comments(text))
     return bool(m) and m.group(1) == "module"

@@ -65,10 +65,8 @@ class PropFile:
 
 
 def read_prop_file(path: str) -> PropFile:
-    try:
-        text = decode_source(Path(path).read_bytes())
-    except OSError as e:
-        raise AsmError(None, f"{path}: cannot read property file: {e.strerror or e}") from None
+    from ..syntax.parser import read_source_bytes
+    text = decode_source(read_source_bytes(path))      # regular files only (located error otherwise)
     SOURCES.add(path, text)
     lines = text.split("\n")
     # blank out comments (keeping columns) to find where declarations start
@@ -159,9 +157,10 @@ def strip_comments(text: str) -> str:
 
 def expected_violations(spec_path: str) -> set[str]:
     """Property names a spec declares it breaks (``// asmcheck: expect violated NAME``)."""
+    from ..syntax.parser import read_source_bytes
     try:
-        text = decode_source(Path(spec_path).read_bytes())
-    except OSError:
+        text = decode_source(read_source_bytes(spec_path))
+    except AsmError:
         return set()
     out = set()
     for m in _EXPECT.finditer(text):

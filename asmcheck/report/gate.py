@@ -167,10 +167,11 @@ _EXPECT_LINE = re.compile(r"//[ \t]*asmcheck:[ \t]*expect[ \t]+violated[ \t]+"
 
 def expect_lines(spec_path: str) -> dict:
     """Property name -> (line, column) of the ``// asmcheck: expect violated`` comment naming it."""
-    from ..syntax.parser import decode_source
+    from ..errors import AsmError
+    from ..syntax.parser import decode_source, read_source_bytes
     try:
-        text = decode_source(Path(spec_path).read_bytes())
-    except OSError:
+        text = decode_source(read_source_bytes(spec_path))
+    except AsmError:
         return {}
     out = {}
     for n, line in enumerate(text.split("\n"), start=1):
