@@ -39,12 +39,21 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 
+MEMORY_LIMIT = 3 * 2 ** 30      # a model whose search needs more is stopped (out of memory), not the machine
+
+
+def _limit_memory():
+    import resource
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
+
+
 def measure(cmd: list[str], cwd=None, timeout: float | None = None, env: dict | None = None) -> dict:
     """Run ``cmd``; its wall time, peak RSS (bytes, from ``os.wait4``'s rusage of that very
     child), exit code (None when killed at ``timeout``) and stdout/stderr."""
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         t0 = time.perf_counter()
-        proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=err, env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
+        proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=err, preexec_fn=_limit_memory,
+                                env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
         killed = False
         while True:
             pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
@@ -82,7 +91,15 @@ def monitored_rich(asmeta: Path, n: int) -> list[Path]:
         k = len(re.findall(r"\bmonitored\s+\w+\s*:", text))
         scored.append((-k, rel))
     scored.sort()
-    return [asmeta / rel for _, rel in scored[:n]]
+    out, folders = [], set()
+    for _, rel in scored:        # one spec per folder: variants of one model tell nothing new
+        folder = str(Path(rel).parent)
+        if folder not in folders:
+            folders.add(folder)
+            out.append(asmeta / rel)
+        if len(out) == n:
+            break
+    return out
 
 
 def models(shared: Path, work: Path, quick: bool):
@@ -133,10 +150,10 @@ def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None)
     cmd = [sys.executable, "-m", "asmcheck", "explore", str(path), "--format", "json", "--engine", engine,
            "--max-seconds", str(max_seconds), *extra]
     env = {"ASMCHECK_CACHE": str(cache)} if cache is not None else {}
-    r = measure(cmd, timeout=max_seconds * 3 + 60, env=env)
+    r = measure(cmd, timeout=max_seconds + 30, env=env)
     row = _row(name, path, extra, r)
     if cache is not None and row.get("engine") == "native":
-        warm = _row(name, path, extra, measure(cmd, timeout=max_seconds * 3 + 60, env=env))
+        warm = _row(name, path, extra, measure(cmd, timeout=max_seconds + 30, env=env))
         if warm.get("compile_seconds") is None and row.get("compile_seconds") is None:
             warm["compile_seconds"] = round(max(row["wall"] - warm["wall"], 0.0), 3)
         elif warm.get("compile_seconds") is not None and row.get("compile_seconds") is not None:
@@ -154,7 +171,8 @@ def _row(name, path, extra, r) -> dict:
         res = json.loads(r["stdout"])
     except ValueError:
         lines = (r["stderr"].strip() or "no output").splitlines()
-        row.update(engine="-", error=lines[0][:200] if lines else "")
+        why = "killed at the time limit" if r["code"] is None else lines[-1][:200] if lines else ""
+        row.update(engine="-", error=why)
         return row
     search = max(float(res.get("seconds") or 0.0), 1e-6)
     row.update(engine=res.get("engine", "?"), verdict=res.get("verdict"), states=res.get("states", 0),
