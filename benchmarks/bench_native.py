@@ -4,6 +4,7 @@ state, compile time and the engine used, on the specs users run.
 
     python benchmarks/bench_native.py [--quick] [--engine auto|native|python] [--shared ../shared]
                                       [--max-seconds S] [--only TEXT] [--out benchmarks/results]
+    python benchmarks/bench_native.py --phases SPEC [-- EXPLORE ARGS]
 
 Each model is explored by a separate process (``python -m asmcheck explore ... --format json``);
 its wall time and peak resident memory (``os.wait4``'s rusage of that child) are measured.
@@ -204,6 +205,52 @@ def markdown(rows, meta) -> str:
     return "\n".join(lines) + "\n"
 
 
+def phases(spec: str, extra: list[str], engine: str) -> dict:
+    """Where the time of ``explore SPEC`` goes, in this process: import, parse and load,
+    properties, search, Kripke structure, each LTL/CTL check, traces, report."""
+    t0 = time.perf_counter()
+    import asmcheck.cli as cli
+    import asmcheck.commands as commands
+    import asmcheck.explore.bfs as bfs
+    import asmcheck.props.files as files
+    import asmcheck.temporal as temporal
+    import asmcheck.temporal.ctl as ctl
+    import asmcheck.temporal.ltl as ltl
+    from asmcheck.explore import native
+    times: dict = {"import": time.perf_counter() - t0}
+
+    def timed_fn(owner, name, key):
+        orig = getattr(owner, name)
+
+        def wrapper(*a, **k):
+            s = time.perf_counter()
+            try:
+                return orig(*a, **k)
+            finally:
+                times[key] = times.get(key, 0.0) + time.perf_counter() - s
+        setattr(owner, name, wrapper)
+    timed_fn(commands, "_load", "parse and load")
+    timed_fn(files, "properties_for", "property files")
+    timed_fn(bfs.Explorer, "run", "search (python)")
+    timed_fn(native.NativeExplorer, "__init__", "generate and compile (native)")
+    timed_fn(native.NativeExplorer, "run", "search (native)")
+    timed_fn(temporal, "build_kripke", "Kripke structure")
+    timed_fn(temporal, "check_temporal", "temporal, all")
+    timed_fn(ltl, "check_ltl", "LTL checks")
+    timed_fn(ctl.CTL, "check", "CTL checks")
+    import io
+    import contextlib
+    out = io.StringIO()
+    s = time.perf_counter()
+    with contextlib.redirect_stdout(out):
+        code = cli.main(["explore", spec, "--format", "json", "--engine", engine, *extra])
+    times["explore command, all"] = time.perf_counter() - s
+    res = json.loads(out.getvalue())
+    times["total in process"] = time.perf_counter() - t0
+    return {"spec": spec, "exit": code, "engine": res.get("engine"), "states": res.get("states"),
+            "transitions": res.get("transitions"), "phases": {k: round(v, 3) for k, v in times.items()}}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--shared", default=os.environ.get("ASMCHECK_SHARED") or str(ROOT.parent / "shared"))
@@ -213,7 +260,12 @@ def main(argv=None):
                     "(default 300, 20 with --quick)")
     ap.add_argument("--only", help="run only models whose name contains this text")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
+    ap.add_argument("--phases", metavar="SPEC", help="only: where the time of one exploration goes (in process)")
+    ap.add_argument("extra", nargs="*", help="with --phases: more arguments for explore")
     args = ap.parse_args(argv)
+    if args.phases:
+        print(json.dumps(phases(args.phases, args.extra, args.engine), indent=1))
+        return
     shared = Path(args.shared)
     max_seconds = args.max_seconds or (20 if args.quick else 300)
     work = Path(tempfile.mkdtemp(prefix="asmcheck-bench-"))
