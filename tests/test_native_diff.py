@@ -43,6 +43,14 @@ KNOWN_DIFFERENCES = {
     "asm_examples/examples/simple_example/IncosistentUpdate.asm": "run-time error",
     "asm_examples/test/parser/rangeFunction.asm": "run-time error",
 }
+# With --deadlock the native engine words its deadlock message "no successor, or only the state
+# itself" where the Python engine says which ("no successor" / "the only successor is the state
+# itself").  While True, that one difference is tolerated and counted (the test fails once it is
+# gone, to set this False); any other difference fails.
+DEADLOCK_MESSAGE_DIFFERS = True
+NATIVE_DEADLOCK_MESSAGE = "no successor, or only the state itself"
+PYTHON_DEADLOCK_MESSAGES = ("no successor", "the only successor is the state itself")
+message_only: list[str] = []
 IGNORED_KEYS = ("seconds", "engine", "compile_seconds", "engine_reason")
 
 
@@ -96,10 +104,20 @@ def _strip(report: dict) -> dict:
 
 
 def compare(path: Path) -> tuple[str, str]:
+    outcome, detail = _compare(path, [])
+    if outcome == "native":
+        # the same spec with the deadlock check: one more verdict and trace to agree on
+        o2, d2 = _compare(path, ["--deadlock"])
+        if o2 == "differs":
+            return o2, f"with --deadlock: {d2}"
+    return outcome, detail
+
+
+def _compare(path: Path, more: list[str]) -> tuple[str, str]:
     """(outcome, detail): outcome is 'skip' (the Python explorer does not finish within the
     bound, or refuses the spec), 'native' (same report), 'refused' (the native engine refuses
     it; detail is its reason) or 'differs' (detail says how)."""
-    base = ["explore", str(path), "--format", "json", "--max-states", str(MAX_STATES), *extra_args(path)]
+    base = ["explore", str(path), "--format", "json", "--max-states", str(MAX_STATES), *extra_args(path), *more]
     code, out, err = run_cli(base + ["--engine", "python", "--max-seconds", str(MAX_SECONDS)], MAX_SECONDS + 3)
     if code is None:
         return "skip", "the Python explorer did not stop in time"
@@ -119,11 +137,29 @@ def compare(path: Path) -> tuple[str, str]:
         first = next((ln for ln in err_n.splitlines() if ln.strip()), "")
         return "differs", f"exit code {code_n} (python {code}): {first[:200]}"
     nat = json.loads(out_n)
+    if DEADLOCK_MESSAGE_DIFFERS and _strip(nat) != _strip(py) and _strip(_same_message(nat, py)) == _strip(py):
+        message_only.append(str(path))
+        nat = _same_message(nat, py)
     if _strip(nat) != _strip(py):
         keys = sorted(k for k in set(py) | set(nat) if k not in IGNORED_KEYS and py.get(k) != nat.get(k))
         return "differs", "different " + ", ".join(keys) + \
             f" (python {py['states']}/{py['transitions']}, native {nat['states']}/{nat['transitions']})"
     return "native", f"{py['states']} states"
+
+
+def _same_message(nat: dict, py: dict) -> dict:
+    """``nat`` with the native deadlock message replaced by the Python engine's, where that is
+    the known difference."""
+    pv = {v["property"]: v for v in py.get("violations", [])}
+    out = dict(nat)
+    out["violations"] = []
+    for v in nat.get("violations", []):
+        p = pv.get(v["property"])
+        if (v["property"] == "deadlock" and p is not None and v.get("message") == NATIVE_DEADLOCK_MESSAGE
+                and p.get("message") in PYTHON_DEADLOCK_MESSAGES):
+            v = {**v, "message": p["message"]}
+        out["violations"].append(v)
+    return out
 
 
 def survey(paths=None, log=None) -> dict[str, tuple[str, str]]:
@@ -170,11 +206,14 @@ def test_native_engine_matches_the_python_engine():
     results = survey()
     share, text = summary(results)
     print(text)
+    print(f"{len(message_only)} runs differ only in the wording of the deadlock message")
     differs = {k: d for k, (o, d) in results.items() if o == "differs"}
     assert {k: d for k, d in differs.items() if k not in KNOWN_DIFFERENCES} == {}
     fixed = {k for k in KNOWN_DIFFERENCES if results.get(k, ("",))[0] == "native"}
     assert fixed == set(), "no longer differ (remove them from KNOWN_DIFFERENCES): " + ", ".join(sorted(fixed))
     assert share >= MIN_NATIVE_SHARE, text
+    if DEADLOCK_MESSAGE_DIFFERS:
+        assert message_only, "the deadlock messages agree now: set DEADLOCK_MESSAGE_DIFFERS = False"
 
 
 if __name__ == "__main__":
@@ -182,3 +221,4 @@ if __name__ == "__main__":
     sys.path.insert(0, str(Path(__file__).parent))
     res = survey([Path(a).resolve() for a in sys.argv[1:]] or None, log=sys.stdout)
     print(summary(res)[1])
+    print(f"{len(message_only)} runs differ only in the wording of the deadlock message")
