@@ -184,10 +184,17 @@ def _row(name, path, extra, r) -> dict:
     return row
 
 
+MIN_TIMED = 0.01             # rates of searches shorter than this (s) are not shown: the clock says little
+MIN_STATES_MEMORY = 1000     # bytes/state of smaller models is mostly the interpreter: not shown
+
+
 def markdown(rows, meta) -> str:
     lines = [f"# bench_native {meta['date']} ({meta['mode']}, --engine {meta['engine']})", "",
              f"Machine: {meta['machine']}; twin transitions/s: {meta['twin_tps']:,.0f}; baseline peak "
-             f"{meta['baseline_mb']:.1f} MB.", "",
+             f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
+             "Rates are per second of search (shown from 0.01 s of search); bytes/state is peak memory above "
+             "the baseline per state (shown from 1,000 states); compile s is the cold run's compile time, "
+             "the row itself the warm run (cache filled).", "",
              "| model | engine | verdict | states | transitions | wall s | search s | compile s (cold wall) | states/s | "
              "transitions/s | × twin | peak MB | bytes/state |",
              "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
@@ -196,12 +203,15 @@ def markdown(rows, meta) -> str:
             lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | "
                          f"{r['peak_mb']:.0f} | |")
             continue
+        timed = (r.get("search") or 0) >= MIN_TIMED
+        rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
+        ratio = f"{r['ratio']:.3f}" if timed else "-"
+        bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
         comp = "-" if r.get("compile_seconds") is None else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = r["verdict"] + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states']:,} | {r['transitions']:,} | "
-                     f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {r['states_per_s']:,} | "
-                     f"{r['transitions_per_s']:,} | {r['ratio']:.3f} | {r['peak_mb']:.0f} | "
-                     f"{r['bytes_per_state']:,} |")
+                     f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {rate(r['states_per_s'])} | "
+                     f"{rate(r['transitions_per_s'])} | {ratio} | {r['peak_mb']:.0f} | {bps} |")
     return "\n".join(lines) + "\n"
 
 
@@ -262,7 +272,12 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     ap.add_argument("--phases", metavar="SPEC", help="only: where the time of one exploration goes (in process)")
     ap.add_argument("extra", nargs="*", help="with --phases: more arguments for explore")
+    ap.add_argument("--render", metavar="JSON", help="only: print the markdown table of a results file")
     args = ap.parse_args(argv)
+    if args.render:
+        data = json.loads(Path(args.render).read_text())
+        print(markdown(data["rows"], data["meta"]), end="")
+        return
     if args.phases:
         print(json.dumps(phases(args.phases, args.extra, args.engine), indent=1))
         return
