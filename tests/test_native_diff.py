@@ -12,6 +12,7 @@ import io
 import json
 import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -78,8 +79,11 @@ def _alarm(signum, frame):
 def run_cli(args: list[str], hard_stop: float) -> tuple[int | None, str, str]:
     """``asmcheck ARGS`` in this process: (exit code or None when stopped, stdout, stderr)."""
     out, err = io.StringIO(), io.StringIO()
-    old = signal.signal(signal.SIGALRM, _alarm)
-    signal.setitimer(signal.ITIMER_REAL, hard_stop)
+    # the hard stop needs the main thread (signals); elsewhere the --max-seconds bound alone applies
+    alarm = hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+    if alarm:
+        old = signal.signal(signal.SIGALRM, _alarm)
+        signal.setitimer(signal.ITIMER_REAL, hard_stop)
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             code = main(args)
@@ -88,8 +92,9 @@ def run_cli(args: list[str], hard_stop: float) -> tuple[int | None, str, str]:
     except RecursionError:
         code = None
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+        if alarm:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, old)
     return code, out.getvalue(), err.getvalue()
 
 
