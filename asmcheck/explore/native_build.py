@@ -90,8 +90,12 @@ def cache_dir() -> Path:
 
 
 # ----------------------------------------------------------------- compile and load
+class Unsupported(Exception):
+    """The spec (or a property) uses something the native explorer does not translate, or
+    no engine can be built here; the one-line reason says which."""
+
+
 def _unsupported(reason: str):
-    from .native import Unsupported
     return Unsupported(reason)
 
 
