@@ -8,7 +8,8 @@ state, compile time and the engine used, on the specs users run.
 
 Each model is explored by a separate process (``python -m asmcheck explore ... --format json``);
 its wall time and peak resident memory (``os.wait4``'s rusage of that child) are measured.
-Rates are per second of search (the JSON's ``seconds``); each row is also given as a ratio of
+Rates are per second of the exploration (the JSON's ``seconds``: search, code generation and
+compilation, LTL/CTL); each row is also given as a ratio of
 the transitions/s of the benchmark twin T=63 K=250 measured in the same run (T=31 K=128 with
 ``--quick``).  Bytes/state is the peak memory above that of the same command on a one-state spec,
 divided by the states.  The models:
@@ -180,7 +181,7 @@ def _row(name, path, extra, r) -> dict:
                transitions=res.get("transitions", 0), search=res.get("seconds"),
                states_per_s=round(res.get("states", 0) / search), transitions_per_s=round(res.get("transitions", 0) / search),
                compile_seconds=res.get("compile_seconds"), reason=res.get("incomplete", ""),
-               engine_reason=res.get("engine_reason", ""))
+               engine_note=res.get("engine_note", ""))
     return row
 
 
@@ -192,10 +193,10 @@ def markdown(rows, meta) -> str:
     lines = [f"# bench_native {meta['date']} ({meta['mode']}, --engine {meta['engine']})", "",
              f"Machine: {meta['machine']}; twin transitions/s: {meta['twin_tps']:,.0f}; baseline peak "
              f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
-             "Rates are per second of search (shown from 0.01 s of search); bytes/state is peak memory above "
+             "Rates are per second of the explore phase (the JSON's seconds; shown from 0.01 s); bytes/state is peak memory above "
              "the baseline per state (shown from 1,000 states); compile s is the cold run's compile time, "
              "the row itself the warm run (cache filled).", "",
-             "| model | engine | verdict | states | transitions | wall s | search s | compile s (cold wall) | states/s | "
+             "| model | engine | verdict | states | transitions | wall s | explore s | compile s (cold wall) | states/s | "
              "transitions/s | × twin | peak MB | bytes/state |",
              "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
@@ -207,7 +208,7 @@ def markdown(rows, meta) -> str:
         rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
         ratio = f"{r['ratio']:.3f}" if timed else "-"
         bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
-        comp = "-" if r.get("compile_seconds") is None else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
+        comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = r["verdict"] + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states']:,} | {r['transitions']:,} | "
                      f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {rate(r['states_per_s'])} | "
@@ -219,14 +220,13 @@ def phases(spec: str, extra: list[str], engine: str) -> dict:
     """Where the time of ``explore SPEC`` goes, in this process: import, parse and load,
     properties, search, Kripke structure, each LTL/CTL check, traces, report."""
     t0 = time.perf_counter()
+    import asmcheck.api as api
     import asmcheck.cli as cli
-    import asmcheck.commands as commands
     import asmcheck.explore.bfs as bfs
-    import asmcheck.props.files as files
     import asmcheck.temporal as temporal
     import asmcheck.temporal.ctl as ctl
     import asmcheck.temporal.ltl as ltl
-    from asmcheck.explore import native
+    from asmcheck.explore import native, native_build
     times: dict = {"import": time.perf_counter() - t0}
 
     def timed_fn(owner, name, key):
@@ -239,8 +239,8 @@ def phases(spec: str, extra: list[str], engine: str) -> dict:
             finally:
                 times[key] = times.get(key, 0.0) + time.perf_counter() - s
         setattr(owner, name, wrapper)
-    timed_fn(commands, "_load", "parse and load")
-    timed_fn(files, "properties_for", "property files")
+    timed_fn(api, "load_machine", "parse and load")
+    timed_fn(api, "properties_for", "property files")
     timed_fn(bfs.Explorer, "run", "search (python)")
     timed_fn(native.NativeExplorer, "__init__", "generate and compile (native)")
     timed_fn(native.NativeExplorer, "run", "search (native)")
@@ -257,6 +257,8 @@ def phases(spec: str, extra: list[str], engine: str) -> dict:
     times["explore command, all"] = time.perf_counter() - s
     res = json.loads(out.getvalue())
     times["total in process"] = time.perf_counter() - t0
+    if "generate and compile (native)" in times:
+        times["of which compile"] = native_build.last_compile_seconds
     return {"spec": spec, "exit": code, "engine": res.get("engine"), "states": res.get("states"),
             "transitions": res.get("transitions"), "phases": {k: round(v, 3) for k, v in times.items()}}
 
