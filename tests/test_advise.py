@@ -158,3 +158,14 @@ definitions:
     (mp5,) = doc["meta_properties"]
     assert [(w["domain"], w["used"], w["unused"]) for w in mp5["where"]] == [
         ("Col", ["BB", "CC"], ["AA"]), ("Dir", ["UP"], ["DOWN"])]
+
+
+def test_for_mp1_file_restricts_mp1(tmp_path):
+    spec = tmp_path / "advisor_demo.asm"
+    spec.write_text(Path(DEMO).read_text())
+    (tmp_path / "advisor_demo.forMP1").write_text("cnt\n")
+    (mp1,) = advise(str(spec), groups={"1"})["meta_properties"]
+    assert (mp1["verdict"], mp1["where"]) == ("satisfied", [])
+    (tmp_path / "advisor_demo.forMP1").write_text("cnt\nfooD\n")
+    (mp1,) = advise(str(spec), groups={"1"})["meta_properties"]
+    assert [w["location"] for w in mp1["where"]] == ["fooD"]

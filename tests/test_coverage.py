@@ -121,3 +121,16 @@ def test_command_line(tmp_path, capsys):
     assert "12 scenarios: 12 passed, 0 failed, 0 with input errors" in text
     assert "coverage of sb_sync_slave by 12 scenarios:\n  rule: 110 of 110 (100.0 %)\n  branch: 56 of 58" in text
     assert "true in every scenario step that reaches it" in text
+
+
+def test_command_line_domain_options(tmp_path, capsys):
+    from asmcheck.cli import main
+    spec = tmp_path / "inf.asm"
+    spec.write_text("asm inf\nimport StandardLibrary\nsignature:\n\tmonitored x: Integer\n\tcontrolled y: Integer\n"
+                    "definitions:\n\tmain rule r_main = if x > 1 then y := x endif\n")
+    assert main(["explore", str(spec), "--monitored", "x=0..2", "--coverage"]) == 0
+    text = capsys.readouterr().out
+    assert "coverage of inf over 2 states:\n  rule: 2 of 2 (100.0 %)\n  branch: 2 of 2 (100.0 %)" in text
+    assert main(["explore", str(spec), "--monitored", "x=0..1", "--coverage"]) == 0
+    text = capsys.readouterr().out
+    assert "  rule: 1 of 2 (50.0 %)" in text and "the guard x > 1 is false in every reachable configuration" in text

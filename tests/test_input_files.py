@@ -105,3 +105,20 @@ def test_runaway_recursion_is_located(tmp_path, rules, line, col, fragment):
     err = located_recursion_error(info.value, str(p))
     assert (err.span.path, err.span.line, err.span.col) == (str(p), line, col), err.render()
     assert fragment in err.message
+
+
+@pytest.mark.parametrize("command", [["simulate", "--steps", "1"], ["explore", "--engine", "python"]])
+def test_runaway_recursion_on_the_command_line(tmp_path, command):
+    import subprocess
+    p = tmp_path / "Rec.asm"
+    p.write_text("asm Rec\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+                 "\trule r_a = r_b[]\n\trule r_b = r_a[]\n\tmain rule r_main = r_a[]\n"
+                 "default init s0:\n\tfunction x = 0\n")
+    root = Path(__file__).resolve().parent.parent
+    env = dict(os.environ, PYTHONPATH=str(root))
+    r = subprocess.run([sys.executable, "-m", "asmcheck", *command, str(p)], capture_output=True, text=True,
+                       env=env, timeout=300, cwd=str(tmp_path))
+    out = r.stdout + r.stderr
+    assert r.returncode == 2, out
+    assert f"{p}:6:7: the rules r_a -> r_b -> r_a call one another without end" in out, out
+    assert "Traceback" not in out and "internal error" not in out

@@ -233,6 +233,8 @@ def add_explore_options(p) -> None:
                    help="weak fairness for LTL/CTL: every agent of DOMAIN (or every choice, 'all') that is "
                         "continuously enabled eventually moves")
     add_domain_options(p)
+    from ..parallel.cli import add_explore_options as add_scaling_options
+    add_scaling_options(p)
 
 
 def explore_options(args) -> dict:
@@ -250,6 +252,8 @@ def explore_options(args) -> dict:
             "max_depth": getattr(args, "max_depth", None), "max_seconds": secs,
             "max_memory": parse_size(mem) if mem is not None else None,
             "deadlock": getattr(args, "deadlock", False), "fair": list(getattr(args, "fair", []) or [])}
+    from ..parallel.cli import options as scaling_options
+    opts.update(scaling_options(args))
     if secs is not None:
         opts["started"] = getattr(args, "started", None)
     return opts

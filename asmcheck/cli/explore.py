@@ -5,6 +5,7 @@ import json
 from pathlib import Path
 
 from .. import api
+from ..parallel import cli as scaled
 from .common import (EXIT_ERROR, EXIT_INCOMPLETE, EXIT_OK, EXIT_VIOLATED, Progress, add_explore_options,
                      check_output_path, color_on, error, explore_options, load_options, out, verdict_rows)
 
@@ -38,6 +39,7 @@ def run(args) -> int:
         return code
     if args.format == "json":
         doc = run_.json()
+        doc.update(scaled.report_json(run_.result))
         if nothing:
             doc["verdict"] = "no property checked"
             doc["property_files"] = model.candidate_property_files()
@@ -82,6 +84,8 @@ def run(args) -> int:
                 out(f"  {f}")
     if r.reason:
         out(f"incomplete: {r.reason}")
+    for line in scaled.report_lines(r):
+        out(line)
     out(f"verdict: {'no property checked' if nothing else r.verdict}")
     if args.coverage:
         out()
@@ -91,9 +95,8 @@ def run(args) -> int:
 
 def _coverage(args, fmt):
     """``--coverage[=OUT.html]``: rule, branch and update coverage over the explored configurations."""
-    from ..review.coverage import cli_coverage
-    return cli_coverage(args.file, args.coverage, load_options(args), fmt=fmt, max_states=args.max_states,
-                        max_seconds=args.max_seconds)
+    from ..review.coverage import explore_coverage_for
+    return explore_coverage_for(args, fmt)
 
 
 class _NoProgress:

@@ -9,6 +9,9 @@ from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, load_options, ou
 
 def run(args) -> int:
     opts = load_options(args)
+    if getattr(args, "swarm", None) is not None:
+        from ..parallel.cli import cmd_swarm
+        return cmd_swarm(args, api.load(args.file, **opts))
     model = api.load(args.file, default_properties=False, **opts)
     sim = model.simulate(args.steps, seed=args.seed, random=args.random, inputs=args.input)
     if args.format == "json":
@@ -33,4 +36,6 @@ def register(sub) -> None:
     p.add_argument("--format", choices=["text", "asmeta", "json"], default="text",
                    help="text: changes per step; asmeta: ASMETA's <State n (controlled)> blocks; json")
     add_domain_options(p)
+    from ..parallel.cli import add_simulate_options
+    add_simulate_options(p)
     p.set_defaults(func=run)

@@ -247,9 +247,10 @@ def evaluate_all_step(machine, fn, state, ups, nxt, mon):
         prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
-def properties_for(spec, machine, spec_path, files=None, use_default=True):
+def properties_for(spec, machine, spec_path, files=None, use_default=True, must_apply=False):
     """(state properties, step properties, temporal properties and fairness) that apply to
-    the spec: the given files, plus by default the property files beside the specs."""
+    the spec: the given files, plus by default the property files beside the specs.  With
+    ``must_apply``, a given file whose ``applies to`` line does not name the spec is an error."""
     from . import MonitoredInvariant, StateProperty
     from ..semantics.analysis import mentions_monitored
 
@@ -267,6 +268,10 @@ def properties_for(spec, machine, spec_path, files=None, use_default=True):
         if pf.applies is None and not explicit:
             continue
         if not pf.applies_to(spec.name) and not (explicit and pf.applies is None):
+            if explicit and must_apply:
+                raise AsmTypeError(pf.applies_span, f"the property file {path} applies to "
+                                                    f"{', '.join(pf.applies)}, not to {spec.name}; fix its "
+                                                    f"'applies to' line, or leave the file out")
             continue
         for decl in pf.decls:
             prop = resolve_decl(spec, decl)

@@ -119,9 +119,21 @@ class Review:
         return {f for f, *_ in init.functions} if init is not None else set()
 
     # ------------------------------------------------------------------ the checks
+    def _mp1_functions(self):
+        """The function names of ``SPEC.forMP1`` beside the spec (one a line), which restrict MP1 to
+        those functions as in AsmetaMA; None when there is no such file."""
+        from pathlib import Path
+        f = Path(self.spec.path).with_suffix(".forMP1")
+        if not f.is_file():
+            return None
+        return {ln.strip() for ln in f.read_text(encoding="utf-8", errors="replace").splitlines() if ln.strip()}
+
     def InconsistentUpdate(self):
         out = []
+        only = self._mp1_functions()
         for key, pairs in sorted(self.obs.clash_pairs.items(), key=lambda kv: self.loc(kv[0])):
+            if only is not None and self.m.fname[key if type(key) is int else key[0]] not in only:
+                continue
             na, va, nb, vb = self.obs.clash_example[key]
             first, second = sorted([(na.span.line, na.span.col, show(va)), (nb.span.line, nb.span.col, show(vb))])
             out.append({"kind": "location", "location": self.loc(key), "status": "inconsistent",

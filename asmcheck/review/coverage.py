@@ -253,6 +253,21 @@ def cli_coverage(path: str, target: str, options=None, *, fmt: str = "text", max
     return doc if fmt == "json" else coverage_text(doc, title)
 
 
+def explore_coverage_for(args, fmt: str = "text"):
+    """``explore --coverage``: :func:`cli_coverage` with the command's options (``--monitored``,
+    ``--int-range``, ``-I``, the state and time limits)."""
+    from .common import machine_options, use_import_path
+    if getattr(args, "import_path", None):
+        use_import_path(args.import_path)
+    try:
+        options = machine_options(args)
+    except ValueError as e:
+        from ..errors import UsageError
+        raise UsageError(str(e)) from None
+    return cli_coverage(args.file, args.coverage, options, fmt=fmt, max_states=getattr(args, "max_states", None),
+                        max_seconds=getattr(args, "max_seconds", None))
+
+
 def cli_scenario_coverage(paths: list[str], target: str, *, fmt: str = "text", max_until: int = 1000):
     """For ``scenario --coverage[=OUT.html]``: the coverage of the spec by the scenarios."""
     doc, _ = scenario_coverage(paths, max_until)

@@ -20,7 +20,7 @@ from . import ir
 from . import types as T
 from .state import UpdateSet, apply_updates, dom_key, is_dom_key
 from .values import SetV, show
-from .analysis import infinite_ranges, is_subdomain, mentions_monitored
+from .analysis import infinite_ranges, is_subdomain, mentions_monitored, reads_functions
 from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors)
 from .rules import MAX_LOOP, RuleExecutor
@@ -251,7 +251,7 @@ class Machine(TermEvaluator, RuleExecutor):
                     if isinstance(dom, T.Domain) and dom.kind == "subset" and not T.agent_like(dom) and \
                             not (isinstance(T.root(dom), T.Domain) and T.root(dom).kind == "abstract"):
                         self._domain_cache[dom] = list(v.ordered()) if isinstance(v, SetV) else list(v)
-            for func, params, body, span in init.functions:
+            for func, params, body, span in self._init_order():
                 if func.index in self.lazy:
                     continue
                 fn = self.term(body)
@@ -271,6 +271,34 @@ class Machine(TermEvaluator, RuleExecutor):
                 ctx.env = {}
         self.init_mon = ctx.mon
         return st
+
+    def _init_order(self) -> list:
+        """The function initialisations in an order where an initial value that reads another
+        function's initial value comes after it (``function current($m in Fsm) = initial($m)``).
+        ASMETA's simulator computes an initial value when the location is first read, so such
+        reads see the other initial value; otherwise the declaration order is kept."""
+        order = getattr(self, "_init_order_cache", None)
+        if order is not None:
+            return order
+        items = list(self.spec.default_init.functions)
+        index = {func.index: i for i, (func, _, _, _) in enumerate(items)}
+        deps = [sorted(index[j] for j in reads_functions(body) if j in index and index[j] != i)
+                for i, (_, _, body, _) in enumerate(items)]
+        done: list = []
+        state = [0] * len(items)        # 0 new, 1 in progress, 2 placed
+
+        def place(i):
+            if state[i]:
+                return                  # placed, or a cycle: keep the declaration order
+            state[i] = 1
+            for j in deps[i]:
+                place(j)
+            state[i] = 2
+            done.append(items[i])
+        for i in range(len(items)):
+            place(i)
+        self._init_order_cache = done
+        return done
 
     def initial_states(self, fixed=None, parse=None, limit: int = 100_000):
         """Every initial state (more than one when inits read monitored functions), with the

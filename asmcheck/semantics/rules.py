@@ -329,6 +329,8 @@ class RuleExecutor:
                     if v is NO_VALUE:
                         return False
                     if not true_guard:
+                        if ch.log and ch.log[-1].label == label:
+                            ch.log.pop()        # the value drawn is not used
                         raise AsmRuntimeError(gspan, f"choose over the infinite domain {d} with a guard: ASMETA's "
                                                      f"simulator draws a value only when the guard is true (bound "
                                                      f"the range with a subset domain or an interval)")
