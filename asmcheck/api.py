@@ -940,6 +940,10 @@ def unused_property_files(specs, given, root=None) -> list:
 
 
 def _asm_name(path: Path) -> str:
-    m = re.search(r"\b(?:asm|module)\s+([A-Za-z_][A-Za-z0-9_]*)", strip_comments(path.read_text(encoding="utf-8",
-                                                                                                errors="replace")))
+    from .syntax.parser import decode_source, read_source_bytes
+    try:
+        text = decode_source(read_source_bytes(path))   # regular files only: a FIFO would block
+    except AsmError:
+        return path.stem
+    m = re.search(r"\b(?:asm|module)\s+([A-Za-z_][A-Za-z0-9_]*)", strip_comments(text))
     return m.group(1) if m else path.stem

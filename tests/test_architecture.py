@@ -216,7 +216,10 @@ OUTSIDE = [ROOT / "scripts", ROOT / "benchmarks"]
 UNIT_BENCHMARKS = {"bench_canonical.py": {"asmcheck.explore"},
                    "bench_parallel.py": {"asmcheck.explore.bfs", "asmcheck.parallel", "asmcheck.parallel.search",
                                          "asmcheck.parallel.expand", "asmcheck.props", "asmcheck.props.files",
-                                         "asmcheck.props.load", "asmcheck.semantics.resolve"}}
+                                         "asmcheck.props.load", "asmcheck.semantics.resolve"},
+                   # bench_native.py --phases times the phases of one run (search, Kripke structure, LTL)
+                   "bench_native.py": {"asmcheck.explore.bfs", "asmcheck.temporal", "asmcheck.temporal.ctl",
+                                       "asmcheck.temporal.ltl", "asmcheck.explore"}}
 
 
 @pytest.mark.parametrize("folder", OUTSIDE, ids=lambda p: p.name)
