@@ -22,7 +22,7 @@ from .semantics.machine import Machine, NoAlternative, Prune, TooManySuccessors,
 from .semantics.machine import Ctx, Chooser
 from .semantics.printer import (asmeta_state_lines, location_text_asmeta, parse_asmeta_value, printable, show_asmeta,
                                 split_top)
-from .explore.canonical import _walk_fresh
+from .explore.canonical import walk_fresh
 from .semantics.state import is_dom_key
 from .semantics.values import AbstractValue, BagV, MapV, SeqV, SetV
 
@@ -471,8 +471,8 @@ def _match_renamed(machine, before, new, ups, lines):
             continue
         found: list = []
         if type(k) is tuple:
-            _walk_fresh(k[1], found)
-        _walk_fresh(v, found)
+            walk_fresh(k[1], found)
+        walk_fresh(v, found)
         found = {e for e in found if e in fresh}
         if len(found) == 1:
             alone[found.pop()].append((k, v))

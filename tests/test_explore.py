@@ -150,15 +150,19 @@ def test_unbounded_monitored_integer_is_a_located_error(tmp_path, capsys):
     text = spec("\tmonitored m: Integer\n\tcontrolled x: Integer", "\tmain rule r_main = x := m")
     path = write(tmp_path, text)
     assert main(["explore", path]) == 2
-    out = capsys.readouterr().out
-    assert f"{path}:4:" in out and "--monitored m=LO..HI" in out
+    got = capsys.readouterr()
+    # a located input error goes to stderr; stdout carries results only
+    assert got.out == "" and f"{path}:4:" in got.err and "--monitored m=LO..HI" in got.err
+    assert main(["explore", path, "--format", "json"]) == 2
+    got = capsys.readouterr()
+    assert json.loads(got.out)["error"]["line"] == 4 and f"{path}:4:" in got.err
     assert main(["explore", path, "--monitored", "m=1..3", "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["states"] == 4
 
 
 @pytest.mark.parametrize("bug", [False, True])
 def test_native_and_python_engines_agree(tmp_path, capsys, bug):
-    from asmcheck.explore.native import compiler
+    from asmcheck.explore.native_build import compiler
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
     path = twin(tmp_path, 7, 16, bug=bug)
@@ -173,7 +177,7 @@ def test_native_and_python_engines_agree(tmp_path, capsys, bug):
 
 
 def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
-    from asmcheck.explore.native import compiler
+    from asmcheck.explore.native_build import compiler
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
     text = spec("\tcontrolled s: Seq(Integer)", "\tmain rule r_main = s := append(s, 1)", "\tfunction s = []")

@@ -1,0 +1,125 @@
+"""Search beyond one core: partitioned breadth-first search on worker processes or a Ray
+cluster, swarm simulation and bitstate search.
+
+:func:`explore_partitioned` is the entry point of the partitioned search: it gives the same
+states, numbers, counts, verdicts and shortest traces as the sequential explorer
+(:class:`asmcheck.explore.bfs.Explorer`), whatever the number of workers.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+from .search import InlineBackend, PartitionedSearch, WorkerLost  # noqa: F401
+
+
+def cpu_count() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def parse_workers(text) -> int:
+    """``--workers N`` or ``auto`` (every core this process may use)."""
+    from ..errors import UsageError
+    if text is None:
+        return 1
+    if isinstance(text, int):
+        n = text
+    elif str(text).strip().lower() == "auto":
+        return cpu_count()
+    else:
+        try:
+            n = int(str(text).strip())
+        except ValueError:
+            raise UsageError(f"--workers expects a number or 'auto', not {text!r}") from None
+    if n < 1 or n > 255:
+        raise UsageError(f"--workers expects 1 to 255 workers, not {n}")
+    return n
+
+
+@dataclass
+class Recipe:
+    """How to rebuild the machine and its properties in another process (a Ray actor): the spec's
+    path, the machine options, the property files and the import path."""
+    path: str
+    options: dict = field(default_factory=dict)
+    prop_files: list | None = None
+    use_default: bool = True
+    import_path: list = field(default_factory=list)
+    deadlock: bool = False
+    state_names: list | None = None     # the properties checked (None: all that apply), in order
+    step_names: list | None = None
+
+    def load(self):
+        from ..props import spec_properties
+        from ..props.files import properties_for
+        from ..props.load import load_machine
+        from ..semantics.resolve import set_import_path
+        if self.import_path:
+            set_import_path(self.import_path)
+        spec, machine = load_machine(self.path, self.options)
+        state_props, step_props = spec_properties(machine)
+        extra_state, extra_step, temporal = properties_for(spec, machine, self.path, self.prop_files,
+                                                           use_default=self.use_default)
+        state_props += extra_state
+        step_props += extra_step
+        if self.state_names is not None:
+            state_props = [p for p in state_props if p.name in self.state_names]
+        if self.step_names is not None:
+            step_props = [p for p in step_props if p.name in self.step_names]
+        return machine, state_props, step_props
+
+    def __call__(self):
+        from .expand import PythonExpander
+        machine, state_props, step_props = self.load()
+        return PythonExpander(machine, state_props, step_props, self.deadlock)
+
+
+def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes", state_props=(),
+                        step_props=(), deadlock=False, max_states=None, max_depth=None, max_seconds=None,
+                        keep_graph=False, progress=None, memory_share=None, recipe: Recipe | None = None,
+                        cluster: str | None = None, make_expander=None, on_level=None):
+    """Explore ``machine`` with the states partitioned among ``workers`` partitions.
+
+    ``backend``: 'inline' (partitions in this process: simulated workers), 'processes' (forked
+    worker processes) or 'ray' (one Ray actor per partition on the cluster ``cluster``; needs
+    ``recipe``).  ``memory_share``: bytes of resident memory each worker may use; a worker over
+    it ends the run with a partial report (verdict incomplete).  Returns (explorer, result); the
+    explorer answers traces and reports like the sequential one."""
+    from .expand import PythonExpander
+    from .view import PartitionedExplorer
+
+    state_props = list(state_props)
+    step_props = list(step_props)
+    if make_expander is None:
+        def make_expander():
+            return PythonExpander(machine, state_props, step_props, deadlock)
+    if backend == "inline":
+        b = InlineBackend(make_expander, workers, memory_share, keep_graph)
+    elif backend == "processes":
+        from .procs import ProcessBackend
+        b = ProcessBackend(make_expander, workers, memory_share, keep_graph)
+    elif backend == "ray":
+        from .cluster import RayBackend
+        if recipe is None:
+            raise ValueError("a Ray search needs a Recipe to rebuild the machine in its actors")
+        b = RayBackend(recipe, workers, cluster or "local", memory_share, keep_graph)
+    else:
+        raise ValueError(f"unknown backend {backend!r}")
+    try:
+        search = PartitionedSearch(b, PythonExpander(machine, state_props, step_props, deadlock),
+                                   state_props=state_props, step_props=step_props, deadlock=deadlock,
+                                   max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
+                                   keep_graph=keep_graph, progress=progress, on_level=on_level)
+        result = search.run()
+        ex = PartitionedExplorer(machine, search, state_props, step_props, deadlock, keep_graph)
+        ex.finish(result)
+    finally:
+        b.close()
+    result.engine = "python"
+    result.workers = workers
+    result.backend = b.name
+    result.peak_rss = list(search.peak_rss) if "search" in locals() else []
+    return ex, result

@@ -1,0 +1,121 @@
+"""Partitions as Ray actors (``explore --cluster ADDRESS|auto|local``).
+
+One actor per partition holds that partition's share of the seen states and its frontier.  A
+level's successors travel as one batch per (sender, owner) pair, as Ray objects that go from the
+sending actor to the owning actor without passing through the driver.  Each actor rebuilds the
+machine from a :class:`asmcheck.parallel.Recipe` (the spec's path and options), so every node
+of the cluster needs asmcheck installed and the spec (and its imports) at the same path.
+
+Ray is an optional extra: ``pip install 'asmcheck[cluster]'``.
+"""
+from __future__ import annotations
+
+import os
+import pathlib
+
+from ..errors import UsageError
+from .partition import Partition
+from .search import WorkerLost
+
+NO_RAY = ("--cluster needs Ray, an optional extra: pip install 'asmcheck[cluster]' "
+          "(or pip install 'ray[default]>=2')")
+
+# a small local instance: this search moves pickled batches, not large arrays
+LOCAL_OBJECT_STORE = 96 * 1024 * 1024
+
+
+def import_ray():
+    try:
+        import ray
+    except ImportError:
+        raise UsageError(NO_RAY) from None
+    return ray
+
+
+class _Owner:
+    """The body of the partition actor."""
+
+    def __init__(self, wid, n, recipe, memory_share, keep_graph):
+        self.p = Partition(wid, n, recipe(), memory_share, keep_graph)
+
+    def call(self, method, *args):
+        return getattr(self.p, method)(*args)
+
+    def expand_level(self, *args):
+        report, batches = self.p.expand_level(*args)
+        return (report, *batches) if len(batches) > 0 else report
+
+    def receive(self, *batches):
+        return self.p.receive(list(batches))
+
+
+def connect(cluster: str, workers: int):
+    """Join (or start) the Ray instance named by ``cluster``: 'local' starts one on this machine
+    (as many CPUs as workers, a small object store), 'auto' joins the running cluster found by
+    Ray, anything else is a cluster address.  Returns (ray, whether we started it)."""
+    ray = import_ray()
+    if ray.is_initialized():
+        return ray, False
+    here = str(pathlib.Path(__file__).resolve().parents[2])
+    env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
+    try:
+        if cluster == "local":
+            ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=LOCAL_OBJECT_STORE,
+                     include_dashboard=False, log_to_driver=False, runtime_env=env,
+                     configure_logging=False)
+        else:
+            ray.init(address=cluster, log_to_driver=False, runtime_env=env, configure_logging=False)
+    except (ConnectionError, RuntimeError, ValueError) as e:
+        raise UsageError(f"--cluster {cluster}: cannot connect to Ray ({e})") from None
+    return ray, True
+
+
+class RayBackend:
+    name = "ray"
+
+    def __init__(self, recipe, n: int, cluster: str = "local", memory_share=None, keep_graph=False):
+        ray, self.started = connect(cluster, n)
+        self.ray = ray
+        self.n = n
+        from ray.exceptions import RayError
+        self.RayError = RayError
+        Actor = ray.remote(num_cpus=0, max_restarts=0)(_Owner)
+        self.actors = [Actor.options(scheduling_strategy="SPREAD", name=None).remote(
+            w, n, recipe, memory_share, keep_graph) for w in range(n)]
+        self.pids = self._get([a.call.remote("ping") for a in self.actors])
+
+    def _get(self, refs):
+        try:
+            return self.ray.get(refs)
+        except self.RayError as e:
+            text = str(e).splitlines()[0] if str(e) else type(e).__name__
+            dead = type(e).__name__
+            raise WorkerLost(f"a partition actor failed during the search ({dead}: {text}); "
+                             f"the search has no verdict") from None
+
+    def call_all(self, method: str, args_list):
+        if method == "expand_level":
+            n = self.n
+            refs = [a.expand_level.options(num_returns=n + 1).remote(*args)
+                    for a, args in zip(self.actors, args_list)]
+            reports = self._get([r[0] for r in refs])
+            # the batches stay in the object store: receive() takes them from there
+            return [(rep, r[1:]) for rep, r in zip(reports, refs)]
+        return self._get([a.call.remote(method, *args) for a, args in zip(self.actors, args_list)])
+
+    def call(self, w: int, method: str, *args):
+        return self._get(self.actors[w].call.remote(method, *args))
+
+    def route(self, batches_by_src):
+        return self._get([a.receive.remote(*[b[w] for b in batches_by_src]) for w, a in enumerate(self.actors)])
+
+    def close(self):
+        for a in getattr(self, "actors", []):
+            try:
+                self.ray.kill(a)
+            except Exception:
+                pass
+        self.actors = []
+        if getattr(self, "started", False):
+            self.ray.shutdown()
+            self.started = False

@@ -1,0 +1,330 @@
+#!/usr/bin/env python3
+"""Native-engine benchmark: whole-process time, states/s, transitions/s, peak memory, bytes per
+state, compile time and the engine used, on the specs users run.
+
+    python benchmarks/bench_native.py [--quick] [--engine auto|native|python] [--shared ../shared]
+                                      [--max-seconds S] [--only TEXT] [--out benchmarks/results]
+    python benchmarks/bench_native.py --phases SPEC [-- EXPLORE ARGS]
+
+Each model is explored by a separate process (``python -m asmcheck explore ... --format json``);
+its wall time and peak resident memory (``os.wait4``'s rusage of that child) are measured.
+Rates are per second of the exploration (the JSON's ``seconds``: search, code generation and
+compilation, LTL/CTL); each row is also given as a ratio of
+the transitions/s of the benchmark twin T=63 K=250 measured in the same run (T=31 K=128 with
+``--quick``).  Bytes/state is the peak memory above that of the same command on a one-state spec,
+divided by the states.  The models:
+
+* specs/*.asm with their property files (the ones beside them, as ``explore`` finds them);
+* RTPatternLibrary VisualServoing and CompleteApplication, tests/rtpattern/RtNondetVS.asm, with the
+  flags of tests/test_rtpattern*.py;
+* the twin;
+* the corpus specs that declare the most monitored functions;
+* examples/parking.asm and every spec with NuSMV verdicts (../shared/asmeta/verdicts).
+
+Writes ``bench_native-<date>.json`` and ``.md`` into the output folder.  A benchmark, not a test:
+nothing fails on a slow machine.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+
+MEMORY_LIMIT = 3 * 2 ** 30      # a model whose search needs more is stopped (out of memory), not the machine
+
+
+def _limit_memory():
+    import resource
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
+
+
+def measure(cmd: list[str], cwd=None, timeout: float | None = None, env: dict | None = None) -> dict:
+    """Run ``cmd``; its wall time, peak RSS (bytes, from ``os.wait4``'s rusage of that very
+    child), exit code (None when killed at ``timeout``) and stdout/stderr."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=err, preexec_fn=_limit_memory,
+                                env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
+        killed = False
+        while True:
+            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+            if pid:
+                break
+            if timeout is not None and time.perf_counter() - t0 > timeout and not killed:
+                proc.kill()
+                killed = True
+            time.sleep(0.002)
+        wall = time.perf_counter() - t0
+        code = os.waitstatus_to_exitcode(status)
+        proc.returncode = code
+        out.seek(0)
+        err.seek(0)
+        rss = usage.ru_maxrss * (1 if sys.platform == "darwin" else 1024)
+        return {"wall": wall, "rss": rss, "code": None if killed else code, "stdout": out.read(),
+                "stderr": err.read()}
+
+
+def monitored_rich(asmeta: Path, n: int) -> list[Path]:
+    """The ``n`` corpus specs (accepted by ASMETA's parser, with a main rule) that declare the
+    most monitored functions in their own file."""
+    manifest = asmeta / "MANIFEST.tsv"
+    if not manifest.exists():
+        return []
+    scored = []
+    for line in manifest.read_text().splitlines()[1:]:
+        rel, verdict = line.split("\t")[:2]
+        if verdict != "accepts":
+            continue
+        text = (asmeta / rel).read_text(errors="replace")
+        if not re.search(r"\bmain\s+rule\b", text):
+            continue
+        text = re.sub(r"//[^\n]*|/\*.*?\*/", "", text, flags=re.S)
+        k = len(re.findall(r"\bmonitored\s+\w+\s*:", text))
+        scored.append((-k, rel))
+    scored.sort()
+    out, folders = [], set()
+    for _, rel in scored:        # one spec per folder: variants of one model tell nothing new
+        folder = str(Path(rel).parent)
+        if folder not in folders:
+            folders.add(folder)
+            out.append(asmeta / rel)
+        if len(out) == n:
+            break
+    return out
+
+
+def models(shared: Path, work: Path, quick: bool):
+    """(name, spec path, extra arguments, role) of every model to measure."""
+    out = []
+    gen = shared / "bench" / "gen_swing.py"
+    t, k = (31, 128) if quick else (63, 250)
+    if gen.exists():
+        subprocess.run([sys.executable, str(gen), str(t), str(k), str(work)], check=True, capture_output=True)
+        out.append((f"twin T={t} K={k}", work / f"swing_T{t}_K{k}.asm", [], "twin"))
+    for p in sorted((ROOT / "specs").glob("*.asm")):
+        out.append((f"specs/{p.name}", p, [], "spec"))
+    asmeta = shared / "asmeta"
+    lib = asmeta / "asm_examples" / "RTPatternLibrary"
+    props = ROOT / "properties"
+    sb = ["--no-default-properties", "--properties", str(props / "rtpattern.prop"),
+          "--properties", str(props / "rtpattern_semaphore.prop")]
+    if (lib / "Application" / "VisualServoing.asm").exists():
+        out.append(("RTPatternLibrary VisualServoing", lib / "Application" / "VisualServoing.asm", sb, "rtpattern"))
+        if not quick:
+            out.append(("RTPatternLibrary CompleteApplication", lib / "Application" / "CompleteApplication.asm", sb,
+                        "rtpattern"))
+        out.append(("tests/rtpattern/RtNondetVS.asm", ROOT / "tests" / "rtpattern" / "RtNondetVS.asm",
+                    sb + ["--properties", str(props / "rtpattern_nondet.prop"), "--deadlock",
+                          "-I", str(asmeta / "asm_examples")], "rtpattern"))
+    for p in monitored_rich(asmeta, 2 if quick else 4):
+        out.append((str(p.relative_to(asmeta)), p, [], "monitored"))
+    parking = asmeta / "asm_examples" / "examples" / "parking.asm"
+    if parking.exists():
+        out.append(("examples/parking.asm", parking, [], "verdicts"))
+    vdir = asmeta / "verdicts"
+    if vdir.exists():
+        vs = sorted(vdir.rglob("*.verdicts"))
+        if quick:
+            vs = vs[:5]
+        for v in vs:
+            rel = v.relative_to(vdir).with_suffix(".asm")
+            p = asmeta / rel
+            if p.exists() and p != parking:
+                out.append((str(rel), p, [], "verdicts"))
+    return out
+
+
+def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None) -> dict:
+    """One model.  With ``cache`` (a fresh folder) the first run compiles (cold); when it ran native
+    it is run again on the filled cache, and that warm run is the row, with the compile time
+    (the JSON's ``compile_seconds`` when the report gives it, else cold wall - warm wall)."""
+    cmd = [sys.executable, "-m", "asmcheck", "explore", str(path), "--format", "json", "--engine", engine,
+           "--max-seconds", str(max_seconds), *extra]
+    env = {"ASMCHECK_CACHE": str(cache)} if cache is not None else {}
+    r = measure(cmd, timeout=max_seconds + 30, env=env)
+    row = _row(name, path, extra, r)
+    if cache is not None and row.get("engine") == "native":
+        warm = _row(name, path, extra, measure(cmd, timeout=max_seconds + 30, env=env))
+        if warm.get("compile_seconds") is None and row.get("compile_seconds") is None:
+            warm["compile_seconds"] = round(max(row["wall"] - warm["wall"], 0.0), 3)
+        elif warm.get("compile_seconds") is not None and row.get("compile_seconds") is not None:
+            warm["compile_seconds_warm"] = warm["compile_seconds"]
+            warm["compile_seconds"] = row["compile_seconds"]
+        warm["cold_wall"] = row["wall"]
+        row = warm
+    return row
+
+
+def _row(name, path, extra, r) -> dict:
+    row = {"model": name, "path": str(path), "args": extra, "exit": r["code"], "wall": round(r["wall"], 3),
+           "peak_mb": round(r["rss"] / 2 ** 20, 1), "rss": r["rss"]}
+    try:
+        res = json.loads(r["stdout"])
+    except ValueError:
+        lines = (r["stderr"].strip() or "no output").splitlines()
+        why = "killed at the time limit" if r["code"] is None else lines[-1][:200] if lines else ""
+        row.update(engine="-", error=why)
+        return row
+    search = max(float(res.get("seconds") or 0.0), 1e-6)
+    row.update(engine=res.get("engine", "?"), verdict=res.get("verdict"), states=res.get("states", 0),
+               transitions=res.get("transitions", 0), search=res.get("seconds"),
+               states_per_s=round(res.get("states", 0) / search), transitions_per_s=round(res.get("transitions", 0) / search),
+               compile_seconds=res.get("compile_seconds"), reason=res.get("incomplete", ""),
+               engine_note=res.get("engine_note", ""))
+    return row
+
+
+MIN_TIMED = 0.01             # rates of searches shorter than this (s) are not shown: the clock says little
+MIN_STATES_MEMORY = 1000     # bytes/state of smaller models is mostly the interpreter: not shown
+
+
+def markdown(rows, meta) -> str:
+    lines = [f"# bench_native {meta['date']} ({meta['mode']}, --engine {meta['engine']})", "",
+             f"Machine: {meta['machine']}; twin transitions/s: {meta['twin_tps']:,.0f}; baseline peak "
+             f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
+             "Rates are per second of the explore phase (the JSON's seconds; shown from 0.01 s); bytes/state is peak memory above "
+             "the baseline per state (shown from 1,000 states); compile s is the cold run's compile time, "
+             "the row itself the warm run (cache filled).", "",
+             "| model | engine | verdict | states | transitions | wall s | explore s | compile s (cold wall) | states/s | "
+             "transitions/s | × twin | peak MB | bytes/state |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        if "states" not in r:
+            lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | "
+                         f"{r['peak_mb']:.0f} | |")
+            continue
+        timed = (r.get("search") or 0) >= MIN_TIMED
+        rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
+        ratio = f"{r['ratio']:.3f}" if timed else "-"
+        bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
+        comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
+        verdict = r["verdict"] + (f" ({r['reason']})" if r.get("reason") else "")
+        lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states']:,} | {r['transitions']:,} | "
+                     f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {rate(r['states_per_s'])} | "
+                     f"{rate(r['transitions_per_s'])} | {ratio} | {r['peak_mb']:.0f} | {bps} |")
+    return "\n".join(lines) + "\n"
+
+
+def phases(spec: str, extra: list[str], engine: str) -> dict:
+    """Where the time of ``explore SPEC`` goes, in this process: import, parse and load,
+    properties, search, Kripke structure, each LTL/CTL check, traces, report."""
+    t0 = time.perf_counter()
+    import asmcheck.api as api
+    import asmcheck.cli as cli
+    import asmcheck.explore.bfs as bfs
+    import asmcheck.temporal as temporal
+    import asmcheck.temporal.ctl as ctl
+    import asmcheck.temporal.ltl as ltl
+    from asmcheck.explore import native, native_build
+    times: dict = {"import": time.perf_counter() - t0}
+
+    def timed_fn(owner, name, key):
+        orig = getattr(owner, name)
+
+        def wrapper(*a, **k):
+            s = time.perf_counter()
+            try:
+                return orig(*a, **k)
+            finally:
+                times[key] = times.get(key, 0.0) + time.perf_counter() - s
+        setattr(owner, name, wrapper)
+    timed_fn(api, "load_machine", "parse and load")
+    timed_fn(api, "properties_for", "property files")
+    timed_fn(bfs.Explorer, "run", "search (python)")
+    timed_fn(native.NativeExplorer, "__init__", "generate and compile (native)")
+    timed_fn(native.NativeExplorer, "run", "search (native)")
+    timed_fn(temporal, "build_kripke", "Kripke structure")
+    timed_fn(temporal, "check_temporal", "temporal, all")
+    timed_fn(ltl, "check_ltl", "LTL checks")
+    timed_fn(ctl.CTL, "check", "CTL checks")
+    import io
+    import contextlib
+    out = io.StringIO()
+    s = time.perf_counter()
+    with contextlib.redirect_stdout(out):
+        code = cli.main(["explore", spec, "--format", "json", "--engine", engine, *extra])
+    times["explore command, all"] = time.perf_counter() - s
+    res = json.loads(out.getvalue())
+    times["total in process"] = time.perf_counter() - t0
+    if "generate and compile (native)" in times:
+        times["of which compile"] = native_build.last_compile_seconds
+    return {"spec": spec, "exit": code, "engine": res.get("engine"), "states": res.get("states"),
+            "transitions": res.get("transitions"), "phases": {k: round(v, 3) for k, v in times.items()}}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--shared", default=os.environ.get("ASMCHECK_SHARED") or str(ROOT.parent / "shared"))
+    ap.add_argument("--engine", default="auto")
+    ap.add_argument("--quick", action="store_true", help="the small twin and fewer corpus specs")
+    ap.add_argument("--max-seconds", type=float, default=None, help="search time limit per model "
+                    "(default 300, 20 with --quick)")
+    ap.add_argument("--only", help="run only models whose name contains this text")
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
+    ap.add_argument("--phases", metavar="SPEC", help="only: where the time of one exploration goes (in process)")
+    ap.add_argument("extra", nargs="*", help="with --phases: more arguments for explore")
+    ap.add_argument("--render", metavar="JSON", help="only: print the markdown table of a results file")
+    args = ap.parse_args(argv)
+    if args.render:
+        data = json.loads(Path(args.render).read_text())
+        print(markdown(data["rows"], data["meta"]), end="")
+        return
+    if args.phases:
+        print(json.dumps(phases(args.phases, args.extra, args.engine), indent=1))
+        return
+    shared = Path(args.shared)
+    max_seconds = args.max_seconds or (20 if args.quick else 300)
+    work = Path(tempfile.mkdtemp(prefix="asmcheck-bench-"))
+    todo = models(shared, work, args.quick)
+    # baseline: the same command on a spec with one state
+    one = work / "One.asm"
+    one.write_text("asm One\nimport StandardLibrary\nsignature:\n\tcontrolled x: Boolean\ndefinitions:\n"
+                   "\tmain rule r_main = x := true\ndefault init s0:\n\tfunction x = true\n")
+    base = run_model("baseline", one, [], args.engine, max_seconds)
+    rows = []
+    for name, path, extra, role in todo:
+        if args.only and args.only not in name and role != "twin":
+            continue
+        cache = Path(tempfile.mkdtemp(prefix="cache-", dir=work))
+        row = run_model(name, path, extra, args.engine, max_seconds, cache)
+        row["role"] = role
+        row["bytes_per_state"] = round(max(row["rss"] - base["rss"], 0) / max(row.get("states") or 1, 1))
+        rows.append(row)
+        print(f"{name}: {row.get('engine')} {row.get('states', '-')} states {row.get('transitions', '-')} "
+              f"transitions, {row['wall']:.2f} s, {row['peak_mb']:.0f} MB {row.get('error', '')}",
+              file=sys.stderr, flush=True)
+    twin = next((r for r in rows if r["role"] == "twin" and r.get("transitions_per_s")), None)
+    twin_tps = twin["transitions_per_s"] if twin else 0
+    for r in rows:
+        r["ratio"] = (r.get("transitions_per_s", 0) / twin_tps) if twin_tps else float("nan")
+    meta = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+            "mode": "quick" if args.quick else "full", "engine": args.engine,
+            "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
+            "twin_tps": twin_tps, "baseline_mb": base["rss"] / 2 ** 20, "max_seconds": max_seconds}
+    md = markdown(rows, meta)
+    print(md)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"bench_native-{time.strftime('%Y%m%d-%H%M', time.gmtime())}{'-quick' if args.quick else ''}"
+    for r in rows:
+        r.pop("rss", None)
+    (out / f"{stem}.json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1) + "\n")
+    (out / f"{stem}.md").write_text(md)
+    print(f"wrote {out / stem}.json and .md", file=sys.stderr)
+    import shutil
+    shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
