@@ -205,3 +205,23 @@ def test_an_initial_value_that_reads_another_initial_value(tmp_path):
     st = m.initial_state()
     assert (view(m, st)["current(MM)"], view(m, st)["initial(MM)"]) == ("SA", "SA")
     assert [view(m, nxt)["current(MM)"] for _, _, nxt, _ in m.successors(st)] == ["SB"]
+
+
+def test_a_location_read_at_an_undef_argument_takes_its_initial_value(tmp_path):
+    # the simulator computes an initial value on a location's first read, for any arguments:
+    # accessible(currCard) with currCard undef is true (function accessible($c in Card) = true)
+    m = machine(tmp_path, spec("\tenum domain Card = {CA | CB}\n\tcontrolled cur: Card\n"
+                               "\tcontrolled accessible: Card -> Boolean\n\tcontrolled seen: Boolean",
+                               "\tmain rule r_main = if not(accessible(cur)) then seen := true else seen := false endif",
+                               "\tfunction accessible($c in Card) = true"))
+    assert run(m) == {"accessible(CA)": "true", "accessible(CB)": "true", "seen": "false"}
+
+
+def test_a_monitored_argument_the_macro_does_not_use_is_not_read(tmp_path):
+    # the simulator substitutes a macro's arguments into its body: a monitored location passed as
+    # an argument is read only where the body uses it (no 'taking' line otherwise)
+    m = machine(tmp_path, spec("\tmonitored cur: Integer\n\tcontrolled on: Boolean\n\tcontrolled y: Integer",
+                               "\trule r_check($c in Integer) = if on then y := $c endif\n"
+                               "\tmain rule r_main = r_check[cur]", "\tfunction on = false\n\tfunction y = 0"))
+    assert [(log, view(m, nxt)) for log, _, nxt, _ in m.successors(m.initial_state())] == [
+        ([], {"on": "false", "y": "0"})]

@@ -64,12 +64,17 @@ class Machine(TermEvaluator, RuleExecutor):
         self.dedupe = self.options.get("dedupe", True)
         init = spec.default_init
         self.lazy: dict = {}        # function index -> (params, body IR): inits over infinite domains
+        self.init_terms: dict = {}  # function index -> (params, body IR): the other inits with parameters
         if init is not None:
             for ag in init.agents:
                 self.agent_programs[ag.domain] = ag
             for func, params, body, span in init.functions:
                 if params and not self._enumerable([p.type for p in params]):
                     self.lazy[func.index] = (params, body)
+                elif params:
+                    # read at arguments outside the domain (undef), the init term gives the value,
+                    # as the simulator computes an initial value on a location's first read
+                    self.init_terms[func.index] = (params, body)
         self.keep_undef = frozenset(self.lazy)
         self._lazy_fns: dict = {}
         self.main = self.rule_fn(spec.main) if spec.main is not None else None
@@ -180,7 +185,7 @@ class Machine(TermEvaluator, RuleExecutor):
         evaluated when the location is first read (in the state of that moment)."""
         fn = self._lazy_fns.get(idx)
         if fn is None:
-            params, body = self.lazy[idx]
+            params, body = self.lazy[idx] if idx in self.lazy else self.init_terms[idx]
             uids = [p.uid for p in params]
             holder = {}
 

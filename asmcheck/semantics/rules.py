@@ -490,7 +490,9 @@ class RuleExecutor:
                     a.func.kind == "static"):
                 modes.append(3)
                 locs.append((a.func.index, [self.term(x) for x in a.args]))
-            elif by_name and not is_simple(a):
+            elif (by_name and not is_simple(a)) or mentions_monitored(a):
+                # by name: evaluated where the body uses it (a monitored location the body does
+                # not read is not read, as in the simulator, which substitutes macro arguments)
                 modes.append(1)
                 locs.append(None)
             else:
