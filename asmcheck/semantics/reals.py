@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 
-def _div(a, b):
+def java_div(a, b):
     """``div`` is a division of doubles (Java's ``/``): by zero it gives an infinity or NaN."""
     if a is None or b is None:
         return None
@@ -65,13 +65,13 @@ def java_pow(a, b) -> float:
         return math.nan
 
 
-def _rtoi(x):
+def java_rtoi(x):
     if x is None:
         return None
     return java_to_integral(x)
 
 
-def _round(x):
+def java_round(x):
     """``Math.round``: floor(x + 0.5) as a long (NaN is 0, saturating)."""
     if x is None:
         return None
@@ -82,7 +82,7 @@ def _round(x):
     return java_to_integral(math.floor(x + 0.5))
 
 
-def _floor(x):
+def java_floor(x):
     """ASMETA's floor of a Real narrows ``Math.floor`` to a Java int (32 bits, saturating)."""
     if x is None:
         return None
@@ -93,7 +93,7 @@ def _floor(x):
     return java_to_integral(float(math.floor(x)), JAVA_INT_MIN, JAVA_INT_MAX)
 
 
-def _abs(x):
+def java_abs(x):
     """ASMETA's abs of a Real is ``d > 0 ? d : -d`` (so abs(0.0) is -0.0, and NaN stays NaN)."""
     if x is None:
         return None
@@ -102,7 +102,7 @@ def _abs(x):
     return abs(x)
 
 
-def _max(a, b):
+def java_max(a, b):
     if a is None or b is None:
         return None
     if type(a) is float or type(b) is float:
@@ -110,7 +110,7 @@ def _max(a, b):
     return max(a, b)
 
 
-def _min(a, b):
+def java_min(a, b):
     if a is None or b is None:
         return None
     if type(a) is float or type(b) is float:
@@ -118,13 +118,13 @@ def _min(a, b):
     return min(a, b)
 
 
-def _pwr(a, b):
+def java_pwr(a, b):
     if a is None or b is None:
         return None
     return java_pow(a, b)
 
 
-def _sqrt(a):
+def java_sqrt(a):
     """``Math.sqrt``: NaN below zero."""
     if a is None:
         return None

@@ -12,7 +12,8 @@ import re
 
 from . import types as T
 from .values import BagV, CharV, MapV, SeqV, SetV, show, vkey
-from .reals import _abs, _div, _floor, _max, _min, _pwr, _round, _rtoi, _sqrt
+from .reals import (java_abs as _abs, java_div as _div, java_floor as _floor, java_max as _max, java_min as _min,
+                    java_pwr as _pwr, java_round as _round, java_rtoi as _rtoi, java_sqrt as _sqrt)
 
 SIGNATURES = """
 eq: D, D -> Boolean
