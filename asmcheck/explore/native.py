@@ -27,7 +27,7 @@ from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue
+from ..semantics.values import AbstractValue, EnumValue, SeqV
 from . import native_build
 
 UNDEF_C = "UNDEF"
@@ -59,6 +59,10 @@ class Codec:
                     self.abstract_ids[e] = len(self.abstract_ids)
         self.abstract_by_id = {i: e for e, i in self.abstract_ids.items()}
         self.enum_base: dict = {}
+        self.comp: list = []             # composite values met while generating: (kind, element codes)
+        self.comp_ids: dict = {}
+        self.frozen = False
+        self.dll = None
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -81,7 +85,49 @@ class Codec:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
             return (1 << 40) + self.abstract_ids[v]
+        if t is SeqV or t is tuple:
+            kind = 1 if t is SeqV else 2
+            key = (kind, tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v)))
+            i = self.comp_ids.get(key)
+            if i is None:
+                if self.frozen:
+                    raise Unsupported("a composite value met after the code was generated")
+                i = self.comp_ids[key] = len(self.comp)
+                self.comp.append(key)
+            return i
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def from_c(self, x: int, typ):
+        """The Python value of the int64 ``x`` of static type ``typ``."""
+        if x == UNDEF_V:
+            return None
+        r = T.root(typ)
+        if r is T.BOOLEAN:
+            return bool(x)
+        if r in (T.INTEGER, T.NATURAL):
+            return x
+        if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod"):
+            key = self.fetch(x)
+            kind, elems = key
+            if r.kind == "Seq":
+                return SeqV(self.from_c(e, r.args[0]) for e in elems)
+            return tuple(self.from_c(e, a) for e, a in zip(elems, r.args))
+        if x >= 1 << 40:
+            return self.abstract_by_id[x - (1 << 40)]
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            for e in r.elements:
+                if self.to_c(e) == x:
+                    return e
+        raise Unsupported(f"a value of type {typ} that the native search cannot decode")
+
+    def fetch(self, i: int):
+        if i < len(self.comp):
+            return self.comp[i]
+        dll = self.dll
+        n = dll.asm_value_len(i)
+        buf = (ctypes.c_int64 * max(n, 1))()
+        kind = dll.asm_value_elems(i, buf)
+        return kind, tuple(buf[:n])
 
     def literal(self, v) -> str:
         x = self.to_c(v)
@@ -99,6 +145,7 @@ class Generator:
         self.slots: list = []            # slot -> location key
         self.slot_of: dict = {}
         self.slot_values: list = []      # slot -> list of Python values (codes), undef last
+        self.slot_types: list = []       # slot -> codomain type
         self.fn_base: dict = {}          # function index -> (base slot, arg domains, codomain values)
         self.mon_base: dict = {}
         self.nmon = 0
@@ -131,9 +178,24 @@ class Generator:
         try:
             return self.values_of(f.codomain)
         except Unsupported:
-            if T.root(f.codomain) in (T.INTEGER, T.NATURAL):
+            r = T.root(f.codomain)
+            if r in (T.INTEGER, T.NATURAL) or self.composite(f.codomain):
                 return None
             raise
+
+    def composite(self, typ) -> bool:
+        """A sequence or tuple type over types the native search encodes."""
+        r = T.root(typ)
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod"):
+            return False
+        for a in r.args:
+            ra = T.root(a)
+            if isinstance(ra, T.Struct):
+                if not self.composite(a):
+                    return False
+            elif ra in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
+                return False
+        return True
 
     def table(self, values: list) -> str:
         key = tuple(self.codec.to_c(v) for v in values)
@@ -169,6 +231,7 @@ class Generator:
                 self.slot_of[key] = len(self.slots)
                 self.slots.append(key)
                 self.slot_values.append(cod)
+                self.slot_types.append(f.codomain)
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
@@ -332,8 +395,16 @@ class Generator:
     BIN = {"eq": "v_eq", "neq": "v_neq", "lt": "v_lt", "le": "v_le", "gt": "v_gt", "ge": "v_ge",
            "plus": "v_add", "minus": "v_sub", "mult": "v_mul", "min": "v_min", "max": "v_max"}
 
+    SEQ1 = {"length": "seq_len", "isEmpty": "seq_empty", "notEmpty": "seq_nonempty", "first": "seq_first",
+            "last": "seq_last"}
+    SEQ2 = {"at": "seq_at", "contains": "seq_contains", "indexOf": "seq_index_of", "count": "seq_count"}
+
     def t_Call(self, t, env):
         name = t.name
+        if t.args and isinstance(T.root(t.args[0].type), T.Struct) and self.composite(t.args[0].type):
+            return self.composite_call(t, env)
+        if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
+            return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
         for a in t.args:
             r = T.root(a.type)
             if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
@@ -377,6 +448,52 @@ class Generator:
         if name in ("iton", "ntoi"):
             return args[0]
         raise Unsupported(f"the library function {name}")
+
+    def composite_call(self, t, env):
+        import re
+        name = t.name
+        kind = T.root(t.args[0].type).kind
+        args = [self.term(a, env) for a in t.args]
+        if name in ("eq", "neq") and len(args) == 2 and self.composite(t.args[1].type):
+            return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
+        if name in ("isDef", "isUndef"):
+            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if kind == "Prod":
+            m = re.fullmatch(r"#(\d+)", name)
+            k = int(m.group(1)) - 1 if m else {"first": 0, "second": 1, "third": 2, "fourth": 3, "fifth": 4,
+                                                "sixth": 5, "seventh": 6, "eighth": 7, "ninth": 8}.get(name)
+            if k is not None and len(args) == 1:
+                return f"tuple_nth({args[0]}, {k})"
+            raise Unsupported(f"{name} on {t.args[0].type}")
+        if name in self.SEQ1 and len(args) == 1:
+            return f"{self.SEQ1[name]}({args[0]})"
+        if name in self.SEQ2 and len(args) == 2:
+            return f"{self.SEQ2[name]}({args[0]}, {args[1]})"
+        if name == "append" and len(args) == 2:
+            return f"seq_append(c, {args[0]}, {args[1]})"
+        if name == "tail" and len(args) == 1:
+            return f"seq_tail(c, {args[0]})"
+        if name == "excluding" and len(args) == 2:
+            return f"seq_excluding(c, {args[0]}, {args[1]})"
+        if name == "subSequence" and len(args) == 3:
+            return f"seq_sub(c, {args[0]}, {args[1]}, {args[2]})"
+        raise Unsupported(f"{name} on {t.args[0].type}")
+
+    def t_Collection(self, t, env):
+        if t.kind != "seq" or not self.composite(t.type):
+            raise Unsupported(f"a {t.kind} literal")
+        return self.build(1, t.items, env)
+
+    def t_TupleLit(self, t, env):
+        if not self.composite(t.type):
+            raise Unsupported(f"a tuple of type {t.type}")
+        return self.build(2, t.items, env)
+
+    def build(self, kind, items, env):
+        arr = self.fresh("e")
+        vals = [self.term(x, env) for x in items]
+        return (f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; "
+                f"v_intern(c, {kind}, {arr}, {len(vals)}); }})")
 
     def t_Cond(self, t, env):
         c = self.term(t.cond, env)
@@ -699,6 +816,9 @@ class Generator:
             steps.append(self.term(p.prop.body, {}))
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
+        for st in self.init_states:
+            self.pack_values(st)
+        self.codec.frozen = True
         nslots = len(self.slots)
         bits = [64 if vals is None else _ceil_log2(len(vals) + 1) for vals in self.slot_values]
         words, shifts = [], []
@@ -729,11 +849,15 @@ class Generator:
         nwords = max(nxt, 1)
         self.words, self.shifts, self.bits = words, shifts, bits
         self.nwords = nwords
-        head = [f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
+        seed = []
+        for kind, elems in self.codec.comp:
+            seed += [kind, len(elems), *elems]
+        head = [f"#define NSEED {len(self.codec.comp)}",
+                f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
                 f"#define NINV {len(invs)}", f"#define NSTEP {len(steps)}", f"#define NINVAR {len(invar_terms)}"]
         rt = resources.files("asmcheck.explore").joinpath("native_rt.c").read_text()
         bfs = resources.files("asmcheck.explore").joinpath("native_bfs.c").read_text()
-        tables = []
+        tables = [f"static const int64_t SEED[] = {{{', '.join(('INT64_MIN' if x == UNDEF_V else f'{x}LL') for x in seed) or '0'}}};"]
         for key, name in self.dom_tables.items():
             vals = ", ".join("UNDEF" if x is None else f"{x}LL" for x in key) or "0"
             tables.append(f"static const V {name}[] = {{{vals}}};")
@@ -773,6 +897,13 @@ class Generator:
         return src
 
     # -------------------------------------------------------------- packing
+    def pack_values(self, st: dict) -> None:
+        """Give every composite value of ``st`` its number (before the code is generated)."""
+        for s, key in enumerate(self.slots):
+            v = st.get(key)
+            if v is not None and self.slot_values[s] is None:
+                self.codec.to_c(v)
+
     def pack(self, st: dict) -> list[int]:
         words = [0] * self.nwords
         for s, key in enumerate(self.slots):
@@ -800,7 +931,7 @@ class Generator:
                 if x >= 1 << 63:
                     x -= 1 << 64
                 if x != UNDEF_V:
-                    st[key] = x
+                    st[key] = self.codec.from_c(x, self.slot_types[s])
                 continue
             code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
             if code < len(vals):
@@ -822,6 +953,9 @@ _SYMBOLS = {
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
     "asm_err_code": (_i64, []),
+    "asm_value_len": (_i64, [_i64]),
+    "asm_value_elems": (_i64, [_i64, _i64p]),
+    "asm_values": (_i64, []),
     "asm_free": (None, []),
 }
 
@@ -856,6 +990,7 @@ class NativeExplorer:
         self.gen.invars = self.invars
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
+        self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
@@ -929,6 +1064,8 @@ class NativeExplorer:
                         self.warnings.append(msg)
                         if self.warn is not None:
                             self.warn(msg)
+        if status == 7:
+            raise KeyboardInterrupt
         secs = time.perf_counter() - t0
         nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates

@@ -186,6 +186,14 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
+    {   /* the composite values the generated code names, numbered as the generator numbered them */
+        int64_t p = 0;
+        for (int64_t i = 0; i < NSEED; i++) {
+            int kind = (int)SEED[p], n = (int)SEED[p + 1];
+            if (v_intern(0, kind, SEED + p + 2, n) != i) { S.status = 5; return 5; }
+            p += 2 + n;
+        }
+    }
     for (int64_t i = 0; i < ninit; i++) {
         int isnew;
         if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { S.status = 5; return 5; }
@@ -201,8 +209,18 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
  *      [5] error state [6] error site [7] number of violations [8] current depth [9] edges
  *      [10] clash slot, then pairs (property, state); property NINV is deadlock. */
 #define OUT_VIOL 12
+static volatile sig_atomic_t interrupted = 0;
+static void on_sigint(int sig) { (void)sig; interrupted = 1; }
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
+    /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
+    struct sigaction sa, old;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    interrupted = 0;
+    sigaction(SIGINT, &sa, &old);
     uint64_t nw[NWORDS > 0 ? NWORDS : 1];
     int64_t succ_ids[4096];
     double ts = now_seconds();
@@ -215,6 +233,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             if (S.max_seconds >= 0 && t - S.t0 >= S.max_seconds) { status = 3; goto finish; }
             if (t - ts >= slice_seconds) { status = 6; goto done; }
         }
+        if (interrupted) { status = 7; goto finish; }
         if (sid == S.level_end) {
             S.depth++;
             S.level_end = nstates;
@@ -300,6 +319,10 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
             nbuf++;
             if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
+            if ((nbuf & 65535) == 0) {
+                if (interrupted) { status = 7; goto finish; }
+                if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { status = 3; goto finish; }
+            }
         next_choice: ;
             /* the next sequence of choices */
             int j = c->pos - 1;
@@ -360,6 +383,7 @@ done:
     out[9] = S.nedges;
     out[11] = S.step_failed;
     for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
+    sigaction(SIGINT, &old, 0);
     return status;
 }
 
@@ -400,7 +424,16 @@ int64_t asm_inv_error(int64_t k) { return S.inv_err[k]; }
 
 int64_t asm_err_code(void) { return S.err_code; }
 
+int64_t asm_value_len(int64_t i) { return i < nvals ? vtab[i].len : 0; }
+int64_t asm_value_elems(int64_t i, int64_t *out) {
+    if (i >= nvals) return 0;
+    memcpy(out, vpool + vtab[i].off, vtab[i].len * sizeof(V));
+    return vtab[i].kind;
+}
+int64_t asm_values(void) { return nvals; }
+
 void asm_free(void) {
+    vt_free();
     free(sbuf); sbuf = 0; free(smask); smask = 0; cap_sbuf = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
