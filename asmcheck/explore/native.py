@@ -27,7 +27,7 @@ from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV
+from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
 from . import native_build
 
 UNDEF_C = "UNDEF"
@@ -85,9 +85,15 @@ class Codec:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
             return (1 << 40) + self.abstract_ids[v]
-        if t is SeqV or t is tuple:
-            kind = 1 if t is SeqV else 2
-            key = (kind, tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v)))
+        if t is SeqV or t is tuple or t is str or t is SetV:
+            kind = {SeqV: 1, tuple: 2, str: 3, SetV: 4}[t]
+            if t is str:
+                codes = tuple(ord(ch) for ch in v)
+            else:
+                codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
+                if t is SetV:
+                    codes = tuple(sorted(set(codes)))
+            key = (kind, codes)
             i = self.comp_ids.get(key)
             if i is None:
                 if self.frozen:
@@ -106,11 +112,15 @@ class Codec:
             return bool(x)
         if r in (T.INTEGER, T.NATURAL):
             return x
-        if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod"):
+        if r is T.STRING:
+            return "".join(chr(e) for e in self.fetch(x)[1])
+        if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
             key = self.fetch(x)
             kind, elems = key
             if r.kind == "Seq":
                 return SeqV(self.from_c(e, r.args[0]) for e in elems)
+            if r.kind == "Powerset":
+                return SetV(self.from_c(e, r.args[0]) for e in elems)
             return tuple(self.from_c(e, a) for e, a in zip(elems, r.args))
         if x >= 1 << 40:
             return self.abstract_by_id[x - (1 << 40)]
@@ -186,14 +196,16 @@ class Generator:
     def composite(self, typ) -> bool:
         """A sequence or tuple type over types the native search encodes."""
         r = T.root(typ)
-        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod"):
+        if r is T.STRING:
+            return True
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset"):
             return False
         for a in r.args:
             ra = T.root(a)
-            if isinstance(ra, T.Struct):
+            if isinstance(ra, T.Struct) or ra is T.STRING:
                 if not self.composite(a):
                     return False
-            elif ra in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
+            elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
                 return False
         return True
 
@@ -401,7 +413,7 @@ class Generator:
 
     def t_Call(self, t, env):
         name = t.name
-        if t.args and isinstance(T.root(t.args[0].type), T.Struct) and self.composite(t.args[0].type):
+        if t.args and self.composite(t.args[0].type):
             return self.composite_call(t, env)
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
@@ -452,12 +464,36 @@ class Generator:
     def composite_call(self, t, env):
         import re
         name = t.name
-        kind = T.root(t.args[0].type).kind
+        r0 = T.root(t.args[0].type)
+        kind = "String" if r0 is T.STRING else r0.kind
         args = [self.term(a, env) for a in t.args]
         if name in ("eq", "neq") and len(args) == 2 and self.composite(t.args[1].type):
+            x, y = self.fresh(), self.fresh()
+            # undef = undef is true, undef = a value false (as for every other value)
             return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if name in ("isDef", "isUndef"):
             return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if kind == "String":
+            raise Unsupported(f"{name} on String")
+        if kind == "Powerset":
+            if name in ("size",) and len(args) == 1:
+                return f"seq_len({args[0]})"
+            if name in ("isEmpty", "notEmpty") and len(args) == 1:
+                return f"{self.SEQ1[name]}({args[0]})"
+            if name == "contains" and len(args) == 2:
+                return f"set_contains({args[0]}, {args[1]})"
+            if name == "notin" and len(args) == 2:
+                return f"v_not(set_contains({args[0]}, {args[1]}))"
+            if name == "including" and len(args) == 2:
+                return f"set_including(c, {args[0]}, {args[1]})"
+            if name == "excluding" and len(args) == 2:
+                return f"set_excluding(c, {args[0]}, {args[1]})"
+            ops = {"union": 0, "intersection": 1, "difference": 2}
+            if name in ops and len(args) == 2 and T.root(t.args[1].type) == r0:
+                return f"set_op(c, {args[0]}, {args[1]}, {ops[name]})"
+            raise Unsupported(f"{name} on {t.args[0].type}")
+        if name == "union" and len(args) == 2 and kind == "Seq":
+            return f"seq_concat(c, {args[0]}, {args[1]})"
         if kind == "Prod":
             m = re.fullmatch(r"#(\d+)", name)
             k = int(m.group(1)) - 1 if m else {"first": 0, "second": 1, "third": 2, "fourth": 3, "fifth": 4,
@@ -480,8 +516,12 @@ class Generator:
         raise Unsupported(f"{name} on {t.args[0].type}")
 
     def t_Collection(self, t, env):
-        if t.kind != "seq" or not self.composite(t.type):
+        if t.kind not in ("seq", "set") or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} literal")
+        if t.kind == "set":
+            arr = self.fresh("e")
+            vals = [self.term(x, env) for x in t.items]
+            return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; set_make(c, {arr}, {len(vals)}); }})"
         return self.build(1, t.items, env)
 
     def t_TupleLit(self, t, env):

@@ -232,6 +232,8 @@ static inline int guard(Ctx *c, V g, int site) {
  */
 #define K_SEQ 1
 #define K_TUPLE 2
+#define K_STRING 3
+#define K_SET 4
 typedef struct { int64_t off; int32_t len; int32_t kind; } VEnt;
 static V *vpool = 0;
 static int64_t npool = 0, cap_pool = 0;
@@ -358,6 +360,54 @@ static V seq_excluding(Ctx *c, V s, V x) {
     for (int i = 0; i < n; i++) { if (!done && e[i] == x) { done = 1; continue; } vscratch[k++] = e[i]; }
     return v_intern(c, K_SEQ, vscratch, k);
 }
+static int v_cmp(const void *a, const void *b) { V x = *(const V *)a, y = *(const V *)b; return x < y ? -1 : x > y; }
+/* a set: its elements sorted (by their int64 codes) without repetitions */
+static V set_make(Ctx *c, V *e, int n) {
+    qsort(e, n, sizeof(V), v_cmp);
+    int k = 0;
+    for (int i = 0; i < n; i++) if (k == 0 || e[k - 1] != e[i]) e[k++] = e[i];
+    return v_intern(c, K_SET, e, k);
+}
+static V set_contains(V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    const V *e = v_elems(s); int lo = 0, hi = v_len(s) - 1;
+    while (lo <= hi) { int m = (lo + hi) / 2; if (e[m] == x) return 1; if (e[m] < x) lo = m + 1; else hi = m - 1; }
+    return 0;
+}
+static V set_including(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[n] = x;
+    return set_make(c, vscratch, n + 1);
+}
+static V set_excluding(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), k = 0; const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) if (e[i] != x) vscratch[k++] = e[i];
+    return v_intern(c, K_SET, vscratch, k);
+}
+/* op 0 union, 1 intersection, 2 difference */
+static V set_op(Ctx *c, V a, V b, int op) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b), k = 0;
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    const V *x = v_elems(a), *y = v_elems(b);
+    for (int i = 0; i < n; i++) {
+        int in = set_contains(b, x[i]) == 1;
+        if (op == 0 || (op == 1 && in) || (op == 2 && !in)) vscratch[k++] = x[i];
+    }
+    if (op == 0) for (int j = 0; j < m; j++) vscratch[k++] = y[j];
+    return set_make(c, vscratch, k);
+}
+static V seq_concat(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
+    return v_intern(c, K_SEQ, vscratch, n + m);
+}
+
 static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
 
 /* ------------------------------------------------------------------ the model (generated) */
