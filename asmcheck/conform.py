@@ -11,7 +11,9 @@ same printed projection): all of them are followed.
 """
 from __future__ import annotations
 
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 
 from .errors import AsmError, AsmRuntimeError, InconsistentUpdate, Span
@@ -20,7 +22,7 @@ from .semantics.machine import Machine, NoAlternative, Prune, TooManySuccessors,
 from .semantics.machine import Ctx, Chooser
 from .semantics.printer import (asmeta_state_lines, location_text_asmeta, parse_asmeta_value, printable, show_asmeta,
                                 split_top)
-from .explore.canonical import _walk_fresh
+from .explore.canonical import walk_fresh
 from .semantics.state import is_dom_key
 from .semantics.values import AbstractValue, BagV, MapV, SeqV, SetV
 
@@ -60,7 +62,12 @@ def _split_line(text: str):
 
 
 def read_transcript(path: str) -> Transcript:
+    """The steps of a transcript; an input error (exit 2) when the file is not a regular file or
+    holds no run of ASMETA's simulator (no ``<State n (controlled)>`` block, no ``Final state:``
+    line and no inconsistent update)."""
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise AsmError(None, f"{path}: cannot read transcript: not a regular file")
         raw = open(path, "rb").read().decode("utf-8", errors="replace")
     except OSError as e:
         raise AsmError(None, f"{path}: cannot read transcript: {e.strerror or e}") from None
@@ -116,6 +123,10 @@ def read_transcript(path: str) -> Transcript:
         if m:
             stop = "clash"
             clash = s
+    if not steps and not in_final and stop is None and cur is None:
+        raise AsmError(Span(path, 1, 1), "not a transcript of ASMETA's simulator: no '<State n (controlled)>' "
+                                         "block, no 'Final state:' line (expected the output of "
+                                         "java -jar AsmetaS.jar -n N SPEC.asm)")
     t = Transcript(path, steps, requested, stop, clash, final)
     t.pending_taking = taking
     return t
@@ -125,10 +136,46 @@ class _Fixed(dict):
     """Monitored location text -> predicate accepting the transcript's value."""
 
 
-def _fixed_from(taking: dict) -> _Fixed:
+_REAL = re.compile(r"(?<![\w.])-?\d+\.\d+(?:E-?\d+)?(?![\w.])")
+
+
+def real_text(text: str) -> str:
+    """A value text with its reals rounded to 12 significant digits.  ASMETA builds differ in how
+    they count a Real interval: older ones add the step in doubles ({-0.8 : 0.8} holds
+    0.19999999999999996), newer ones in decimal (0.2), as asmcheck does; a transcript from
+    either conforms."""
+    if "." not in text:
+        return text
+    return _REAL.sub(lambda m: format(float(m.group(0)), ".12g"), text)
+
+
+_INT = re.compile(r"(?<![\w.])-?\d+(?![\w.])")
+MAX_NUMBERS = 64
+
+
+def _numbers(texts) -> dict:
+    """Candidate values of a choose over Integer, Natural or Real, which the simulator draws at
+    random: the numbers the step's block shows (a drawn value that reaches the state is printed
+    there), then 0 (a drawn value that leaves no trace can be any)."""
+    ints: set = set()
+    reals: set = set()
+    for t in texts:
+        for m in _REAL.finditer(t):
+            reals.add(float(m.group(0)))
+        for m in _INT.finditer(t):
+            ints.add(int(m.group(0)))
+    ints_l = sorted(ints)[:MAX_NUMBERS]
+    reals_l = sorted(reals)[:MAX_NUMBERS]
+    return {T.INTEGER: ints_l + [0] * (0 not in ints), T.NATURAL: [i for i in ints_l if i >= 0] + [0] * (0 not in ints),
+            T.REAL: reals_l + [0.0] * (0.0 not in reals)}
+
+
+def _fixed_from(taking: dict, lines=()) -> _Fixed:
     fx = _Fixed()
     for loc, vals in taking.items():
-        fx[loc] = (lambda v, vals=vals: show_asmeta(v) in vals)
+        norm = {real_text(v) for v in vals}
+        fx[loc] = (lambda v, vals=vals, norm=norm: show_asmeta(v) in vals or real_text(show_asmeta(v)) in norm)
+    fx.numbers = _numbers([v for _, _, v in lines] + [v for vals in taking.values() for v in vals])
     return fx
 
 
@@ -163,8 +210,10 @@ def _pruner(machine, step, before):
         vals = printed.get(t)
         if vals is None:
             raise Prune()
-        if depth == 0 and show_asmeta(value) not in vals:
-            raise Prune()
+        if depth == 0:
+            shown = show_asmeta(value)
+            if shown not in vals and real_text(shown) not in {real_text(x) for x in vals}:
+                raise Prune()
     return prune
 
 
@@ -245,10 +294,16 @@ def _matches(machine, state, lines) -> tuple[bool, tuple | None]:
         exp = sorted(vals)
         if exp == ["undef"] and not ours:
             continue
-        if ours != exp and not (len(exp) == 1 and exp[0] in ours):
+        if ours != exp and not (len(exp) == 1 and exp[0] in ours) and not _same_reals(ours, exp):
             return False, (first[loc], loc, exp[0] if len(exp) == 1 else ",".join(exp),
                            ",".join(ours) if ours else "undef")
     return True, None
+
+
+def _same_reals(ours: list, exp: list) -> bool:
+    o = sorted(real_text(x) for x in ours)
+    e = sorted(real_text(x) for x in exp)
+    return o == e or (len(e) == 1 and e[0] in o)
 
 
 def conform(machine: Machine, transcript: Transcript):
@@ -267,7 +322,7 @@ def conform(machine: Machine, transcript: Transcript):
     except NoAlternative as e:
         return Mismatch(0, 0, "", "", [], f"initial state: {e.message}")
     for step in transcript.steps:
-        fixed = _fixed_from(step.taking)
+        fixed = _fixed_from(step.taking, step.lines)
         nxt = []
         seen = set()
         misses = []
@@ -309,14 +364,19 @@ def conform(machine: Machine, transcript: Transcript):
 
 def _follow(machine, st, step, fixed, use_prune, nxt, seen, misses):
     """Add to ``nxt`` the successors of ``st`` that show the block; record why others do not."""
+    errors: list = []
     try:
         try:
+            # a sequence of choices that fails (a choose over a range that is undef there, say) is
+            # not the step the simulator made, which did not fail: it is skipped
             succ = machine.successors(st, limit=ENUMERATE, fixed=fixed, parse=_parser(step.taking, machine),
-                                      prune=_pruner(machine, step, st) if use_prune else None)
+                                      prune=_pruner(machine, step, st) if use_prune else None, errors=errors)
         except TooManySuccessors:
             if not use_prune:
                 raise
             succ = _first_matches(machine, st, step, fixed)
+        if not succ and errors:
+            raise errors[0]
     except NoAlternative as e:
         misses.append((None, e.message))
         return None
@@ -411,8 +471,8 @@ def _match_renamed(machine, before, new, ups, lines):
             continue
         found: list = []
         if type(k) is tuple:
-            _walk_fresh(k[1], found)
-        _walk_fresh(v, found)
+            walk_fresh(k[1], found)
+        walk_fresh(v, found)
         found = {e for e in found if e in fresh}
         if len(found) == 1:
             alone[found.pop()].append((k, v))

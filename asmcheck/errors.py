@@ -5,6 +5,7 @@ printed as ``file:line:col: message`` followed by the source line and a caret.
 """
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -65,13 +66,41 @@ class AsmError(Exception):
         return f"{self.span}: {self.message}"
 
     def render(self) -> str:
-        """``file:line:col: message``, the source line and a caret (and notes)."""
-        out = [str(self)]
+        """``file:line:col: message``, the source line and a caret (and notes).
+
+        Only the erroneous line is echoed (a window of it when it is long), and terminal
+        control characters are shown as '?', so a hostile file cannot drive the terminal."""
+        out = [clean_text(str(self))]
         out.extend(_quote(self.span))
         for span, note in self.notes:
-            out.append(f"{span}: note: {note}" if span and span.line else f"note: {note}")
+            out.append(clean_text(f"{span}: note: {note}" if span and span.line else f"note: {note}"))
             out.extend(_quote(span))
         return "\n".join(out)
+
+    def to_json(self) -> dict:
+        """The error as ``{"error": {"file", "line", "col", "message"}}`` (None where unknown)."""
+        span = self.span
+        located = span is not None and span.line > 0
+        return {"error": {
+            "file": span.path if span is not None and span.path != NO_SPAN.path else None,
+            "line": span.line if located else None,
+            "col": span.col if located else None,
+            "message": clean_text(self.message),
+        }}
+
+
+# C0 controls (but tab and newline), DEL, C1 controls, and the Unicode bidirectional overrides
+_CONTROL = {c: "?" for c in list(range(0x00, 0x09)) + list(range(0x0b, 0x20)) + list(range(0x7f, 0xa0))
+            + [0x061c, 0x200e, 0x200f] + list(range(0x202a, 0x202f)) + list(range(0x2066, 0x206a))}
+
+
+def clean_text(text: str) -> str:
+    """``text`` with terminal control characters (escape sequences, bells, carriage returns,
+    bidirectional overrides) replaced by '?', one for one; tabs and newlines are kept."""
+    return text.translate(_CONTROL)
+
+
+QUOTE_WIDTH = 160       # at most this many characters of the erroneous line are echoed
 
 
 def _quote(span: Span | None) -> list[str]:
@@ -80,12 +109,75 @@ def _quote(span: Span | None) -> list[str]:
     text = SOURCES.line(span.path, span.line)
     if text is None:
         return []
-    # Keep the caret under the right character: copy tabs from the line.
-    prefix = "".join(c if c == "\t" else " " for c in text[: max(span.col - 1, 0)])
+    col = max(span.col - 1, 0)
     width = 1
     if span.end_line == span.line and span.end_col > span.col:
         width = span.end_col - span.col
-    return ["    " + text, "    " + prefix + "^" * min(width, max(1, len(text) - span.col + 1))]
+    lead = ""
+    if len(text) > QUOTE_WIDTH:
+        # a window of the line around the column
+        start = max(0, min(col - QUOTE_WIDTH // 3, len(text) - QUOTE_WIDTH))
+        shown = text[start:start + QUOTE_WIDTH]
+        lead = "..." if start > 0 else ""
+        tail = "..." if start + QUOTE_WIDTH < len(text) else ""
+        col -= start
+        text = shown + tail
+        width = min(width, max(1, len(shown) - col))
+    text = clean_text(text)
+    # Keep the caret under the right character: copy tabs from the line.
+    prefix = " " * len(lead) + "".join(c if c == "\t" else " " for c in text[:col])
+    return ["    " + lead + text, "    " + prefix + "^" * min(width, max(1, len(text) - col))]
+
+
+def located_recursion_error(exc: BaseException, path: str | None = None) -> "AsmError":
+    """A RecursionError raised while processing a spec, as a located error.
+
+    Looks at what the interrupted frames were working on: when rules were being called,
+    the error points at the first rule of the cycle of rules that call one another (or the
+    rule that calls itself) and names the cycle; otherwise it points at the innermost spec
+    construct being processed."""
+    frames = []
+    tb = exc.__traceback__
+    while tb is not None:
+        frames.append(tb.tb_frame)
+        tb = tb.tb_next
+    raw: list[tuple[str, Span]] = []        # rules being called, outermost first (one per frame)
+    inner: Span | None = None
+    for fr in frames:
+        act = None
+        for v in list(fr.f_locals.values()):
+            sp = getattr(v, "span", None)
+            if not isinstance(sp, Span) or sp.line <= 0:
+                continue
+            inner = sp
+            kind = type(v).__name__
+            if act is None and kind == "RuleDecl":
+                act = (getattr(v, "name", "?"), sp)
+            elif act is None and kind == "CallRule" and getattr(v, "rule", None) is not None:
+                act = (getattr(v.rule, "name", "?"), getattr(v.rule, "span", sp) or sp)
+        if act is not None:
+            raw.append(act)
+    runs: list[tuple[str, Span]] = []       # consecutive frames of one rule taken as one
+    for act in raw:
+        if not runs or runs[-1][0] != act[0]:
+            runs.append(act)
+    names = [r[0] for r in runs]
+    for i, name in enumerate(names):
+        if name in names[i + 1:]:
+            cycle = names[i:names.index(name, i + 1) + 1]
+            return AsmError(runs[i][1], f"the rules {' -> '.join(cycle)} call one another without end (or more "
+                                        f"deeply than asmcheck can follow)")
+    if raw:
+        counts = Counter(a[0] for a in raw)
+        name, times = counts.most_common(1)[0]
+        span = next(a[1] for a in raw if a[0] == name)
+        if times > 20:
+            return AsmError(span, f"the rule {name} calls itself without end (or more deeply than asmcheck "
+                                  f"can follow)")
+    if inner is not None:
+        return AsmError(inner, "the spec nests too deeply here (recursion limit reached)")
+    where = f"{path}: " if path else ""
+    return AsmError(None, f"{where}the spec nests too deeply (recursion limit reached)")
 
 
 class AsmSyntaxError(AsmError):

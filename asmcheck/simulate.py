@@ -4,11 +4,11 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from .errors import AsmError, AsmRuntimeError, Span
+from .errors import SOURCES, AsmError, Span
 from .semantics import types as T
-from .semantics.machine import Chooser, InputChooser, Machine, RandomChooser, NO_VALUE
-from .semantics.printer import show_asmeta
-from .semantics.state import is_dom_key
+from .semantics.machine import DrawingChooser, InputChooser, Machine, RandomChooser
+from .semantics.printer import parse_asmeta_value, split_top
+from .semantics.values import BagV, MapV, SeqV, SetV
 
 
 @dataclass
@@ -22,14 +22,24 @@ class SimStep:
     error: AsmError | None = None
 
 
+class InputText(str):
+    """A value as written in an inputs file, with its position there (``span``) and the
+    position of its location (``loc_span``)."""
+
+    span: Span | None = None
+    loc_span: Span | None = None
+
+
 def read_inputs(path: str) -> list[dict]:
     """Monitored values per step: ``location = value`` lines; a line ``---`` ends a step.
 
-    Values are written as asmcheck prints them (``true``, ``3``, ``RED``, ``"text"``)."""
+    Values are written as ASMETA prints them (``true``, ``3``, ``RED``, ``"text"``, ``[1,2,3]``,
+    ``{AA,BB}``, ``<1,1>``, ``(1,true)``, ``{A->1}``); each keeps its position for error messages."""
     try:
         text = open(path, encoding="utf-8", errors="replace").read()
     except OSError as e:
         raise AsmError(None, f"{path}: cannot read inputs: {e.strerror or e}") from None
+    SOURCES.add(path, text)
     steps: list[dict] = [{}]
     for no, line in enumerate(text.splitlines(), 1):
         s = line.split("//", 1)[0].strip()
@@ -41,48 +51,92 @@ def read_inputs(path: str) -> list[dict]:
         m = re.match(r"^(.+?)\s*=\s*(.+)$", s)
         if not m:
             raise AsmError(Span(path, no, 1), "expected 'location = value' or '---'")
-        val = m.group(2).strip()
-        if len(val) >= 2 and val[0] == val[-1] == '"':
-            val = val[1:-1]
+        raw = m.group(2).strip()
+        val = raw[1:-1] if len(raw) >= 2 and raw[0] == raw[-1] == '"' else raw
+        val = InputText(val)
+        lcol = line.index(s) + 1
+        val.loc_span = Span(path, no, lcol)
+        val.span = Span(path, no, lcol + m.start(2))
         steps[-1][m.group(1).replace(" ", "")] = val
     return steps
 
 
-class _TextInputs(InputChooser):
-    """Monitored values given as text (matched against the values of the domain)."""
+def _unquote(v):
+    """Strings inside a structured input value may be written with quotes."""
+    if type(v) is str and len(v) >= 2 and v[0] == v[-1] == '"':
+        return v[1:-1]
+    if type(v) is tuple:
+        return tuple(_unquote(x) for x in v)
+    if isinstance(v, SeqV):
+        return SeqV([_unquote(x) for x in v])
+    if isinstance(v, SetV):
+        return SetV([_unquote(x) for x in v])
+    if isinstance(v, BagV):
+        return BagV.of([_unquote(x) for x in v])
+    if isinstance(v, MapV):
+        return MapV.of([(_unquote(a), _unquote(b)) for a, b in v])
+    return v
 
-    def __init__(self, values: dict, fallback):
-        super().__init__({}, fallback)
-        self.texts = values
 
-    def choose(self, kind, label, options, values_repr=None) -> int:
-        if kind == "monitored" and label in self.texts:
-            want = self.texts[label]
-            for i, o in enumerate(options):
-                if show_asmeta(o) == want:
-                    from .semantics.machine import Choice
-                    self.log.append(Choice(kind, label, len(options), i, o))
-                    return i
-            raise AsmRuntimeError(None, f"the input {label} = {want} is not a value of its domain")
-        i = self.fallback.choose(kind, label, options, values_repr)
-        self.log.append(self.fallback.log.pop())
-        return i
+def parse_inputs(machine: Machine, inputs: list[dict]) -> list[dict]:
+    """The inputs as values: location text (as the machine writes it) -> value of the function's
+    codomain.  A location that is not a monitored function's, or a value that is not one of its
+    codomain (a malformed Seq, a Set of the wrong elements, an enum constant that does not exist),
+    is an input error at its position in the file."""
+    by_name: dict = {}
+    for f in machine.functions:
+        by_name.setdefault(f.name, []).append(f)
+    out = []
+    for block in inputs:
+        parsed = {}
+        for loc, text in block.items():
+            span = getattr(text, "span", None)
+            lspan = getattr(text, "loc_span", None) or span
+            name, paren, rest = loc.partition("(")
+            if paren and not rest.endswith(")"):
+                raise AsmError(lspan, f"{loc} is not a location (expected NAME or NAME(ARGS))")
+            args = split_top(rest[:-1]) if paren else []
+            funcs = [f for f in by_name.get(name, []) if f.arity == len(args)]
+            if not funcs:
+                raise AsmError(lspan, f"no function {name} with {len(args)} argument(s) in {machine.spec.name}")
+            mon = [f for f in funcs if f.kind == "monitored"]
+            if not mon:
+                raise AsmError(lspan, f"{name} is a {funcs[0].kind} function, not a monitored one: the inputs "
+                                      f"give values of monitored functions")
+            key = value = problem = None
+            for f in mon:
+                try:
+                    vals = tuple(_unquote(parse_asmeta_value(a, t, machine)) for a, t in zip(args, f.domain))
+                except (ValueError, IndexError):
+                    problem = problem or (lspan, f"the arguments of {loc} are not values of the domain of {name}")
+                    continue
+                try:
+                    value = _unquote(parse_asmeta_value(str(text), f.codomain, machine))
+                except (ValueError, IndexError):
+                    value = None
+                    problem = (span, f"{text} is not a value of {f.codomain} (the codomain of {name})")
+                    continue
+                if value is not None and not _in_codomain(machine, f, value):
+                    problem = (span, f"{text} is not a value of {f.codomain} (the codomain of {name})")
+                    continue
+                key = machine.key_of(f, vals)
+                break
+            if key is None:
+                raise AsmError(*problem)
+            parsed[machine.location_text(key)] = value
+        out.append(parsed)
+    return out
 
-    def value(self, label, dom):
-        if label in self.texts:
-            text = self.texts[label]
-            r = T.root(dom)
-            try:
-                v = int(text) if r in (T.INTEGER, T.NATURAL) else float(text) if r is T.REAL else text
-            except ValueError:
-                raise AsmRuntimeError(None, f"the input {label} = {text} is not a value of {dom}") from None
-            from .semantics.machine import Choice
-            self.log.append(Choice("monitored", label, 0, 0, v))
-            return v
-        v = self.fallback.value(label, dom)
-        if v is not NO_VALUE:
-            self.log.append(self.fallback.log.pop())
-        return v
+
+def _in_codomain(machine: Machine, f, value) -> bool:
+    from .semantics.state import same_value
+    if f.codomain is T.NATURAL:
+        return type(value) is int and value >= 0
+    try:
+        allowed = machine.domain_values(f.codomain, None, f.span)
+    except AsmError:
+        return True         # an infinite codomain: parsing checked the form of the value
+    return any(same_value(value, a) for a in allowed)
 
 
 def simulate(machine: Machine, steps: int, seed: int | None = None, random_choices: bool = False,
@@ -90,11 +144,18 @@ def simulate(machine: Machine, steps: int, seed: int | None = None, random_choic
     """Run ``steps`` steps; yield the initial state then one SimStep per step (stops at an error
     or an invariant violation)."""
     def chooser_for(k):
-        base = RandomChooser((seed or 0) * 1_000_003 + k) if (random_choices or seed is not None) else Chooser()
+        # choose takes the first candidate, unless random; a choose over Integer, Natural or Real,
+        # which has no first, draws from a source seeded by the step number
+        base = RandomChooser((seed or 0) * 1_000_003 + k) if (random_choices or seed is not None) \
+            else DrawingChooser(k)
         j = max(k - 1, 0)       # the first block of the inputs is for step 1 (and the initial state)
-        if inputs is not None and j < len(inputs):
-            return _TextInputs(inputs[j], base)
+        if values is not None and j < len(values):
+            return InputChooser(values[j], base)
         return base
+
+    values = None
+    if inputs is not None:
+        values = parse_inputs(machine, inputs)
 
     ch0 = chooser_for(0)
     state = machine.initial_state(ch0)

@@ -9,12 +9,11 @@ A benchmark, not a test.
 """
 import argparse
 import sys
+import tempfile
 import time
 from pathlib import Path
 
-from asmcheck.errors import AsmError
-from asmcheck.semantics.resolve import check_file
-from asmcheck.syntax.parser import _grammar
+import asmcheck
 
 
 def main(argv=None):
@@ -25,8 +24,12 @@ def main(argv=None):
     manifest = root / "MANIFEST.tsv"
     if not manifest.exists():
         sys.exit(f"no corpus at {root}")
+    # the first parse builds (or reads from the cache) the grammar's tables
     t0 = time.perf_counter()
-    _grammar()
+    with tempfile.TemporaryDirectory() as tmp:
+        first = Path(tmp) / "First.asm"
+        first.write_text("asm First\nimport StandardLibrary\nsignature:\ndefinitions:\nmain rule r_main = skip\n")
+        asmcheck.parse(first)
     t_grammar = time.perf_counter() - t0
     rows = [line.split("\t") for line in manifest.read_text().splitlines()[1:]]
     times = []
@@ -37,12 +40,12 @@ def main(argv=None):
             continue
         t1 = time.perf_counter()
         try:
-            check_file(str(root / path))
-        except AsmError:
+            asmcheck.parse(root / path)
+        except asmcheck.AsmError:
             failed += 1
         times.append((time.perf_counter() - t1, path))
     total = time.perf_counter() - t0
-    print(f"grammar ready in {t_grammar:.2f} s")
+    print(f"grammar ready (and StandardLibrary read) in {t_grammar:.2f} s")
     print(f"{len(times)} accepted files parsed and checked in {total:.2f} s ({failed} rejected)")
     for secs, path in sorted(times, reverse=True)[:5]:
         print(f"  {secs:6.3f} s  {path}")

@@ -616,24 +616,19 @@ def passed_notes(results: list[dict], loop: dict) -> list[str]:
 def loop_targets(shared: Path, apps: list[str]) -> dict:
     """For the deterministic passed=true chains: (depth of the last state, depth of the state its only
     successor is). Uses asmcheck's explorer in-process, with the state graph kept."""
+    import asmcheck
+
     out = {}
-    try:
-        from asmcheck.commands import _load, machine_options
-        from asmcheck.explore.bfs import Explorer
-    except Exception as e:  # pragma: no cover - depends on asmcheck internals
-        print(f"loop analysis skipped: {e}", file=sys.stderr)
-        return out
     for app in apps:
         try:
-            opts = machine_options(argparse.Namespace(int_range=None, monitored=["passed=true"]))
-            spec, m = _load(str(lib_dir(shared) / f"Application/{app}.asm"), opts)
-            ex = Explorer(m, keep_graph=True)
-            ex.run()
-            last = max(range(len(ex.frozen)), key=lambda s: ex.depth_of[s])
-            back = [dst for src, dst, _ in ex.edges if src == last]
+            model = asmcheck.load(lib_dir(shared) / f"Application/{app}.asm", monitored={"passed": [True]},
+                                  default_properties=False)
+            g = model.explore(engine="python", graph=True).graph()
+            last = max(g.nodes, key=lambda s: (g.nodes[s]["depth"], -s))
+            back = sorted(g.successors(last))
             if back:
-                out[app] = (int(ex.depth_of[last]), int(ex.depth_of[back[0]]))
-        except Exception as e:  # pragma: no cover
+                out[app] = (int(g.nodes[last]["depth"]), int(g.nodes[back[0]]["depth"]))
+        except (asmcheck.AsmError, asmcheck.UsageError) as e:
             print(f"loop analysis of {app} failed: {e}", file=sys.stderr)
     return out
 

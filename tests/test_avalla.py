@@ -214,8 +214,13 @@ def test_pick_of_a_value_the_guard_excludes_stops_the_run(scenario):
 
 def test_pick_of_a_value_out_of_the_range(scenario):
     spec = SCHED.replace("choose $j in Job with", "choose $j in {JA, JB} with")
-    out = run_scenario(scenario(FINS + "pick $j := JC;\nstep\n", spec=spec))
-    assert out.stopped == "pick" and "JC is not in the range of $j in r_run" in out.events[-1].message
+    path = scenario(FINS + "pick $j := JC;\nstep\n", spec=spec)
+    # a value the choose rule can never take is an error in the scenario (exit 2), not a failed check
+    with pytest.raises(AsmError) as info:
+        run_scenario(path)
+    assert info.value.message == "pick $j := JC: JC is not in the range of $j in r_run"
+    assert (info.value.span.line, info.value.span.col) == (7, 12)
+    assert main(["scenario", path]) == 2
 
 
 # ----------------------------------------------------------------- blocks
@@ -409,3 +414,95 @@ def test_a_spec_without_main_rule(scenario):
     with pytest.raises(AsmError) as info:
         run_scenario(scenario("step\n", spec=spec))
     assert info.value.span.line == 2 and "no main rule" in info.value.message
+
+
+# ----------------------------------------------------------------- picks as AsmetaV applies them
+OVERLOADS = """\
+asm Ov
+import StandardLibrary
+signature:
+	dynamic controlled a: Integer
+	dynamic controlled b: Integer
+definitions:
+	rule r_chooseRandom =
+		choose $i1 in {1, 2, 3} with true do a := $i1
+	rule r_chooseRandom($f in Boolean) =
+		choose $i1 in {1, 2, 3} with true do b := $i1
+	main rule r_main = par r_chooseRandom[] r_chooseRandom[true] endpar
+default init s0:
+	function a = 0
+	function b = 0
+"""
+
+
+def test_pick_names_the_overload_as_asmetav_does(scenario):
+    # AsmetaV keys a rule by name_Domain1_Domain2 and a pick's 'in r_x(D1,D2)' the same way: 'in r_x'
+    # is the r_x without parameters, 'in r_x(Boolean)' the overload over Boolean
+    out = run_scenario(scenario("pick $i1 in r_chooseRandom := 3;\nstep\ncheck a = 3;\ncheck b = 1;\n",
+                                spec=OVERLOADS, spec_name="Ov"))
+    assert checks(out) == [(5, True), (6, True)], out.events
+    out = run_scenario(scenario("pick $i1 in r_chooseRandom(Boolean) := 2;\nstep\ncheck a = 1;\ncheck b = 2;\n",
+                                spec=OVERLOADS, spec_name="Ov"))
+    assert checks(out) == [(5, True), (6, True)], out.events
+    with pytest.raises(AsmError) as info:
+        run_scenario(scenario("pick $i1 in r_chooseRandom(Integer) := 2;\nstep\n", spec=OVERLOADS, spec_name="Ov"))
+    assert info.value.message == "no rule r_chooseRandom(Integer) in Ov"
+
+
+INFINITE = """\
+asm Inf
+import StandardLibrary
+signature:
+	dynamic controlled foo: Integer
+	dynamic controlled nat: Natural
+	dynamic controlled re: Real
+definitions:
+	main rule r_main = par
+		choose $s in Integer with true do foo := $s
+		choose $n in Natural with true do nat := $n
+		choose $r in Real with true do re := $r
+	endpar
+default init s0:
+	function foo = 1
+"""
+
+
+def test_pick_of_integer_natural_and_real_values(scenario):
+    out = run_scenario(scenario("pick $s := -5;\npick $n := 7;\npick $r := 0.25;\nstep\n"
+                                "check foo = -5;\ncheck nat = 7;\ncheck re = 0.25;\n", spec=INFINITE, spec_name="Inf"))
+    assert checks(out) == [(7, True), (8, True), (9, True)], out.events
+    # without a pick the value is drawn, as ASMETA's simulator does (seeded: the same each run)
+    a = run_scenario(scenario("step\n", spec=INFINITE, spec_name="Inf"))
+    b = run_scenario(scenario("step\n", spec=INFINITE, spec_name="Inf"))
+    assert a.ok and a.steps == b.steps == 1
+    with pytest.raises(AsmError) as info:
+        run_scenario(scenario("pick $n := -1;\nstep\n", spec=INFINITE, spec_name="Inf"))
+    assert info.value.message == "pick $n := -1: -1 is not in the range of $n (Natural) in r_main"
+    assert (info.value.span.line, info.value.span.col) == (3, 12)
+
+
+def test_scenario_takes_the_machine_options(scenario):
+    spec = INFINITE.replace("choose $s in Integer with true do foo := $s",
+                            "choose $s in Integer with $s > 2 do foo := $s")
+    out = run_scenario(scenario("step\n", spec=spec, spec_name="Inf"))
+    assert out.stopped == "runtime error" and out.events[-1].message.startswith(
+        "step 1 failed: choose over the infinite domain Integer with a guard"), out.events
+    spec2 = spec.replace("choose $n in Natural with true do nat := $n", "nat := 0n").replace(
+        "choose $r in Real with true do re := $r", "re := 0.0")
+    out = run_scenario(scenario("step\ncheck foo = 3;\n", spec=spec2, spec_name="Inf"),
+                       options={"int_range": (-5, 5)})
+    assert checks(out) == [(4, True)], out.events
+
+
+def test_load_tries_the_path_as_given_then_beside_the_scenario(tmp_path, monkeypatch):
+    (tmp_path / "specs").mkdir()
+    (tmp_path / "scen").mkdir()
+    (tmp_path / "specs" / "Sched.asm").write_text(SCHED, encoding="utf-8")
+    sc = tmp_path / "scen" / "a.avalla"
+    sc.write_text("scenario a\nload specs/Sched.asm\n" + FINS + "step\ncheck count = 1;\n", encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert run_scenario(str(sc)).ok
+    (tmp_path / "scen" / "Sched.asm").write_text(SCHED, encoding="utf-8")
+    sc.write_text("scenario a\nload Sched.asm\n" + FINS + "step\ncheck count = 1;\n", encoding="utf-8")
+    out = run_scenario(str(sc))
+    assert out.ok and out.spec_path == str(tmp_path / "scen" / "Sched.asm")

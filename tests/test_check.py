@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from asmcheck import __version__, commands_check
+from asmcheck import __version__, api
 from asmcheck.cli import main
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -33,7 +33,7 @@ class FakeClock:
 
 @pytest.fixture
 def fixed_clock(monkeypatch):
-    monkeypatch.setattr(commands_check, "CLOCK", FakeClock())
+    monkeypatch.setattr(api, "CLOCK", FakeClock())
 
 
 def normalize(text: str, out: Path) -> str:
@@ -213,7 +213,7 @@ def test_folders_are_walked_sorted_and_modules_skipped(tmp_path):
     counter(tmp_path / "sub", "b")
     counter(tmp_path, "a")
     write(tmp_path, "lib.asm", "// a module\nmodule lib\nimport StandardLibrary\nsignature:\ndefinitions:\n")
-    found = commands_check.find_specs([str(tmp_path)])
+    found = api.find_specs([str(tmp_path)])
     assert [Path(f).name for f in found] == ["a.asm", "b.asm"]
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from asmcheck.cli import build_parser, main
-from asmcheck.commands import _load
+from asmcheck.props.load import load_machine
 from asmcheck.explore.bfs import Explorer
 from asmcheck.props import spec_properties
 from asmcheck.props.files import properties_for
@@ -35,7 +35,7 @@ def run_scenario(path: Path, capsys) -> dict:
 def counterexample(spec_path: str, name: str):
     """(machine, trace, property, loop) of the shortest counterexample of ``name``: the
     explorer checks only that property, so it stops at its first violation."""
-    spec, m = _load(spec_path)
+    spec, m = load_machine(spec_path)
     state, step = spec_properties(m)
     extra_state, extra_step, temporal = properties_for(spec, m, spec_path)
     state, step = state + extra_state, step + extra_step

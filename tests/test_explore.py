@@ -150,8 +150,12 @@ def test_unbounded_monitored_integer_is_a_located_error(tmp_path, capsys):
     text = spec("\tmonitored m: Integer\n\tcontrolled x: Integer", "\tmain rule r_main = x := m")
     path = write(tmp_path, text)
     assert main(["explore", path]) == 2
-    out = capsys.readouterr().out
-    assert f"{path}:4:" in out and "--monitored m=LO..HI" in out
+    got = capsys.readouterr()
+    # a located input error goes to stderr; stdout carries results only
+    assert got.out == "" and f"{path}:4:" in got.err and "--monitored m=LO..HI" in got.err
+    assert main(["explore", path, "--format", "json"]) == 2
+    got = capsys.readouterr()
+    assert json.loads(got.out)["error"]["line"] == 4 and f"{path}:4:" in got.err
     assert main(["explore", path, "--monitored", "m=1..3", "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["states"] == 4
 

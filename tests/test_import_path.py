@@ -80,7 +80,7 @@ def test_updated_by_needs_an_agent(tmp_path, capsys):
     bad = tmp_path / "bad.prop"
     bad.write_text("step s1: updatedBy(t1, x)\n", encoding="utf-8")
     assert main(["explore", str(tmp_path / "Ub.asm"), "--properties", str(bad)]) == 2
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err
     assert out.startswith(f"{bad}:1:20: updatedBy needs an agent (an element of Agent or of a domain that is a "
                           f"subset of it), not a value of Task\n")
     good = tmp_path / "good.prop"

@@ -9,10 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from asmcheck.commands import _load
+import asmcheck
 from asmcheck.explore.bfs import Explorer
 from asmcheck.props.files import properties_for
 from asmcheck.semantics.machine import Chooser, Ctx
+from asmcheck.report.trace import temporal_json
 from asmcheck.temporal import check_temporal
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -78,7 +79,8 @@ class GraphOnly:
 
 def explored(name: str):
     path = str(TEMPORAL / f"{name}.asm")
-    spec, machine = _load(path)
+    model = asmcheck.load(path)
+    spec, machine = model.spec, model.machine
     _, _, temporal = properties_for(spec, machine, path, None, use_default=True)
     ex = Explorer(machine, keep_graph=True)
     assert ex.run().verdict != "incomplete"
@@ -86,7 +88,7 @@ def explored(name: str):
 
 
 def outcome(machine, results):
-    return [(r.name, r.holds, r.json(machine)) for r in results]
+    return [(r.name, r.holds, temporal_json(r, machine)) for r in results]
 
 
 @pytest.mark.parametrize("name", ["counter", "peterson", "spinlock", "request_ack", "grid"])

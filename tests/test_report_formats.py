@@ -13,7 +13,6 @@ import pytest
 from junitparser import Error, Failure, JUnitXml, Skipped
 from referencing import Registry, Resource
 
-from asmcheck import commands_check
 from asmcheck.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -64,3 +64,44 @@ def test_rtpattern_applications_simulate_1000_steps(app, capsys):
     steps = json.loads(capsys.readouterr().out)["steps"]
     assert len(steps) == 1001
     assert all(s["error"] is None and not s["violated"] for s in steps)
+
+
+STRUCT = spec("\tenum domain C = {AA | BB}\n\tmonitored f3: Seq(Integer)\n\tmonitored ps: Powerset(C)\n"
+              "\tmonitored pr: Prod(Integer, Boolean)\n\tmonitored mp: Map(C, Integer)\n\tmonitored bg: Bag(Integer)\n"
+              "\tmonitored nm: String\n"
+              "\tcontrolled n: Integer\n\tcontrolled ok: Boolean\n\tcontrolled t: Integer\n\tcontrolled k: Integer\n"
+              "\tcontrolled b: Natural\n\tcontrolled w: String",
+              "\tmain rule r_main = par\n\t\tn := length(f3)\n\t\tok := contains(ps, BB)\n\t\tt := first(pr)\n"
+              "\t\tk := at(mp, AA)\n\t\tb := count(bg, 1)\n\t\tw := nm\n\tendpar")
+
+
+def test_structured_input_values_are_values_of_the_codomain(tmp_path, capsys):
+    path = write(tmp_path, STRUCT)
+    inputs = tmp_path / "in.txt"
+    inputs.write_text('f3 = [1,2,4567]\nps = {AA, BB}\npr = (7,true)\nmp = {AA->3,BB->4}\nbg = <1,1,2>\n'
+                      'nm = "a b"\n')
+    assert main(["simulate", path, "-n", "1", "--input", str(inputs)]) == 0
+    assert capsys.readouterr().out.splitlines() == [
+        "initial state:",
+        'step 1  [f3 = [1, 2, 4567]; ps = {AA, BB}; pr = (7, true); mp = {AA->3, BB->4}; bg = <1, 1, 2>; '
+        'nm = "a b"]:',
+        "  b = 2", "  k = 3", "  n = 3", "  ok = true", "  t = 7", '  w = "a b"']
+
+
+@pytest.mark.parametrize("line, where, message", [
+    ("f3 = [1,2,x]", "1:6", "[1,2,x] is not a value of Seq(Integer) (the codomain of f3)"),
+    ("f3 = [1,2", "1:6", "[1,2 is not a value of Seq(Integer) (the codomain of f3)"),
+    ("ps = {AA, CC}", "1:6", "{AA, CC} is not a value of Powerset(C) (the codomain of ps)"),
+    ("pr = (1,2)", "1:6", "(1,2) is not a value of Prod(Integer,Boolean) (the codomain of pr)"),
+    ("n = 3", "1:1", "n is a controlled function, not a monitored one: the inputs give values of monitored "
+                     "functions"),
+    ("zz = 3", "1:1", "no function zz with 0 argument(s) in S"),
+])
+def test_a_malformed_input_value_is_a_located_error(tmp_path, capsys, line, where, message):
+    path = write(tmp_path, STRUCT)
+    inputs = tmp_path / "in.txt"
+    inputs.write_text("---\n" + line + "\n")
+    assert main(["simulate", path, "-n", "1", "--input", str(inputs)]) == 2
+    err = "".join(capsys.readouterr())
+    line_no, col = where.split(":")
+    assert f"{inputs}:{int(line_no) + 1}:{col}: {message}" in err

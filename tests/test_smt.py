@@ -409,7 +409,7 @@ default init s0:
 def test_unsupported_constructs(tmp_path, capsys, label, text, line, col, msg):
     path = write(tmp_path, "uns", text)
     code = main(["bmc", path, "-k", "2"])
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err          # input errors go to stderr
     assert code == 2
     first = out.splitlines()[0]
     assert first.startswith(f"{path}:{line}:{col}: the Z3 engine cannot encode"), first
@@ -419,7 +419,7 @@ def test_unsupported_constructs(tmp_path, capsys, label, text, line, col, msg):
 def test_auxiliary_term_errors_are_located(tmp_path, capsys):
     path = twin(tmp_path, 7, 16)
     code = main(["bmc", path, "--induction", "--aux", "nope: wb0 implies zz = 1"])
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err
     assert code == 2 and out.startswith("<aux 1>:1:") and "zz" in out
 
 

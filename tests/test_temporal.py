@@ -9,9 +9,10 @@ from pathlib import Path
 import pytest
 
 from asmcheck.cli import main
-from asmcheck.commands import _load
+from asmcheck.props.load import load_machine
 from asmcheck.explore.bfs import Explorer
 from asmcheck.props.files import properties_for
+from asmcheck.report.trace import temporal_json, temporal_text
 from asmcheck.temporal import check_temporal
 from asmcheck.temporal.ctl import CTL
 from asmcheck.temporal.formula import AF, AG, AU, AX, EF, EG, EU, EX, And, Implies, Not, Or
@@ -26,7 +27,7 @@ SPECS = ROOT / "specs"
 def check(path, prop_files=None, fair=(), drop_fairness=False):
     """Explore ``path`` and check its temporal properties: {name: TemporalResult}."""
     path = str(path)
-    spec, machine = _load(path)
+    spec, machine = load_machine(path)
     _, _, temporal = properties_for(spec, machine, path, prop_files, use_default=False)
     if drop_fairness:
         temporal = [p for p in temporal if p.kind not in ("justice", "compassion")]
@@ -39,7 +40,7 @@ def check(path, prop_files=None, fair=(), drop_fairness=False):
 
 def states_of(machine, r):
     """The replayed trace of a result as a list of {location text: value} dicts."""
-    return [step["state"] for step in r.json(machine)["trace"]]
+    return [step["state"] for step in temporal_json(r, machine)["trace"]]
 
 
 # ----------------------------------------------------------------- mutual exclusion and fairness
@@ -49,7 +50,7 @@ def test_peterson_starves_without_fairness():
     for name in ("ltlSpec_p1_enters", "ltlSpec_p2_enters", "ctlSpec_p1_enters"):
         assert not res[name].holds, name
     r = res["ltlSpec_p1_enters"]
-    j = r.json(m)
+    j = temporal_json(r, m)
     loop = j["loop_start"]
     assert loop is not None
     states = states_of(m, r)
@@ -75,7 +76,7 @@ def test_spinlock_needs_strong_fairness():
     r = res["ltlSpec_p1_enters"]
     assert not r.holds
     states = states_of(m, r)
-    loop = r.json(m)["loop_start"]
+    loop = temporal_json(r, m)["loop_start"]
     cycle = states[loop:]
     # weakly fair: both processes move in the cycle, but p1 only ever sees the lock taken
     assert all(s["pc(p1)"] == "WAIT" for s in cycle)
@@ -107,7 +108,7 @@ def test_counter_ctl_and_ltl_verdicts():
 def test_ltl_refuted_only_by_a_lasso():
     m, res = check(TEMPORAL / "counter.asm")
     r = res["ltlSpec_reset_often"]
-    j = r.json(m)
+    j = temporal_json(r, m)
     assert j["kind"] == "ltl" and j["verdict"] == "violated"
     loop = j["loop_start"]
     states = states_of(m, r)
@@ -115,7 +116,7 @@ def test_ltl_refuted_only_by_a_lasso():
     # every finite prefix can still reach c = 0: the refutation is the cycle avoiding it
     assert all(s["c"] != 0 for s in states[loop:])
     assert [s["c"] for s in states] == [0, 1, 2, 1, 2]
-    text = "\n".join(r.text(m))
+    text = "\n".join(temporal_text(r, m))
     assert "<- the loop starts here (state 2)" in text and "-> back to state 2" in text
     assert "a lasso: 2 steps to the loop, then a loop of 2 steps" in text
 
@@ -124,7 +125,7 @@ def test_ctl_af_counterexample_is_a_lasso_and_ef_witness_a_path():
     m, res = check(TEMPORAL / "counter.asm")
     r = res["ctlSpec_reset_inevitable"]
     states = states_of(m, r)
-    loop = r.json(m)["loop_start"]
+    loop = temporal_json(r, m)["loop_start"]
     assert loop is not None and all(s["c"] != 0 for s in states[loop:])
     w = res["ctlSpec_two_reachable"]
     assert w.holds and w.witness
@@ -138,7 +139,7 @@ def test_monitored_values_belong_to_the_state_that_reads_them():
         "ctlSpec_ack_next": True, "ctlSpec_ack_now": False, "ctlSpec_no_req_when_busy": True,
         "ltlSpec_ack_next": True, "ltlSpec_ack_after_req": True}
     r = res["ctlSpec_ack_now"]
-    j = r.json(m)
+    j = temporal_json(r, m)
     assert j["inputs_step"] is True
     # the last step shows req = true read in a state where ack is still false
     last = j["trace"][-1]
@@ -162,7 +163,7 @@ def test_pattern_machines_starve_without_fairness(name):
     r = res["ltlSpec_master_leaves"]
     assert not r.holds
     states = states_of(m, r)
-    loop = r.json(m)["loop_start"]
+    loop = temporal_json(r, m)["loop_start"]
     assert all(s["sbState(master)"] is not None for s in states[loop:])
 
 
@@ -175,7 +176,7 @@ def test_seeded_starvation_sync_master_without_watchdog():
     m, res = check(SPECS / "buggy" / "sb_sync_master_no_watchdog.asm")
     assert {n: r.holds for n, r in res.items()} == {"ltlSpec_master_leaves": False, "ltlSpec_slave_leaves": True}
     r = res["ltlSpec_master_leaves"]
-    j = r.json(m)
+    j = temporal_json(r, m)
     loop = j["loop_start"]
     states = states_of(m, r)
     cycle = states[loop:]
@@ -198,7 +199,7 @@ def test_seeded_starvation_slave_without_recheck():
     assert res["ltlSpec_slave_leaves"].holds is False
     r = res["ltlSpec_slave_leaves"]
     states = states_of(m, r)
-    loop = r.json(m)["loop_start"]
+    loop = temporal_json(r, m)["loop_start"]
     # on the cycle the slave never leaves its pattern machine
     assert all(s["sbState(slave)"] is not None for s in states[loop:])
 
@@ -233,7 +234,7 @@ def test_output_is_deterministic(capsys):
 
 def test_ten_thousand_states_in_seconds():
     path = str(TEMPORAL / "grid.asm")
-    spec, machine = _load(path)
+    spec, machine = load_machine(path)
     _, _, temporal = properties_for(spec, machine, path, [str(TEMPORAL / "grid_fair.prop")], use_default=False)
     ex = Explorer(machine, keep_graph=True)
     assert ex.run().states == 9800

@@ -54,14 +54,14 @@ def _verdict_files():
 
 
 def _check_spec(vf: Path):
-    from asmcheck.commands import _load
+    from asmcheck.props.load import load_machine
     from asmcheck.explore.bfs import Explorer
     from asmcheck.temporal import check_temporal
 
     rel = vf.relative_to(ASMETA / "verdicts").with_suffix("").as_posix()
     spec_path = ASMETA / (rel + ".asm")
     lines = [ln for ln in vf.read_text(encoding="utf-8").splitlines() if ln.startswith("--")]
-    spec, machine = _load(str(spec_path))
+    spec, machine = load_machine(str(spec_path))
     ex = Explorer(machine, max_states=MAX_STATES, max_seconds=MAX_SECONDS, keep_graph=True)
     res = ex.run()
     errors = [v for v in res.violations if v.prop.name == "error"]

@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from asmcheck.cli import main
-from asmcheck.commands import _load
+from asmcheck.props.load import load_machine
 from asmcheck.explore.bfs import Explorer
 from asmcheck.props import spec_properties
 from asmcheck.props.files import properties_for
@@ -184,7 +184,7 @@ def write_spec(tmp_path: Path, text: str, props: str | None = None) -> str:
 
 def explore_trace(path: str, name: str):
     """(machine, explorer, trace) of the shortest counterexample of the property ``name``."""
-    spec, m = _load(path)
+    spec, m = load_machine(path)
     state, step = spec_properties(m)
     extra_state, extra_step, _ = properties_for(spec, m, path)
     st = [p for p in state + extra_state if p.name == name]

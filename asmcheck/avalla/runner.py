@@ -37,7 +37,7 @@ from dataclasses import dataclass, field, fields, is_dataclass
 from ..errors import AsmError, AsmRuntimeError, AsmTypeError, Span
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.machine import Chooser, Ctx, Machine, RandomChooser
+from ..semantics.machine import Choice, Chooser, Ctx, DrawingChooser, Machine, RandomChooser
 from ..semantics.state import UpdateSet, apply_updates, same_value
 from ..semantics.values import SetV, show
 from . import syntax as S
@@ -95,6 +95,14 @@ class Outcome:
         return "pass" if self.ok else "fail"
 
 
+class _OutOfRange(Exception):
+    """A picked value outside the range of its variable (an input error of the scenario)."""
+
+    def __init__(self, error: AsmError):
+        super().__init__(error.message)
+        self.error = error
+
+
 class _Stop(Exception):
     """Ends the run (the event has been recorded)."""
 
@@ -128,7 +136,9 @@ class _PickInfo:
 class Scenario:
     """A scenario read, its spec loaded and every command resolved: ready to run."""
 
-    def __init__(self, path: str, max_until: int = MAX_UNTIL, seed: int | None = None):
+    def __init__(self, path: str, max_until: int = MAX_UNTIL, seed: int | None = None,
+                 options: dict | None = None):
+        """``options``: the machine's (``int_range``, ``monitored_ranges``, ``max_loop``, ...)."""
         self.path = path
         self.max_until = max_until
         self.seed = seed
@@ -136,7 +146,7 @@ class Scenario:
         self.spec_path = self._spec_path()
         self.spec = self._load_spec()
         self.monitored = _monitored_to_controlled(self.spec)
-        self.machine = Machine(self.spec, {"dedupe": False})
+        self.machine = Machine(self.spec, {**(options or {}), "dedupe": False})
         self.resolver = ScenarioResolver(self.spec)
         self._files: dict[str, S.Scenario] = {os.path.abspath(path): self.syntax}
         self.chooses = _choose_rules(self.spec)
@@ -152,9 +162,11 @@ class Scenario:
 
     # -- the spec
     def _spec_path(self) -> str:
+        """The spec to load: the path as given (absolute, or from the working folder), else relative
+        to the scenario's folder."""
         load = self.syntax.load
-        if os.path.isabs(load):
-            return load
+        if os.path.isabs(load) or os.path.isfile(load):
+            return os.path.normpath(load)
         return os.path.normpath(os.path.join(os.path.dirname(self.path), load))
 
     def _load_spec(self):
@@ -236,8 +248,10 @@ class Scenario:
             raise AsmTypeError(p.value.span, "picking the value undef is not allowed")
         with_var = [c for c in self.chooses if p.var in c.names]
         if p.rule is not None:
-            want = p.rule.replace(" ", "")
-            rules = [r for r in self.spec.rules if _signature(r) == want or r.name == want]
+            # as AsmetaV matches them: 'r_x(D1,D2)' is r_x over D1, D2, and 'r_x' is the r_x without
+            # parameters (not an overload that has some)
+            want = p.rule.replace(" ", "").replace("(", "_").replace(",", "_").replace(")", "")
+            rules = [r for r in self.spec.rules if _asmetav_signature(r) == want]
             if not rules:
                 raise AsmTypeError(p.rule_span, f"no rule {p.rule} in {self.spec.name}")
             found = [c for c in with_var if c.rule in rules]
@@ -254,7 +268,7 @@ class Scenario:
         value = self.resolver.value_term(p.value)
         for c in found:
             var = next(v for v, _ in c.node.bindings if v.name == p.var)
-            if not T.compatible(value.type, var.type):
+            if not T.compatible(value.type, var.type) and not (var.type is T.NATURAL and value.type is T.INTEGER):
                 raise AsmTypeError(p.value.span, f"{p.var} ranges over {var.type}; the value has domain {value.type}")
         return _PickInfo(p.var, found, self.machine.term(value), value)
 
@@ -267,6 +281,11 @@ def _signature(r: ir.RuleDecl) -> str:
     if not r.params:
         return r.name
     return f"{r.name}({','.join(str(p.type) for p in r.params)})"
+
+
+def _asmetav_signature(r: ir.RuleDecl) -> str:
+    """AsmetaV's key of a rule declaration: its name, then '_' and each parameter's domain name."""
+    return r.name + "".join("_" + str(p.type) for p in r.params)
 
 
 def _monitored_to_controlled(spec) -> list:
@@ -347,6 +366,14 @@ class _PickChooser(Chooser):
     def value(self, label, dom):
         return self.base.value(label, dom)
 
+    def draw(self, label, var, dom):
+        """A picked value of a choose over Integer, Natural or Real; else the base draws one."""
+        for v, val, _ in self.picks.get(label, ()):
+            if v == var:
+                self.log.append(Choice("choose", label, 0, 0, {var: val}))
+                return val
+        return self.base.draw(label, var, dom)
+
     def choose(self, kind, label, options, values_repr=None) -> int:
         fixed = self.picks.get(label) if kind == "choose" else None
         if not fixed:
@@ -380,7 +407,7 @@ class _Run:
     def chooser(self) -> Chooser:
         self.k += 1
         if self.sc.seed is None:
-            return Chooser()
+            return DrawingChooser(self.k)
         return RandomChooser(self.sc.seed * 1_000_003 + self.k)
 
     def event(self, kind, cmd: _Cmd | None, span=None, **kw) -> Event:
@@ -639,6 +666,13 @@ class _Run:
         text = f"{p.var} := {p.value.display()}"
         try:
             for v, rng in node.bindings:
+                if v.uid in picked and isinstance(rng, ir.DomainTerm) and rng.domain in (T.INTEGER, T.NATURAL,
+                                                                                          T.REAL):
+                    x = picked[v.uid]
+                    if rng.domain is T.NATURAL and not (type(x) is int and x >= 0):
+                        raise _OutOfRange(AsmError(p.value.span, f"pick {text}: {show(x)} is not in the range of "
+                                                                 f"{v.name} (Natural) in {_signature(ch.rule)}"))
+                    continue
                 if v.uid in picked:
                     items = self.m.term(rng)(ctx)
                     if isinstance(items, SetV):
@@ -646,14 +680,15 @@ class _Run:
                     elif items is not None and hasattr(items, "__iter__") and not isinstance(items, (str, dict)):
                         items = list(items)
                     if items is not None and not any(same_value(x, picked[v.uid]) for x in items):
-                        self.event("pick", None, p.span, ok=False, text=text,
-                                   message=f"{show(picked[v.uid])} is not in the range of {v.name} in "
-                                           f"{_signature(ch.rule)}")
-                        self.stop("pick")
+                        # a value the choose rule can never take: an error in the scenario (exit 2)
+                        raise _OutOfRange(AsmError(p.value.span, f"pick {text}: {show(picked[v.uid])} is not in "
+                                                                 f"the range of {v.name} in {_signature(ch.rule)}"))
             rest = [(v, r) for v, r in node.bindings if v.uid not in picked]
             guard = node.guard if node.guard is not None else ir.Const(T.BOOLEAN, node.span, True)
             test = ir.Quant(T.BOOLEAN, node.span, "exists", rest, guard) if rest else guard
             ok = self.m.term(test)(ctx)
+        except _OutOfRange as bad:
+            raise bad.error from None
         except AsmError:
             return      # an infinite range, say: the choose rule checks the value when it runs
         if ok is not True:
@@ -663,6 +698,9 @@ class _Run:
             self.stop("pick")
 
 
-def run_scenario(path: str, max_until: int = MAX_UNTIL, seed: int | None = None) -> Outcome:
-    """Read, resolve and run a scenario (AsmError on an input error)."""
-    return Scenario(path, max_until, seed).run()
+def run_scenario(path: str, max_until: int = MAX_UNTIL, seed: int | None = None,
+                 options: dict | None = None) -> Outcome:
+    """Read, resolve and run a scenario (AsmError on an input error).  ``options`` are the
+    machine's: ``int_range`` and ``monitored_ranges`` (as --int-range / --monitored give them to
+    explore), ``max_loop``."""
+    return Scenario(path, max_until, seed, options).run()

@@ -47,6 +47,11 @@ class Result:
         return self.verdict == "incomplete" or bool(self.reason)
 
 
+class TimeUp(BaseException):
+    """Raised (by a timer) when the wall-clock limit of a run has passed; like
+    KeyboardInterrupt it ends a search with what it has covered."""
+
+
 class PseudoProperty:
     def __init__(self, name, kind, span=None, body=None):
         self.name = name
@@ -63,7 +68,7 @@ DEADLOCK = PseudoProperty("deadlock", "deadlock")
 class Explorer:
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
                  deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
-                 stop_at_first=False):
+                 stop_at_first=False, max_memory=None, memory=None):
         self.m = machine
         self.layout = Layout()
         gc = {d.name for d in machine.spec.domains if getattr(d, "dynamic", False)} - ranged_domains(machine.spec)
@@ -72,6 +77,8 @@ class Explorer:
         self.max_states = max_states
         self.max_depth = max_depth
         self.max_seconds = max_seconds
+        self.max_memory = max_memory      # bytes of resident memory, read with ``memory()``
+        self.memory = memory
         self.deadlock = deadlock
         self.progress = progress
         self.keep_graph = keep_graph
@@ -168,104 +175,123 @@ class Explorer:
         depth = 0
         incomplete = False
         last_report = t0
-        while frontier:
-            next_frontier = []
-            for sid in frontier:
-                st = self.state(sid)
-                # state properties
-                for prop in self.state_props:
-                    if prop.name in violated:
-                        continue
-                    try:
-                        ok = prop.check_state(m, st)
-                    except AsmError as e:
-                        record(Violation(prop, sid, message=f"cannot be evaluated: {e.message}", error=e))
-                        continue
-                    if not ok:
-                        record(Violation(prop, sid))
-                if self.stop_at_first and violations:
-                    incomplete = True
-                    reason = reason or "stopped at the first violation"
-                    frontier = []
-                    break
-                if self.max_depth is not None and depth >= self.max_depth:
-                    incomplete = True
-                    reason = f"depth limit {self.max_depth} reached"
-                    continue
-                # successors
-                try:
-                    succ = m.successors(st)
-                except Undetermined:
-                    raise
-                except AsmError as e:
-                    err = PseudoProperty("error", "error", e.span)
-                    record(Violation(err, sid, message=e.message, error=e))
-                    incomplete = True
-                    reason = reason or "a step could not be computed"
-                    continue
-                targets = []
-                for log, ups, nxt, mon in succ:
-                    if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
-                        continue
-                    picks = tuple(c.pick for c in log)
-                    raw = nxt
-                    # stored under canonical names; step properties see the successor as the step made
-                    # it, so an extend-made element keeps its identity across the step
-                    nxt = self._norm(nxt)
-                    tid, new = self._add(nxt, sid, picks, depth + 1)
-                    targets.append(tid)
-                    if self.keep_graph:
-                        self.edges.append((sid, tid, picks))
-                    for prop in self.step_props:
+        interrupted = False
+        try:
+            while frontier:
+                next_frontier = []
+                for sid in frontier:
+                    st = self.state(sid)
+                    # state properties
+                    for prop in self.state_props:
                         if prop.name in violated:
                             continue
                         try:
-                            ok = prop.check_step(m, st, ups, raw, mon)
+                            ok = prop.check_state(m, st)
                         except AsmError as e:
-                            record(Violation(prop, tid, sid, picks, message=f"cannot be evaluated: {e.message}", error=e))
+                            record(Violation(prop, sid, message=f"cannot be evaluated: {e.message}", error=e))
                             continue
                         if not ok:
-                            # the trace to a step violation ends with this transition
-                            record(Violation(prop, tid, sid, picks))
-                    if new:
-                        next_frontier.append(tid)
-                # a transition is a pair (state, successor): choices with the same effect count once
-                transitions += len(set(targets))
-                if self.deadlock and "deadlock" not in violated and all(t == sid for t in targets):
-                    record(Violation(DEADLOCK, sid, message="no successor" if not targets else
-                                     "the only successor is the state itself"))
-                if self.max_states is not None and len(self.frozen) >= self.max_states:
-                    incomplete = True
-                    reason = f"state limit {self.max_states} reached"
-                    next_frontier = []
-                    frontier = []
-                    break
-                now = time.perf_counter()
-                if self.max_seconds is not None and now - t0 >= self.max_seconds:
-                    incomplete = True
-                    reason = f"time limit {self.max_seconds} s reached"
-                    next_frontier = []
-                    frontier = []
-                    break
-                if self.progress is not None and now - last_report > 0.5:
-                    last_report = now
-                    self.progress(len(self.frozen), depth, transitions, now - t0)
-                if self.stop_at_first and violations:
-                    incomplete = True
-                    reason = reason or "stopped at the first violation"
-                    next_frontier = []
-                    frontier = []
-                    break
-                if total_props and len(violated) >= total_props and not self.keep_graph:
-                    # every property is already violated: nothing more to learn
-                    next_frontier = []
-                    frontier = []
-                    incomplete_ok = True
-                    break
-            if next_frontier:
-                depth += 1
-                max_depth_seen = depth
-            frontier = next_frontier
+                            record(Violation(prop, sid))
+                    if self.stop_at_first and violations:
+                        incomplete = True
+                        reason = reason or "stopped at the first violation"
+                        frontier = []
+                        break
+                    if self.max_depth is not None and depth >= self.max_depth:
+                        incomplete = True
+                        reason = f"depth limit {self.max_depth} reached"
+                        continue
+                    # successors
+                    try:
+                        succ = m.successors(st)
+                    except Undetermined:
+                        raise
+                    except AsmError as e:
+                        err = PseudoProperty("error", "error", e.span)
+                        record(Violation(err, sid, message=e.message, error=e))
+                        incomplete = True
+                        reason = reason or "a step could not be computed"
+                        continue
+                    targets = []
+                    for log, ups, nxt, mon in succ:
+                        if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
+                            continue
+                        picks = tuple(c.pick for c in log)
+                        raw = nxt
+                        # stored under canonical names; step properties see the successor as the step made
+                        # it, so an extend-made element keeps its identity across the step
+                        nxt = self._norm(nxt)
+                        tid, new = self._add(nxt, sid, picks, depth + 1)
+                        targets.append(tid)
+                        if self.keep_graph:
+                            self.edges.append((sid, tid, picks))
+                        for prop in self.step_props:
+                            if prop.name in violated:
+                                continue
+                            try:
+                                ok = prop.check_step(m, st, ups, raw, mon)
+                            except AsmError as e:
+                                record(Violation(prop, tid, sid, picks, message=f"cannot be evaluated: {e.message}", error=e))
+                                continue
+                            if not ok:
+                                # the trace to a step violation ends with this transition
+                                record(Violation(prop, tid, sid, picks))
+                        if new:
+                            next_frontier.append(tid)
+                    # a transition is a pair (state, successor): choices with the same effect count once
+                    transitions += len(set(targets))
+                    if self.deadlock and "deadlock" not in violated and all(t == sid for t in targets):
+                        record(Violation(DEADLOCK, sid, message="no successor" if not targets else
+                                         "the only successor is the state itself"))
+                    if self.max_states is not None and len(self.frozen) >= self.max_states:
+                        incomplete = True
+                        reason = f"state limit {self.max_states} reached"
+                        next_frontier = []
+                        frontier = []
+                        break
+                    now = time.perf_counter()
+                    if self.max_seconds is not None and now - t0 >= self.max_seconds:
+                        incomplete = True
+                        reason = f"time limit {self.max_seconds} s reached"
+                        next_frontier = []
+                        frontier = []
+                        break
+                    if now - last_report > 0.25:
+                        last_report = now
+                        if self.max_memory is not None and self.memory is not None and \
+                                self.memory() > self.max_memory:
+                            incomplete = True
+                            reason = f"memory limit {self.max_memory / 2**20:,.0f} MB reached"
+                            next_frontier = []
+                            frontier = []
+                            break
+                        if self.progress is not None:
+                            self.progress(len(self.frozen), depth, transitions, now - t0)
+                    if self.stop_at_first and violations:
+                        incomplete = True
+                        reason = reason or "stopped at the first violation"
+                        next_frontier = []
+                        frontier = []
+                        break
+                    if total_props and len(violated) >= total_props and not self.keep_graph:
+                        # every property is already violated: nothing more to learn
+                        next_frontier = []
+                        frontier = []
+                        incomplete_ok = True
+                        break
+                if next_frontier:
+                    depth += 1
+                    max_depth_seen = depth
+                frontier = next_frontier
+        except KeyboardInterrupt:
+            incomplete = interrupted = True
+            reason = "interrupted (Ctrl-C)"
+        except TimeUp:
+            incomplete = True
+            reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
+        except MemoryError:
+            incomplete = True
+            reason = "out of memory"
         secs = time.perf_counter() - t0
         if violations:
             verdict = "violated"
@@ -276,6 +302,7 @@ class Explorer:
         res = Result(verdict, len(self.frozen), transitions, max(self.depth_of) if len(self.depth_of) else 0,
                      secs, violations, reason if incomplete else "", all_props)
         res.deadlock_checked = self.deadlock
+        res.interrupted = interrupted
         return res
 
     # -------------------------------------------------------------- traces

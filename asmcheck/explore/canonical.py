@@ -60,6 +60,10 @@ def _walk_fresh(v, out: list) -> bool:
     return t is RuleValue and v.agent is not None
 
 
+# the public name of the walk (conform.py matches new elements with it)
+walk_fresh = _walk_fresh
+
+
 # The signature of an element is made of texts of the locations where it occurs, with
 # fresh elements shown as their colour ('#3', '#?' without one) and the element itself
 # as '*'; sets, bags and maps list their members' texts sorted.  The order of the

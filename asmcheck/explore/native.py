@@ -13,6 +13,10 @@ decoded and *replayed through the Python step function* before it is shown.
 
 Anything outside that subset raises :class:`Unsupported` and the Python explorer
 runs instead.
+
+It is one module of over a thousand lines because the translator (one method per term
+and rule form of the IR) and the packing of states that the C code reads must change
+together; the build and cache of the compiled engines live apart in native_build.
 """
 from __future__ import annotations
 
@@ -29,15 +33,12 @@ from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
 from . import native_build
+from .native_build import Unsupported
 
 UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
-
-
-class Unsupported(Exception):
-    """The spec (or a property) uses something the native explorer does not translate."""
 
 
 def _ceil_log2(n: int) -> int:

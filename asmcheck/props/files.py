@@ -72,7 +72,7 @@ def read_prop_file(path: str) -> PropFile:
     SOURCES.add(path, text)
     lines = text.split("\n")
     # blank out comments (keeping columns) to find where declarations start
-    clean = _strip_comments(text).split("\n")
+    clean = strip_comments(text).split("\n")
     starts = []
     for i, ln in enumerate(clean):
         m = _DECL.match(ln)
@@ -96,7 +96,7 @@ def read_prop_file(path: str) -> PropFile:
         rest = body[col + len(kw):]
         rest_col = col + len(kw) + 1
         if kw.startswith("applies"):
-            names = _strip_comments(rest).replace("\n", " ")
+            names = strip_comments(rest).replace("\n", " ")
             items = [x.strip() for x in names.split(",") if x.strip()]
             if not items:
                 raise AsmSyntaxError(Span(path, line + 1, col + 1), "'applies to' needs spec names or '*'")
@@ -131,7 +131,7 @@ def read_prop_file(path: str) -> PropFile:
     return PropFile(path, applies, decls, applies_span)
 
 
-def _strip_comments(text: str) -> str:
+def strip_comments(text: str) -> str:
     out = []
     i = 0
     n = len(text)

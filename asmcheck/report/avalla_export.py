@@ -37,7 +37,7 @@ import os
 import re
 from pathlib import Path
 
-from .. import __version__
+from ..version import __version__
 
 _GOOD = re.compile(r"[!-#%-9<-~]+")         # Avalla's GOOD_CHARS_NO_COLON
 
@@ -111,7 +111,7 @@ def _checks(machine, keys, state, out: list) -> None:
 
 def _picks(step_choices, chooses, out: list) -> None:
     from ..semantics.values import show
-    from .gate import flat_choices
+    from .describe import flat_choices
     names_by_rule: dict = {}
     for label, (rd, node) in chooses.by_label.items():
         for var, _ in node.bindings:
@@ -149,9 +149,9 @@ def _same(a, b) -> bool:
 
 def _sets(machine, mon: dict, out: list) -> None:
     from ..semantics.printer import location_text
-    from .trace import _key_order
+    from .trace import key_order
     from ..semantics.values import show
-    for k in sorted(mon, key=lambda k: _key_order(machine, k)):
+    for k in sorted(mon, key=lambda k: key_order(machine, k)):
         v = mon[k]
         loc = location_text(machine, k)
         if _key_fresh(k) or _fresh(v):
@@ -213,7 +213,7 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
 
     ``out_path`` is where the scenario will be written (its ``load`` is relative to it);
     ``prop`` the violated property (defaults to ``trace.prop``)."""
-    from .gate import ChooseIndex, display_path, property_text, shown_inputs, span_location, step_header, \
+    from .describe import ChooseIndex, display_path, property_text, shown_inputs, span_location, step_header, \
         step_inputs, step_records
     prop = prop if prop is not None else trace.prop
     spec = machine.spec
@@ -256,8 +256,8 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
         lines.append("// warning: the initialisation of this counterexample takes other choices than the first,")
         lines.append("// which the validator takes: the checks of state 0 may fail")
     lines.append("// state 0 (initial)")
-    from .trace import _key_order
-    _checks(machine, sorted(init.display, key=lambda k: _key_order(machine, k)), init.display, lines)
+    from .trace import key_order
+    _checks(machine, sorted(init.display, key=lambda k: key_order(machine, k)), init.display, lines)
     for i, (st, rec) in enumerate(zip(trace.steps[1:], records[1:]), start=1):
         lines.append("")
         last = i == nsteps
@@ -272,7 +272,7 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
         _sets(machine, shown_inputs(st, mon), lines)
         _picks(st.shown_choices(), chooses, lines)
         lines.append("step")
-        _checks(machine, sorted(st.changed, key=lambda k: _key_order(machine, k)), st.display, lines)
+        _checks(machine, sorted(st.changed, key=lambda k: key_order(machine, k)), st.display, lines)
     lines.append("")
     text = property_text(prop)
     msg = getattr(trace, "message", "")

@@ -6,7 +6,7 @@ from __future__ import annotations
 from html import escape
 from pathlib import Path
 
-from .. import __version__
+from ..version import __version__
 from .gate import RENAMED, counts, cx_summary, lasso_renamed, step_header
 
 LAST_STATES = 4          # states drawn in the picture

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .. import __version__
+from ..version import __version__
 
 GATE = {0: "pass", 1: "fail", 2: "error", 3: "incomplete"}
 

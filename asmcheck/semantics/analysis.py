@@ -14,9 +14,10 @@ def hkey(v):
 
 
 
-def ordered(coll, span) -> list:
+def ordered(coll, span, var: str = "") -> list:
     if coll is None:
-        raise AsmRuntimeError(span, "the range is undef")
+        # ASMETA's simulator stops here too (its evaluation of the range is not a collection)
+        raise AsmRuntimeError(span, f"the range of {var} is undef" if var else "the range is undef")
     if isinstance(coll, SetV):
         return coll.ordered()
     if isinstance(coll, MapV):
@@ -140,3 +141,33 @@ def mentions_monitored(t: ir.Term, seen=None) -> bool:
     walk(t)
     return found
 
+
+
+
+def infinite_ranges(t, bounded_ints: bool = False) -> list:
+    """The ranges of quantifiers, comprehensions and choose terms in ``t`` (and in the definitions
+    of the functions it reads) that are a whole infinite domain (Integer, Natural, Real, String):
+    [(range term, domain)].  With ``bounded_ints``, Integer and Natural count as bounded."""
+    infinite = {T.REAL, T.STRING} | (set() if bounded_ints else {T.INTEGER, T.NATURAL})
+    out = []
+    seen_funcs: set = set()
+    seen: set = set()
+
+    def walk(x):
+        if isinstance(x, (ir.Term, ir.Rule)):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Loc) and x.func.body is not None and x.func not in seen_funcs:
+                seen_funcs.add(x.func)
+                walk(x.func.body)
+            for _, rg in getattr(x, "bindings", None) or ():
+                if isinstance(rg, ir.DomainTerm) and rg.domain in infinite:
+                    out.append((rg, rg.domain))
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    walk(t)
+    return out

@@ -36,6 +36,19 @@ class Choice:
 NO_VALUE = object()
 
 
+def java_draw(rng, dom):
+    """A random element of Natural, Integer or Real with the distributions of ASMETA's simulator
+    (RuleEvaluator.InfiniteCollection.getRndValue): a Natural in [0, 2^31 - 1), an Integer over the
+    32-bit ints, a Real in [0, 1)."""
+    if dom is T.NATURAL:
+        return rng.randrange(0, (1 << 31) - 1)
+    if dom is T.INTEGER:
+        return rng.randrange(-(1 << 31), 1 << 31)
+    if dom is T.REAL:
+        return rng.random()
+    return NO_VALUE
+
+
 
 class Chooser:
     """Takes the first alternative at every choice point."""
@@ -55,9 +68,40 @@ class Chooser:
         """A monitored value from an infinite domain (only a simulation can pick one)."""
         return NO_VALUE
 
+    #: the random source of :meth:`draw` (None: this chooser cannot draw)
+    rng = None
+
+    def draw(self, label, var, dom):
+        """A value for the variable ``var`` of a choose rule over Integer, Natural or Real, drawn
+        as ASMETA's simulator draws it (``NO_VALUE`` when this chooser does not draw)."""
+        if self.rng is None:
+            return NO_VALUE
+        v = java_draw(self.rng, dom)
+        if v is not NO_VALUE:
+            self.log.append(Choice("choose", label, 0, 0, {var: v}))
+        return v
+
+    def draw_options(self, dom):
+        """The values an enumerating chooser tries for a choose over the infinite ``dom`` (None:
+        it has none, and the choose cannot be enumerated)."""
+        return None
+
     def choose(self, kind, label, options, values_repr=None) -> int:
         self.log.append(Choice(kind, label, len(options), 0, options[0] if options else None))
         return 0
+
+
+
+class DrawingChooser(Chooser):
+    """Takes the first alternative, and draws (from a seeded source) the values of a choose over
+    an infinite domain, where there is no first."""
+
+    def __init__(self, seed: int = 0):
+        super().__init__()
+        self.rng = random.Random(seed)
+
+    def choose(self, kind, label, options, values_repr=None) -> int:
+        return Chooser.choose(self, kind, label, options, values_repr)
 
 
 
@@ -130,6 +174,14 @@ class InputChooser(Chooser):
             return v
         return NO_VALUE
 
+    def draw(self, label, var, dom):
+        if self.fallback is None:
+            return NO_VALUE
+        v = self.fallback.draw(label, var, dom)
+        if v is not NO_VALUE:
+            self.log.append(self.fallback.log.pop())
+        return v
+
     def choose(self, kind, label, options, values_repr=None) -> int:
         if kind == "monitored" and label in self.values:
             want = self.values[label]
@@ -185,6 +237,11 @@ class Enumerator(Chooser):
         self.log.append(Choice(kind, label, len(allowed), i, options[j], j))
         return j
 
+    def draw_options(self, dom):
+        # a transcript's numbers (``fixed.numbers``: dom -> values) for a choose over an infinite domain
+        numbers = getattr(self.fixed, "numbers", None)
+        return numbers.get(dom) if numbers else None
+
     def value(self, label, dom):
         if self.parse is not None and self.fixed is not None and label in self.fixed:
             v = self.parse(label, dom)
@@ -224,6 +281,14 @@ class Sampler(Enumerator):
             n = sum(1 for o in options if ok(o))
             return max(n, 1)
         return len(options)
+
+
+
+class DeadlineReached(Exception):
+    """The machine's ``deadline`` (a ``time.monotonic()`` value) passed inside a step.
+
+    Not an :class:`AsmError`: the step did not fail, it was stopped; a caller that gives a
+    deadline turns this into an incomplete result."""
 
 
 

@@ -13,21 +13,22 @@ from __future__ import annotations
 
 import itertools
 import random
+import time
 
-from ..errors import AsmRuntimeError, NO_SPAN, Span
+from ..errors import AsmError, AsmRuntimeError, NO_SPAN, Span
 from . import ir
 from . import types as T
 from .state import UpdateSet, apply_updates, dom_key, is_dom_key
 from .values import SetV, show
-from .analysis import is_subdomain, mentions_monitored
-from .choice import (Choice, Chooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
+from .analysis import infinite_ranges, is_subdomain, mentions_monitored
+from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors)
 from .rules import MAX_LOOP, RuleExecutor
 from .terms import LONG_MAX, LONG_MIN, Ctx, TermEvaluator, Thunk, Undetermined
 
 
 # The public names of the step function's parts, importable from here as before the split.
-__all__ = ["Machine", "Choice", "Chooser", "Enumerator", "InputChooser", "NO_VALUE", "NoAlternative", "Prune",
+__all__ = ["Machine", "Choice", "Chooser", "DeadlineReached", "DrawingChooser", "Enumerator", "InputChooser", "NO_VALUE", "NoAlternative", "Prune",
            "RandomChooser", "Sampler", "ScriptChooser", "TooManySuccessors", "MAX_LOOP", "LONG_MAX", "LONG_MIN",
            "Ctx", "Thunk", "Undetermined"]
 
@@ -36,9 +37,19 @@ class Machine(TermEvaluator, RuleExecutor):
     """The step function: terms (:class:`TermEvaluator`) and rules (:class:`RuleExecutor`) compiled
     into closures, plus the initial states, the step and the enumeration of successors."""
 
+    #: evaluations between two looks at the clock when a deadline is set
+    TICKS = 1024
+
     def __init__(self, spec: ir.Spec, options: dict | None = None):
+        """``options``: ``monitored_ranges``, ``int_range``, ``dedupe``; ``max_loop`` (iterations of
+        one ``while``/``iterate`` within a step, default :data:`MAX_LOOP`); ``deadline`` (a
+        ``time.monotonic()`` value: past it, a step raises :class:`DeadlineReached`, checked every
+        :attr:`TICKS` loop iterations, bindings and successors, so one long step is stopped too)."""
         self.spec = spec
         self.options = options or {}
+        self.max_loop = int(self.options.get("max_loop") or MAX_LOOP)
+        self.deadline = self.options.get("deadline")
+        self._ticks = 0
         self.functions = spec.functions
         self.fname = [f.name for f in spec.functions]
         self._static_cache: dict = {}
@@ -66,6 +77,30 @@ class Machine(TermEvaluator, RuleExecutor):
         for p in spec.properties:
             if p.kind == "invariant":
                 self.invariants.append((p, self.term(p.body), mentions_monitored(p.body)))
+
+    def unbounded_properties(self, props=None) -> list:
+        """The errors a property over an infinite domain would raise when evaluated, found before
+        any state is explored: one :class:`Undetermined` (at the range) per quantifier, comprehension
+        or choose term of the properties (default: the spec's) whose range is Integer, Natural
+        (without --int-range), Real or String.  An explorer reports them as input errors (exit 2),
+        as a rule over such a range is, rather than as a violation in the initial state."""
+        out = []
+        for p in (self.spec.properties if props is None else props):
+            body = getattr(p, "body", p)
+            for rg, dom in infinite_ranges(body, self.int_range is not None):
+                out.append(Undetermined(rg.span, f"the property {getattr(p, 'name', '')} quantifies over "
+                                                 f"{dom}, which is infinite: asmcheck cannot evaluate it (bound the "
+                                                 f"variable with a subset domain" +
+                                        (", or give --int-range LO..HI)" if dom in (T.INTEGER, T.NATURAL) else ")")))
+        return out
+
+    def tick(self):
+        """Count one evaluation; every :attr:`TICKS`, raise :class:`DeadlineReached` if the deadline passed."""
+        self._ticks += 1
+        if self._ticks >= self.TICKS:
+            self._ticks = 0
+            if self.deadline is not None and time.monotonic() >= self.deadline:
+                raise DeadlineReached("the time limit was reached inside a step")
 
     # -------------------------------------------------------------- text of locations
     def location_text(self, key) -> str:
@@ -106,12 +141,21 @@ class Machine(TermEvaluator, RuleExecutor):
                 return list(range(max(lo, 0) if dom is T.NATURAL else lo, hi + 1))
             if dom is T.UNDEF:
                 return [None]
+            if dom is T.REAL:
+                raise Undetermined(span, "the domain Real is infinite: asmcheck cannot enumerate it (bound it "
+                                         "with a subset domain or an interval, or give the values of a monitored "
+                                         "function with --monitored NAME=V1,V2,...)")
             raise Undetermined(span, f"the domain {dom} is infinite: asmcheck cannot enumerate it "
                                      f"(bound it with a subset domain, or give --int-range LO..HI)")
         if isinstance(dom, T.Struct):
             if dom.kind == "Prod":
                 parts = [self.domain_values(a, ctx, span) for a in dom.args]
-                return [tuple(p) for p in itertools.product(*parts)]
+                tick = self.tick
+                out = []
+                for p in itertools.product(*parts):
+                    tick()
+                    out.append(tuple(p))
+                return out
             if dom.kind == "Powerset":
                 base = self.domain_values(dom.args[0], ctx, span)
                 if len(base) > 16:
@@ -199,6 +243,7 @@ class Machine(TermEvaluator, RuleExecutor):
         st: dict = {}
         init = self.spec.default_init
         ctx = Ctx(self, st, chooser or Chooser())
+        ctx.init = True
         if init is not None:
             for dom, body in init.domains:
                 if isinstance(dom, T.Domain) and dom.kind in ("abstract", "subset"):
@@ -233,6 +278,7 @@ class Machine(TermEvaluator, RuleExecutor):
         prefix: list[int] = []
         out = []
         while True:
+            self.tick()
             ch = Enumerator(prefix, fixed, parse)
             st = self.initial_state(ch)
             out.append((ch.log, st))
@@ -260,15 +306,19 @@ class Machine(TermEvaluator, RuleExecutor):
                     nxt[k] = v
         return ups, nxt, ctx
 
-    def successors(self, state: dict, limit: int = 1_000_000, fixed=None, parse=None, prune=None):
+    def successors(self, state: dict, limit: int = 1_000_000, fixed=None, parse=None, prune=None, errors=None):
         """Every (choices, update set, next state, monitored values) from ``state``.
 
         ``prune`` (a function of location key, value and seq depth) may raise Prune to cut
-        the sequences of choices that cannot lead to a wanted successor."""
+        the sequences of choices that cannot lead to a wanted successor.  With ``errors`` (a
+        list), a sequence of choices whose step fails is skipped and its error appended there
+        (following a transcript, a branch that fails is not the step the simulator made);
+        without it the error ends the enumeration."""
         prefix: list[int] = []
         out = []
         memo: dict = {}
         while True:
+            self.tick()
             ch = Enumerator(prefix, fixed, parse)
             ch.memo = memo
             try:
@@ -276,6 +326,13 @@ class Machine(TermEvaluator, RuleExecutor):
                 out.append((ch.log, ups, nxt, ctx.mon))
             except Prune:
                 pass
+            except AsmError as e:
+                # the inputs and choices of the failing step, for its trace
+                if getattr(e, "choices", None) is None:
+                    e.choices = list(ch.log)
+                if errors is None or isinstance(e, Undetermined):
+                    raise
+                errors.append(e)
             if len(out) >= limit:
                 raise TooManySuccessors(None, f"more than {limit} successors of one state")
             # next prefix: the last choice point with an untried alternative

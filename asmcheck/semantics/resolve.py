@@ -4,16 +4,24 @@
 name (respecting export and import lists), checks arities and domains the way
 AsmetaL's own parser does, and returns an :class:`asmcheck.semantics.ir.Spec`.
 Every error is an :class:`~asmcheck.errors.AsmError` with a source position.
+
+It is one module of about 1,050 lines: loading (:class:`Loader`), declaring
+(:class:`Declarer`) and resolving (:class:`Resolver`) share the module tables and the
+scopes of one spec and its imports, and the resolver's one method per syntax form is a
+single recursive walk.
 """
 from __future__ import annotations
 
 import os
+import sys
+import threading
+from collections import ChainMap
 from importlib import resources
 from pathlib import Path
 
 from ..errors import AsmError, AsmSyntaxError, AsmTypeError, NO_SPAN, Span
 from ..syntax import ast as A
-from ..syntax.parser import parse_file, parse_text
+from ..syntax.parser import gc_paused, parse_file, parse_text
 from . import ir
 from . import stdlib
 from . import types as T
@@ -199,7 +207,7 @@ class Loader:
             where = import_path()
             hint = f" (also looked in: {', '.join(where)})" if where and not os.path.isabs(raw) else ""
             raise AsmError(imp.span, f"import not found: {target}{hint}")
-        syntax = parse_file(p)
+        syntax = parse_file(p, imp.span)
         if syntax is None:
             raise AsmError(imp.span, f"imported file {target} is empty")
         if syntax.name != Path(p).stem:
@@ -335,6 +343,19 @@ class _Overlay:
         return getattr(self.base, kind).get(name, [])
 
 
+class _LocalScope:
+    """A scope plus one local function (a layer over the scope, not a copy of it)."""
+
+    def __init__(self, base, name: str, func) -> None:
+        self.domains = base.domains
+        self.rules = base.rules
+        self.enums = base.enums
+        self.functions = ChainMap({name: list(base.functions.get(name, [])) + [func]}, base.functions)
+
+    def has(self, name: str) -> bool:
+        return any(name in getattr(self, k) for k in ("domains", "functions", "rules", "enums"))
+
+
 def _lookup(scope, kind: str, name: str) -> list:
     if isinstance(scope, _Overlay):
         return scope.get(kind, name)
@@ -361,6 +382,64 @@ def resolve_type(t: A.TypeExpr, scope) -> T.Type:
         mods = ", ".join(sorted({getattr(d, "module", "?") for d in found}))
         raise AsmTypeError(t.span, f"domain {t.name!r} is ambiguous: declared in {mods}")
     return found[0]
+
+
+# ----------------------------------------------------------------- deep input
+# Terms and rules nest at most this deep (an if inside an if ..., a sum of this many terms);
+# deeper input is a located error.  Resolution runs on a thread with a large stack and a raised
+# recursion limit (deep_call), so every depth up to this one resolves.
+MAX_NESTING = 3000
+_DEEP_RECURSION = 40_000
+_DEEP_STACK = 512 * 1024 * 1024
+_deep_state = threading.local()
+_deep_lock = threading.Lock()
+
+
+def _too_deep(span: Span, what: str) -> AsmError:
+    return AsmTypeError(span, f"the spec nests too deeply: this {what} is more than {MAX_NESTING} terms and rules "
+                              f"deep (group a long sum or conjunction with parentheses, or split the rule)")
+
+
+def deep_call(fn, *args, **kwargs):
+    """``fn(*args, **kwargs)`` on a thread with a large stack and a high recursion limit.
+
+    Deeply nested specs (hundreds of nested ifs, long sums) then resolve and run instead of
+    stopping at Python's default recursion limit.  Called inside a deep call, it just calls."""
+    if getattr(_deep_state, "active", False):
+        return fn(*args, **kwargs)
+    box: dict = {}
+
+    def run():
+        _deep_state.active = True
+        try:
+            box["value"] = fn(*args, **kwargs)
+        except BaseException as exc:        # handed to the caller's thread as is
+            box["error"] = exc
+
+    with _deep_lock:
+        try:
+            old_stack = threading.stack_size(_DEEP_STACK)
+        except (ValueError, RuntimeError):
+            return fn(*args, **kwargs)
+        old_limit = sys.getrecursionlimit()
+        sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION))
+        try:
+            try:
+                worker = threading.Thread(target=run, name="asmcheck-deep", daemon=True)
+                worker.start()
+            except RuntimeError:            # no room for the stack (a memory limit): run here
+                worker = None
+            finally:
+                threading.stack_size(old_stack)
+            if worker is not None:
+                worker.join()
+        finally:
+            sys.setrecursionlimit(old_limit)
+        if worker is None:
+            return fn(*args, **kwargs)
+    if "error" in box:
+        raise box["error"]
+    return box.get("value")
 
 
 # ----------------------------------------------------------------- bodies
@@ -395,6 +474,7 @@ class Resolver:
         self.step_ok = False        # next/updated/changed/updatedBy allowed (step properties)
         self.used: set[ir.Function] | None = None   # functions referenced (for static/derived checks)
         self.in_rule: ir.RuleDecl | None = None
+        self.depth = 0                  # terms and rules being resolved, one inside the other
 
     def uid(self) -> int:
         return self.loader.uid()
@@ -411,8 +491,16 @@ class Resolver:
 
     # -- terms
     def term(self, t: A.Term, env: Env) -> ir.Term:
+        if self.depth == 0 and not getattr(_deep_state, "active", False):
+            return deep_call(self.term, t, env)     # a term of a property file or a scenario
         meth = getattr(self, "t_" + type(t).__name__)
-        return meth(t, env)
+        self.depth += 1
+        try:
+            if self.depth > MAX_NESTING:
+                raise _too_deep(t.span, "term")
+            return meth(t, env)
+        finally:
+            self.depth -= 1
 
     def t_Const(self, t: A.Const, env: Env) -> ir.Term:
         kind = t.kind
@@ -610,7 +698,7 @@ class Resolver:
             options = "; ".join(_sig_text(c) for c in by_arity[:4])
             raise AsmTypeError(t.name_span or t.span,
                                f"no {name} applies to ({got}); declared: {options}")
-        c, binds = self._best(matches, args)
+        c, binds = self._best(matches, args, by_arity)
         if isinstance(c, stdlib.Signature):
             result = T.substitute(c.result, binds)
             if c.library in ("CTLLibrary", "LTLLibrary"):
@@ -634,9 +722,18 @@ class Resolver:
         return ir.Loc(c.codomain, t.span, c, args)
 
     @staticmethod
-    def _best(matches, args):
+    def _best(matches, args, cands=()):
         if len(matches) == 1:
             return matches[0]
+        # Overloaded user functions (one name declared on different domains, possibly in
+        # different modules): ASMETA takes the latest declared function whose domain fits
+        # the arguments' domains (AsmetaParserUtility.getFunction over compareFixingAnyDomain).
+        users = [m for m in matches if isinstance(m[0], ir.Function)]
+        if len(users) > 1:
+            order = {id(c): i for i, c in enumerate(cands)}
+            for m in sorted(users, key=lambda m: -order.get(id(m[0]), -1)):
+                if all(_asmeta_fits(p, a.type) for p, a in zip(m[0].domain, args)):
+                    return m
 
         def score(m):
             c, _ = m
@@ -650,7 +747,16 @@ class Resolver:
 
     # -- rules
     def rule(self, r: A.Rule, env: Env) -> ir.Rule:
-        return getattr(self, "r_" + type(r).__name__)(r, env)
+        if self.depth == 0 and not getattr(_deep_state, "active", False):
+            return deep_call(self.rule, r, env)
+        meth = getattr(self, "r_" + type(r).__name__)
+        self.depth += 1
+        try:
+            if self.depth > MAX_NESTING:
+                raise _too_deep(r.span, "rule")
+            return meth(r, env)
+        finally:
+            self.depth -= 1
 
     def r_SkipRule(self, r, env):
         return ir.Skip(r.span)
@@ -774,10 +880,7 @@ class Resolver:
             domain = list(dt.args) if isinstance(dt, T.Struct) and dt.kind == "Prod" else [dt]
         func = ir.Function(d.name, "local", domain, self.type_of(d.codomain), self.mod.name, d.span)
         saved = self.scope
-        local = Table()
-        local.merge(self.scope)
-        local.add("functions", d.name, func)
-        self.scope = local
+        self.scope = _LocalScope(self.scope, d.name, func)
         try:
             init = self.rule(r.init, env)
             body = self.rule(r.body, env)
@@ -815,26 +918,132 @@ def _step_op(self, t: A.Apply, env: Env) -> ir.Term:
 Resolver.step_op = _step_op
 
 
-def _has_literal_collection(t) -> bool:
-    """Does a term contain a collection or map literal?  (AsmetaL's check for derived
-    functions does not look inside those, so it accepts such definitions.)"""
-    found = False
+def _dynamic_domain(t) -> bool:
+    """Is ``t`` a dynamic domain in the sense of ASMETA's static/derived check?
 
-    def walk(x):
-        nonlocal found
-        if found:
-            return
-        if isinstance(x, (ir.Collection, ir.MapLit, ir.Range, ir.Compr)):
-            found = True
-            return
-        if isinstance(x, ir.Term):
-            for v in vars(x).values():
-                walk(v)
-        elif isinstance(x, (list, tuple)):
-            for v in x:
-                walk(v)
-    walk(t)
+    A dynamic abstract domain (Agent and Reserve are), a dynamic subset domain
+    whose direct base is an abstract domain, or ``Seq`` of one of those.
+    ``Powerset`` and ``Prod`` of such domains are not (ASMETA asks the question
+    of the structured domain itself); Bag, Map and Rule are not either."""
+    if isinstance(t, T.Struct):
+        return t.kind == "Seq" and len(t.args) == 1 and _dynamic_named(t.args[0])
+    return _dynamic_named(t)
+
+
+def _dynamic_named(t) -> bool:
+    if not isinstance(t, T.Domain) or not t.dynamic:
+        return False
+    if t.kind == "abstract":
+        return True
+    return t.kind == "subset" and isinstance(t.base, T.Domain) and t.base.kind == "abstract"
+
+
+def dynamic_parts(body: ir.Term) -> list[str]:
+    """The dynamic entities a definition body mentions, as ASMETA's parser finds them.
+
+    A function applied that is not static (controlled, monitored, shared, out,
+    local, derived; ``self`` and ``result`` are controlled), and a variable
+    written in the body whose domain is dynamic (see :func:`_dynamic_domain`).
+    The walk visits what ASMETA's visitor visits: for ``forall`` the variables
+    and the guard (not the ranges); for ``exists`` the ranges and the guard; a
+    sequence comprehension its ranges and guard; a bag comprehension its ranges
+    and term; a set comprehension everything; ``let`` its variables, values and
+    body.  ``exists unique`` is walked as ``exists`` (ASMETA's visitor has no
+    case for it and stops with an internal error).  Iterative: deep bodies do
+    not exhaust the Python stack."""
+    found: list[str] = []
+    seen: set[str] = set()
+
+    def note(text: str) -> None:
+        if text not in seen:
+            seen.add(text)
+            found.append(text)
+
+    def var(v: ir.Var) -> None:
+        if _dynamic_domain(v.type):
+            note(f"{v.name} (a variable of the dynamic domain {v.type})")
+
+    stack: list = [body]
+    while stack:
+        x = stack.pop()
+        if x is None:
+            continue
+        if isinstance(x, ir.Loc):
+            if x.func.kind != "static":
+                note(x.func.name)
+            stack.extend(reversed(x.args))
+        elif isinstance(x, ir.VarRef):
+            var(x.var)
+        elif isinstance(x, (ir.Call, ir.Temporal, ir.StepOp)):
+            stack.extend(reversed(x.args))
+        elif isinstance(x, ir.Cond):
+            stack.extend((x.other, x.then, x.cond))
+        elif isinstance(x, ir.Switch):
+            stack.append(x.other)
+            for c, r in reversed(x.cases):
+                stack.extend((r, c))
+            stack.append(x.subject)
+        elif isinstance(x, ir.Let):
+            for v, _ in x.bindings:
+                var(v)
+            stack.append(x.body)
+            stack.extend(reversed([t for _, t in x.bindings]))
+        elif isinstance(x, ir.Quant):
+            stack.append(x.guard)
+            if x.kind == "forall":
+                for v, _ in x.bindings:
+                    var(v)
+            else:
+                stack.extend(reversed([r for _, r in x.bindings]))
+        elif isinstance(x, ir.Compr):
+            ranges = [r for _, r in x.bindings]
+            if x.kind == "seq":
+                stack.append(x.guard)
+                stack.extend(reversed(ranges))
+            elif x.kind == "bag":
+                stack.append(x.body)
+                stack.extend(reversed(ranges))
+            else:
+                for v, _ in x.bindings:
+                    var(v)
+                stack.extend((x.body2, x.body, x.guard))
+                stack.extend(reversed(ranges))
+        elif isinstance(x, (ir.Collection, ir.TupleLit)):
+            stack.extend(reversed(x.items))
+        elif isinstance(x, ir.Range):
+            stack.extend((x.step, x.end, x.start))
+        elif isinstance(x, ir.MapLit):
+            for k, v in reversed(x.pairs):
+                stack.extend((v, k))
+        # constants, domain terms (typed Powerset(D), never dynamic) and rule terms: nothing
     return found
+
+
+def _asmeta_fits(formal, actual, depth: int = 0) -> bool:
+    """Does an argument of domain ``actual`` select a function declared on ``formal``?
+
+    ASMETA's rule for picking among overloaded functions: the same domain; a subset
+    domain against its base (either way round, one level, as a base that is not itself
+    a subset); structured domains component by component; a generic or undef argument
+    fits anything; otherwise domains are compared by name."""
+    if formal is actual or actual is T.UNDEF or depth > 20:
+        return True
+    if isinstance(actual, T.Domain) and actual.kind == "any":
+        return True
+    if isinstance(formal, T.Domain) and formal.kind == "subset":
+        if isinstance(actual, T.Domain) and actual.kind == "subset":
+            return False
+        return formal.base is not None and _asmeta_fits(formal.base, actual, depth + 1)
+    if isinstance(actual, T.Domain) and actual.kind == "subset":
+        if isinstance(formal, T.Domain) and formal.kind == "any":
+            return True
+        return actual.base is not None and _asmeta_fits(formal, actual.base, depth + 1)
+    if isinstance(formal, T.Struct) and isinstance(actual, T.Struct):
+        return (formal.kind == actual.kind and len(formal.args) == len(actual.args)
+                and all(_asmeta_fits(f, a, depth + 1) for f, a in zip(formal.args, actual.args)))
+    if isinstance(formal, T.Domain) and formal.kind == "any":
+        return True
+    return str(formal) == str(actual)
 
 
 def _arity(c) -> int:
@@ -869,7 +1078,10 @@ def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
         dom.definition = body
     # function definitions
     for fd in syn.function_defs:
-        cands = [f for f in mod.own.functions.get(fd.name, []) if isinstance(f, ir.Function)]
+        # The module's own functions and those it imports (ASMETA looks the name up among all
+        # declared functions, the latest declared first): a module may define a static or
+        # derived function that an imported module declares.
+        cands = [f for f in reversed(mod.scope.functions.get(fd.name, [])) if isinstance(f, ir.Function)]
         if not cands:
             raise AsmTypeError(fd.name_span or fd.span, f"definition of an undeclared function {fd.name!r}")
         params_t = [res.type_of(p.type) for p in fd.params]
@@ -901,16 +1113,17 @@ def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
         if not T.compatible(body.type, func.codomain):
             raise AsmTypeError(fd.body.span, f"the definition of {fd.name} has domain {body.type}, "
                                              f"not compatible with its codomain {func.codomain}")
-        dyn = sorted(f.name for f in used if f.kind in _DYNAMIC_KINDS and f.module != "StandardLibrary"
-                     or f.name == "self" and f.module == "StandardLibrary")
+        # ASMETA's rule (StaticDerivedChecker): a static definition mentions nothing dynamic,
+        # a derived one at least one dynamic function or variable of a dynamic domain.
+        dyn = dynamic_parts(body) if func.kind in ("static", "derived") else []
         if func.kind == "static" and dyn:
             raise AsmTypeError(fd.name_span or fd.span,
                                f"static function {fd.name} uses dynamic function(s) {', '.join(dyn)} in its "
                                f"definition (declare it derived)")
-        if func.kind == "derived" and not dyn and not _has_literal_collection(body):
+        if func.kind == "derived" and not dyn:
             raise AsmTypeError(fd.name_span or fd.span,
-                               f"derived function {fd.name} uses no dynamic function in its definition "
-                               f"(declare it static)")
+                               f"derived function {fd.name} uses no dynamic function (nor a variable of a dynamic "
+                               f"domain) in its definition (declare it static)")
         if func.kind not in ("static", "derived"):
             raise AsmTypeError(fd.name_span or fd.span,
                                f"{fd.name} is {func.kind}: only static and derived functions are defined in "
@@ -918,12 +1131,11 @@ def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
         func.params = vs
         func.body = body
     # rule bodies
-    by_syntax = {}
-    for r in syn.rules:
-        by_syntax.setdefault(r.name, []).append(r)
-    for rd in mod.rules:
-        srcs = by_syntax[rd.name]
-        src = srcs[[x for x in mod.rules if x.name == rd.name].index(rd)]
+    # mod.rules was made from syn.rules, one declaration per syntax rule, in the same order
+    # (one pass: a spec of many rules resolves in linear time)
+    if len(mod.rules) != len(syn.rules):
+        raise AssertionError("rule declarations and their syntax differ in number")
+    for rd, src in zip(mod.rules, syn.rules):
         res.in_rule = rd
         env = Env().bind(*rd.params)
         rd.body = res.rule(src.body, env)
@@ -983,6 +1195,15 @@ def resolve_module(loader: Loader, mod: Module, root: bool) -> None:
 
 def load_spec(path: str) -> ir.Spec:
     """Read, resolve and type-check the spec at ``path`` and everything it imports."""
+    return deep_call(_load_spec, path)
+
+
+def _load_spec(path: str) -> ir.Spec:
+    with gc_paused():
+        return _load_spec_now(path)
+
+
+def _load_spec_now(path: str) -> ir.Spec:
     loader = Loader()
     root = loader.load_root(path)
     for mod in loader.order:

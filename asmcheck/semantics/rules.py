@@ -8,7 +8,7 @@ from . import types as T
 from .state import UpdateSet, apply_in_place, dom_key, same_value
 from .values import (RuleValue, fresh_value, show)
 from .analysis import has_sequencing, hkey, is_simple, mentions_monitored
-from .choice import Prune
+from .choice import NO_VALUE, Chooser, Prune
 from .terms import MISSING, Ctx, Thunk
 
 
@@ -41,7 +41,11 @@ class RuleExecutor:
         return fn
 
     def rule(self, r: ir.Rule):
-        return getattr(self, "r_" + type(r).__name__)(r)
+        fn = getattr(self, "r_" + type(r).__name__)(r)
+        # options["rule_hook"](ir rule, closure) -> closure: observes rule activations (coverage,
+        # model review); looked up at compile time only, so it costs nothing when absent
+        hook = self.options.get("rule_hook")
+        return fn if hook is None else hook(r, fn)
 
     def r_Skip(self, r):
         return lambda ctx, ups: None
@@ -206,6 +210,12 @@ class RuleExecutor:
         dedupe = self.dedupe
         node = object()
 
+        # variables over Integer, Natural or Real: a simulation draws their values (ASMETA's
+        # simulator does so when the guard is the constant true), an enumeration cannot
+        infinite = [i for i, (_, rg) in enumerate(r.bindings)
+                    if isinstance(rg, ir.DomainTerm) and rg.domain in (T.INTEGER, T.NATURAL, T.REAL)]
+        draw_choose = self._drawing_choose(r, ranges, guard, body, ifnone, infinite) if infinite else None
+
         pure = not (r.guard is not None and mentions_monitored(r.guard)) and not any(
             mentions_monitored(rg) for _, rg in r.bindings)
         NONE = ()
@@ -226,6 +236,8 @@ class RuleExecutor:
 
         def choose(ctx, ups):
             ch = ctx.chooser
+            if draw_choose is not None and draw_choose(ctx, ups):
+                return
             if dedupe and ch.enumerates:
                 memo = ch.memo
                 key = None
@@ -281,6 +293,66 @@ class RuleExecutor:
                         env.pop(u, None)
         return choose
 
+    def _drawing_choose(self, r: ir.Choose, ranges, guard, body, ifnone, infinite):
+        """The part of a choose rule over Integer, Natural or Real that draws: returns a function
+        ``(ctx, ups) -> bool`` (False when the chooser does not draw, or --int-range bounds the
+        integers, so the ordinary enumeration applies)."""
+        label = f"choose at {r.span.short()}"
+        doms = [r.bindings[i][1].domain for i in infinite]
+        names = [r.bindings[i][0].name for i in infinite]
+        uids = [r.bindings[i][0].uid for i in infinite]
+        rest = [rg for i, rg in enumerate(ranges) if i not in infinite]
+        rest_uids = [v.uid for i, (v, _) in enumerate(r.bindings) if i not in infinite]
+        rest_names = [v.name for i, (v, _) in enumerate(r.bindings) if i not in infinite]
+        true_guard = r.guard is None or (isinstance(r.guard, ir.Const) and r.guard.value is True)
+        d0 = doms[0]
+        gspan = r.guard.span if r.guard is not None else r.span
+        machine = self
+
+        def drawing(ctx, ups):
+            if machine.int_range is not None and all(d is not T.REAL for d in doms):
+                return False
+            ch = ctx.chooser
+            if ch.rng is None and type(ch).draw is Chooser.draw and ch.draw_options(d0) is None:
+                return False
+            env = ctx.env
+            saved = {u: env[u] for u in uids + rest_uids if u in env}
+            try:
+                for u, name, d in zip(uids, names, doms):
+                    opts = ch.draw_options(d)
+                    if opts is not None:
+                        # an enumerating chooser with candidate values (those a transcript shows)
+                        v = opts[ch.choose("choose", label, [{name: x} for x in opts])] if len(opts) > 1 \
+                            else opts[0]
+                    else:
+                        v = ch.draw(label, name, d)
+                    if v is NO_VALUE:
+                        return False
+                    if not true_guard:
+                        raise AsmRuntimeError(gspan, f"choose over the infinite domain {d} with a guard: ASMETA's "
+                                                     f"simulator draws a value only when the guard is true (bound "
+                                                     f"the range with a subset domain or an interval)")
+                    env[u] = v
+                if rest:
+                    cands = [tuple(env[u] for u in rest_uids) for _ in machine._iter_bindings(ctx, rest)]
+                    if not cands:
+                        if ifnone is not None:
+                            ifnone(ctx, ups)
+                        return True
+                    i = ch.choose("choose", label, [dict(zip(rest_names, c)) for c in cands]) \
+                        if len(cands) > 1 else 0
+                    for u, v in zip(rest_uids, cands[i]):
+                        env[u] = v
+                body(ctx, ups)
+            finally:
+                for u in uids + rest_uids:
+                    if u in saved:
+                        env[u] = saved[u]
+                    else:
+                        env.pop(u, None)
+            return True
+        return drawing
+
     def _choose_outcomes(self, ctx, cands, uids, names, body):
         """The distinct effects of a choose body over all candidates and nested choices:
         [(update set, monitored cache after, fresh counters after, bindings, error, nested log)]."""
@@ -295,6 +367,7 @@ class RuleExecutor:
                     env[u] = v
                 prefix: list = []
                 while True:
+                    self.tick()
                     sub_ch = outer_ch.sub(prefix)
                     ctx.chooser = sub_ch
                     ctx.mon = dict(outer_mon)
@@ -513,6 +586,9 @@ class RuleExecutor:
 
         machine = self
 
+        max_loop = self.max_loop
+        tick = self.tick
+
         def loop(ctx, ups):
             saved = ctx.st
             work = dict(saved)
@@ -520,7 +596,8 @@ class RuleExecutor:
             ctx.depth += 1
             local = UpdateSet()
             try:
-                for _ in range(MAX_LOOP):
+                for _ in range(max_loop):
+                    tick()
                     if cond is not None:
                         g = cond(ctx)
                         if g is None:
@@ -535,7 +612,8 @@ class RuleExecutor:
                     apply_in_place(work, sub, machine.keep_undef)
                     merge_seq(local, sub)
                 else:
-                    raise AsmRuntimeError(span, f"{kind} did not end after {MAX_LOOP} iterations")
+                    raise AsmRuntimeError(span, f"the {kind} at {span.short()} did not end after {max_loop} "
+                                                f"iterations in one step (raise the bound with --max-loop)")
             finally:
                 ctx.st = saved
                 ctx.depth -= 1

@@ -8,6 +8,8 @@ index for a 0-ary function and ``(index, args)`` otherwise.  The elements that
 """
 from __future__ import annotations
 
+import math
+
 from ..errors import InconsistentUpdate, Span
 from .values import show, vkey
 
@@ -28,7 +30,10 @@ def same_value(a, b) -> bool:
         return type(a) is type(b) and a == b
     if a is None or b is None:
         return False
-    return a == b
+    if a == b:
+        # reals compare as Java's Double.equals: 0.0 and -0.0 differ
+        return type(a) is not float or a != 0 or math.copysign(1.0, a) == math.copysign(1.0, b)
+    return a != a and b != b    # NaN equals NaN (Double.equals)
 
 
 class Update:

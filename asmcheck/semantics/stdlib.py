@@ -429,11 +429,61 @@ def _idiv(a, b):
 
 
 def _div(a, b):
+    """``div`` is a division of doubles (Java's ``/``): by zero it gives an infinity or NaN."""
     if a is None or b is None:
         return None
-    if b == 0:
-        raise BuiltinError("division by zero")
-    return a / b
+    x, y = float(a), float(b)
+    if y == 0:
+        if x == 0 or x != x:
+            return math.nan
+        return math.copysign(math.inf, x) * math.copysign(1.0, y)
+    return x / y
+
+
+JAVA_LONG_MIN, JAVA_LONG_MAX = -(1 << 63), (1 << 63) - 1
+JAVA_INT_MIN, JAVA_INT_MAX = -(1 << 31), (1 << 31) - 1
+
+
+def java_to_integral(x, lo=JAVA_LONG_MIN, hi=JAVA_LONG_MAX) -> int:
+    """Java's narrowing of a double to long (or int): towards zero, NaN is 0, out of range saturates."""
+    if type(x) is int:
+        return x
+    if x != x:
+        return 0
+    if x >= hi:
+        return hi
+    if x <= lo:
+        return lo
+    return int(x)
+
+
+def java_compare(a, b) -> int:
+    """``Double.compareTo``: NaN above everything (and equal to itself), -0.0 below 0.0."""
+    def key(v):
+        v = float(v)
+        if v != v:
+            return (2, 0.0)
+        return (1, v, math.copysign(1.0, v))
+    ka, kb = key(a), key(b)
+    return (ka > kb) - (ka < kb)
+
+
+def java_pow(a, b) -> float:
+    """``Math.pow``: never fails; overflow is an infinity, a domain error NaN."""
+    x, y = float(a), float(b)
+    if y != y:
+        return math.nan
+    if y == 0:
+        return 1.0
+    if abs(x) == 1 and math.isinf(y):
+        return math.nan
+    try:
+        return math.pow(x, y)
+    except OverflowError:
+        odd = y.is_integer() and abs(y) < 2 ** 53 and int(y) % 2 == 1
+        return -math.inf if x < 0 and odd else math.inf
+    except ValueError:
+        return math.nan
 
 
 def _seq_at(s, i):
@@ -687,6 +737,9 @@ def _to_string(x):
         return x
     if isinstance(x, CharV):
         return str(x)
+    if type(x) is float:
+        from .printer import java_double
+        return java_double(x)
     return show(x)
 
 
@@ -751,13 +804,54 @@ def _iton(x):
 def _rtoi(x):
     if x is None:
         return None
-    return int(x)
+    return java_to_integral(x)
 
 
 def _round(x):
+    """``Math.round``: floor(x + 0.5) as a long (NaN is 0, saturating)."""
     if x is None:
         return None
-    return int(math.floor(x + 0.5))
+    if type(x) is int:
+        return x
+    if x != x or math.isinf(x):
+        return java_to_integral(x)
+    return java_to_integral(math.floor(x + 0.5))
+
+
+def _floor(x):
+    """ASMETA's floor of a Real narrows ``Math.floor`` to a Java int (32 bits, saturating)."""
+    if x is None:
+        return None
+    if type(x) is int:
+        return x
+    if x != x or math.isinf(x):
+        return java_to_integral(x, JAVA_INT_MIN, JAVA_INT_MAX)
+    return java_to_integral(float(math.floor(x)), JAVA_INT_MIN, JAVA_INT_MAX)
+
+
+def _abs(x):
+    """ASMETA's abs of a Real is ``d > 0 ? d : -d`` (so abs(0.0) is -0.0, and NaN stays NaN)."""
+    if x is None:
+        return None
+    if type(x) is float:
+        return x if x > 0 else -x
+    return abs(x)
+
+
+def _max(a, b):
+    if a is None or b is None:
+        return None
+    if type(a) is float or type(b) is float:
+        return a if java_compare(a, b) > 0 else b
+    return max(a, b)
+
+
+def _min(a, b):
+    if a is None or b is None:
+        return None
+    if type(a) is float or type(b) is float:
+        return a if java_compare(a, b) < 0 else b
+    return min(a, b)
 
 
 def _merge(a, b):
@@ -775,14 +869,16 @@ def _assign(m, k, v):
 def _pwr(a, b):
     if a is None or b is None:
         return None
-    return float(a) ** float(b)
+    return java_pow(a, b)
 
 
 def _sqrt(a):
+    """``Math.sqrt``: NaN below zero."""
     if a is None:
         return None
-    if a < 0:
-        raise BuiltinError(f"sqrt of a negative number {a}")
+    a = float(a)
+    if a != a or a < 0:
+        return math.nan
     return math.sqrt(a)
 
 
@@ -794,8 +890,8 @@ IMPLEMENTATIONS = {
     "minus": _num(lambda a, b=None: -a if b is None else a - b),
     "mult": _num(lambda a, b: a * b),
     "div": _div, "idiv": _idiv, "mod": _mod,
-    "abs": _num(abs), "floor": _num(lambda x: int(math.floor(x))), "round": _round, "sqrt": _sqrt,
-    "pwr": _pwr, "max": _num(max), "min": _num(min),
+    "abs": _abs, "floor": _floor, "round": _round, "sqrt": _sqrt,
+    "pwr": _pwr, "max": _max, "min": _min,
     "lt": _num(lambda a, b: a < b), "gt": _num(lambda a, b: a > b),
     "le": _num(lambda a, b: a <= b), "ge": _num(lambda a, b: a >= b),
     "rtoi": _rtoi, "rton": _rtoi, "itor": _num(float), "iton": _iton, "ntor": _num(float), "ntoi": _num(int),

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import itertools
+from decimal import Decimal
 
 from ..errors import AsmRuntimeError
 from . import ir
@@ -52,11 +53,26 @@ def wrap64(r):
 
 
 
+def _real_interval(lo, hi, step) -> list:
+    """A Real interval counted in decimal, as ASMETA's parser expands it (BigDecimal): the elements
+    of ``{0.6 : 0.9, 0.1}`` are exactly 0.6, 0.7, 0.8 and 0.9, each the double nearest its decimal."""
+    d_lo, d_hi, d_st = (Decimal(repr(float(x))) if type(x) is float else Decimal(x) for x in (lo, hi, step))
+    if not all(d.is_finite() for d in (d_lo, d_hi, d_st)):
+        raise ValueError("an interval bound is not a finite number")
+    out = []
+    x = d_lo
+    while x <= d_hi:
+        out.append(float(x))
+        x += d_st
+    return out
+
+
+
 class Ctx:
     """Evaluation context of one step."""
 
     __slots__ = ("st", "env", "mon", "chooser", "self_", "machine", "agent", "rule", "fresh", "base", "prune",
-                 "depth", "lazy", "post", "ups")
+                 "depth", "lazy", "post", "ups", "init")
 
     def __init__(self, machine, state, chooser):
         self.machine = machine
@@ -74,6 +90,7 @@ class Ctx:
         self.agent = None
         self.rule = None
         self.fresh = {}      # domain name -> next serial handed out in this step
+        self.init = False    # evaluating the initial state: chooseone is a choice point
 
 
 
@@ -178,12 +195,13 @@ class TermEvaluator:
                     if key in cache:
                         return cache[key]
                 b = body_fn()
-                saved = ctx.env
+                saved, saved_init = ctx.env, ctx.init
                 ctx.env = {}
+                ctx.init = False        # a definition is not an initial value: chooseone is not a choice
                 try:
                     v = b(ctx)
                 finally:
-                    ctx.env = saved
+                    ctx.env, ctx.init = saved, saved_init
                 if static:
                     cache[(f, ())] = v
                 return v
@@ -200,12 +218,13 @@ class TermEvaluator:
                 except TypeError:
                     static_ok = False
             b = body_fn()
-            saved = ctx.env
+            saved, saved_init = ctx.env, ctx.init
             ctx.env = dict(zip(uids, vals))
+            ctx.init = False
             try:
                 v = b(ctx)
             finally:
-                ctx.env = saved
+                ctx.env, ctx.init = saved, saved_init
             if static:
                 try:
                     cache[(f, vals)] = v
@@ -318,6 +337,19 @@ class TermEvaluator:
                 x = a(ctx)
                 return None if x is None else not x
             return not_
+
+        if name == "chooseone" and len(args) == 1:
+            a0 = args[0]
+            label = f"chooseone at {span.short()}"
+
+            def chooseone(ctx):
+                c = a0(ctx)
+                if ctx.init and c is not None and len(c) > 1:
+                    # a nondeterministic initial value: every element is an initial state
+                    options = ordered(c, span)
+                    return options[ctx.chooser.choose("chooseone", label, options)]
+                return impl(c)
+            return chooseone
 
         def call(ctx):
             vals = [x(ctx) for x in args]
@@ -466,11 +498,11 @@ class TermEvaluator:
         out = []
         bound = set()
         for v, r in bindings:
-            out.append((v.uid, self._range_list(r), r.span, bool(free_uids(r) & bound)))
+            out.append((v.uid, self._range_list(r, v.name), r.span, bool(free_uids(r) & bound)))
             bound.add(v.uid)
         return out
 
-    def _range_list(self, r: ir.Term):
+    def _range_list(self, r: ir.Term, var: str = ""):
         span = r.span
         if isinstance(r, ir.DomainTerm):
             dom = r.domain
@@ -482,27 +514,30 @@ class TermEvaluator:
             def const_items(ctx):
                 items = cache.get("v")
                 if items is None:
-                    items = cache["v"] = ordered(self.term(r)(ctx), span)
+                    items = cache["v"] = ordered(self.term(r)(ctx), span, var)
                 return items
             return const_items
         fn = self.term(r)
-        return lambda ctx: ordered(fn(ctx), span)
+        return lambda ctx: ordered(fn(ctx), span, var)
 
     def _iter_bindings(self, ctx, ranges):
         """Yield once per combination of values, with the variables bound in ctx.env
         (restored afterwards).  Later ranges may use earlier variables."""
         env = ctx.env
+        tick = self.tick
         saved = {uid: env[uid] for uid, _, _, _ in ranges if uid in env}
         try:
             if len(ranges) == 1:
                 uid, items, _, _ = ranges[0]
                 for x in items(ctx):
+                    tick()
                     env[uid] = x
                     yield
             elif not any(dep for _, _, _, dep in ranges):
                 lists = [items(ctx) for _, items, _, _ in ranges]
                 uids = [uid for uid, _, _, _ in ranges]
                 for combo in itertools.product(*lists):
+                    tick()
                     for uid, x in zip(uids, combo):
                         env[uid] = x
                     yield
@@ -520,7 +555,9 @@ class TermEvaluator:
             yield
             return
         uid, items, _, _ = ranges[i]
+        tick = self.tick
         for x in items(ctx):
+            tick()
             ctx.env[uid] = x
             yield from self._nested(ctx, ranges, i + 1)
 
@@ -627,10 +664,16 @@ class TermEvaluator:
             if st <= 0:
                 raise AsmRuntimeError(span, f"the step of an interval must be positive, not {show(st)}")
             vals = []
-            x = lo
-            while x <= hi:
-                vals.append(x)
-                x += st
+            if type(lo) is float or type(hi) is float or type(st) is float:
+                try:
+                    vals = _real_interval(lo, hi, st)
+                except ValueError:
+                    raise AsmRuntimeError(span, "an interval bound is not a finite number") from None
+            else:
+                x = lo
+                while x <= hi:
+                    vals.append(x)
+                    x += st
             if kind == "set":
                 return SetV(vals)
             if kind == "seq":

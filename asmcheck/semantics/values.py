@@ -218,8 +218,10 @@ def vkey(v):
 
 
 def _fmt_real(x: float) -> str:
-    if x != x or x in (float("inf"), float("-inf")):
-        return str(x)
+    if x != x:
+        return "NaN"
+    if x in (float("inf"), float("-inf")):
+        return "Infinity" if x > 0 else "-Infinity"
     r = repr(float(x))
     return r
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import z3
 
 from ..errors import AsmError
-from ..report.trace import Trace, TraceStep
+from ..explore.trace import Trace, TraceStep
 from ..semantics.machine import Prune, Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show

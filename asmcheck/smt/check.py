@@ -1,4 +1,4 @@
-"""Load a spec and its properties, build the model, run BMC or k-induction."""
+"""Build the Z3 model of a loaded spec and its properties, run BMC or k-induction."""
 from __future__ import annotations
 
 import re
@@ -32,33 +32,36 @@ def aux_properties(spec, machine, terms: list[str]) -> list:
     return out
 
 
-def load(path: str, args):
-    """(spec, machine, state properties, step properties, temporal, aux properties)."""
-    from ..commands import _load, machine_options
-    from ..props import spec_properties
-    from ..props.files import properties_for
+def check(spec, machine, state_props, step_props, *, k: int, induction: bool = False, properties=None,
+          assume=None, aux=(), infer: bool = False, first: bool = False, loop_bound=None, max_seconds=None):
+    """Run the engine on a loaded spec and its properties; return (model, outcome, targets).
 
-    spec, machine = _load(path, machine_options(args))
-    state_props, step_props = spec_properties(machine)
-    extra_state, extra_step, temporal = properties_for(
-        spec, machine, path, getattr(args, "properties", None),
-        use_default=not getattr(args, "no_default_properties", False))
-    state_props += extra_state
-    step_props += extra_step
-    aux = aux_properties(spec, machine, getattr(args, "aux", None) or [])
+    ``properties``: the names to check (default: all, and run-time errors); ``assume``: with
+    ``properties``, the others that may strengthen k-induction; ``aux``: ``'name: term'``
+    auxiliary invariants (checked too)."""
+    aux_props = aux_properties(spec, machine, list(aux or []))
     names = {p.name for p in state_props + step_props}
-    for a in aux:
+    for a in aux_props:
         if a.name in names:
             raise UsageError(f"--aux {a.name}: a property of that name exists already")
         names.add(a.name)
-    return spec, machine, state_props, step_props, temporal, aux
+    targets, st, sp = select_properties(state_props, step_props, properties, assume)
+    model = Model(machine, st, sp, aux_props=aux_props, loop_bound=loop_bound)
+    if induction:
+        for p in model.props:
+            if p.name not in targets and p.kind != "error":
+                p.aux = True          # a property of the spec used only to strengthen the induction
+        out = run_induction(model, k, targets=targets, max_seconds=max_seconds, infer=infer)
+    else:
+        out = run_bmc(model, k, stop_at_first=first, max_seconds=max_seconds, targets=set(targets))
+    return model, out, targets
 
 
-def select_properties(state_props, step_props, aux, args):
-    """Targets (--property, default all) and the properties the model includes."""
+def select_properties(state_props, step_props, properties=None, assume=None):
+    """Targets (``properties``, default all) and the properties the model includes."""
     names = [p.name for p in state_props + step_props]
-    targets = list(getattr(args, "property", None) or [])
-    assume = list(getattr(args, "assume", None) or [])
+    targets = list(properties or [])
+    assume = list(assume or [])
     for n in targets + assume:
         if n not in names and n != "error":
             raise UsageError(f"no property named {n!r} (the properties: {', '.join(names) or 'none'})")
@@ -70,20 +73,3 @@ def select_properties(state_props, step_props, aux, args):
     st = [p for p in state_props if p.name in keep]
     sp = [p for p in step_props if p.name in keep]
     return targets, st, sp
-
-
-def check(path: str, args):
-    """Run the engine; return (spec, machine, model, outcome, temporal, targets)."""
-    spec, machine, state_props, step_props, temporal, aux = load(path, args)
-    targets, st, sp = select_properties(state_props, step_props, aux, args)
-    model = Model(machine, st, sp, aux_props=aux, loop_bound=getattr(args, "loop_bound", None))
-    if args.induction:
-        for p in model.props:
-            if p.name not in targets and p.kind != "error":
-                p.aux = True          # a property of the spec used only to strengthen the induction
-        out = run_induction(model, args.k, targets=targets, max_seconds=args.max_seconds,
-                            infer=getattr(args, "infer", False))
-    else:
-        out = run_bmc(model, args.k, stop_at_first=args.first, max_seconds=args.max_seconds,
-                      targets=set(targets))
-    return spec, machine, model, out, temporal, targets

@@ -18,14 +18,11 @@ class Depths:
 
 
 def load(path: str, prop_files=None, use_default=True, options=None):
-    from ..commands import _load
-    from ..props import spec_properties
-    from ..props.files import properties_for
+    from ..props.load import load_machine, load_properties
 
-    spec, machine = _load(path, options or {})
-    state_props, step_props = spec_properties(machine)
-    s2, st2, _ = properties_for(spec, machine, path, prop_files, use_default=use_default)
-    return spec, machine, state_props + s2, step_props + st2
+    spec, machine = load_machine(path, options or {})
+    state_props, step_props, _ = load_properties(spec, machine, path, prop_files, use_default)
+    return spec, machine, state_props, step_props
 
 
 def explicit_depths(path: str, d: int, prop_files=None, use_default=True, options=None) -> Depths:

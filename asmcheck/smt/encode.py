@@ -21,6 +21,29 @@ The result (:class:`StepEncoding`) holds, over the generic variables:
 
 Constructs the encoding cannot represent raise :class:`AsmError` naming them and
 their source position; the encoding never approximates.
+
+Why this walk over the rule forms is not the step function's (semantics/terms.py and
+semantics/rules.py), and why it is one module of about 1,300 lines:
+
+* the step function compiles each IR node to a closure over *concrete* values and runs one
+  branch: ``if`` and ``switch`` evaluate their guard and take one side, ``choose`` asks a
+  Chooser for one binding and the explorer enumerates the others by running the step again;
+  here every node is visited *once*, over guarded unions, and every branch is taken under its
+  path condition ``pc`` (``choose`` becomes a fresh Z3 variable constrained by its guard);
+* updates: the step function applies an update set to a dict and raises on a clash; here
+  writes are guarded and merged per location, and a clash is a condition in ``errs``;
+* loops: the step function runs ``while``/``iterate`` until they stop; here they are unrolled
+  ``loop_bound`` times and a further iteration is an ``overflow`` (the answer becomes unknown);
+* ``extend`` allocates a fresh element in the step function and is not encodable here.
+
+A walker shared by both would have to abstract the value domain, the control flow, the
+choices, the update sets and the loops at once, i.e. be both visitors behind one interface.
+What does not differ is shared: the StandardLibrary functions (semantics/stdlib.py, applied
+to each combination of concrete values), the static analyses (semantics/analysis.py:
+is_simple, free_uids, ordered, has_sequencing, abstract_codomain) and 64-bit wrapping
+(semantics/terms.wrap64).  The term visitors (``t_*``) and rule visitors (``r_*``) call each
+other on every node (rules evaluate terms; turbo calls and rule-valued terms run rules), so
+:class:`Encoder` stays one class in one module.
 """
 from __future__ import annotations
 

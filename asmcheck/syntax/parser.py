@@ -2,14 +2,24 @@
 
 This is the only module that imports lark.  Parse errors become
 :class:`~asmcheck.errors.AsmSyntaxError` with the file, line and column.
+
+It is one module of about a thousand lines on purpose: the lark grammar's callbacks (the
+tree builder, one method per grammar rule) and the error recovery that turns lark's
+exceptions into located messages share the grammar's rule names, and splitting them would
+spread one table over several files.
 """
 from __future__ import annotations
 
+import contextlib
+import gc
+import inspect
 import os
+import stat
 import threading
 from pathlib import Path
 
-from lark import Lark, Token, Transformer, Tree, v_args
+from lark import Lark, Token, Tree, v_args
+from lark.visitors import Transformer_NonRecursive
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from ..errors import AsmError, AsmSyntaxError, SOURCES, Span
@@ -58,17 +68,13 @@ _TERMINAL_NAMES = {
 
 
 def _cache_file():
-    """Where lark keeps the parser tables between runs (False: no caching possible)."""
+    """Where lark keeps the parser tables between runs: a file in asmcheck's private cache
+    folder (see :mod:`asmcheck.cache`), or False (no caching) when none can be trusted."""
     import hashlib
-    import tempfile
+    from ..cache import private_cache_file
     digest = hashlib.sha256(_GRAMMAR_PATH.read_bytes()).hexdigest()[:16]
-    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
-    try:
-        os.makedirs(base, exist_ok=True)
-        return os.path.join(base, f"grammar-{digest}.lark.cache")
-    except OSError:
-        return os.path.join(tempfile.gettempdir(), f"asmcheck-grammar-{digest}.lark.cache")
+    path = private_cache_file(f"grammar-{digest}.lark.cache")
+    return str(path) if path is not None else False
 
 
 def _grammar() -> Lark:
@@ -96,38 +102,121 @@ def decode_source(data: bytes) -> str:
         return data.decode("latin-1")
 
 
+@contextlib.contextmanager
+def gc_paused():
+    """Pause Python's cyclic garbage collector while large acyclic structures are built.
+
+    Parsing and resolving allocate hundreds of thousands of objects that stay alive; the
+    collector would traverse them again and again (about 45 % of the time on large specs)."""
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
+
+
 def parse_text(text: str, path: str) -> A.Spec | None:
     """Parse one AsmetaL file; raise AsmSyntaxError on bad input."""
     SOURCES.add(path, text)
     parser = _grammar()
-    try:
-        tree = parser.parse(text)
-    except UnexpectedInput as exc:
-        raise _convert(exc, text, path) from None
-    if not tree.children:
-        return None     # an empty file (or one with only comments) is accepted, as AsmetaL does
-    try:
-        return _Builder(path).transform(tree.children[0])
-    except VisitError as exc:
-        if isinstance(exc.orig_exc, AsmError):
-            raise exc.orig_exc from None
-        raise
+    with gc_paused():
+        try:
+            tree = parser.parse(text)
+        except UnexpectedInput as exc:
+            raise _convert(exc, text, path) from None
+        if not tree.children:
+            return None     # an empty file (or one with only comments) is accepted, as AsmetaL does
+        try:
+            return _Builder(path).transform(tree.children[0])
+        except VisitError as exc:
+            if isinstance(exc.orig_exc, AsmError):
+                raise exc.orig_exc from None
+            raise
 
 
 _CACHE: dict[tuple, A.Spec | None] = {}
 
+MAX_SOURCE_BYTES = 64 * 1024 * 1024
+# Pseudo-file systems: their files can look regular (/proc/self/environ) but are not specs.
+_SPECIAL_ROOTS = ("/proc/", "/sys/", "/dev/")
 
-def parse_file(path: str | Path) -> A.Spec | None:
-    """Parse a file (cached by path, size and modification time: imports are read once)."""
+
+def _file_kind(mode: int) -> str:
+    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def read_source_bytes(path: str | Path, origin: Span | None = None) -> bytes:
+    """The bytes of a regular file; anything else is an error located at ``origin``.
+
+    ``origin`` is where the file is named (an import clause); by default the file itself
+    (line 1, column 1).  FIFOs, devices, folders and the files of /proc, /sys and /dev (also
+    through a symbolic link) are refused before anything is read from them; at most the
+    size the file system reports is read, and never more than MAX_SOURCE_BYTES."""
+    p = str(path)
+    where = origin or Span(p, 1, 1)
+    try:
+        st = os.stat(p)
+    except OSError as exc:
+        raise AsmError(where, f"cannot read {p}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise AsmError(where, f"cannot read {p}: it is {_file_kind(st.st_mode)}; asmcheck reads regular files only")
+    real = os.path.realpath(p)
+    if real.startswith(_SPECIAL_ROOTS) or real in ("/proc", "/sys", "/dev"):
+        shown = f" (it leads to {real})" if real != os.path.abspath(p) else ""
+        raise AsmError(where, f"cannot read {p}: a special file of the system{shown}; asmcheck reads regular "
+                              f"files only")
+    if st.st_size > MAX_SOURCE_BYTES:
+        raise AsmError(where, f"cannot read {p}: {st.st_size} bytes, more than the {MAX_SOURCE_BYTES} a spec "
+                              f"file may have")
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(p, flags)
+    except OSError as exc:
+        raise AsmError(where, f"cannot read {p}: {exc.strerror or exc}") from None
+    try:
+        st2 = os.fstat(fd)
+        if not stat.S_ISREG(st2.st_mode) or (st2.st_dev, st2.st_ino) != (st.st_dev, st.st_ino):
+            raise AsmError(where, f"cannot read {p}: the file changed while it was opened")
+        size = min(st2.st_size, MAX_SOURCE_BYTES)
+        chunks, got = [], 0
+        while got < size:
+            chunk = os.read(fd, min(size - got, 1 << 20))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            got += len(chunk)
+        return b"".join(chunks)
+    except OSError as exc:
+        raise AsmError(where, f"cannot read {p}: {exc.strerror or exc}") from None
+    finally:
+        os.close(fd)
+
+
+def read_source_file(path: str | Path, origin: Span | None = None) -> str:
+    """The text of a regular file (see :func:`read_source_bytes` and :func:`decode_source`)."""
+    return decode_source(read_source_bytes(path, origin))
+
+
+def parse_file(path: str | Path, origin: Span | None = None) -> A.Spec | None:
+    """Parse a file (cached by path, size and modification time: imports are read once).
+
+    Only regular files are read; ``origin`` locates the error for any other (an import)."""
     p = str(path)
     try:
         st = os.stat(p)
-        key = (p, st.st_mtime_ns, st.st_size)
-        if key in _CACHE:
-            return _CACHE[key]
-        data = Path(p).read_bytes()
     except OSError as exc:
-        raise AsmError(None, f"{p}: cannot read file: {exc.strerror or exc}") from None
+        raise AsmError(origin or Span(p, 1, 1), f"cannot read {p}: {exc.strerror or exc}") from None
+    key = (p, st.st_mtime_ns, st.st_size, st.st_ino)
+    if key in _CACHE:
+        return _CACHE[key]
+    data = read_source_bytes(p, origin)
     spec = parse_text(decode_source(data), p)
     if len(_CACHE) > 2000:
         _CACHE.clear()
@@ -263,12 +352,41 @@ _KIND_TOKENS = {"STATIC": "static", "DERIVED": "derived", "CONTROLLED": "control
 
 
 @v_args(meta=True)
-class _Builder(Transformer):
-    """lark parse tree -> :mod:`asmcheck.syntax.ast`."""
+class _Builder(Transformer_NonRecursive):
+    """lark parse tree -> :mod:`asmcheck.syntax.ast` (iterative: deep nesting does not exhaust the stack)."""
 
     def __init__(self, path: str):
         super().__init__(visit_tokens=False)
         self.path = path
+
+    _methods: dict | None = None
+
+    @classmethod
+    def _method_table(cls) -> dict:
+        """Rule name -> the plain function (meta, children) of this class (built once).
+
+        Calls it directly instead of through lark's per-call v_args wrappers."""
+        if cls._methods is None:
+            table = {}
+            for name in dir(cls):
+                if name.startswith("_"):
+                    continue
+                attr = inspect.getattr_static(cls, name)
+                base = getattr(attr, "base_func", None)
+                if base is not None and callable(base):
+                    table[name] = base
+            cls._methods = table
+        return cls._methods
+
+    def _call_userfunc(self, tree, new_children=None):
+        children = new_children if new_children is not None else tree.children
+        f = self._method_table().get(tree.data)
+        if f is None:
+            return super()._call_userfunc(tree, new_children)
+        try:
+            return f(self, tree.meta, children)
+        except Exception as exc:
+            raise VisitError(tree.data, tree, exc) from exc
 
     # -- helpers
     def sp(self, meta) -> Span:
@@ -828,10 +946,11 @@ def _shift(node, path, oline=1, ocol=1):
         return Span(path, l1, c1, l2, c2)
 
     seen = set()
-
-    def walk(n):
+    todo = [node]            # iterative: a deeply nested term does not exhaust the stack
+    while todo:
+        n = todo.pop()
         if id(n) in seen:
-            return
+            continue
         seen.add(id(n))
         if isinstance(n, A.Node):
             for f in n.__dataclass_fields__:
@@ -842,17 +961,17 @@ def _shift(node, path, oline=1, ocol=1):
                     for i, x in enumerate(v):
                         if isinstance(x, tuple) and len(x) == 3 and isinstance(x[1], Span):
                             v[i] = (x[0], fix(x[1]), x[2])
-                            walk(x[2])
+                            todo.append(x[2])
                         else:
-                            walk(x)
+                            todo.append(x)
                 else:
-                    walk(v)
+                    todo.append(v)
         elif isinstance(n, (list, tuple)):
             for x in n:
                 if isinstance(x, (A.Node, list, tuple)):
-                    walk(x)
-    walk(node)
+                    todo.append(x)
     return node
 
 
-__all__ = ["parse_file", "parse_text", "parse_term", "decode_source", "RESERVED", "Tree"]
+__all__ = ["parse_file", "parse_text", "parse_term", "decode_source", "read_source_bytes", "read_source_file",
+           "RESERVED", "Tree"]

@@ -16,7 +16,7 @@ LTL / CTL / invariant property, in the order given.
   every agent of the domain (``all``: of every alternative of every choose rule).
 
 Counterexamples (and witnesses of existential CTL properties) are replayed through the
-step function before they are printed.
+step function; :func:`asmcheck.report.trace.temporal_text` and ``temporal_json`` render them.
 """
 from __future__ import annotations
 
@@ -60,82 +60,12 @@ class TemporalResult:
             self._trace = _replay(self.explorer, self.K, self.nodes, self.loop)
         return self._trace
 
-    def text(self, machine, color: bool = False) -> list[str]:
-        from ..report.trace import trace_text
-        where = ""
-        span = getattr(self.prop, "span", None)
-        if span is not None and getattr(span, "line", 0):
-            where = f" ({span.short()})"
-        fair = f", under fairness: {'; '.join(self.fairness)}" if self.fairness else ""
-        kind = {"ltl": "LTL", "ctl": "CTL", "invariant": "invariant"}.get(self.kind, self.kind)
-        if self.message:
-            return [f"{self.name}{where} ({kind}) cannot be checked: {self.message}"]
-        tr = self.trace()
-        head = f"{self.name}{where} ({kind}) {'holds' if self.holds else 'is violated'}{fair}"
-        if tr is None:
-            return [head]
-        trace, loop, inputs_step = tr
-        steps = len(trace.steps) - 1
-        what = "witness" if self.holds else "counterexample"
-        if loop is not None:
-            cyc = steps - loop
-            desc = (f" -- {what}, a lasso: {loop} step{'s' if loop != 1 else ''} to the loop, then a loop of "
-                    f"{cyc} step{'s' if cyc != 1 else ''} repeated for ever:")
-        else:
-            desc = f" -- {what}, {steps} step{'s' if steps != 1 else ''}:"
-        out = [head + desc]
-        lines = trace_text(machine, trace, color)
-        # mark the loop: the state after step `loop` is where the cycle starts
-        back = f"   -> back to state {loop}"
-        if loop is not None and trace.steps[-1].display != trace.steps[loop].display:
-            # the same stored state, but the elements made by extend carry other display names
-            from ..report.gate import RENAMED
-            back += " " + RENAMED
-        marked = []
-        for ln in lines:
-            if loop is not None and (ln.startswith("state 0") and loop == 0 or _is_step(ln, loop)):
-                ln = ln + f"   <- the loop starts here (state {loop})"
-            if loop is not None and _is_step(ln, steps):
-                ln = ln + back
-            marked.append(ln)
-        out += ["  " + ln for ln in marked]
-        if inputs_step:
-            out.append(f"  (step {steps} only shows the monitored inputs and choices of state {steps - 1}, "
-                       f"which are part of its state for the property)")
-        return out
-
-    def json(self, machine) -> dict:
-        from ..report.trace import trace_json
-        out = {"property": self.name, "kind": self.kind, "verdict": self.verdict}
-        if self.fairness:
-            out["fairness"] = list(self.fairness)
-        if self.message:
-            out["message"] = self.message
-        tr = self.trace()
-        if tr is not None:
-            trace, loop, inputs_step = tr
-            out["trace"] = trace_json(machine, trace)
-            out["loop_start"] = loop          # the last entry is the same state as this one
-            out["witness"] = self.holds
-            if inputs_step:
-                out["inputs_step"] = True     # the last step only shows the inputs of the state before
-        else:
-            out["trace"] = []
-            out["loop_start"] = None
-        return out
-
-
-def _is_step(line: str, n: int) -> bool:
-    import re
-    plain = re.sub(r"\x1b\[[0-9;]*m", "", line)
-    return plain.startswith(f"step {n}") and (len(plain) == len(f"step {n}") or plain[len(f"step {n}")] in " :")
-
 
 # ----------------------------------------------------------------- replay
 def _replay(explorer, K, nodes, loop):
     """Re-run the path of Kripke nodes through the step function; check every state
     against the explored graph.  Returns (Trace, loop index, inputs_step)."""
-    from ..report.trace import Trace, trace_steps
+    from ..explore.trace import Trace, trace_steps
 
     if K.mode == "state":
         sids = list(nodes)

@@ -2,53 +2,55 @@
 from __future__ import annotations
 
 import json
-import os
-import sys
 from pathlib import Path
 
-EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_UNKNOWN = 0, 1, 2, 3
+from .. import api
+from .common import EXIT_ERROR, add_domain_options, color_on, error, load_options, out
 
 
-def cmd_bmc(args) -> int:
-    from .report.trace import trace_json, trace_text
-    from .smt.bmc import ReplayMismatch
-    from .smt.check import check
-
+def run(args) -> int:
     if args.k < 0:
-        from .errors import UsageError
-        raise UsageError("-k must be 0 or more")
+        raise api.UsageError("-k must be 0 or more")
+    model = api.load(args.file, **load_options(args))
     try:
-        spec, machine, model, out, temporal, targets = check(args.file, args)
-    except ReplayMismatch as e:
-        print(f"asmcheck: internal error: a trace found by Z3 does not replay through the step function ({e}); "
-              f"no counterexample is shown", file=sys.stderr)
+        res = model.bmc(args.k, induction=args.induction, properties=args.property, assume=args.assume,
+                        aux=args.aux or (), infer=args.infer, first=args.first, loop_bound=args.loop_bound,
+                        max_seconds=args.max_seconds)
+    except api.ReplayMismatch as e:
+        error(f"asmcheck: internal error: a trace found by Z3 does not replay through the step function ({e}); "
+              f"no counterexample is shown")
         return EXIT_ERROR
-    code = {"violated": EXIT_VIOLATED, "unknown": EXIT_UNKNOWN}.get(out.verdict, EXIT_OK)
-    rows = _property_rows(out, model)
+    code = res.exit_code
+    rows = res.rows
+    temporal = model.temporal
+    if args.format == "itf":
+        from ..review.itf import itf_documents
+        out(json.dumps(itf_documents(model.machine, res.violations, args.file), indent=1))
+        return code
     if args.format == "json":
-        res = {
-            "spec": spec.name,
+        doc = {
+            "spec": model.name,
             "engine": "z3",
             "mode": "induction" if args.induction else "bmc",
-            "verdict": out.verdict,
+            "verdict": res.verdict,
             "states": None,
             "transitions": None,
-            "depth": out.depth,
+            "depth": res.depth,
             "k": args.k,
-            "seconds": round(out.seconds, 3),
+            "seconds": round(res.seconds, 3),
             "properties": rows,
-            "violations": [{"property": f.prop.name, "kind": f.trace.kind, "message": f.message, "depth": f.depth,
-                            "trace": trace_json(machine, f.trace)} for f in out.found],
+            "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
+                            "depth": v.raw.depth, "trace": v.trace.json()} for v in res.violations],
         }
-        if out.reason:
-            res["unknown"] = out.reason
+        if res.reason:
+            doc["unknown"] = res.reason
         if temporal:
-            res["not_checked"] = [p.name for p in temporal if p.kind in ("ltl", "ctl")]
-        print(json.dumps(res, indent=2))
+            doc["not_checked"] = res.not_checked
+        out(json.dumps(doc, indent=2))
         return code
-    color = sys.stdout.isatty() and not os.environ.get("NO_COLOR")
+    color = color_on()
     what = f"k-induction up to k={args.k}" if args.induction else f"bounded model checking to depth {args.k}"
-    print(f"{Path(args.file).name}: {what} (z3), {out.seconds:.2f} s")
+    out(f"{Path(args.file).name}: {what} (z3), {res.seconds:.2f} s")
     width = max([40] + [len(r["property"]) + 1 for r in rows])
     for r in rows:
         extra = ""
@@ -61,47 +63,29 @@ def cmd_bmc(args) -> int:
                     "; ".join(r["lemmas"][:8]) + ("; ..." if len(r["lemmas"]) > 8 else "")
             extra += ")"
         aux = "  [auxiliary]" if r.get("auxiliary") else ""
-        print(f"  {r['property']:<{width}} {r['verdict']}{extra}{aux}")
-    for f in out.found:
-        print()
+        out(f"  {r['property']:<{width}} {r['verdict']}{extra}{aux}")
+    for v in res.violations:
+        out()
+        f = v.raw
         prop = f.prop.wrapper
         span = getattr(prop, "span", None)
         where = f" ({span.short()})" if span is not None and span.line else ""
         head = "a step raises an error" if f.prop.kind == "error" else f"{f.prop.name}{where} is violated"
         steps = len(f.trace.steps) - 1
-        print(f"{head}" + (f": {f.message}" if f.message else "") +
-              f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
-              (" (the last step breaks it)" if f.trace.kind == "step" else "") + ", replayed:")
-        for line in trace_text(machine, f.trace, color):
-            print("  " + line)
-    if temporal and any(p.kind in ("ltl", "ctl") for p in temporal):
-        print(f"not checked by bmc: {', '.join(p.name for p in temporal if p.kind in ('ltl', 'ctl'))} "
-              f"(temporal properties)")
-    if out.reason:
-        print(f"unknown: {out.reason}")
-    print(f"verdict: {out.verdict}" + (f" (depth {out.depth})" if out.verdict == "holds-to-depth" else ""))
+        out(f"{head}" + (f": {f.message}" if f.message else "") +
+            f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
+            (" (the last step breaks it)" if f.trace.kind == "step" else "") + ", replayed:")
+        for line in v.trace.text(color).rstrip("\n").split("\n"):
+            out("  " + line)
+    if res.not_checked:
+        out(f"not checked by bmc: {', '.join(res.not_checked)} (temporal properties)")
+    if res.reason:
+        out(f"unknown: {res.reason}")
+    out(f"verdict: {res.verdict}" + (f" (depth {res.depth})" if res.verdict == "holds-to-depth" else ""))
     return code
 
 
-def _property_rows(out, model) -> list[dict]:
-    rows = []
-    for p in out.props:
-        r = {"property": p.name, "kind": getattr(p.wrapper, "kind", p.kind), "verdict": out.verdicts[p.name]}
-        if p.name in out.depths:
-            r["depth"] = out.depths[p.name]
-        if p.name in out.induction:
-            r["k"] = out.induction[p.name]["k"]
-            r["needed"] = out.induction[p.name]["needed"]
-            r["lemmas"] = out.induction[p.name]["lemmas"]
-        if p.aux:
-            r["auxiliary"] = True
-        rows.append(r)
-    return rows
-
-
 def register(sub) -> None:
-    """Add the subcommand to `sub` (an argparse subparsers object)."""
-    from .commands import _add_domain_options
     p = sub.add_parser(
         "bmc", help="bounded model checking and k-induction with Z3",
         description="Encode the initial states and the step of FILE in Z3, unroll K steps and look for a "
@@ -135,6 +119,7 @@ def register(sub) -> None:
                    help="a property file to check (repeatable); by default the files in properties/ that apply")
     p.add_argument("--no-default-properties", action="store_true",
                    help="check only the spec's own properties (and --properties files)")
-    _add_domain_options(p)
-    p.add_argument("--format", choices=["text", "json"], default="text")
-    p.set_defaults(func=cmd_bmc)
+    add_domain_options(p)
+    p.add_argument("--format", choices=["text", "json", "itf"], default="text",
+                   help="itf: the counterexamples as ITF traces (Apalache/Quint's Informal Trace Format)")
+    p.set_defaults(func=run)

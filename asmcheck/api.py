@@ -1,0 +1,860 @@
+"""The public Python API: load a spec, explore it, check it, simulate it, run Z3 on it.
+
+``import asmcheck`` re-exports what is here (see docs/api.md, whose examples run as tests).
+The command line (:mod:`asmcheck.cli`) is written on top of this module: it parses
+arguments, calls these functions and prints what they return.  This module prints nothing
+and picks no exit code of a process; it only says which one a result stands for
+(``exit_code``).
+
+Engine selection lives in one place, :func:`choose_engine`.
+"""
+from __future__ import annotations
+
+import os
+import re
+import signal
+import threading
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import AsmError, UsageError
+from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
+from .explore.bfs import Explorer, ReplayError, Result, TimeUp
+from .props.files import properties_for, strip_comments
+from .props import spec_properties
+from .props.load import load_machine
+from .report import gate as _gate
+from .report.trace import build_trace, temporal_json, temporal_text, trace_json, trace_text
+
+EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
+
+__all__ = ["load", "parse", "check", "Simulation", "scenario_report", "scenario_json", "scenario", "find_specs", "Model", "Exploration", "Violation", "Trace", "Gate",
+           "BmcResult", "AsmError", "UsageError", "parse_range", "parse_int_range", "default_max_memory",
+           "choose_engine", "TimeUp", "ReplayError", "ReplayMismatch", "EXIT_OK", "EXIT_VIOLATED", "EXIT_ERROR", "EXIT_INCOMPLETE"]
+
+# ----------------------------------------------------------------- loading
+def load(path, *, import_path=(), monitored=None, int_range=None, properties=None,
+         default_properties: bool = True, unknown_monitored: str = "error") -> "Model":
+    """Parse and type-check the spec at ``path`` (with its imports) and find the properties
+    that apply to it.  Raises :class:`AsmError` (located) or :class:`UsageError`.
+
+    ``unknown_monitored="ignore"`` leaves out the ``monitored`` names the spec does not
+    declare at all (the gate gives one set of options to many specs)."""
+    from .semantics.machine import Machine
+    path = os.fspath(path)
+    _set_import_path(import_path)
+    _check_readable(path, "spec")
+    options: dict = {}
+    if int_range is not None:
+        options["int_range"] = parse_int_range(int_range)
+    spec, machine = load_machine(path, options)
+    if monitored and unknown_monitored == "ignore":
+        declared = {f.name for f in spec.functions}
+        monitored = {k: v for k, v in dict(monitored).items() if k in declared}
+    if monitored:
+        ranges = monitored_ranges(machine, dict(monitored))
+        options["monitored_ranges"] = ranges
+        machine = Machine(spec, options)
+    files = [os.fspath(p) for p in properties] if properties else None
+    for p in files or ():
+        _check_readable(p, "property file")
+    state_props, step_props = spec_properties(machine)
+    extra_state, extra_step, temporal = properties_for(spec, machine, path, files, use_default=default_properties)
+    return Model(path, spec, machine, state_props + extra_state, step_props + extra_step, temporal, options,
+                 files, default_properties)
+
+
+def _set_import_path(import_path) -> None:
+    """The folders searched for imports from now on (the ``-I`` option)."""
+    from .semantics.resolve import set_import_path
+    dirs = [os.fspath(d) for d in import_path or ()]
+    for d in dirs:
+        if not os.path.isdir(d):
+            raise UsageError(f"--import-path {d}: no such folder")
+    set_import_path(os.path.abspath(d) for d in dirs)
+
+
+def _check_readable(path: str, what: str) -> None:
+    """A file to read must be a regular file (not a folder, a device or a pipe); a missing
+    file is left to the reader, which says so."""
+    import stat
+    try:
+        st = os.stat(path)
+    except OSError:
+        return
+    if stat.S_ISDIR(st.st_mode):
+        raise AsmError(None, f"{path}: is a folder, not a {what}")
+    if not stat.S_ISREG(st.st_mode):
+        raise AsmError(None, f"{path}: is not a regular file; asmcheck reads a {what} only from a regular file")
+
+
+@dataclass
+class PropertyInfo:
+    name: str
+    kind: str                  # invariant step ltl ctl justice compassion
+    location: str = ""         # file:line:col of its declaration
+    source: str = "spec"       # spec, or the property file's path
+
+
+class Model:
+    """A loaded spec: its IR (``spec``), its step function (``machine``) and the properties
+    that apply to it."""
+
+    def __init__(self, path, spec, machine, state_props, step_props, temporal, options=None, prop_files=None,
+                 default_properties=True):
+        self.path = path
+        self.spec = spec
+        self.machine = machine
+        self.name = spec.name
+        self.state_props = state_props
+        self.step_props = step_props
+        self.temporal = temporal
+        self.options = dict(options or {})
+        self.prop_files = prop_files
+        self.default_properties = default_properties
+
+    @property
+    def properties(self) -> list[PropertyInfo]:
+        out = []
+        for p in self.state_props + self.step_props + list(self.temporal):
+            span = getattr(p, "span", None)
+            loc = str(span) if span is not None and getattr(span, "line", 0) else ""
+            out.append(PropertyInfo(p.name, getattr(p, "kind", "invariant"), loc,
+                                    getattr(p, "source", "spec") or "spec"))
+        return out
+
+    def property_files(self) -> list[str]:
+        """The property files that were looked at for this spec (given, and those beside it)."""
+        from .props.files import default_property_files
+        out = list(self.prop_files or [])
+        if self.default_properties:
+            out += [p for p in default_property_files(self.path) if p not in out]
+        return out
+
+    def candidate_property_files(self) -> list[str]:
+        """Property files that name this spec in their ``applies to`` line but were not
+        found by the search (in ``properties/`` folders above the spec and above the
+        import path's folders)."""
+        from .props.files import read_prop_file
+        from .semantics.resolve import import_path as search_path
+        seen = set(os.path.abspath(p) for p in self.property_files())
+        roots = [Path(self.path).resolve().parent] + [Path(d) for d in search_path()] + [Path.cwd()]
+        out = []
+        for root in roots:
+            p = root
+            for _ in range(6):
+                cand = p / "properties"
+                if cand.is_dir():
+                    for f in sorted(cand.glob("*.prop")):
+                        a = os.path.abspath(f)
+                        if a in seen:
+                            continue
+                        seen.add(a)
+                        try:
+                            pf = read_prop_file(str(f))
+                        except AsmError:
+                            continue
+                        if pf.applies is not None and self.name in pf.applies:
+                            out.append(str(f))
+                if p.parent == p:
+                    break
+                p = p.parent
+        return out
+
+    # ------------------------------------------------------------- explore
+    def explore(self, properties=None, *, engine: str = "auto", workers: int = 1, max_states=None,
+                max_depth=None, max_seconds=None, max_memory=None, deadlock: bool = False, fair=(),
+                graph: bool = False, progress=None, started=None, warn=None) -> "Exploration":
+        """Explore every reachable state (breadth first) and check the properties.
+
+        ``max_seconds`` bounds the wall-clock time of the whole call (counted from ``started``, a
+        ``time.perf_counter()`` reading, when given: the command line counts from its start).
+        ``warn(message)`` is called with warnings found while the search runs (a location that
+        keeps taking new values, for instance)."""
+        return _explore(self, properties, engine=engine, workers=workers, max_states=max_states,
+                        max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
+                        fair=fair, graph=graph, progress=progress, started=started, warn=warn)
+
+    # ------------------------------------------------------------- simulate
+    def simulate(self, steps: int = 10, *, seed=None, random: bool = False, inputs=None) -> "Simulation":
+        """One run: the initial state and one record per step (``number``, ``choices``,
+        ``changed``, ``state``, ``violated``, ``error``); it stops at an error or a violated
+        invariant.  ``inputs``: a file of monitored values (``location = value`` lines, ``---``
+        between steps) or the list of per-step dicts it reads as."""
+        from .semantics.machine import Machine
+        from .simulate import read_inputs, simulate
+        if steps < 0:
+            raise UsageError("the number of steps must be 0 or more")
+        machine = Machine(self.spec, {**self.options, "dedupe": False})
+        if isinstance(inputs, (str, os.PathLike)):
+            _check_readable(os.fspath(inputs), "input file")
+            inputs = read_inputs(os.fspath(inputs))
+        if random and seed is None:
+            seed = 0
+        return Simulation(self, machine, list(simulate(machine, steps, seed=seed, random_choices=random,
+                                                       inputs=inputs)))
+
+    # ------------------------------------------------------------- bmc
+    def bmc(self, k: int, *, induction: bool = False, properties=None, assume=None, aux=(), infer: bool = False,
+            first: bool = False, loop_bound=None, max_seconds=None) -> "BmcResult":
+        """Z3 bounded model checking to depth ``k`` (or k-induction for k = 1..K)."""
+        from .smt.bmc import ReplayMismatch as Mismatch
+        from .smt.check import check as smt_check
+        if k < 0:
+            raise UsageError("-k must be 0 or more")
+        try:
+            model, out, targets = smt_check(self.spec, self.machine, list(self.state_props), list(self.step_props),
+                                            k=k, induction=induction, properties=properties, assume=assume,
+                                            aux=aux, infer=infer, first=first, loop_bound=loop_bound,
+                                            max_seconds=max_seconds)
+        except Mismatch as e:
+            raise ReplayMismatch(str(e)) from None
+        return BmcResult(self, model, out, targets, k, induction)
+
+    # ------------------------------------------------------------- conform / scenario
+    def conform(self, transcript):
+        """Check an ASMETA simulator transcript against the spec: (transcript, None) when it
+        conforms, else (transcript, the first step that does not)."""
+        from .conform import conform, read_transcript
+        _check_readable(os.fspath(transcript), "transcript")
+        tr = read_transcript(os.fspath(transcript))
+        return tr, conform(self.machine, tr)
+
+    def scenario(self, path, *, max_until: int = 1000, seed=None):
+        """Run an Avalla scenario (it loads its own spec, normally this one)."""
+        return scenario(path, max_until=max_until, seed=seed)
+
+
+class Simulation:
+    """The steps of :meth:`Model.simulate` (a sequence), and their renderings."""
+
+    def __init__(self, model, machine, steps):
+        self.model = model
+        self.machine = machine
+        self.steps = steps
+
+    def __iter__(self):
+        return iter(self.steps)
+
+    def __len__(self):
+        return len(self.steps)
+
+    def __getitem__(self, i):
+        return self.steps[i]
+
+    @property
+    def ok(self) -> bool:
+        return not any(st.error is not None or st.violated for st in self.steps)
+
+    @property
+    def exit_code(self) -> int:
+        return EXIT_OK if self.ok else EXIT_VIOLATED
+
+    def text(self) -> str:
+        from .report.simulation import simulation_text
+        return "\n".join(simulation_text(self.machine, self.steps)[0]) + "\n"
+
+    def asmeta(self) -> str:
+        from .report.simulation import simulation_asmeta
+        return "\n".join(simulation_asmeta(self.machine, self.steps)[0]) + "\n"
+
+    def json(self) -> dict:
+        from .report.simulation import simulation_json
+        return simulation_json(self.machine, self.model.name, self.steps)[0]
+
+
+def parse(path, *, import_path=()) -> object:
+    """Parse and type-check a spec (with its imports): its IR, or None for an empty file.
+    Raises :class:`AsmError` (located) when it does not parse or type-check."""
+    from .semantics.resolve import check_file
+    path = os.fspath(path)
+    _set_import_path(import_path)
+    _check_readable(path, "spec")
+    return check_file(path)
+
+
+def scenario_report(outcome, verbose: bool = False) -> list[str]:
+    """A scenario's outcome as ``asmcheck scenario`` prints it."""
+    from .avalla.report import text_report
+    return text_report(outcome, verbose)
+
+
+def scenario_json(outcome) -> dict:
+    from .avalla.report import json_report
+    return json_report(outcome)
+
+
+class ReplayMismatch(Exception):
+    """A trace found by Z3 does not replay through the step function (an internal error)."""
+
+
+def scenario(path, *, max_until: int = 1000, seed=None, import_path=()):
+    """Run the Avalla scenario at ``path``: an :class:`asmcheck.avalla.runner.Outcome`."""
+    from .avalla.runner import run_scenario
+    _set_import_path(import_path)
+    return run_scenario(os.fspath(path), max_until=max_until, seed=seed)
+
+
+# ----------------------------------------------------------------- engines
+def choose_engine(model: Model, engine: str, *, keep_graph: bool, step_props, has_invar: bool) -> str:
+    """The engine to try first: ``native`` or ``python``.  ``auto`` and ``native`` try the
+    native engine, which refuses (``Unsupported``, with its reason) what it cannot run;
+    ``auto`` then falls back to the Python engine and keeps the reason.  The only place
+    that decides."""
+    if engine not in ("auto", "python", "native"):
+        raise UsageError(f"unknown engine {engine!r} (auto, python or native)")
+    return "python" if engine == "python" else "native"
+
+
+def memory_in_use() -> int:
+    """The resident memory of this process in bytes (0 when unknown)."""
+    try:
+        with open("/proc/self/statm", "rb") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        try:
+            import resource
+            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+        except Exception:       # pragma: no cover - no way to know
+            return 0
+
+
+@contextmanager
+def _watchdog(seconds):
+    """Raise :class:`TimeUp` in the main thread ``seconds`` from now (a safety net for a step
+    that runs long inside the step function; the searches check their time limit
+    themselves)."""
+    if (seconds is None or threading.current_thread() is not threading.main_thread()
+            or not hasattr(signal, "setitimer")):
+        yield
+        return
+
+    def fire(signum, frame):
+        raise TimeUp()
+    old = signal.signal(signal.SIGALRM, fire)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+# the grace a search has past its time limit before the watchdog stops it from outside
+WATCHDOG_GRACE = 1.0
+
+
+def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
+             deadlock, fair, graph, progress, started=None, warn=None) -> "Exploration":
+    t0 = time.perf_counter()
+    begin = started if started is not None else t0
+    machine, spec = model.machine, model.spec
+    state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
+    if properties is not None:
+        want = list(properties)
+        names = [p.name for p in state_props + step_props + temporal]
+        for n in want:
+            if n not in names:
+                raise UsageError(f"no property named {n!r} (the properties: {', '.join(names) or 'none'})")
+        state_props = [p for p in state_props if p.name in want]
+        step_props = [p for p in step_props if p.name in want]
+        temporal = [p for p in temporal if p.name in want or p.kind in ("justice", "compassion")]
+    if workers is not None and workers < 1:
+        raise UsageError("workers must be 1 or more")
+    for name, v in (("max_states", max_states), ("max_depth", max_depth)):
+        if v is not None and v < 0:
+            raise UsageError(f"{name} must be 0 or more")
+    if max_seconds is not None and not max_seconds >= 0:
+        raise UsageError("max_seconds must be 0 or more")
+    if max_memory is None:
+        max_memory = default_max_memory()
+    elif max_memory <= 0:
+        max_memory = None
+    keep_graph = bool(graph) or any(p.kind in ("ltl", "ctl") for p in temporal)
+    has_invar = any(p.kind == "invar" for p in spec.properties)
+    which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
+    # the searches get the time left of the whole run
+    search_seconds = None if max_seconds is None else max(max_seconds - (t0 - begin), 0.0)
+    ex = None
+    result = None
+    interrupted = False
+    refused = ""
+    if which == "native":
+        from .explore.native import NativeExplorer, Unsupported
+        try:
+            if graph:
+                raise Unsupported("--graph writes every step with its choices")
+            ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                                deadlock=deadlock, state_props=state_props, step_props=step_props,
+                                keep_graph=keep_graph, max_memory=max_memory, progress=progress, warn=warn)
+            try:
+                result = ex.run()
+            except KeyboardInterrupt:
+                interrupted = True
+                result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
+                                "interrupted (Ctrl-C)", list(state_props))
+                result.deadlock_checked = deadlock
+                result.engine = "native"
+        except Unsupported as e:
+            if engine == "native":
+                raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
+            ex = None
+            refused = str(e)
+    if ex is None:
+        ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                      deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
+                      step_props=step_props, max_memory=max_memory, memory=memory_in_use)
+        with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE):
+            result = ex.run()
+        result.engine = "python"
+        result.native_refused = refused
+        interrupted = getattr(result, "interrupted", False)
+    if max_seconds is not None and result.reason.startswith("time limit"):
+        result.reason = f"time limit {max_seconds} s reached"
+    temporal_results = []
+    temporal_note = ""
+    temporal_error = ""
+    checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
+    if checked_temporal and result.verdict != "incomplete" and not interrupted:
+        from .temporal import check_temporal
+        left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
+        try:
+            if left is not None and left <= 0:
+                raise TimeUp()
+            with _watchdog(left):
+                temporal_results = check_temporal(ex, temporal, fair=list(fair or []))
+        except TimeUp:
+            temporal_note = f"time limit {max_seconds} s reached in the LTL/CTL phase"
+            temporal_results = []
+        except KeyboardInterrupt:
+            interrupted = True
+            temporal_note = "interrupted (Ctrl-C) in the LTL/CTL phase"
+            temporal_results = []
+        except MemoryError:
+            temporal_note = "out of memory in the LTL/CTL phase"
+            temporal_results = []
+        except AsmError:
+            raise
+        except Exception as exc:        # an internal error: reported on the rows (the gate goes on)
+            temporal_error = f"internal error in LTL/CTL checking: {type(exc).__name__}: {exc}"
+        if temporal_note:
+            result.reason = result.reason or temporal_note
+            if result.verdict == "holds":
+                result.verdict = "incomplete"
+        for t in temporal_results:
+            if not t.holds and result.verdict != "violated" and not t.message:
+                result.verdict = "violated"
+    elif checked_temporal and result.verdict == "incomplete":
+        temporal_note = result.reason
+    result.seconds = time.perf_counter() - t0
+    run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
+    run.temporal_error = temporal_error
+    return run
+
+
+# ----------------------------------------------------------------- results
+class Trace:
+    """A replayed counterexample (or witness): ``steps`` and three renderings."""
+
+    def __init__(self, model: Model, trace, prop, *, temporal=None):
+        self.model = model
+        self.raw = trace                  # explore.trace.Trace
+        self.prop = prop
+        self.temporal = temporal          # the temporal.TemporalResult it comes from
+        self.steps = trace.steps
+        self.kind = trace.kind
+        self.loop_start = None
+        if temporal is not None:
+            got = temporal.trace()
+            self.loop_start = got[1] if got else None
+
+    def text(self, color: bool = False) -> str:
+        """The trace as ``asmcheck explore`` prints it (per step the choices, inputs and what changed)."""
+        return "\n".join(trace_text(self.model.machine, self.raw, color)) + "\n"
+
+    def json(self) -> list:
+        """The trace as JSON (docs/trace.schema.json)."""
+        return trace_json(self.model.machine, self.raw)
+
+    def avalla(self, out_path: str | None = None) -> str:
+        """An Avalla scenario that replays the trace (``out_path``: where it will be written,
+        for its ``load`` line)."""
+        from .report.avalla_export import trace_scenario
+        return trace_scenario(self.model.machine, self.raw, spec_path=self.model.path, out_path=out_path,
+                              prop=self.prop, loop=self.loop_start)
+
+
+@dataclass
+class Violation:
+    property: str
+    kind: str               # state step deadlock error ltl ctl
+    message: str
+    location: str
+    trace: Trace | None
+    raw: object = None      # the engine's record (explore.bfs.Violation or temporal.TemporalResult)
+
+
+class Exploration:
+    """What :meth:`Model.explore` found."""
+
+    def __init__(self, model, explorer, result, temporal, temporal_results, checked_temporal, interrupted):
+        self.model = model
+        self.explorer = explorer
+        self.result = result
+        self.temporal_props = temporal
+        self.temporal = temporal_results
+        self.checked_temporal = checked_temporal
+        self.interrupted = interrupted
+        self.states = result.states
+        self.transitions = result.transitions
+        self.depth = result.depth
+        self.seconds = result.seconds
+        self.engine = getattr(result, "engine", "python")
+        # why the native engine did not run this search ("" when it did, or was not asked)
+        self.engine_note = getattr(result, "native_refused", "") if self.engine == "python" else ""
+        # seconds spent compiling the native engine (0.0 when it came from the cache)
+        self.compile_seconds = float(getattr(explorer, "compile_seconds", 0.0) or 0.0)
+        self._violations = None
+
+    @property
+    def verdict(self) -> str:
+        return self.result.verdict
+
+    @property
+    def reason(self) -> str:
+        return self.result.reason
+
+    @property
+    def exit_code(self) -> int:
+        return {"violated": EXIT_VIOLATED, "incomplete": EXIT_INCOMPLETE}.get(self.verdict, EXIT_OK)
+
+    @property
+    def rows(self) -> list[dict]:
+        """One row per property checked: property, kind, verdict."""
+        result = self.result
+        bad = {v.prop.name for v in result.violations}
+        incomplete = result.stopped_early
+        rows = []
+        for p in result.checked:
+            verdict = "violated" if p.name in bad else ("incomplete" if incomplete else "holds")
+            rows.append({"property": p.name, "kind": getattr(p, "kind", "invariant"), "verdict": verdict})
+        for v in result.violations:
+            if v.prop.name in ("deadlock", "error"):
+                rows.append({"property": v.prop.name, "kind": v.prop.kind, "verdict": "violated"})
+        if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
+            rows.append({"property": "deadlock", "kind": "deadlock",
+                         "verdict": "incomplete" if incomplete else "holds"})
+        done = set()
+        for t in self.temporal:
+            verdict = getattr(t, "verdict", None) or ("holds" if t.holds else "violated")
+            if verdict == "error":
+                verdict = "cannot be checked"
+            rows.append({"property": t.name, "kind": t.kind, "verdict": verdict})
+            done.add(t.name)
+        for p in self.checked_temporal:
+            if p.name not in done:
+                rows.append({"property": p.name, "kind": p.kind, "verdict": "incomplete"})
+        return rows
+
+    @property
+    def verdicts(self) -> dict:
+        return {r["property"]: r["verdict"] for r in self.rows}
+
+    @property
+    def checked(self) -> int:
+        """How many properties were checked (deadlock and run-time errors not counted)."""
+        return len(self.result.checked) + len(self.checked_temporal)
+
+    @property
+    def violations(self) -> list[Violation]:
+        """Every violation with its shortest trace, replayed through the step function."""
+        if self._violations is None:
+            out = []
+            for v in self.result.violations:
+                tr = build_trace(self.explorer, v)
+                span = getattr(v.prop, "span", None)
+                loc = str(span) if span is not None and getattr(span, "line", 0) else ""
+                kind = tr.kind if v.prop.name not in ("deadlock", "error") else v.prop.name
+                out.append(Violation(v.prop.name, kind, v.message, loc, Trace(self.model, tr, v.prop), v))
+            for t in self.temporal:
+                if t.holds or t.message:
+                    continue
+                got = t.trace()
+                span = getattr(t.prop, "span", None)
+                loc = str(span) if span is not None and getattr(span, "line", 0) else ""
+                out.append(Violation(t.name, t.kind, "", loc,
+                                     Trace(self.model, got[0], t.prop, temporal=t) if got else None, t))
+            self._violations = out
+        return self._violations
+
+    def traces(self):
+        """[(engine violation, explore.trace.Trace)] of the state and step violations."""
+        return [(v.raw, v.trace.raw) for v in self.violations if not hasattr(v.raw, "holds")]
+
+    def temporal_text(self, color: bool = False) -> list[list[str]]:
+        """The text of each violated temporal property (with its replayed counterexample)."""
+        return [temporal_text(t, self.model.machine, color) for t in self.temporal if not t.holds]
+
+    def json(self) -> dict:
+        """The report of ``asmcheck explore --format json``."""
+        r = self.result
+        out = {
+            "spec": self.model.name,
+            "verdict": r.verdict,
+            "states": r.states,
+            "transitions": r.transitions,
+            "depth": r.depth,
+            "seconds": round(r.seconds, 3),
+            "engine": self.engine,
+            "compile_seconds": round(self.compile_seconds, 3),
+            "properties": self.rows,
+            "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
+                            "trace": v.trace.json()} for v in self.violations if not hasattr(v.raw, "holds")]
+                          + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
+        }
+        if self.engine_note:
+            out["engine_note"] = f"native engine not used: {self.engine_note}"
+        if r.reason:
+            out["incomplete"] = r.reason
+        return out
+
+    def outcome(self, *, strict: bool = False, root=None, avalla_dir=None, temporal_error: str = ""):
+        """This run as a gate row set (:class:`asmcheck.report.gate.SpecOutcome`)."""
+        return _gate.build_outcome(self.model.path, self.model.spec, self.model.machine, self.explorer, self.result,
+                                   self.temporal_props, self.temporal, strict=strict, root=root,
+                                   avalla_dir=avalla_dir, temporal_error=temporal_error)
+
+    def graph(self):
+        """The explored state graph as a networkx MultiDiGraph (needs ``explore(graph=True)``):
+        nodes are state numbers with ``label`` (the state), ``depth`` and ``initial``; edges carry
+        the choices of the step."""
+        from .report.graph import state_graph
+        if not getattr(self.explorer, "keep_graph", False):
+            raise UsageError("the state graph was not kept: explore with graph=True")
+        return state_graph(self.explorer)
+
+    def write_graph(self, path: str) -> None:
+        from .report.graph import write_graph
+        write_graph(self.explorer, path)
+
+    def write_avalla(self, out: str) -> list[str]:
+        from .report.avalla_export import explore_avalla
+        return explore_avalla(out, self.model.machine, self.model.path, self.traces())
+
+    def html(self) -> str:
+        from .report import html as html_report
+        return html_report.html_report([self.outcome()], self.exit_code, title="asmcheck explore")
+
+    def write_html(self, path: str) -> None:
+        from .report import html as html_report
+        html_report.write(path, self.html())
+
+
+class BmcResult:
+    """What :meth:`Model.bmc` found."""
+
+    def __init__(self, model, z3model, out, targets, k, induction):
+        self.model = model
+        self.z3model = z3model
+        self.outcome = out
+        self.targets = targets
+        self.k = k
+        self.induction = induction
+        self.verdict = out.verdict
+        self.depth = out.depth
+        self.seconds = out.seconds
+        self.reason = out.reason
+        self.verdicts = dict(out.verdicts)
+
+    @property
+    def exit_code(self) -> int:
+        return {"violated": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}.get(self.verdict, EXIT_OK)
+
+    @property
+    def violations(self) -> list[Violation]:
+        out = []
+        for f in self.outcome.found:
+            prop = f.prop.wrapper
+            span = getattr(prop, "span", None)
+            loc = str(span) if span is not None and getattr(span, "line", 0) else ""
+            out.append(Violation(f.prop.name, f.trace.kind if f.prop.kind != "error" else "error", f.message, loc,
+                                 Trace(self.model, f.trace, prop), f))
+        return out
+
+    @property
+    def rows(self) -> list[dict]:
+        rows = []
+        out = self.outcome
+        for p in out.props:
+            r = {"property": p.name, "kind": getattr(p.wrapper, "kind", p.kind), "verdict": out.verdicts[p.name]}
+            if p.name in out.depths:
+                r["depth"] = out.depths[p.name]
+            if p.name in out.induction:
+                r["k"] = out.induction[p.name]["k"]
+                r["needed"] = out.induction[p.name]["needed"]
+                r["lemmas"] = out.induction[p.name]["lemmas"]
+            if p.aux:
+                r["auxiliary"] = True
+            rows.append(r)
+        return rows
+
+    @property
+    def not_checked(self) -> list[str]:
+        """The temporal properties BMC does not check."""
+        return [p.name for p in self.model.temporal if p.kind in ("ltl", "ctl")]
+
+
+# ----------------------------------------------------------------- the gate
+# the clock the per-spec times of the gate are read from (tests replace it to get fixed times)
+CLOCK = time.perf_counter
+
+
+def find_specs(paths) -> list[str]:
+    """The ``.asm`` files under ``paths``, in order: a file as given, a folder walked (sorted,
+    modules and hidden folders left out)."""
+    out: list[str] = []
+    for p in paths:
+        p = os.fspath(p)
+        path = Path(p)
+        if path.is_file():
+            out.append(p)
+        elif path.is_dir():
+            for f in sorted(path.rglob("*.asm")):
+                rel = f.relative_to(path)
+                if any(part.startswith(".") for part in rel.parts[:-1]):
+                    continue
+                if _is_module(f):
+                    continue
+                out.append(str(f))
+        elif path.exists():
+            raise UsageError(f"{p}: not a regular file or folder")
+        else:
+            raise UsageError(f"{p}: no such file or folder")
+    seen = set()
+    uniq = []
+    for f in out:
+        key = os.path.abspath(f)
+        if key not in seen:
+            seen.add(key)
+            uniq.append(f)
+    return uniq
+
+
+def _is_module(path: Path) -> bool:
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return False
+    m = re.search(r"\b(asm|module)\s+[A-Za-z_]", strip_comments(text))
+    return bool(m) and m.group(1) == "module"
+
+
+class Gate:
+    """What :func:`check` found: one :class:`asmcheck.report.gate.SpecOutcome` per spec."""
+
+    def __init__(self, outcomes, root=None):
+        self.outcomes = outcomes
+        self.root = root
+
+    @property
+    def exit_code(self) -> int:
+        return _gate.exit_code(self.outcomes)
+
+    def text(self, color: bool = False, timings: bool = True, traces: str = "failing", table: bool = True) -> str:
+        from .report.text import check_text
+        return check_text(self.outcomes, self.exit_code, color, timings, traces, table)
+
+    def json(self, timings: bool = True) -> dict:
+        from .report import report_json
+        return report_json.check_json(self.outcomes, self.exit_code, timings)
+
+    def junit(self, timings: bool = True) -> str:
+        from .report import junit
+        return junit.junit_xml(self.outcomes, timings)
+
+    def sarif(self) -> dict:
+        from .report import sarif
+        return sarif.sarif_log(self.outcomes, self.exit_code, root=self.root)
+
+    def html(self, timings: bool = True) -> str:
+        from .report import html
+        return html.html_report(self.outcomes, self.exit_code, timings)
+
+    def write(self, *, json=None, junit=None, sarif=None, html=None) -> None:
+        """Write the reports asked for (paths; ``json="-"`` is left to the caller)."""
+        from .report import html as html_report, junit as junit_report, report_json, sarif as sarif_report
+        if json and json != "-":
+            report_json.write(json, self.json())
+        if junit:
+            junit_report.write(junit, self.junit())
+        if sarif:
+            sarif_report.write(sarif, self.sarif())
+        if html:
+            html_report.write(html, self.html())
+
+    def json_text(self) -> str:
+        from .report import report_json
+        return report_json.dumps(self.json())
+
+
+def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, clock=None, import_path=(),
+               monitored=None, int_range=None, properties=None, default_properties=True, **explore):
+    """Explore one spec and judge its properties: a SpecOutcome (never raises for the spec's
+    own errors: they become its input-error row)."""
+    clock = clock or CLOCK
+    t0 = clock()
+    try:
+        model = load(path, import_path=import_path, monitored=monitored, int_range=int_range,
+                     properties=properties, default_properties=default_properties, unknown_monitored="ignore")
+        run = model.explore(**explore)
+        out = run.outcome(strict=strict, root=root, avalla_dir=avalla_dir, temporal_error=run.temporal_error)
+        out.interrupted = run.interrupted
+    except UsageError:
+        raise
+    except AsmError as err:
+        return _gate.error_outcome(path, err, root, clock() - t0)
+    except ReplayError as err:
+        return _gate.error_outcome(path, AsmError(None, f"internal error: a counterexample does not replay ({err})"),
+                                   root, clock() - t0)
+    except RecursionError:
+        return _gate.error_outcome(path, AsmError(None, f"{path}: the spec nests too deeply (recursion limit "
+                                                        f"reached)"), root, clock() - t0)
+    except (KeyboardInterrupt, MemoryError, TimeUp) as exc:
+        why = {"KeyboardInterrupt": "interrupted (Ctrl-C)", "MemoryError": "out of memory"}.get(
+            type(exc).__name__, "time limit reached")
+        out = _gate.SpecOutcome(_gate.display_path(path, root), "", "incomplete", reason=why, seconds=clock() - t0)
+        out.properties = [_gate.judge(_gate.PropertyOutcome("(not checked)", "input", "incomplete", message=why),
+                                      False, False)]
+        out.interrupted = isinstance(exc, KeyboardInterrupt)
+        return out
+    except Exception as exc:               # an internal error: this spec fails, the others are checked
+        return _gate.error_outcome(path, AsmError(None, f"{path}: internal error: {type(exc).__name__}: {exc}"),
+                                   root, clock() - t0)
+    out.seconds = clock() - t0
+    if avalla_dir is not None:
+        from .report.avalla_export import write_scenario
+        for row in out.properties:
+            cx = row.counterexample
+            if cx is not None and cx.avalla is not None:
+                write_scenario(os.path.join(avalla_dir, os.path.basename(cx.avalla_path)), cx.avalla)
+    return out
+
+
+def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, root=None, clock=None, progress=None,
+          **options) -> Gate:
+    """The CI gate: explore every spec under ``paths`` with the properties that apply to it.
+    ``options`` are those of :func:`load` and :meth:`Model.explore`."""
+    specs = find_specs(list(paths) or ["specs"])
+    if not specs:
+        raise UsageError("no .asm specs under " + ", ".join(os.fspath(p) for p in paths))
+    outcomes = []
+    for path in specs:
+        if progress is not None:
+            progress(path)
+        o = check_spec(path, strict=strict_expect, avalla_dir=avalla_dir, root=root, clock=clock, **options)
+        outcomes.append(o)
+        if getattr(o, "interrupted", False):
+            break               # Ctrl-C: what was checked so far is the report
+    return Gate(outcomes, root)

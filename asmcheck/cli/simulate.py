@@ -1,0 +1,36 @@
+"""``asmcheck simulate``: run a spec step by step."""
+from __future__ import annotations
+
+import json
+
+from .. import api
+from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, load_options, out
+
+
+def run(args) -> int:
+    opts = load_options(args)
+    model = api.load(args.file, default_properties=False, **opts)
+    sim = model.simulate(args.steps, seed=args.seed, random=args.random, inputs=args.input)
+    if args.format == "json":
+        out(json.dumps(sim.json(), indent=2))
+    elif args.format == "asmeta":
+        out(sim.asmeta().rstrip("\n"))
+    else:
+        out(sim.text().rstrip("\n"))
+    return EXIT_OK if sim.ok else EXIT_VIOLATED
+
+
+def register(sub) -> None:
+    p = sub.add_parser("simulate", help="run a spec step by step",
+                       description="Run FILE for N steps and print what changed per step. choose takes the "
+                                   "first candidate and monitored functions their first value, unless --random "
+                                   "(or --seed) picks at random or --input gives the values.")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-n", "--steps", type=int, default=10, metavar="N", help="number of steps (default 10)")
+    p.add_argument("--seed", type=int, help="random choices, from this seed (reproducible)")
+    p.add_argument("--random", action="store_true", help="random choices (seed 0 unless --seed)")
+    p.add_argument("--input", metavar="FILE", help="monitored values: 'location = value' lines, '---' between steps")
+    p.add_argument("--format", choices=["text", "asmeta", "json"], default="text",
+                   help="text: changes per step; asmeta: ASMETA's <State n (controlled)> blocks; json")
+    add_domain_options(p)
+    p.set_defaults(func=run)
