@@ -164,6 +164,7 @@ class Generator:
         self.enc_tables: dict = {}       # codomain id -> encoder name
         self.defined_done: set = set()
         self.step_mode = False
+        self._plan = None
         self.step_props: list = []
         self.invars: list = []
         self.rules_done: dict = {}
@@ -964,17 +965,25 @@ class Generator:
         return words
 
     def unpack(self, words) -> dict:
+        plan = self._plan
+        if plan is None:
+            # per slot: (key, word, shift, mask, values) for a narrow slot, (key, word, type) for a wide one
+            plan = self._plan = [
+                (key, self.words[s], self.slot_types[s]) if self.slot_values[s] is None else
+                (key, self.words[s], self.shifts[s], (1 << self.bits[s]) - 1, self.slot_values[s])
+                for s, key in enumerate(self.slots)]
         st = {}
-        for s, key in enumerate(self.slots):
-            vals = self.slot_values[s]
-            if vals is None:
-                x = words[self.words[s]]
+        from_c = self.codec.from_c
+        for p in plan:
+            if len(p) == 3:
+                x = words[p[1]]
                 if x >= 1 << 63:
                     x -= 1 << 64
                 if x != UNDEF_V:
-                    st[key] = self.codec.from_c(x, self.slot_types[s])
+                    st[p[0]] = from_c(x, p[2])
                 continue
-            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
+            key, w, sh, mask, vals = p
+            code = (words[w] >> sh) & mask
             if code < len(vals):
                 st[key] = vals[code]
         return st
@@ -1206,7 +1215,7 @@ class NativeExplorer:
         if st is None:
             buf = (ctypes.c_uint64 * self.gen.nwords)()
             self.dll.asm_state(sid, buf)
-            st = self.gen.unpack(list(buf))
+            st = self.gen.unpack(buf[:])
             if len(self._states) >= self.STATE_CACHE:
                 self._states.clear()
             self._states[sid] = st
