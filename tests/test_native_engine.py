@@ -101,7 +101,8 @@ def both(tmp_path, capsys, text, *extra):
         code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
         out = json.loads(capsys.readouterr().out)
         assert out.pop("engine") == engine
-        out.pop("seconds")
+        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+            out.pop(key, None)
         outs.append((code, out))
     assert outs[0] == outs[1]
     return outs[0]

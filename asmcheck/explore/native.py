@@ -176,6 +176,9 @@ class Generator:
         return f"{prefix}{self.uid}"
 
     def values_of(self, dom: T.Type) -> list:
+        if isinstance(T.root(dom), T.Struct):
+            # the values of a Powerset/Seq/... domain are not enumerated (2^n of them for a set)
+            raise Unsupported(f"ranging over the values of {dom}")
         try:
             vals = self.m.domain_values(dom, None, None)
         except Undetermined:
@@ -187,6 +190,8 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
+        if self.composite(f.codomain):
+            return None
         try:
             return self.values_of(f.codomain)
         except Unsupported:

@@ -319,7 +319,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
             nbuf++;
             if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
-            if ((nbuf & 65535) == 0) {
+            if ((nbuf & 4095) == 0) {
                 if (interrupted) { status = 7; goto finish; }
                 if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { status = 3; goto finish; }
             }
