@@ -1,22 +1,27 @@
 """The native explorer: C code generated from the IR, compiled once per model.
 
-For a spec whose locations all range over small finite domains (Booleans, enums,
-finite integer subdomains, the named elements of abstract domains) and whose rules
-use par, if, switch, let, choose, forall and macro calls, asmcheck writes a C
-translation of the step function and of the invariants (from the IR only: no text
-of the spec is ever pasted into the C source), compiles it with the system's C
-compiler into a shared library (cached by the hash of its source) and runs the
-breadth-first search there: states are packed into 64-bit words, one bit field per
-location.  The same enumeration of choices as the Python step function is used, so
-states are discovered in the same order; every trace the native search reports is
-decoded and *replayed through the Python step function* before it is shown.
+asmcheck writes a C translation of the step function, of the invariants, step properties and
+INVAR constraints (from the IR only: no text of the spec is ever pasted into the C source;
+strings and other composite constants go into a table of numbers), compiles it (see
+:mod:`.native_build`, cached by the hash of the source) and runs the breadth-first search there.
 
-Anything outside that subset raises :class:`Unsupported` and the Python explorer
-runs instead.
+A state is a few 64-bit words: a location over a small finite domain (Booleans, enums, finite
+integer subdomains, the named elements of abstract domains) is a bit field; an Integer location
+holds its value (64 bits, wrapping like Java's long); a sequence, tuple, set or string is the
+number of its entry in a value table where equal values are interned once.  The rules translated:
+par, seq, if, switch, let, forall, choose, while/iterate, macro calls, agents' programs
+(``program($a)`` and ``self``).  Reads inside a seq block see the working state; update sets are
+composed as the Python step function composes them (a clash is a run-time error).
 
-It is one module of over a thousand lines because the translator (one method per term
-and rule form of the IR) and the packing of states that the C code reads must change
-together; the build and cache of the compiled engines live apart in native_build.
+The same enumeration of choices as the Python step function is used, so states are discovered in
+the same order; a run-time error of a step becomes the pseudo property ``error`` with the Python
+step function's message; every trace the native search reports is decoded and *replayed through
+the Python step function* before it is shown.  The search runs in slices of a quarter second, so
+progress is shown, Ctrl-C is answered and an Integer location that grows level after level is
+named while it runs.
+
+Anything outside that subset raises :class:`Unsupported` (with the reason) and the Python
+explorer runs instead.
 """
 from __future__ import annotations
 
