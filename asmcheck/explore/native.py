@@ -22,6 +22,11 @@ named while it runs.
 
 Anything outside that subset raises :class:`Unsupported` (with the reason) and the Python
 explorer runs instead.
+
+It is one module of some 1,300 lines because the generator (IR -> C), the codec between Python
+values and the C encoding (which the generator fixes while it writes the code) and the explorer
+that packs, decodes and replays states share one layout; split, each part would reach into the
+others' tables.
 """
 from __future__ import annotations
 
