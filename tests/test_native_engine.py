@@ -87,6 +87,34 @@ default init s0:
 	function y = 0
 """
 
+TABLE = """asm Table
+import StandardLibrary
+signature:
+	controlled f: Integer -> Integer
+	controlled n: Integer
+	monitored b: Boolean
+definitions:
+	invariant inv_small over f: f(3) != 99
+	main rule r_main =
+		if n < 4 then
+			par
+				n := n + 1
+				seq
+					f(n) := n * 2
+					f(n + 1) := f(n) + 1
+				endseq
+				if b then f(0) := n endif
+			endpar
+		else
+			par
+				f(n) := 9
+				if b then f(4) := 8 endif
+			endpar
+		endif
+default init s0:
+	function n = 0
+"""
+
 STEPS = """step stp_w2_never_moves_last: not updatedBy(w2, last)
 step stp_total_changes: changed(total) or next(total) = total
 """
@@ -131,3 +159,12 @@ def test_a_clash_between_a_seq_block_and_its_sibling_is_a_violation_with_its_tra
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "inconsistent update of x: 2 and 7")
     assert [s["state"] for s in v["trace"]] == [{"x": 0, "y": 0}, {"x": 2, "y": 3}]
+
+
+def test_a_function_over_the_integers_is_held_as_a_map(tmp_path, capsys):
+    # f(n) and f(n + 1) in a seq block, f(0) beside it, and a clash of f(4) := 9 with f(4) := 8
+    code, out = both(tmp_path, capsys, TABLE)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 11, 13, 4)
+    (v,) = out["violations"]
+    assert (v["property"], v["message"], len(v["trace"])) == ("error", "inconsistent update of f(4): 9 and 8", 5)
+    assert v["trace"][-1]["state"] == {"f(0)": 0, "f(1)": 2, "f(2)": 4, "f(3)": 6, "f(4)": 7, "n": 4}

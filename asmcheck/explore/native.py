@@ -166,7 +166,8 @@ class Generator:
         self.slots: list = []            # slot -> location key
         self.slot_of: dict = {}
         self.slot_values: list = []      # slot -> list of Python values (codes), undef last
-        self.slot_types: list = []       # slot -> codomain type
+        self.slot_types: list = []       # slot -> codomain type (("map", f) for a map slot)
+        self.map_slot: dict = {}         # function index -> the slot holding its locations as a map
         self.fn_base: dict = {}          # function index -> (base slot, arg domains, codomain values)
         self.mon_base: dict = {}
         self.nmon = 0
@@ -226,6 +227,23 @@ class Generator:
                 return False
         return True
 
+    def map_function(self, f) -> bool:
+        """A function whose arguments range over an infinite domain, held as one map value: its
+        arguments and values must be scalars (integers, enums, named elements, Booleans)."""
+        def scalar(t):
+            r = T.root(t)
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+        cd = f.codomain
+        if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
+            return False
+        return bool(f.domain) and all(scalar(d) for d in f.domain) and scalar(cd)
+
+    def map_key(self, f, args: list) -> str:
+        if len(args) == 1:
+            return args[0]
+        arr = self.fresh("k")
+        return f"({{ V {arr}[{len(args)}] = {{{', '.join(args)}}}; v_intern(c, K_TUPLE, {arr}, {len(args)}); }})"
+
     def table(self, values: list) -> str:
         key = tuple(self.codec.to_c(v) for v in values)
         name = self.dom_tables.get(key)
@@ -249,7 +267,19 @@ class Generator:
                 continue
             if f.index in self.m.lazy:
                 raise Unsupported(f"the lazily initialised function {f.name}")
-            arg_values = [self.values_of(d) for d in f.domain]
+            try:
+                arg_values = [self.values_of(d) for d in f.domain]
+            except Unsupported:
+                if not self.map_function(f):
+                    raise
+                # a function over an infinite domain: its defined locations are one map value
+                s_ = len(self.slots)
+                self.slot_of[("map", f.index)] = s_
+                self.slots.append(("map", f.index))
+                self.slot_values.append(None)
+                self.slot_types.append(("map", f))
+                self.map_slot[f.index] = s_
+                continue
             cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
@@ -266,7 +296,7 @@ class Generator:
                 raise Unsupported("more than a million locations")
         for st in self.init_states:
             for k in st:
-                if k not in self.slot_of:
+                if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
                     raise Unsupported("a location outside the finite layout")
         for f in self.spec.functions:
             if f.kind == "monitored":
@@ -318,6 +348,8 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over an infinite domain")
             base, arg_values, cod = self.mon_base[f.index]
             return f"({self.mon_reader(f)}(c{''.join(', ' + a for a in args)}))"
+        if f.index in self.map_slot:
+            return f"map_get(c->rd[{self.map_slot[f.index]}], {self.map_key(f, args)})"
         if f.index not in self.fn_base:
             raise Unsupported(f"the function {f.name}")
         return f"({self.reader(f)}(c{''.join(', ' + a for a in args)}))"
@@ -591,7 +623,7 @@ class Generator:
                     f"c->rd = {sv}; {r}; }})")
         loc = t.args[-1]
         f = loc.func
-        if f.index not in self.fn_base:
+        if f.index not in self.fn_base or f.index in self.map_slot:
             raise Unsupported(f"{t.op} of {f.name}")
         self.reader(f)
         args = [self.term(a, env) for a in loc.args]
@@ -666,6 +698,11 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if f.index in self.map_slot:
+            args = [self.term(a, env) for a in r.args]
+            v = self.fresh("v")
+            return (f"{{ V {v} = {self.term(r.value, env)}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+                    f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
         if f.index not in self.fn_base:
             raise Unsupported(f"an update of {f.name}")
         args = [self.term(a, env) for a in r.args]
@@ -954,9 +991,31 @@ class Generator:
         return src
 
     # -------------------------------------------------------------- packing
+    def map_value(self, st: dict, f) -> int:
+        """The number of the map holding the defined locations of ``f`` in ``st``."""
+        pairs = []
+        for k, v in st.items():
+            if type(k) is tuple and k[0] == f.index and v is not None:
+                args = k[1]
+                kc = self.codec.to_c(args[0] if len(args) == 1 else tuple(args))
+                pairs.append((kc, self.codec.to_c(v)))
+        pairs.sort()
+        key = (5, tuple(x for pr in pairs for x in pr))
+        i = self.codec.comp_ids.get(key)
+        if i is None:
+            if self.codec.frozen:
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.codec.comp_ids[key] = len(self.codec.comp)
+            self.codec.comp.append(key)
+        return i
+
     def pack_values(self, st: dict) -> None:
         """Give every composite value of ``st`` its number (before the code is generated)."""
+        for fi in self.map_slot:
+            self.map_value(st, self.spec.functions[fi])
         for s, key in enumerate(self.slots):
+            if isinstance(self.slot_types[s], tuple):
+                continue
             v = st.get(key)
             if v is not None and self.slot_values[s] is None:
                 self.codec.to_c(v)
@@ -965,6 +1024,9 @@ class Generator:
         words = [0] * self.nwords
         for s, key in enumerate(self.slots):
             vals = self.slot_values[s]
+            if isinstance(self.slot_types[s], tuple):
+                words[self.words[s]] = self.map_value(st, self.slot_types[s][1]) & MASK64
+                continue
             v = st.get(key)
             if vals is None:
                 x = self.codec.to_c(v)
@@ -984,12 +1046,21 @@ class Generator:
         if plan is None:
             # per slot: (key, word, shift, mask, values) for a narrow slot, (key, word, type) for a wide one
             plan = self._plan = [
+                (key, self.words[s], self.slot_types[s], True) if isinstance(self.slot_types[s], tuple) else
                 (key, self.words[s], self.slot_types[s]) if self.slot_values[s] is None else
                 (key, self.words[s], self.shifts[s], (1 << self.bits[s]) - 1, self.slot_values[s])
                 for s, key in enumerate(self.slots)]
         st = {}
         from_c = self.codec.from_c
         for p in plan:
+            if len(p) == 4:
+                f = p[2][1]
+                kind, elems = self.codec.fetch(words[p[1]])
+                dt = f.domain[0] if len(f.domain) == 1 else T.Struct("Prod", tuple(f.domain))
+                for i in range(0, len(elems), 2):
+                    k = from_c(elems[i], dt)
+                    st[(f.index, (k,) if len(f.domain) == 1 else tuple(k))] = from_c(elems[i + 1], f.codomain)
+                continue
             if len(p) == 3:
                 x = words[p[1]]
                 if x >= 1 << 63:
@@ -1077,7 +1148,8 @@ class NativeExplorer:
         out = []
         buf = (ctypes.c_int64 * 3)()
         for s, vals in enumerate(g.slot_values):
-            if vals is not None:
+            typ = g.slot_types[s]
+            if vals is not None or isinstance(typ, tuple) or T.root(typ) not in (T.INTEGER, T.NATURAL):
                 continue
             self.dll.asm_range(s, buf)
             lo, hi, grew = buf[0], buf[1], buf[2]

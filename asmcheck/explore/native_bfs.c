@@ -81,7 +81,7 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
 }
 
 static inline V slot_decode(int s, V code) {
-    return SLOT_BITS[s] == 64 ? code : SLOT_DECODE[s][code];
+    return (s >= NSLOTS || SLOT_BITS[s] == 64) ? code : SLOT_DECODE[s][code];
 }
 
 static void load_state(Ctx *c, const uint64_t *w) {
@@ -93,10 +93,15 @@ static void load_state(Ctx *c, const uint64_t *w) {
     }
 }
 
-static void store_state(const Ctx *c, const uint64_t *old, uint64_t *w) {
+static void store_state(Ctx *c, const uint64_t *old, uint64_t *w) {
     memcpy(w, old, NWORDS * sizeof(uint64_t));
     for (int i = 0; i < c->nupd; i++) {
         int s = c->upd_slot[i];
+        if (s >= NSLOTS) {
+            int m = c->vs_slot[s - NSLOTS];
+            w[SLOT_WORD[m]] = (uint64_t)map_put(c, (V)w[SLOT_WORD[m]], c->vs_key[s - NSLOTS], c->upd_code[i]);
+            continue;
+        }
         if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)c->upd_code[i]; continue; }
         uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)c->upd_code[i] << SLOT_SHIFT[s]);
@@ -108,7 +113,11 @@ static Ctx ctx_static;
 /* the successor's values (for step properties and INVAR) */
 static void make_post(Ctx *c) {
     memcpy(c->post, c->cur, sizeof(c->post));
-    for (int i = 0; i < c->nupd; i++) { int s = c->upd_slot[i]; c->post[s] = slot_decode(s, c->upd_code[i]); }
+    for (int i = 0; i < c->nupd; i++) {
+        int s = c->upd_slot[i];
+        if (s >= NSLOTS) { int m = c->vs_slot[s - NSLOTS]; c->post[m] = map_put(c, c->post[m], c->vs_key[s - NSLOTS], c->upd_code[i]); }
+        else c->post[s] = slot_decode(s, c->upd_code[i]);
+    }
 }
 static uint64_t *sbuf = 0, *smask = 0;
 static int64_t cap_sbuf = 0;
@@ -266,6 +275,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             c->seqstart = -1;
             c->curstep = 0;
             c->self = UNDEF;
+            c->nvs = 0;
             c->gen++;
             if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
             c->err = 0;

@@ -16,6 +16,7 @@ typedef int64_t V;
 #define UNDEF INT64_MIN
 #define MAXCH 4096
 #define MAXUPD 65536
+#define MAXV 4096
 
 /* error codes reported to Python */
 #define E_NONE 0
@@ -45,8 +46,12 @@ typedef struct {
     int32_t rlog_slot[MAXUPD];
     V rlog_val[MAXUPD];
     int32_t nlog;
-    uint32_t wgen[NSLOTS > 0 ? NSLOTS : 1];
-    int32_t wpos[NSLOTS > 0 ? NSLOTS : 1];   /* where the slot's latest update is in the buffer */
+    uint32_t wgen[NSLOTS + MAXV];
+    int32_t wpos[NSLOTS + MAXV];             /* where the slot's latest update is in the buffer */
+    /* virtual slots: the locations f(k) of a function held as a map value in slot vs_slot */
+    int32_t nvs;
+    int32_t vs_slot[MAXV];
+    V vs_key[MAXV];
     V self;                                  /* the agent running (self) */
     uint32_t gen;
     /* monitored values of this step */
@@ -88,6 +93,8 @@ static inline void fail(Ctx *c, int code, int site) {
  * end of the block restores the values it overwrote (c->rlog).
  */
 static inline V slot_decode(int s, V code);
+static V map_get(V m, V k);
+static V map_put(Ctx *c, V m, V k, V v);
 
 static inline void upd(Ctx *c, int slot, V code, int site) {
     if (c->err) return;
@@ -132,6 +139,12 @@ static inline void seq_step_end(Ctx *c, SeqFrame *f) {
         if (c->ustamp[i] != c->curstep) continue;
         int s = c->upd_slot[i];
         if (c->nlog >= MAXUPD) { fail(c, E_UNSUPPORTED, 0); return; }
+        if (s >= NSLOTS) {
+            int m = c->vs_slot[s - NSLOTS];
+            c->rlog_slot[c->nlog] = m; c->rlog_val[c->nlog] = c->cur[m]; c->nlog++;
+            c->cur[m] = map_put(c, c->cur[m], c->vs_key[s - NSLOTS], c->upd_code[i]);
+            continue;
+        }
         c->rlog_slot[c->nlog] = s; c->rlog_val[c->nlog] = c->cur[s]; c->nlog++;
         c->cur[s] = slot_decode(s, c->upd_code[i]);
     }
@@ -141,6 +154,7 @@ static inline int seq_step_idle(Ctx *c, SeqFrame *f, int32_t mark) {
     for (int32_t i = f->start; i < c->nupd; i++) {
         if (c->ustamp[i] != c->curstep) continue;
         int s = c->upd_slot[i];
+        if (s >= NSLOTS) { if (map_get(c->cur[c->vs_slot[s - NSLOTS]], c->vs_key[s - NSLOTS]) != c->upd_code[i]) return 0; continue; }
         if (slot_decode(s, c->upd_code[i]) != c->cur[s]) return 0;
     }
     return 1;
@@ -234,6 +248,7 @@ static inline int guard(Ctx *c, V g, int site) {
 #define K_TUPLE 2
 #define K_STRING 3
 #define K_SET 4
+#define K_MAP 5
 typedef struct { int64_t off; int32_t len; int32_t kind; } VEnt;
 static V *vpool = 0;
 static int64_t npool = 0, cap_pool = 0;
@@ -406,6 +421,37 @@ static V seq_concat(Ctx *c, V a, V b) {
     if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
     memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
     return v_intern(c, K_SEQ, vscratch, n + m);
+}
+
+/* a map: pairs (key, value) sorted by key, no undef value */
+static V map_get(V m, V k) {
+    if (m == UNDEF) return UNDEF;
+    const V *e = v_elems(m); int lo = 0, hi = v_len(m) / 2 - 1;
+    while (lo <= hi) { int mid = (lo + hi) / 2; V x = e[2 * mid]; if (x == k) return e[2 * mid + 1]; if (x < k) lo = mid + 1; else hi = mid - 1; }
+    return UNDEF;
+}
+static V map_put(Ctx *c, V m, V k, V v) {
+    int n = v_len(m) / 2, w = 0, done = 0;
+    if (2 * (n + 1) > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return m; }
+    const V *e = v_elems(m);
+    for (int i = 0; i < n; i++) {
+        if (!done && e[2 * i] >= k) {
+            done = 1;
+            if (v != UNDEF) { vscratch[w++] = k; vscratch[w++] = v; }
+            if (e[2 * i] == k) continue;
+        }
+        vscratch[w++] = e[2 * i]; vscratch[w++] = e[2 * i + 1];
+    }
+    if (!done && v != UNDEF) { vscratch[w++] = k; vscratch[w++] = v; }
+    return v_intern(c, K_MAP, vscratch, w);
+}
+/* the virtual slot of location k of the map in slot s (made on first use in this step) */
+static int vslot(Ctx *c, int s, V k) {
+    for (int i = 0; i < c->nvs; i++) if (c->vs_slot[i] == s && c->vs_key[i] == k) return NSLOTS + i;
+    if (c->nvs >= MAXV) { fail(c, E_UNSUPPORTED, 0); return -1; }
+    c->vs_slot[c->nvs] = s; c->vs_key[c->nvs] = k;
+    c->wgen[NSLOTS + c->nvs] = 0;
+    return NSLOTS + c->nvs++;
 }
 
 static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
