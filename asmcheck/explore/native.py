@@ -656,22 +656,54 @@ class Generator:
             return vals
         raise Unsupported("ranging over a term that changes with the state")
 
+    def loop_head(self, rg, env, name, q, any_order: bool) -> str:
+        """The C loop header binding ``name`` to each value of the range ``rg``: a constant range
+        is a table in the Python engine's order; with ``any_order`` a set or sequence computed in
+        the state is walked in the order of its codes (the result must not depend on the order)."""
+        try:
+            vals = self.range_values(rg)
+        except Unsupported:
+            r = T.root(rg.type) if rg.type is not None else None
+            if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
+                raise
+            rv = self.fresh("rv")
+            return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
+                    f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
+        tab = self.table(vals)
+        return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+
+    def t_Compr(self, t, env):
+        if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
+            raise Unsupported(f"a {t.kind} comprehension")
+        env = dict(env)
+        heads = []
+        for v, rg in t.bindings:
+            q, name = self.fresh("q"), self.fresh("x")
+            heads.append(self.loop_head(rg, env, name, q, t.kind == "set"))
+            env[v.uid] = name
+        guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
+        body = self.term(t.body, env)
+        buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
+        return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
+                f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
+                f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
+                + "}" * len(heads) +
+                (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
+
     def t_Quant(self, t, env):
         env = dict(env)
         heads = []
         for v, r in t.bindings:
-            vals = self.range_values(r)
-            tab = self.table(vals)
             q = self.fresh("q")
             name = self.fresh("x")
+            heads.append(self.loop_head(r, env, name, q, True))
             env[v.uid] = name
-            heads.append((q, name, tab, len(vals)))
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         res = self.fresh("res")
         g = self.fresh("g")
         code = [f"V {res} = {1 if t.kind == 'forall' else 0}; int n_{res} = 0;"]
-        for q, name, tab, n in heads:
-            code.append(f"for (int {q} = 0; {q} < {n}; {q}++) {{ V {name} = {tab}[{q}];")
+        for h in heads:
+            code.append(h)
         code.append(f"V {g} = {guard}; if ({g} == UNDEF) {{ fail(c, E_UNDEF_GUARD, 0); }}")
         if t.kind == "forall":
             code.append(f"if ({g} == 0) {{ {res} = 0; goto end_{res}; }}")
@@ -809,12 +841,10 @@ class Generator:
         env = dict(env)
         heads = []
         for v, rg in r.bindings:
-            vals = self.range_values(rg)
-            tab = self.table(vals)
             q = self.fresh("q")
             name = self.fresh("x")
+            heads.append(self.loop_head(rg, env, name, q, True))
             env[v.uid] = name
-            heads.append(f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];")
         g = self.fresh("g")
         guard = self.term(r.guard, env) if r.guard is not None else "(V)1"
         body = self.rule(r.body, env)
