@@ -175,6 +175,7 @@ class Generator:
         self.enc_tables: dict = {}       # codomain id -> encoder name
         self.defined_done: set = set()
         self.step_mode = False
+        self.param_uids: set = set()
         self._plan = None
         self.step_props: list = []
         self.invars: list = []
@@ -745,6 +746,17 @@ class Generator:
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
+    def r_UpdateVar(self, r, env):
+        uid = r.var.uid
+        if uid in self.param_uids:
+            # a rule parameter may stand for a location (an update of it updates that location)
+            raise Unsupported(f"an update of the rule parameter {r.var.name}")
+        name = env.get(uid)
+        if name is None:
+            raise Unsupported("a variable bound outside the translated code")
+        v = self.fresh("uv")
+        return f"{{ V {v} = {self.term(r.value, env)}; if (c->err) return; {name} = {v}; }}"
+
     def r_Block(self, r, env):
         if r.kind == "par":
             return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
@@ -918,6 +930,7 @@ class Generator:
         env = {}
         params = []
         for p in rd.params:
+            self.param_uids.add(p.uid)
             v = f"p{p.uid}"
             env[p.uid] = v
             params.append(v)
