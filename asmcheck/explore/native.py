@@ -673,6 +673,15 @@ class Generator:
         tab = self.table(vals)
         return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
 
+    def t_DomainTerm(self, t, env):
+        d = t.domain
+        if isinstance(d, T.Domain) and d.dynamic:
+            raise Unsupported(f"the dynamic domain {d} as a value")
+        vals = self.values_of(d)
+        if not self.composite(T.Struct("Powerset", (d,))):
+            raise Unsupported(f"the domain {d} as a value")
+        return self.codec.literal(SetV(vals))
+
     def t_Compr(self, t, env):
         if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} comprehension")
