@@ -1192,6 +1192,7 @@ class NativeExplorer:
         self.warnings: list = []
         self._states: dict = {}
         self._parent = None
+        self._picks_cache = None
         self.nstates = 0
 
     def _growing(self, depth: int) -> list:
@@ -1331,10 +1332,11 @@ class NativeExplorer:
 
     def _step_error(self, sid, code, PseudoProperty, Violation):
         """The run-time error of a step from ``sid``, as the Python step function reports it."""
-        from ..semantics.machine import TooManySuccessors
         if code == 9:
-            e = TooManySuccessors(None, "more than 1000000 successors of one state")
-            return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+            # the Python step function merges the alternatives of a choose that have the same
+            # effect before it counts successors: its count is not the native enumeration's
+            raise Unsupported("more than 1,000,000 sequences of choices from one state (the Python engine "
+                              "merges a choose's alternatives with the same effect before counting)")
         st = self.state(sid)
         try:
             self.m.successors(st)
@@ -1389,13 +1391,21 @@ class NativeExplorer:
         return None if sid < 0 else sid
 
     def picks_between(self, src: int, dst: int) -> tuple:
-        """The choices of the first step of the Python step function from ``src`` to ``dst``."""
+        """The choices of the first step of the Python step function from ``src`` to ``dst`` (the
+        successors of the last source asked for are kept: edges are read source by source)."""
         from .bfs import ReplayError
-        want = self.state(dst)
-        for log, ups, nxt, mon in self.m.successors(self.state(src)):
-            if nxt == want:
-                return tuple(c.pick for c in log)
-        raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
+        cache = self._picks_cache
+        if cache is None or cache[0] != src:
+            by_dst: dict = {}
+            for log, ups, nxt, mon in self.m.successors(self.state(src)):
+                sid = self.find(nxt)
+                if sid is not None and sid not in by_dst:
+                    by_dst[sid] = tuple(c.pick for c in log)
+            cache = self._picks_cache = (src, by_dst)
+        picks = cache[1].get(dst)
+        if picks is None:
+            raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
+        return picks
 
     def path_to(self, sid: int) -> list[int]:
         path = []
