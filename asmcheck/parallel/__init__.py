@@ -116,6 +116,8 @@ def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes"
         result = search.run()
         ex = PartitionedExplorer(machine, search, state_props, step_props, deadlock, keep_graph)
         ex.finish(result)
+        if backend != "inline":
+            result.worker_cpu = b.call_all("cpu", [()] * workers)
     finally:
         b.close()
     result.engine = "python"

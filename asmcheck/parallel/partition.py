@@ -215,3 +215,7 @@ class Partition:
 
     def ping(self) -> int:
         return os.getpid()
+
+    def cpu(self) -> float:
+        """CPU seconds this worker's process has used (for benchmarks)."""
+        return time.process_time()
