@@ -166,7 +166,7 @@ class Model:
     # ------------------------------------------------------------- explore
     def explore(self, properties=None, *, engine: str = "auto", workers: int = 1, max_states=None,
                 max_depth=None, max_seconds=None, max_memory=None, deadlock: bool = False, fair=(),
-                graph: bool = False, progress=None, started=None, cluster=None, bitstate=None,
+                graph: bool = False, progress=None, started=None, warn=None, cluster=None, bitstate=None,
                 worker_memory=None) -> "Exploration":
         """Explore every reachable state (breadth first) and check the properties.
 
@@ -175,10 +175,12 @@ class Model:
         runs a bitstate search (see :mod:`asmcheck.parallel`).
 
         ``max_seconds`` bounds the wall-clock time of the whole call (counted from ``started``, a
-        ``time.perf_counter()`` reading, when given: the command line counts from its start)."""
+        ``time.perf_counter()`` reading, when given: the command line counts from its start).
+        ``warn(message)`` is called with warnings found while the search runs (a location that
+        keeps taking new values, for instance)."""
         return _explore(self, properties, engine=engine, workers=workers, max_states=max_states,
                         max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
-                        fair=fair, graph=graph, progress=progress, started=started,
+                        fair=fair, graph=graph, progress=progress, started=started, warn=warn,
                         scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory})
 
     # ------------------------------------------------------------- simulate
@@ -303,20 +305,13 @@ def scenario(path, *, max_until: int = 1000, seed=None, import_path=()):
 
 # ----------------------------------------------------------------- engines
 def choose_engine(model: Model, engine: str, *, keep_graph: bool, step_props, has_invar: bool) -> str:
-    """The engine that runs a search: ``native`` or ``python``.  Raises UsageError when the
-    native engine is asked for and cannot run the search.  The only place that decides."""
+    """The engine to try first: ``native`` or ``python``.  ``auto`` and ``native`` try the
+    native engine, which refuses (``Unsupported``, with its reason) what it cannot run;
+    ``auto`` then falls back to the Python engine and keeps the reason.  The only place
+    that decides."""
     if engine not in ("auto", "python", "native"):
         raise UsageError(f"unknown engine {engine!r} (auto, python or native)")
-    if engine == "python":
-        return "python"
-    why = ("step properties" if step_props else "INVAR constraints" if has_invar else
-           "LTL/CTL properties or --graph" if keep_graph else "")
-    if why:
-        if engine == "native":
-            raise UsageError(f"the native explorer cannot run {Path(model.path).name}: it needs the state graph "
-                             f"or checks {why}")
-        return "python"
-    return "native"
+    return "python" if engine == "python" else "native"
 
 
 def memory_in_use() -> int:
@@ -358,7 +353,7 @@ WATCHDOG_GRACE = 1.0
 
 
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
-             deadlock, fair, graph, progress, started=None, scaling=None) -> "Exploration":
+             deadlock, fair, graph, progress, started=None, warn=None, scaling=None) -> "Exploration":
     t0 = time.perf_counter()
     begin = started if started is not None else t0
     machine, spec = model.machine, model.spec
@@ -391,6 +386,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     ex = None
     result = None
     interrupted = False
+    refused = ""
     from .parallel import cli as scaled
     if scaled.wanted(workers, **(scaling or {})):
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
@@ -400,9 +396,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
+            if graph:
+                raise Unsupported("--graph writes every step with its choices")
             ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
-                                deadlock=deadlock, state_props=state_props, max_memory=max_memory,
-                                progress=progress)
+                                deadlock=deadlock, state_props=state_props, step_props=step_props,
+                                keep_graph=keep_graph, max_memory=max_memory, progress=progress, warn=warn)
             try:
                 result = ex.run()
             except KeyboardInterrupt:
@@ -415,6 +413,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
             ex = None
+            refused = str(e)
     if ex is None:
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
@@ -422,6 +421,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE):
             result = ex.run()
         result.engine = "python"
+        result.native_refused = refused
         interrupted = getattr(result, "interrupted", False)
     if max_seconds is not None and result.reason.startswith("time limit"):
         result.reason = f"time limit {max_seconds} s reached"
@@ -524,6 +524,10 @@ class Exploration:
         self.depth = result.depth
         self.seconds = result.seconds
         self.engine = getattr(result, "engine", "python")
+        # why the native engine did not run this search ("" when it did, or was not asked)
+        self.engine_note = getattr(result, "native_refused", "") if self.engine == "python" else ""
+        # seconds spent compiling the native engine (0.0 when it came from the cache)
+        self.compile_seconds = float(getattr(explorer, "compile_seconds", 0.0) or 0.0)
         self._violations = None
 
     @property
@@ -616,11 +620,14 @@ class Exploration:
             "depth": r.depth,
             "seconds": round(r.seconds, 3),
             "engine": self.engine,
+            "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
                             "trace": v.trace.json()} for v in self.violations if not hasattr(v.raw, "holds")]
                           + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
         }
+        if self.engine_note:
+            out["engine_note"] = f"native engine not used: {self.engine_note}"
         if r.reason:
             out["incomplete"] = r.reason
         return out

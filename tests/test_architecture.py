@@ -22,6 +22,8 @@ LAYERS = [
     ("explore", ["asmcheck.explore", "asmcheck.simulate", "asmcheck.conform", "asmcheck.avalla"]),
     ("temporal, smt", ["asmcheck.temporal", "asmcheck.smt"]),
     ("report", ["asmcheck.report"]),
+    # the partitioned, cluster, bitstate and swarm searches: over the explorer, with reports
+    ("parallel", ["asmcheck.parallel"]),
     ("api", ["asmcheck.api", "asmcheck.options", "asmcheck"]),
     # what is built on the API: the command line and the tools beside it
     ("cli", ["asmcheck.cli", "asmcheck.__main__", "asmcheck.lsp", "asmcheck.review"]),
@@ -197,7 +199,9 @@ def test_the_command_line_uses_the_api_only():
         for target, _, line in found:
             t = internal(target)
             if t is None or t.startswith("asmcheck.cli") or t in ("asmcheck.api", "asmcheck.version",
-                                                                   "asmcheck.errors"):
+                                                                   "asmcheck.errors") or \
+                    t.startswith("asmcheck.review") or \
+                    t == "asmcheck.parallel.cli":         # the review tools and the scaling options, beside the API
                 continue
             bad.append(f"{MODULES[mod].relative_to(ROOT)}:{line}: {mod} imports {t}")
     assert not bad, "the command line reaches below the API:\n" + "\n".join(bad)
@@ -206,7 +210,11 @@ def test_the_command_line_uses_the_api_only():
 OUTSIDE = [ROOT / "scripts", ROOT / "benchmarks"]
 # a benchmark of one internal unit may reach it: bench_canonical.py times the canonicaliser
 # (asmcheck/explore/canonical.py) inside a run of the command line
-UNIT_BENCHMARKS = {"bench_canonical.py": {"asmcheck.explore"}}
+# and bench_parallel.py times the partitioned search's parts (expanders, owners, levels) one by one
+UNIT_BENCHMARKS = {"bench_canonical.py": {"asmcheck.explore"},
+                   "bench_parallel.py": {"asmcheck.explore.bfs", "asmcheck.parallel", "asmcheck.parallel.search",
+                                         "asmcheck.parallel.expand", "asmcheck.props", "asmcheck.props.files",
+                                         "asmcheck.props.load", "asmcheck.semantics.resolve"}}
 
 
 @pytest.mark.parametrize("folder", OUTSIDE, ids=lambda p: p.name)

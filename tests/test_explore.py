@@ -162,7 +162,7 @@ def test_unbounded_monitored_integer_is_a_located_error(tmp_path, capsys):
 
 @pytest.mark.parametrize("bug", [False, True])
 def test_native_and_python_engines_agree(tmp_path, capsys, bug):
-    from asmcheck.explore.native import compiler
+    from asmcheck.explore.native_build import compiler
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
     path = twin(tmp_path, 7, 16, bug=bug)
@@ -177,7 +177,7 @@ def test_native_and_python_engines_agree(tmp_path, capsys, bug):
 
 
 def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
-    from asmcheck.explore.native import compiler
+    from asmcheck.explore.native_build import compiler
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
     text = spec("\tcontrolled s: Seq(Integer)", "\tmain rule r_main = s := append(s, 1)", "\tfunction s = []")

@@ -19,10 +19,10 @@ import sys
 
 from ..version import __version__
 from ..errors import AsmError, UsageError
-from . import bmc, check, common, conform, explore, parse, scenario, simulate
+from . import advise, bmc, check, common, conform, explore, parse, scenario, simulate, testgen
 from .common import EXIT_ERROR, EXIT_INCOMPLETE
 
-COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check)
+COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -23,6 +23,10 @@ def run(args) -> int:
     code = res.exit_code
     rows = res.rows
     temporal = model.temporal
+    if args.format == "itf":
+        from ..review.itf import itf_documents
+        out(json.dumps(itf_documents(model.machine, res.violations, args.file), indent=1))
+        return code
     if args.format == "json":
         doc = {
             "spec": model.name,
@@ -116,5 +120,6 @@ def register(sub) -> None:
     p.add_argument("--no-default-properties", action="store_true",
                    help="check only the spec's own properties (and --properties files)")
     add_domain_options(p)
-    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.add_argument("--format", choices=["text", "json", "itf"], default="text",
+                   help="itf: the counterexamples as ITF traces (Apalache/Quint's Informal Trace Format)")
     p.set_defaults(func=run)

@@ -15,7 +15,8 @@ def run(args) -> int:
     model = api.load(args.file, **load_options(args))
     use_bar = args.format == "text"
     with (Progress() if use_bar else _NoProgress()) as progress:
-        run_ = model.explore(graph=bool(args.graph), progress=progress, **explore_options(args))
+        run_ = model.explore(graph=bool(args.graph), progress=progress, warn=lambda msg: error(f"asmcheck: {msg}"),
+                             **explore_options(args))
     try:
         violations = run_.violations
     except api.ReplayError as e:
@@ -32,18 +33,26 @@ def run(args) -> int:
         run_.write_html(args.html)
     code = {"violated": EXIT_VIOLATED, "incomplete": EXIT_INCOMPLETE}.get(run_.verdict, EXIT_OK)
     nothing = run_.checked == 0 and not run_.result.violations and not getattr(run_.result, "deadlock_checked", False)
+    if args.format == "itf":
+        from ..review.itf import itf_documents
+        out(json.dumps(itf_documents(model.machine, violations, args.file), indent=1))
+        return code
     if args.format == "json":
         doc = run_.json()
         doc.update(scaled.report_json(run_.result))
         if nothing:
             doc["verdict"] = "no property checked"
             doc["property_files"] = model.candidate_property_files()
+        if args.coverage:
+            doc["coverage"] = _coverage(args, "json")
         out(json.dumps(doc, indent=2))
         return code
     color = color_on()
     r = run_.result
     out(f"{Path(args.file).name}: {r.states:,} states, {r.transitions:,} transitions, "
-        f"depth {r.depth}, {r.seconds:.2f} s")
+        f"depth {r.depth}, {r.seconds:.2f} s, {run_.engine} engine")
+    if run_.engine_note:
+        out(f"  (native engine not used: {run_.engine_note})")
     verdict_rows([(row["property"], row["verdict"]) for row in run_.rows])
     for v in violations:
         if hasattr(v.raw, "holds"):
@@ -78,7 +87,16 @@ def run(args) -> int:
     for line in scaled.report_lines(r):
         out(line)
     out(f"verdict: {'no property checked' if nothing else r.verdict}")
+    if args.coverage:
+        out()
+        out("\n".join(_coverage(args, "text")))
     return code
+
+
+def _coverage(args, fmt):
+    """``--coverage[=OUT.html]``: rule, branch and update coverage over the explored configurations."""
+    from ..review.coverage import explore_coverage_for
+    return explore_coverage_for(args, fmt)
 
 
 class _NoProgress:
@@ -116,5 +134,9 @@ def register(sub) -> None:
     p.add_argument("--avalla", metavar="OUT.avalla|DIR",
                    help="write each counterexample as an Avalla scenario that replays it")
     p.add_argument("--html", metavar="OUT.html", help="write a self-contained HTML report")
-    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.add_argument("--format", choices=["text", "json", "itf"], default="text",
+                   help="itf: the counterexamples as ITF traces (Apalache/Quint's Informal Trace Format)")
+    p.add_argument("--coverage", nargs="?", const="-", metavar="OUT.html",
+                   help="also report which rules, branches and updates the state space covers (and write the "
+                        "spec's source coloured by coverage to OUT.html)")
     p.set_defaults(func=run)

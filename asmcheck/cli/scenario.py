@@ -37,6 +37,8 @@ def run(args) -> int:
                 docs.append({"file": path, "result": "error", "error": _error(err)})
             else:
                 docs.append(api.scenario_json(res))
+        if getattr(args, "coverage", None) and code != EXIT_ERROR:
+            docs = [{"scenarios": docs, "coverage": _coverage(args, files, "json")}]
         out(json.dumps(docs[0] if len(docs) == 1 else {"scenarios": docs}, indent=2))
     else:
         lines = []
@@ -51,8 +53,16 @@ def run(args) -> int:
             bad = sum(1 for _, res, err in results if err is None and not res.ok)
             errs = sum(1 for _, _, err in results if err is not None)
             lines.append(f"{len(results)} scenarios: {ok} passed, {bad} failed, {errs} with input errors")
+        if getattr(args, "coverage", None) and code != EXIT_ERROR:
+            lines += [""] + _coverage(args, files, "text")
         out("\n".join(lines))
     return code
+
+
+def _coverage(args, files, fmt):
+    """``--coverage[=OUT.html]``: rule, branch and update coverage by the scenarios (AsmetaV's report)."""
+    from ..review.coverage import cli_scenario_coverage
+    return cli_scenario_coverage(files, args.coverage, fmt=fmt, max_until=args.max_until)
 
 
 def _error(err) -> dict:
@@ -83,6 +93,9 @@ def register(sub) -> None:
                     "violated, a step fails, a step until does not end), 2 on an input error.")
     p.add_argument("files", nargs="+", metavar="FILE.avalla", help="scenario files (a folder: every .avalla in it)")
     p.add_argument("--format", choices=["text", "json"], default="text")
+    p.add_argument("--coverage", nargs="?", const="-", metavar="OUT.html",
+                   help="also report which rules, branches and updates the scenarios cover (and write the "
+                        "spec's source coloured by coverage to OUT.html)")
     p.add_argument("-v", "--verbose", action="store_true",
                    help="also list steps, sets, picks and execs, and the values read by passed checks")
     p.add_argument("--max-until", type=int, default=1000, metavar="N",

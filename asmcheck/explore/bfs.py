@@ -134,6 +134,14 @@ class Explorer:
     def state(self, sid: int) -> dict:
         return self.layout.thaw(self.frozen[sid])
 
+    @property
+    def n_states(self) -> int:
+        return len(self.frozen)
+
+    def edge_arrays(self) -> tuple[array, array]:
+        """The recorded edges (keep_graph) as two arrays (sources, targets), without choices."""
+        return array("q", [e[0] for e in self.edges]), array("q", [e[1] for e in self.edges])
+
     # -------------------------------------------------------------- the search
     def run(self) -> Result:
         m = self.m

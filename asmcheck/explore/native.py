@@ -13,32 +13,32 @@ decoded and *replayed through the Python step function* before it is shown.
 
 Anything outside that subset raises :class:`Unsupported` and the Python explorer
 runs instead.
+
+It is one module of over a thousand lines because the translator (one method per term
+and rule form of the IR) and the packing of states that the C code reads must change
+together; the build and cache of the compiled engines live apart in native_build.
 """
 from __future__ import annotations
 
 import ctypes
-import hashlib
-import os
-import shutil
-import subprocess
-import tempfile
 import time
+from array import array
 from importlib import resources
-from pathlib import Path
 
 from ..errors import AsmError, AsmRuntimeError
 from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
+from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, EnumValue
+from . import native_build
+from .native_build import Unsupported
 
 UNDEF_C = "UNDEF"
+UNDEF_V = -(1 << 63)
+MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
-
-
-class Unsupported(Exception):
-    """The spec (or a property) uses something the native explorer does not translate."""
 
 
 def _ceil_log2(n: int) -> int:
@@ -59,6 +59,7 @@ class Codec:
                 if e not in self.abstract_ids:
                     self.abstract_ids[e] = len(self.abstract_ids)
         self.abstract_by_id = {i: e for e, i in self.abstract_ids.items()}
+        self.enum_base: dict = {}
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -72,11 +73,15 @@ class Codec:
                 raise Unsupported("an integer beyond 64 bits")
             return v
         if t is EnumValue:
-            return v.index
+            # distinct enum domains get distinct codes (a union or Any mixes them)
+            base = self.enum_base.get(v.domain)
+            if base is None:
+                base = self.enum_base[v.domain] = len(self.enum_base) << 20
+            return base + v.index
         if t is AbstractValue:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
-            return self.abstract_ids[v]
+            return (1 << 40) + self.abstract_ids[v]
         raise Unsupported(f"a value of kind {t.__name__}")
 
     def literal(self, v) -> str:
@@ -101,6 +106,9 @@ class Generator:
         self.dom_tables: dict = {}       # tuple of values -> C table name
         self.enc_tables: dict = {}       # codomain id -> encoder name
         self.defined_done: set = set()
+        self.step_mode = False
+        self.step_props: list = []
+        self.invars: list = []
         self.rules_done: dict = {}
         self.uid = 0
 
@@ -117,6 +125,16 @@ class Generator:
         for v in vals:
             self.codec.to_c(v)
         return list(vals)
+
+    def codomain_values(self, f):
+        """The values a controlled function's locations hold, or None for an integer codomain
+        (a wide slot: the value itself, 64 bits, is stored)."""
+        try:
+            return self.values_of(f.codomain)
+        except Unsupported:
+            if T.root(f.codomain) in (T.INTEGER, T.NATURAL):
+                return None
+            raise
 
     def table(self, values: list) -> str:
         key = tuple(self.codec.to_c(v) for v in values)
@@ -142,7 +160,7 @@ class Generator:
             if f.index in self.m.lazy:
                 raise Unsupported(f"the lazily initialised function {f.name}")
             arg_values = [self.values_of(d) for d in f.domain]
-            cod = self.values_of(f.codomain)
+            cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
                 combos = [c + (v,) for c in combos for v in vals]
@@ -193,7 +211,7 @@ class Generator:
     def t_Loc(self, t, env):
         f = t.func
         if f is self.spec.self_func:
-            raise Unsupported("agents (self)")
+            return "c->self"
         if f.kind == "static" and f.arity == 0 and isinstance(f.codomain, T.Domain) and \
                 isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
             from ..semantics.values import abstract_value
@@ -236,7 +254,7 @@ class Generator:
         body.append("}")
         body.append(f"static V {name}(Ctx *c{sig}) {{")
         body.append(f"    int s = sl{f.index}(c{''.join(', ' + p for p in params)});")
-        body.append("    return s < 0 ? UNDEF : c->cur[s];")
+        body.append("    return s < 0 ? UNDEF : c->rd[s];")
         body.append("}")
         self.funcs.append("\n".join(body))
         return name
@@ -258,6 +276,7 @@ class Generator:
         body.append(f"    int s = mi{f.index}(c{''.join(', ' + p for p in params)});")
         body.append("    if (s < 0) return UNDEF;")
         body.append("    if (c->mgen[s] == c->gen) return c->mon[s];")
+        body.append("    if (c->in_prop) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }")
         body.append(f"    int i = {len(cod)} > 1 ? choice(c, {len(cod)}) : 0;")
         body.append(f"    c->mgen[s] = c->gen; c->mon[s] = {tab}[i];")
         body.append("    return c->mon[s];")
@@ -268,6 +287,11 @@ class Generator:
     def encoder(self, f) -> str:
         """C function: value -> code for the locations of f (fails outside the codomain)."""
         base, arg_values, cod = self.fn_base[f.index]
+        if cod is None:
+            if "encW" not in self.defined_done:
+                self.defined_done.add("encW")
+                self.funcs.append("static inline V encW(Ctx *c, V v, int site) { return v; }")
+            return "encW"
         key = ("enc", tuple(self.codec.to_c(v) for v in cod))
         name = self.enc_tables.get(key)
         if name is not None:
@@ -385,6 +409,31 @@ class Generator:
             env[v.uid] = name
         return "({ " + " ".join(decls) + f" {self.term(t.body, env)}; }})"
 
+    def t_StepOp(self, t, env):
+        if not self.step_mode:
+            raise Unsupported(f"{t.op}(...) outside a step property")
+        if t.op == "next":
+            sv, r = self.fresh("sv"), self.fresh("r")
+            return (f"({{ V *{sv} = c->rd; c->rd = c->post; V {r} = {self.term(t.args[0], env)}; "
+                    f"c->rd = {sv}; {r}; }})")
+        loc = t.args[-1]
+        f = loc.func
+        if f.index not in self.fn_base:
+            raise Unsupported(f"{t.op} of {f.name}")
+        self.reader(f)
+        args = [self.term(a, env) for a in loc.args]
+        sl = self.fresh("s")
+        head = f"int {sl} = sl{f.index}(c{''.join(', ' + a for a in args)});"
+        if t.op == "updated":
+            return f"({{ {head} (V)({sl} >= 0 && c->wgen[{sl}] == c->gen); }})"
+        if t.op == "updatedBy":
+            ag = self.term(t.args[0], env)
+            return (f"({{ {head} V a_{sl} = {ag}; (V)({sl} >= 0 && c->wgen[{sl}] == c->gen && "
+                    f"c->uagent[c->wpos[{sl}]] == a_{sl}); }})")
+        if t.op == "changed":
+            return f"({{ {head} (V)({sl} >= 0 && c->cur[{sl}] != c->post[{sl}]); }})"
+        raise Unsupported(f"the step operator {t.op}")
+
     def range_values(self, r: ir.Term) -> list:
         if isinstance(r, ir.DomainTerm):
             d = r.domain
@@ -448,16 +497,75 @@ class Generator:
             raise Unsupported(f"an update of {f.name}")
         args = [self.term(a, env) for a in r.args]
         v = self.fresh("v")
-        s = self.fresh("sl")
+        s = self.fresh("lsl")
         self.reader(f)
         enc = self.encoder(f)
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def r_Block(self, r, env):
-        if r.kind != "par":
-            raise Unsupported("seq")
-        return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
+        if r.kind == "par":
+            return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
+        f = self.fresh("sf")
+        steps = " ".join(f"seq_step_begin(c); {{ {self.rule(x, env)} }} if (c->err) {{ seq_end(c, &{f}); return; }} "
+                         f"seq_step_end(c, &{f});" for x in r.rules)
+        return f"{{ SeqFrame {f}; seq_begin(c, &{f}); {steps} seq_end(c, &{f}); if (c->err) return; }}"
+
+    def r_Loop(self, r, env):
+        f = self.fresh("sf")
+        n = self.fresh("n")
+        mark = self.fresh("mk")
+        body = self.rule(r.body, env)
+        if r.cond is not None:
+            g = self.fresh("g")
+            test = (f"V {g} = {self.term(r.cond, env)}; if (c->err) break; "
+                    f"if ({g} == UNDEF) {{ fail(c, E_MODEL, 0); break; }} if (!{g}) break;")
+            idle = ""
+        else:
+            test = ""
+            idle = f"if (seq_step_idle(c, &{f}, {mark})) {{ seq_step_drop(c, {mark}); break; }}"
+        return (f"{{ SeqFrame {f}; seq_begin(c, &{f}); int {n} = 0; "
+                f"for (;; {n}++) {{ if ({n} >= {MAX_LOOP}) {{ fail(c, E_MODEL, 0); break; }} {test} "
+                f"seq_step_begin(c); int32_t {mark} = c->nupd; {{ {body} }} if (c->err) break; {idle} "
+                f"seq_step_end(c, &{f}); if (c->err) break; }} "
+                f"seq_end(c, &{f}); if (c->err) return; }}")
+
+    def r_TermCall(self, r, env):
+        t = r.term
+        if isinstance(t, ir.RuleRef):
+            rd = t.rule
+            if len(r.args) != len(rd.params):
+                raise Unsupported("a rule value called with the wrong number of arguments")
+            self.check_by_name(rd, r.args)
+            name = self.rule_fn(rd)
+            args = [self.term(a, env) for a in r.args]
+            return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+        if isinstance(t, ir.Call) and t.name == "program" and not r.args:
+            x = self.fresh("ag")
+            sv = self.fresh("sv")
+            parts = [f"{{ V {x} = {self.term(t.args[0], env)}; if (c->err) return; V {sv} = c->self; "
+                     f"if ({x} == UNDEF) {{ fail(c, E_MODEL, 0); return; }}"]
+            first = True
+            for dom, ag in self.m.agent_programs.items():
+                if ag.rule.params:
+                    raise Unsupported("an agent program with parameters")
+                vals = self.values_of(dom)
+                tab = self.table(vals)
+                q = self.fresh("q")
+                fn = self.rule_fn(ag.rule)
+                kw = "if" if first else "else if"
+                parts.append(f"{kw} (({{ int {q} = 0; while ({q} < {len(vals)} && {tab}[{q}] != {x}) {q}++; "
+                             f"{q} < {len(vals)}; }})) {{ c->self = {x}; {fn}(c); c->self = {sv}; }}")
+                first = False
+            parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
+            parts.append("if (c->err) return; }")
+            return " ".join(parts)
+        raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+
+    def check_by_name(self, rd, args):
+        from ..semantics.analysis import has_sequencing as _has_sequencing, is_simple as _is_simple
+        if any(not _is_simple(a) for a in args) and _has_sequencing(rd):
+            raise Unsupported(f"an argument passed by name to {rd.name}, which has sequencing")
 
     def r_If(self, r, env):
         g = self.fresh("g")
@@ -556,6 +664,7 @@ class Generator:
         if r.turbo:
             raise Unsupported("turbo rules")
         rd = r.rule
+        self.check_by_name(rd, r.args)
         name = self.rule_fn(rd)
         args = [self.term(a, env) for a in r.args]
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
@@ -585,22 +694,44 @@ class Generator:
         invs = []
         for p in self.props:
             invs.append(self.term(p.prop.body, {}))
+        steps = []
+        self.step_mode = True
+        for p in self.step_props:
+            steps.append(self.term(p.prop.body, {}))
+        self.step_mode = False
+        invar_terms = [self.term(t, {}) for t in self.invars]
         nslots = len(self.slots)
-        bits = [_ceil_log2(len(vals) + 1) for vals in self.slot_values]
+        bits = [64 if vals is None else _ceil_log2(len(vals) + 1) for vals in self.slot_values]
         words, shifts = [], []
+        # the narrow slots packed first, then one word per wide slot
         w, sh = 0, 0
-        for b in bits:
+        for s, b in enumerate(bits):
+            if b == 64:
+                continue
             if sh + b > 64:
                 w += 1
                 sh = 0
             words.append(w)
             shifts.append(sh)
             sh += b
-        nwords = w + 1 if nslots else 1
+        words_full = [0] * nslots
+        shifts_full = [0] * nslots
+        k = 0
+        for s, b in enumerate(bits):
+            if b != 64:
+                words_full[s], shifts_full[s] = words[k], shifts[k]
+                k += 1
+        nxt = w + 1 if sh > 0 else w
+        for s, b in enumerate(bits):
+            if b == 64:
+                words_full[s] = nxt
+                nxt += 1
+        words, shifts = words_full, shifts_full
+        nwords = max(nxt, 1)
         self.words, self.shifts, self.bits = words, shifts, bits
         self.nwords = nwords
         head = [f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
-                f"#define NINV {len(invs)}"]
+                f"#define NINV {len(invs)}", f"#define NSTEP {len(steps)}", f"#define NINVAR {len(invar_terms)}"]
         rt = resources.files("asmcheck.explore").joinpath("native_rt.c").read_text()
         bfs = resources.files("asmcheck.explore").joinpath("native_bfs.c").read_text()
         tables = []
@@ -610,6 +741,8 @@ class Generator:
         dec_names = {}
         decs = []
         for vals in self.slot_values:
+            if vals is None:
+                continue
             key = tuple(self.codec.to_c(v) for v in vals)
             if key not in dec_names:
                 dec_names[key] = f"DEC{len(dec_names)}"
@@ -620,12 +753,21 @@ class Generator:
             f"static const int SLOT_SHIFT[{max(nslots, 1)}] = {{{', '.join(map(str, shifts)) or '0'}}};",
             f"static const int SLOT_BITS[{max(nslots, 1)}] = {{{', '.join(map(str, bits)) or '1'}}};",
             f"static const V *SLOT_DECODE[{max(nslots, 1)}] = {{"
-            + ", ".join(dec_names[tuple(self.codec.to_c(v) for v in vals)] for vals in self.slot_values) + "};",
+            + ", ".join("0" if vals is None else dec_names[tuple(self.codec.to_c(v) for v in vals)]
+                        for vals in self.slot_values) + "};",
         ]
         inv_code = ["static V check_invariant(Ctx *c, int k) {", "    switch (k) {"]
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
+        inv_code += ["static V check_step_prop(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        for i, e in enumerate(steps):
+            inv_code.append(f"    case {i}: r = {e}; break;")
+        inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
+        inv_code += ["static V check_invar(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        for i, e in enumerate(invar_terms):
+            inv_code.append(f"    case {i}: r = {e}; break;")
+        inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
@@ -637,6 +779,10 @@ class Generator:
         for s, key in enumerate(self.slots):
             vals = self.slot_values[s]
             v = st.get(key)
+            if vals is None:
+                x = self.codec.to_c(v)
+                words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
+                continue
             if v is None:
                 code = len(vals)
             else:
@@ -649,150 +795,282 @@ class Generator:
     def unpack(self, words) -> dict:
         st = {}
         for s, key in enumerate(self.slots):
-            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
             vals = self.slot_values[s]
+            if vals is None:
+                x = words[self.words[s]]
+                if x >= 1 << 63:
+                    x -= 1 << 64
+                if x != UNDEF_V:
+                    st[key] = x
+                continue
+            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
             if code < len(vals):
                 st[key] = vals[code]
         return st
 
 
 # ----------------------------------------------------------------- compile and load
-def _cache_dir() -> Path:
-    base = os.environ.get("ASMCHECK_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "asmcheck")
-    p = Path(base)
-    try:
-        p.mkdir(parents=True, exist_ok=True)
-        return p
-    except OSError:
-        return Path(tempfile.gettempdir())
-
-
-def compiler() -> str | None:
-    for cc in (os.environ.get("CC"), "gcc", "cc", "clang"):
-        if cc and shutil.which(cc):
-            return shutil.which(cc)
-    return None
-
-
-def build(src: str) -> ctypes.CDLL:
-    cc = compiler()
-    if cc is None:
-        raise Unsupported("no C compiler (gcc, cc or clang) on this machine")
-    digest = hashlib.sha256(src.encode()).hexdigest()[:24]
-    d = _cache_dir()
-    lib = d / f"model-{digest}.so"
-    if not lib.exists():
-        # several processes may build the same model at once: each works on its own files
-        c_file = d / f"model-{digest}.{os.getpid()}.c"
-        c_file.write_text(src)
-        tmp = d / f"model-{digest}.{os.getpid()}.so"
-        try:
-            proc = subprocess.run([cc, "-O2", "-shared", "-fPIC", "-o", str(tmp), str(c_file)],
-                                  capture_output=True, text=True)
-            if proc.returncode != 0:
-                raise Unsupported(f"the C compiler failed: {proc.stderr.strip()[:500]}")
-            os.replace(tmp, lib)
-        finally:
-            for f in (c_file, tmp):
-                try:
-                    f.unlink()
-                except OSError:
-                    pass
-    dll = ctypes.CDLL(str(lib))
-    dll.asm_explore.restype = ctypes.c_int64
-    dll.asm_explore.argtypes = [ctypes.POINTER(ctypes.c_uint64), ctypes.c_int64, ctypes.c_int64, ctypes.c_int64,
-                                ctypes.c_double, ctypes.c_int64, ctypes.POINTER(ctypes.c_int64)]
-    dll.asm_parent.restype = ctypes.c_int64
-    dll.asm_parent.argtypes = [ctypes.c_int64]
-    dll.asm_state.restype = None
-    dll.asm_state.argtypes = [ctypes.c_int64, ctypes.POINTER(ctypes.c_uint64)]
-    dll.asm_free.restype = None
-    return dll
+_i64, _f64 = ctypes.c_int64, ctypes.c_double
+_u64p, _i64p, _u32p = ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_int64), ctypes.POINTER(ctypes.c_uint32)
+_SYMBOLS = {
+    "asm_start": (_i64, [_u64p, _i64, _i64, _i64, _f64, _i64, _i64]),
+    "asm_run": (_i64, [_f64, _i64p]),
+    "asm_parent": (_i64, [_i64]),
+    "asm_state": (None, [_i64, _u64p]),
+    "asm_find": (_i64, [_u64p]),
+    "asm_parents": (None, [_i64p]),
+    "asm_edges": (None, [_u32p, _u32p]),
+    "asm_range": (None, [_i64, _i64p]),
+    "asm_inv_error": (_i64, [_i64]),
+    "asm_err_code": (_i64, []),
+    "asm_free": (None, []),
+}
 
 
 class NativeExplorer:
     """The explorer's interface (run, path_to, replay) over the native search."""
 
     engine = "native"
+    SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, **_ignored):
-        if step_props:
-            raise Unsupported("step properties")
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, **_ignored):
+        from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
+        self.step_props = list(step_props or [])
         for p in self.state_props:
             if type(p).__name__ != "StateProperty":
-                raise Unsupported("this kind of property")
+                raise Unsupported(f"the property {p.name} (of kind {type(p).__name__})")
+        for p in self.step_props:
+            if type(p).__name__ not in ("StepProperty", "MonitoredInvariant"):
+                raise Unsupported(f"the property {p.name} (of kind {type(p).__name__})")
+        if len(self.step_props) > 64:
+            raise Unsupported("more than 64 step properties")
+        self.invars = [p.body for p in machine.spec.properties if p.kind == "invar"]
+        if any(mentions_monitored(t) for t in self.invars):
+            raise Unsupported("an INVAR constraint over monitored functions")
+        if self.invars and any(type(p).__name__ == "MonitoredInvariant" for p in self.step_props):
+            raise Unsupported("an invariant over monitored functions beside INVAR constraints")
         self.gen = Generator(machine, self.state_props)
+        self.gen.step_props = self.step_props
+        self.gen.invars = self.invars
         src = self.gen.generate()
-        self.dll = build(src)
+        self.dll = native_build.build(src, _SYMBOLS)
+        self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
         self.max_seconds = max_seconds
         self.deadlock = deadlock
+        self.keep_graph = keep_graph
+        self.progress = progress
+        self.warn = warn
+        self.edge_src = None
+        self.edge_dst = None
+        self.warnings: list = []
         self._states: dict = {}
+        self._parent = None
+        self.nstates = 0
+
+    def _growing(self, depth: int) -> list:
+        """Integer locations that took a new least or greatest value at each of the last levels."""
+        g = self.gen
+        out = []
+        buf = (ctypes.c_int64 * 3)()
+        for s, vals in enumerate(g.slot_values):
+            if vals is not None:
+                continue
+            self.dll.asm_range(s, buf)
+            lo, hi, grew = buf[0], buf[1], buf[2]
+            if grew >= 0 and grew >= depth - 1:
+                out.append((self.m.location_text(g.slots[s]), lo, hi))
+        return out
 
     def run(self):
         from .bfs import DEADLOCK, PseudoProperty, Result, Violation
         g = self.gen
         inits = []
+        invar_fns = [self.m.term(t) for t in self.invars]
         for st in g.init_states:
+            if invar_fns:
+                from ..props import evaluate_all
+                if not all(any(v is True for v in evaluate_all(self.m, fn, st, None)) for fn in invar_fns):
+                    continue
             w = g.pack(st)
             if w not in inits:
                 inits.append(w)
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
-        out = (ctypes.c_int64 * (8 + 2 * (nprops + 2)))()
+        out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
         t0 = time.perf_counter()
-        self.dll.asm_explore(flat, len(inits), -1 if self.max_states is None else self.max_states,
-                             -1 if self.max_depth is None else self.max_depth,
-                             -1.0 if self.max_seconds is None else float(self.max_seconds),
-                             1 if self.deadlock else 0, out)
+        self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
+                           -1 if self.max_depth is None else self.max_depth,
+                           -1.0 if self.max_seconds is None else float(self.max_seconds),
+                           1 if self.deadlock else 0, 1 if self.keep_graph else 0)
+        # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
+        # watches for integer locations that grow level after level
+        growth_depth = -1
+        streak: dict = {}
+        while True:
+            status = self.dll.asm_run(self.SLICE, out)
+            if status != 6:
+                break
+            now = time.perf_counter() - t0
+            if self.progress is not None:
+                self.progress(out[0], out[8], out[1], now)
+            depth = out[8]
+            if depth != growth_depth:
+                growth_depth = depth
+                for name, lo, hi in self._growing(depth):
+                    streak[name] = streak.get(name, 0) + 1
+                    if streak[name] == 3:
+                        msg = (f"{name} keeps taking new values level after level (range {lo}..{hi} at depth "
+                               f"{depth}): the search may not end; bound it in the model (a subset domain "
+                               f"or a guard), or stop the search with --max-depth or --max-states")
+                        self.warnings.append(msg)
+                        if self.warn is not None:
+                            self.warn(msg)
         secs = time.perf_counter() - t0
-        nstates, transitions, depth, status = out[0], out[1], out[2], out[3]
+        nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates
+        self._err_code = self.dll.asm_err_code()
         if status == 4:
-            code, sid = out[4], out[5]
-            if code == 4:   # E_UNSUPPORTED met at run time
-                raise Unsupported("a value outside the native encoding at run time")
-            # let the Python step function produce the located message
-            st = self.state(sid)
-            self.m.successors(st)
-            for p in self.state_props:
-                p.check_state(self.m, st)
-            raise AsmRuntimeError(None, f"the native search stopped on a runtime error (code {code}) that the "
-                                        f"Python step function does not reproduce")
+            code = out[4]
+            raise Unsupported("a value outside the native encoding at run time" if code == 4 else
+                              "more choices in one step than the native search follows" if code == 6 else
+                              f"a run-time condition the native search does not handle (code {code})")
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
+        if self.keep_graph:
+            n = out[9]
+            src = (ctypes.c_uint32 * max(n, 1))()
+            dst = (ctypes.c_uint32 * max(n, 1))()
+            self.dll.asm_edges(src, dst)
+            self.edge_src = array("q", src[:n])
+            self.edge_dst = array("q", dst[:n])
         violations = []
         for i in range(out[7]):
-            k, sid = out[8 + 2 * i], out[9 + 2 * i]
-            prop = DEADLOCK if k == nprops else self.state_props[k]
-            msg = "" if k != nprops else "no successor, or only the state itself"
-            violations.append(Violation(prop, sid, message=msg))
-        # the same order as the Python explorer: by property declaration, deadlock last
-        order = {p.name: i for i, p in enumerate(self.state_props)}
-        violations.sort(key=lambda v: order.get(v.prop.name, len(order)))
-        incomplete = status in (1, 2, 3)
+            k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
+            if k == nprops + 1:
+                violations.append(self._step_error(sid, self._err_code, PseudoProperty, Violation))
+            elif k == nprops:
+                none = not any(True for _ in self.m.successors(self.state(sid)))
+                violations.append(Violation(DEADLOCK, sid, message="no successor" if none else
+                                            "the only successor is the state itself"))
+            elif k > nprops + 1:
+                violations.append(self._step_violation(self.step_props[k - nprops - 2], src, sid,
+                                                       self.dll.asm_inv_error(k), Violation))
+            else:
+                prop = self.state_props[k]
+                v = Violation(prop, sid)
+                if self.dll.asm_inv_error(k):
+                    try:
+                        prop.check_state(self.m, self.state(sid))
+                    except AsmError as e:
+                        v = Violation(prop, sid, message=f"cannot be evaluated: {e.message}", error=e)
+                violations.append(v)
+        # the order of the Python explorer: by when they were found
+        stopped = out[11] != 0
+        incomplete = status in (1, 2, 3) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
                   3: f"time limit {self.max_seconds} s reached"}.get(status, "")
+        if stopped and not reason:
+            reason = "a step could not be computed"
+        if status == 3 and self.warnings:
+            reason += "; " + self.warnings[-1]
         verdict = "violated" if violations else ("incomplete" if incomplete else "holds")
-        res = Result(verdict, nstates, transitions, depth, secs, violations, reason, list(self.state_props))
+        res = Result(verdict, nstates, transitions, depth, secs, violations, reason if incomplete else "",
+                     list(self.state_props) + list(self.step_props))
         res.deadlock_checked = self.deadlock
         res.engine = "native"
+        res.compile_seconds = self.compile_seconds
         return res
 
-    # -------------------------------------------------------------- traces
+    def _step_violation(self, prop, src, dst, failed, Violation):
+        """The violation of a step property by a step from ``src`` to ``dst``: the first such step
+        of the Python step function gives the choices (and the message, when it cannot be evaluated)."""
+        st = self.state(src)
+        want = self.state(dst)
+        for log, ups, nxt, mon in self.m.successors(st):
+            if nxt != want:
+                continue
+            picks = tuple(c.pick for c in log)
+            try:
+                ok = prop.check_step(self.m, st, ups, nxt, mon)
+            except AsmError as e:
+                return Violation(prop, dst, src, picks, message=f"cannot be evaluated: {e.message}", error=e)
+            if not ok:
+                return Violation(prop, dst, src, picks)
+        raise Unsupported(f"a violation of {prop.name} found by the native search that the Python step "
+                          f"function does not make")
+
+    def _step_error(self, sid, code, PseudoProperty, Violation):
+        """The run-time error of a step from ``sid``, as the Python step function reports it."""
+        from ..semantics.machine import TooManySuccessors
+        if code == 9:
+            e = TooManySuccessors(None, "more than 1000000 successors of one state")
+            return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+        st = self.state(sid)
+        try:
+            self.m.successors(st)
+        except AsmError as e:
+            return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+        raise Unsupported("a run-time error of the native search that the Python step function does not make")
+
+    # -------------------------------------------------------------- the explorer's interface
+    STATE_CACHE = 65536
+
+    @property
+    def n_states(self) -> int:
+        return self.nstates
+
     def state(self, sid: int) -> dict:
         st = self._states.get(sid)
         if st is None:
             buf = (ctypes.c_uint64 * self.gen.nwords)()
             self.dll.asm_state(sid, buf)
             st = self.gen.unpack(list(buf))
+            if len(self._states) >= self.STATE_CACHE:
+                self._states.clear()
             self._states[sid] = st
         return st
+
+    @property
+    def parent(self):
+        if self._parent is None:
+            n = self.nstates
+            buf = (ctypes.c_int64 * max(n, 1))()
+            self.dll.asm_parents(buf)
+            self._parent = array("q", buf[:n])
+        return self._parent
+
+    def edge_arrays(self):
+        """(sources, targets) of the transitions, sources ascending (recorded with keep_graph)."""
+        if self.edge_src is None:
+            raise Unsupported("the state graph was not recorded (keep_graph)")
+        return self.edge_src, self.edge_dst
+
+    @property
+    def edges(self):
+        return _NativeEdges(self)
+
+    def find(self, st: dict):
+        """The number of the explored state equal to ``st``, or None."""
+        try:
+            w = self.gen.pack(st)
+        except Unsupported:
+            return None
+        sid = self.dll.asm_find((ctypes.c_uint64 * self.gen.nwords)(*w))
+        return None if sid < 0 else sid
+
+    def picks_between(self, src: int, dst: int) -> tuple:
+        """The choices of the first step of the Python step function from ``src`` to ``dst``."""
+        from .bfs import ReplayError
+        want = self.state(dst)
+        for log, ups, nxt, mon in self.m.successors(self.state(src)):
+            if nxt == want:
+                return tuple(c.pick for c in log)
+        raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
 
     def path_to(self, sid: int) -> list[int]:
         path = []
@@ -802,29 +1080,42 @@ class NativeExplorer:
         return path[::-1]
 
     def replay(self, path, last_picks=None, last_target=None):
-        """Rebuild each step of ``path`` with the Python step function: the successor that
-        equals the next stored state gives the choices; no such successor is an internal error."""
+        """Rebuild each step of ``path`` with the Python step function (the first successor that
+        equals the next stored state gives the choices); entries as the Python explorer's."""
+        steps = [(None, sid) for sid in path[1:]]
+        if last_picks is not None:
+            steps.append((last_picks, last_target))
+        return self.replay_steps(path[0], steps)
+
+    def replay_steps(self, first: int, steps: list) -> list:
+        from ..semantics.machine import ScriptChooser
         from .bfs import ReplayError
         m = self.m
-        first = self.state(path[0])
+        st0 = self.state(first)
         init_log = None
         for log, st in m.initial_states():
-            if st == first:
+            if st == st0:
                 init_log = log
                 break
         if init_log is None:
             raise ReplayError("the initial state does not replay")
-        out = [(first, init_log, None, {})]
-        cur = first
-        for sid in path[1:]:
-            want = self.state(sid)
+        out = [(st0, init_log, None, getattr(m, "init_mon", {}), None, None)]
+        cur = st0
+        for picks, dst in steps:
+            want = self.state(dst)
             found = None
-            for log, ups, nxt, mon in m.successors(cur):
-                if nxt == want:
-                    found = (nxt, log, ups, mon)
-                    break
+            if picks is not None:
+                ch = ScriptChooser(picks)
+                ups, raw, ctx = m.step(cur, ch)
+                if raw == want:
+                    found = (raw, ch.log, ups, ctx.mon, raw, {})
+            else:
+                for log, ups, nxt, mon in m.successors(cur):
+                    if nxt == want:
+                        found = (nxt, log, ups, mon, nxt, {})
+                        break
             if found is None:
-                raise ReplayError(f"no step of the Python step function reaches state {sid}")
+                raise ReplayError(f"step to state {dst} does not replay")
             out.append(found)
             cur = want
         return out
@@ -834,3 +1125,23 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+class _NativeEdges:
+    """The transitions as (source, target, choices), the choices found on demand by the Python
+    step function (only traces and the step mode of the temporal checks ask for them)."""
+
+    def __init__(self, ex: NativeExplorer):
+        self.ex = ex
+        self.src, self.dst = ex.edge_arrays()
+
+    def __len__(self):
+        return len(self.src)
+
+    def __getitem__(self, i):
+        a, b = self.src[i], self.dst[i]
+        return a, b, self.ex.picks_between(a, b)
+
+    def __iter__(self):
+        for i in range(len(self.src)):
+            yield self[i]

@@ -80,11 +80,15 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
     return nstates++;
 }
 
+static inline V slot_decode(int s, V code) {
+    return SLOT_BITS[s] == 64 ? code : SLOT_DECODE[s][code];
+}
+
 static void load_state(Ctx *c, const uint64_t *w) {
     for (int s = 0; s < NSLOTS; s++) {
         uint64_t word = w[SLOT_WORD[s]];
+        if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
         int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-        c->code[s] = code;
         c->cur[s] = SLOT_DECODE[s][code];
     }
 }
@@ -93,88 +97,210 @@ static void store_state(const Ctx *c, const uint64_t *old, uint64_t *w) {
     memcpy(w, old, NWORDS * sizeof(uint64_t));
     for (int i = 0; i < c->nupd; i++) {
         int s = c->upd_slot[i];
+        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)c->upd_code[i]; continue; }
         uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
-        w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)(uint32_t)c->upd_code[i] << SLOT_SHIFT[s]);
+        w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)c->upd_code[i] << SLOT_SHIFT[s]);
     }
 }
 
 static Ctx ctx_static;
+
+/* the successor's values (for step properties and INVAR) */
+static void make_post(Ctx *c) {
+    memcpy(c->post, c->cur, sizeof(c->post));
+    for (int i = 0; i < c->nupd; i++) { int s = c->upd_slot[i]; c->post[s] = slot_decode(s, c->upd_code[i]); }
+}
+static uint64_t *sbuf = 0, *smask = 0;
+static int64_t cap_sbuf = 0;
 static int64_t global_epoch = 0;     /* never reset: choose caches compare against it */
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* the search, resumable: asm_start() sets it up, asm_run() advances it for a slice of time */
+static struct {
+    int64_t transitions, nviol, sid, level_end, depth, maxd;
+    int64_t max_states, max_depth, deadlock, keep_graph;
+    double t0, max_seconds;
+    int violated[NINV + 2 + NSTEP];
+    int err_code, step_failed, inv_err[NINV + 2 + NSTEP];
+    int status, depth_hit;
+    /* the state graph: edges (from, to) in the order the search finds them */
+    uint32_t *esrc, *edst;
+    int64_t nedges, cap_edges;
+    /* wide slots: the least and greatest value reached, and the depth where each last grew */
+    V lo[NSLOTS > 0 ? NSLOTS : 1], hi[NSLOTS > 0 ? NSLOTS : 1];
+    int64_t grew[NSLOTS > 0 ? NSLOTS : 1];
+    int64_t viol[3 * (NINV + 2 + NSTEP)];
+} S;
 
 void asm_free(void);
 
-/* out: [0] states [1] transitions [2] depth [3] status (0 complete, 1 state limit, 2 depth limit,
- *      3 time limit, 4 runtime error, 5 out of memory) [4] error code [5] error state [6] error site
- *      [7] number of violations, then pairs (property, state); property NINV is deadlock. */
-int64_t asm_explore(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
-                    double max_seconds, int64_t deadlock, int64_t *out) {
-    Ctx *c = &ctx_static;
+/* property k (state properties, then deadlock, error, step properties) violated in state sid
+   (by the step from src, for a step property) */
+static void record(int k, int64_t sid, int64_t src) {
+    if (S.violated[k]) return;
+    S.violated[k] = 1;
+    S.viol[3 * S.nviol] = k;
+    S.viol[3 * S.nviol + 1] = sid;
+    S.viol[3 * S.nviol + 2] = src;
+    S.nviol++;
+}
+
+static int add_edge(uint32_t a, uint32_t b) {
+    if (S.nedges >= S.cap_edges) {
+        int64_t nc = S.cap_edges ? S.cap_edges * 2 : 4096;
+        uint32_t *x = (uint32_t *)realloc(S.esrc, nc * sizeof(uint32_t));
+        if (!x) return 0;
+        S.esrc = x;
+        x = (uint32_t *)realloc(S.edst, nc * sizeof(uint32_t));
+        if (!x) return 0;
+        S.edst = x;
+        S.cap_edges = nc;
+    }
+    S.esrc[S.nedges] = a; S.edst[S.nedges] = b; S.nedges++;
+    return 1;
+}
+
+static void note_range(const uint64_t *w, int64_t depth) {
+    for (int s = 0; s < NSLOTS; s++) {
+        if (SLOT_BITS[s] != 64) continue;
+        V v = (V)w[SLOT_WORD[s]];
+        if (v == UNDEF) continue;
+        if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
+        if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
+    }
+}
+
+int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
+                  double max_seconds, int64_t deadlock, int64_t keep_graph) {
     asm_free();                      /* a previous search in this process */
-    memset(c, 0, sizeof(Ctx));
-    int64_t transitions = 0;
-    int64_t nviol = 0;
-    int violated[NINV + 1];
-    memset(violated, 0, sizeof(violated));
-    int status = 0;
-    clock_t t0 = clock();
-    uint64_t nw[NWORDS > 0 ? NWORDS : 1];
-    int64_t succ_ids[4096];
+    memset(&ctx_static, 0, sizeof(Ctx));
+    ctx_static.seqstart = -1;
+    ctx_static.rd = ctx_static.cur;
+    memset(&S, 0, sizeof(S));
+    for (int s = 0; s < NSLOTS; s++) { S.lo[s] = INT64_MAX; S.hi[s] = INT64_MIN + 1; S.grew[s] = -1; }
+    S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
+    S.deadlock = deadlock; S.keep_graph = keep_graph;
+    S.t0 = now_seconds();
     for (int64_t i = 0; i < ninit; i++) {
         int isnew;
-        if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { status = 5; goto done; }
+        if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { S.status = 5; return 5; }
+        note_range(inits + i * NWORDS, 0);
     }
-    int64_t level_end = nstates, depth = 0, maxd = 0;
-    for (int64_t sid = 0; sid < nstates; sid++) {
-        if (sid == level_end) {
-            depth++;
-            level_end = nstates;
+    S.level_end = nstates;
+    S.status = -1;                   /* running */
+    return 0;
+}
+
+/* out: [0] states [1] transitions [2] depth [3] status (0 complete, 1 state limit, 2 depth limit,
+ *      3 time limit, 4 runtime error, 5 out of memory, 6 paused: call again) [4] error code
+ *      [5] error state [6] error site [7] number of violations [8] current depth [9] edges
+ *      [10] clash slot, then pairs (property, state); property NINV is deadlock. */
+#define OUT_VIOL 12
+int64_t asm_run(double slice_seconds, int64_t *out) {
+    Ctx *c = &ctx_static;
+    uint64_t nw[NWORDS > 0 ? NWORDS : 1];
+    int64_t succ_ids[4096];
+    double ts = now_seconds();
+    int status = S.status == -1 ? 0 : S.status;
+    if (S.status != -1) goto done;
+    for (; S.sid < nstates; S.sid++) {
+        int64_t sid = S.sid;
+        if ((sid & 255) == 0 && sid > 0) {
+            double t = now_seconds();
+            if (S.max_seconds >= 0 && t - S.t0 >= S.max_seconds) { status = 3; goto finish; }
+            if (t - ts >= slice_seconds) { status = 6; goto done; }
+        }
+        if (sid == S.level_end) {
+            S.depth++;
+            S.level_end = nstates;
         }
         load_state(c, states + sid * NWORDS);
+        c->self = UNDEF;
         c->epoch = ++global_epoch;
         /* invariants */
         for (int k = 0; k < NINV; k++) {
-            if (violated[k]) continue;
+            if (S.violated[k]) continue;
             c->err = 0;
             V v = check_invariant(c, k);
-            if (c->err || v == UNDEF) {
-                out[4] = c->err ? c->err : E_UNDEF_INV; out[5] = sid; out[6] = c->err ? c->err_site : k;
-                status = 4; goto done;
+            if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
+                out[4] = c->err; out[5] = sid; out[6] = c->err_site; out[10] = c->clash_slot;
+                status = 4; goto finish;
             }
-            if (!v) {
-                violated[k] = 1;
-                out[8 + 2 * nviol] = k;
-                out[9 + 2 * nviol] = sid;
-                nviol++;
-            }
+            if (c->err || v == UNDEF) S.inv_err[k] = 1;
+            if (c->err || v == UNDEF || !v) record(k, sid, -1);
         }
-        if (max_depth >= 0 && depth >= max_depth) { if (status == 0) status = 2; continue; }
-        /* successors: every sequence of choices */
+        if (S.max_depth >= 0 && S.depth >= S.max_depth) { S.depth_hit = 1; continue; }
+        /* successors: every sequence of choices, kept aside until the whole step has run
+           (a run-time error leaves the state without successors, as in the Python explorer) */
         c->plen = 0;
-        int nsucc = 0;
-        int only_self = 1;
+        int64_t nbuf = 0;
+        int steperr = 0;
         for (;;) {
             c->pos = 0;
             c->nupd = 0;
+            c->nlog = 0;
+            c->seqstart = -1;
+            c->curstep = 0;
+            c->self = UNDEF;
             c->gen++;
             if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
             c->err = 0;
             step_main(c);
             if (c->err) {
-                out[4] = c->err; out[5] = sid; out[6] = c->err_site;
-                status = 4; goto done;
+                if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
+                    out[4] = c->err; out[5] = sid; out[6] = c->err_site; out[10] = c->clash_slot;
+                    status = 4; goto finish;
+                }
+                steperr = c->err;
+                break;
             }
-            store_state(c, states + sid * NWORDS, nw);
-            int isnew;
-            int64_t tid = intern(nw, (uint32_t)sid, &isnew);
-            if (tid < 0) { status = 5; goto done; }
-            if (isnew && depth + 1 > maxd) maxd = depth + 1;
-            int seen = 0;
-            for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
-            if (!seen) {
-                if (nsucc < 4096) succ_ids[nsucc++] = tid;
-                transitions++;
+#if NSTEP > 0 || NINVAR > 0
+            if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+#endif
+#if NINVAR > 0
+            {   /* INVAR: a successor that breaks one does not exist */
+                int ok = 1;
+                c->rd = c->post;
+                for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+                c->rd = c->cur;
+                if (c->err == E_UNSUPPORTED) { out[4] = c->err; out[5] = sid; out[6] = 0; status = 4; goto finish; }
+                c->err = 0;
+                if (!ok) goto next_choice;
             }
-            if (tid != sid) only_self = 0;
+#endif
+            if (nbuf >= cap_sbuf) {
+                int64_t nc = cap_sbuf ? cap_sbuf * 2 : 64;
+                uint64_t *x = (uint64_t *)realloc(sbuf, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
+                if (!x) { status = 5; goto finish; }
+                sbuf = x;
+                uint64_t *y = (uint64_t *)realloc(smask, nc * 2 * sizeof(uint64_t));
+                if (!y) { status = 5; goto finish; }
+                smask = y;
+                cap_sbuf = nc;
+            }
+            smask[2 * nbuf] = smask[2 * nbuf + 1] = 0;
+#if NSTEP > 0
+            for (int k = 0; k < NSTEP; k++) {
+                if (S.violated[NINV + 2 + k]) continue;
+                c->err = 0;
+                V v = check_step_prop(c, k);
+                if (c->err == E_UNSUPPORTED || c->err == E_CHOICES) {
+                    out[4] = c->err; out[5] = sid; out[6] = 0; status = 4; goto finish;
+                }
+                if (c->err || v == UNDEF) smask[2 * nbuf + 1] |= 1ULL << k;
+                if (c->err || v != 1) smask[2 * nbuf] |= 1ULL << k;
+            }
+            c->err = 0;
+#endif
+            store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
+            nbuf++;
+            if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
+        next_choice: ;
             /* the next sequence of choices */
             int j = c->pos - 1;
             while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
@@ -183,34 +309,100 @@ int64_t asm_explore(const uint64_t *inits, int64_t ninit, int64_t max_states, in
             c->prefix[j] = c->idx[j] + 1;
             c->plen = j + 1;
         }
-        if (deadlock && only_self && !violated[NINV]) {
-            violated[NINV] = 1;
-            out[8 + 2 * nviol] = NINV;
-            out[9 + 2 * nviol] = sid;
-            nviol++;
+        if (steperr) {
+            if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = steperr; }
+            S.step_failed = 1;
+            continue;
         }
+        int nsucc = 0;
+        int only_self = 1;
+        for (int64_t b = 0; b < nbuf; b++) {
+            const uint64_t *wb = sbuf + b * NWORDS;
+            int isnew;
+            int64_t tid = intern(wb, (uint32_t)sid, &isnew);
+            if (tid < 0) { status = 5; goto finish; }
+            if (isnew) {
+                if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
+                note_range(wb, S.depth + 1);
+            }
+            int seen = 0;
+            for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
+            if (!seen) {
+                if (nsucc < 4096) succ_ids[nsucc++] = tid;
+                S.transitions++;
+                if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; goto finish; }
+            }
+            if (tid != sid) only_self = 0;
+            uint64_t bad = smask[2 * b];
+            for (int k = 0; bad && k < NSTEP; k++)
+                if (bad >> k & 1) {
+                    if (!S.violated[NINV + 2 + k] && (smask[2 * b + 1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
+                    record(NINV + 2 + k, tid, sid);
+                }
+        }
+        if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
         /* every property violated already: nothing more to learn (as the Python explorer does) */
-        if (NINV + (deadlock ? 1 : 0) > 0 && nviol >= NINV + (deadlock ? 1 : 0)) break;
-        if (max_states >= 0 && nstates >= max_states) { status = 1; break; }
-        if (max_seconds >= 0 && (sid & 1023) == 0 &&
-            (double)(clock() - t0) / CLOCKS_PER_SEC >= max_seconds) { status = 3; break; }
+        if (!S.keep_graph && NINV + NSTEP + (S.deadlock ? 1 : 0) > 0 && S.nviol >= NINV + NSTEP + (S.deadlock ? 1 : 0)) {
+            S.sid++; status = S.depth_hit ? 2 : 0; goto finish;
+        }
+        if (S.max_states >= 0 && nstates >= S.max_states) { S.sid++; status = 1; goto finish; }
     }
+    status = S.depth_hit ? 2 : 0;
+finish:
+    S.status = status;
 done:
     out[0] = nstates;
-    out[1] = transitions;
-    out[2] = maxd;
+    out[1] = S.transitions;
+    out[2] = S.maxd;
     out[3] = status;
-    out[7] = nviol;
-    return 0;
+    out[7] = S.nviol;
+    out[8] = S.depth;
+    out[9] = S.nedges;
+    out[11] = S.step_failed;
+    for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
+    return status;
 }
 
 int64_t asm_parent(int64_t sid) { return parents[sid] == 0xffffffffu ? -1 : (int64_t)parents[sid]; }
 
 void asm_state(int64_t sid, uint64_t *out) { memcpy(out, states + sid * NWORDS, NWORDS * sizeof(uint64_t)); }
 
+/* the number of a stored state, or -1 */
+int64_t asm_find(const uint64_t *w) {
+    if (!table) return -1;
+    uint64_t hh = hash_state(w);
+    uint32_t fp = (uint32_t)(hh >> 32);
+    uint64_t h = hh & tmask;
+    while (table[h].id != 0xffffffffu) {
+        if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * NWORDS, w, NWORDS * sizeof(uint64_t)) == 0)
+            return table[h].id;
+        h = (h + 1) & tmask;
+    }
+    return -1;
+}
+
+void asm_parents(int64_t *out) {
+    for (int64_t i = 0; i < nstates; i++) out[i] = parents[i] == 0xffffffffu ? -1 : (int64_t)parents[i];
+}
+
 int64_t asm_words(void) { return NWORDS; }
 
+/* the edges found so far, copied out */
+void asm_edges(uint32_t *src, uint32_t *dst) {
+    memcpy(src, S.esrc, S.nedges * sizeof(uint32_t));
+    memcpy(dst, S.edst, S.nedges * sizeof(uint32_t));
+}
+
+/* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set) */
+void asm_range(int64_t slot, int64_t *out) { out[0] = S.lo[slot]; out[1] = S.hi[slot]; out[2] = S.grew[slot]; }
+
+int64_t asm_inv_error(int64_t k) { return S.inv_err[k]; }
+
+int64_t asm_err_code(void) { return S.err_code; }
+
 void asm_free(void) {
-    free(states); free(parents); free(table);
+    free(sbuf); sbuf = 0; free(smask); smask = 0; cap_sbuf = 0;
+    free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
+    S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
 }

@@ -38,10 +38,19 @@ class BitstateExplorer(Explorer):
         self.hashes = array("Q")
         self.live: dict = {}            # number -> frozen state, for states not yet expanded
         self.recent: dict = {}          # hash -> number, for the states of the last levels
-        self.n_states = 0
+        self._n = 0
         self.frozen = _Count(self)
         self.expected_missed = 0.0
         self._level_mark = 0
+
+    @property
+    def n_states(self) -> int:
+        """The number of states counted so far (the table keeps no states)."""
+        return self._n
+
+    @n_states.setter
+    def n_states(self, n: int) -> None:
+        self._n = n
 
     def _positions(self, h: int):
         a = h & 0xFFFFFFFF

@@ -36,14 +36,19 @@ class PartitionedExplorer(Explorer):
         super().__init__(machine, state_props=state_props, step_props=step_props, deadlock=deadlock,
                          keep_graph=keep_graph)
         self.search = search
-        self.n_states = 0
+        self._n = 0
         self._cache: dict = {}
         self.gathered = False
+
+    @property
+    def n_states(self) -> int:
+        """The number of states the partitioned search found (all owners together)."""
+        return self._n
 
     def finish(self, result) -> None:
         """After the search: gather the graph (when kept) or fetch the states the traces need."""
         s = self.search
-        self.n_states = s.n_states
+        self._n = s.n_states
         if self.keep_graph:
             self._gather()
         else:

@@ -41,7 +41,11 @@ class RuleExecutor:
         return fn
 
     def rule(self, r: ir.Rule):
-        return getattr(self, "r_" + type(r).__name__)(r)
+        fn = getattr(self, "r_" + type(r).__name__)(r)
+        # options["rule_hook"](ir rule, closure) -> closure: observes rule activations (coverage,
+        # model review); looked up at compile time only, so it costs nothing when absent
+        hook = self.options.get("rule_hook")
+        return fn if hook is None else hook(r, fn)
 
     def r_Skip(self, r):
         return lambda ctx, ups: None

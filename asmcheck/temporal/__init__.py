@@ -144,8 +144,8 @@ def check_temporal(explorer, props, fair=()):
     results = []
     # every state has a successor (a step without updates loops): a state without one is
     # where a step failed, and paths through it would be cut short
-    has_out = bytearray(len(explorer.frozen))
-    for src, _, _ in explorer.edges:
+    has_out = bytearray(explorer.n_states)
+    for src in explorer.edge_arrays()[0]:
         has_out[src] = 1
     stuck = has_out.find(0)
     if stuck >= 0:

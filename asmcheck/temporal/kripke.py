@@ -25,6 +25,8 @@ successor list ``cls_succ[c]``; ``member_of[w]`` are the classes containing w an
 """
 from __future__ import annotations
 
+from bisect import bisect_left
+
 from ..errors import AsmError, UsageError
 from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, Enumerator
 from ..semantics.state import same_value
@@ -80,10 +82,15 @@ def state_labels(explorer, atoms: Atoms, which: list[int]) -> dict[int, bytearra
     """Atom index -> the explored states where it holds (atoms that read no monitored
     function)."""
     m = explorer.m
-    S = len(explorer.frozen)
+    S = explorer.n_states
     out = {i: bytearray(S) for i in which}
     if not which:
         return out
+    fast = getattr(explorer, "state_labels", None)
+    if fast is not None:
+        labs = fast([atoms.items[i] for i in which])
+        if labs is not None:
+            return {i: bytearray(lab) for i, lab in zip(which, labs)}
     items = [(i, atoms.items[i]) for i in which]
     for sid in range(S):
         st = explorer.state(sid)
@@ -165,7 +172,7 @@ def agent_moves(explorer, fair: list[str]):
             agents.append((key, text))
         return i
 
-    S = len(explorer.frozen)
+    S = explorer.n_states
     enabled: list[frozenset] = []
     moves: list[dict] = []
     for sid in range(S):
@@ -173,8 +180,7 @@ def agent_moves(explorer, fair: list[str]):
         en: set = set()
         mv: dict = {}
         for log, ups, nxt, mon in m.successors(st):
-            fz = explorer.layout.freeze(explorer._norm(nxt))
-            dst = explorer.index.get(fz)
+            dst = _find(explorer, nxt)
             who = set()
             for dname, elems in doms:
                 for c in log:
@@ -198,6 +204,42 @@ def agent_moves(explorer, fair: list[str]):
         enabled.append(frozenset(en))
         moves.append({d: frozenset(a) for d, a in mv.items()})
     return agents, enabled, moves
+
+
+def _find(explorer, st: dict):
+    """The id of the explored state equal to the successor ``st`` (as the step made it), or None."""
+    find = getattr(explorer, "find", None)
+    if find is not None:
+        return find(st)
+    return explorer.index.get(explorer.layout.freeze(explorer._norm(st)))
+
+
+class EdgePicks:
+    """(src, dst) -> the choices of the first explored step from src to dst, looked up in the
+    edge arrays (sources ascend, as the search expanded them) and taken from
+    ``explorer.edges[i]`` only for the few steps a trace prints."""
+
+    def __init__(self, explorer, src, dst):
+        self.explorer = explorer
+        self.src = src
+        self.dst = dst
+
+    def __getitem__(self, key):
+        a, b = key
+        src, dst = self.src, self.dst
+        i = bisect_left(src, a)
+        while i < len(src) and src[i] == a:
+            if dst[i] == b:
+                return self.explorer.edges[i][2]
+            i += 1
+        raise KeyError(key)
+
+    def __contains__(self, key):
+        try:
+            self[key]
+            return True
+        except KeyError:
+            return False
 
 
 def _hkey(v):
@@ -225,7 +267,7 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
     mon_atoms = [i for i in all_atoms if atoms.items[i].monitored]
     st_atoms = [i for i in all_atoms if not atoms.items[i].monitored]
     K.mon_atoms = mon_atoms
-    S = len(explorer.frozen)
+    S = explorer.n_states
     cache = {} if cache is None else cache
     key = tuple(st_atoms)
     slab = cache.get(("slab", key))
@@ -246,18 +288,21 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         # ---- state mode: the explored graph itself
         K.mode = "state"
         K.n = S
-        K.sid = list(range(S))
+        K.sid = range(S)
+        src_a, dst_a = explorer.edge_arrays()
+        K.edge_picks = EdgePicks(explorer, src_a, dst_a)
         succ = [[] for _ in range(S)]
-        seen = set()
-        for src, dst, picks in explorer.edges:
-            if (src, dst) in seen:
-                continue
-            seen.add((src, dst))
-            K.edge_picks[(src, dst)] = picks
-            if ok_state[src] and ok_state[dst]:
+        if len(ok_state) and ok_state.find(0) < 0:
+            for src, dst in zip(src_a, dst_a):
                 succ[src].append(dst)
-        for lst in succ:
-            lst.sort()
+        else:
+            for src, dst in zip(src_a, dst_a):
+                if ok_state[src] and ok_state[dst]:
+                    succ[src].append(dst)
+        for v in range(S):
+            lst = succ[v]
+            if len(lst) > 1:
+                succ[v] = sorted(set(lst))
         K.cls = list(range(S))
         K.cls_succ = [succ[v] if ok_state[v] else [] for v in range(S)]
         K.init = [s for s in init_sids if ok_state[s]]

@@ -1,0 +1,227 @@
+"""Compiling and loading the native explorer's generated C.
+
+* **Compiler.**  ``$CC`` if set, else ``gcc``, ``cc`` or ``clang`` on the PATH, else the Zig
+  toolchain shipped as the Python package ``ziglang`` (``pip install 'asmcheck[native]'``),
+  run as ``python -m ziglang cc``.
+* **Cache.**  A compiled library is kept under the hash of its source, the compiler and the
+  flags, in the cache folder (``$ASMCHECK_CACHE``, else ``$XDG_CACHE_HOME/asmcheck``, else
+  ``~/.cache/asmcheck``), so a second run of the same spec compiles nothing.  The folder is
+  created with mode 0700.  A folder or a library that belongs to another user, or that
+  others may write, is never used (someone else could put code there that this process would
+  load): the library is then built in a private folder made by :func:`tempfile.mkdtemp` and
+  removed when the process ends.
+* **Timing.**  :data:`last_compile_seconds` is the time the last :func:`build` spent in the
+  compiler (0.0 on a cache hit).
+"""
+from __future__ import annotations
+
+import atexit
+import ctypes
+import hashlib
+import os
+import re
+import shlex
+import shutil
+import stat
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+FLAGS = ["-O2", "-shared", "-fPIC"]
+INSTALL_HINT = "pip install 'asmcheck[native]'"
+NO_COMPILER = f"no C compiler found (gcc, cc, clang or $CC); for native speed: {INSTALL_HINT}"
+
+last_compile_seconds: float = 0.0
+"""Seconds the last :func:`build` spent compiling (0.0 when the library came from the cache)."""
+
+last_cache_hit: bool = False
+
+_private_dirs: list[str] = []
+_loaded: dict = {}
+
+
+def _cleanup_private() -> None:
+    for d in _private_dirs:
+        shutil.rmtree(d, ignore_errors=True)
+    _private_dirs.clear()
+
+
+atexit.register(_cleanup_private)
+
+
+# ----------------------------------------------------------------- the compiler
+def _ziglang_available() -> bool:
+    try:
+        import importlib.util
+        return importlib.util.find_spec("ziglang") is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def compiler_command() -> list[str] | None:
+    """The command that runs the C compiler (a list of arguments), or None."""
+    env_cc = os.environ.get("CC")
+    if env_cc:
+        parts = shlex.split(env_cc)
+        if parts and shutil.which(parts[0]):
+            return [shutil.which(parts[0]), *parts[1:]]
+    for cc in ("gcc", "cc", "clang"):
+        path = shutil.which(cc)
+        if path:
+            return [path]
+    if _ziglang_available():
+        return [sys.executable, "-m", "ziglang", "cc"]
+    return None
+
+
+def compiler() -> str | None:
+    """The C compiler as one printable command, or None when there is none."""
+    cmd = compiler_command()
+    return None if cmd is None else shlex.join(cmd)
+
+
+# ----------------------------------------------------------------- the cache folder
+def _default_base() -> Path:
+    env = os.environ.get("ASMCHECK_CACHE")
+    if env:
+        return Path(env)
+    xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(xdg) / "asmcheck"
+
+
+def is_private(path: Path | str) -> bool:
+    """``path`` (not followed if it is a symbolic link) belongs to this user and no one else
+    may write it."""
+    try:
+        st = os.lstat(path)
+    except OSError:
+        return False
+    if stat.S_ISLNK(st.st_mode):
+        return False
+    if hasattr(os, "geteuid") and st.st_uid != os.geteuid():
+        return False
+    if st.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+        return False
+    return True
+
+
+def _make_private_tmp() -> Path:
+    d = tempfile.mkdtemp(prefix="asmcheck-")     # mode 0700, unpredictable name
+    _private_dirs.append(d)
+    return Path(d)
+
+
+def private_cache_dir(sub: str | None = None) -> Path:
+    """A cache folder only this user can write: ``<cache>/<sub>`` (created with mode 0700).
+    When the cache folder cannot be made, or belongs to someone else, or is writable by
+    others, a fresh private folder (``tempfile.mkdtemp``, removed at exit) is returned
+    instead, never a predictable name in a shared folder."""
+    base = _default_base()
+    target = base / sub if sub else base
+    try:
+        for p in (base, target):
+            if not os.path.lexists(p):
+                os.makedirs(p, mode=0o700, exist_ok=True)
+                os.chmod(p, 0o700)
+            if not is_private(p):
+                raise PermissionError(str(p))
+        return target
+    except OSError:
+        return _make_private_tmp()
+
+
+def cache_dir() -> Path:
+    """The folder where compiled engines are kept."""
+    return private_cache_dir()
+
+
+# ----------------------------------------------------------------- compile and load
+class Unsupported(Exception):
+    """The spec (or a property) uses something the native explorer does not translate, or
+    no engine can be built here; the one-line reason says which."""
+
+
+def _unsupported(reason: str):
+    return Unsupported(reason)
+
+
+def _compile(cmd: list[str], src: str, folder: Path, lib: Path) -> None:
+    fd, c_name = tempfile.mkstemp(prefix=lib.stem + ".", suffix=".c", dir=folder)
+    with os.fdopen(fd, "w") as f:
+        f.write(src)
+    fd, tmp_name = tempfile.mkstemp(prefix=lib.stem + ".", suffix=".so.tmp", dir=folder)
+    os.close(fd)
+    try:
+        try:
+            proc = subprocess.run([*cmd, *FLAGS, "-o", tmp_name, c_name], capture_output=True, text=True)
+        except OSError as e:
+            raise _unsupported(f"the C compiler {shlex.join(cmd)} cannot be run: {e.strerror}") from None
+        if proc.returncode != 0:
+            raise _unsupported(compile_error_line(proc.stderr))
+        os.chmod(tmp_name, 0o700)
+        os.replace(tmp_name, lib)     # atomic: a concurrent build of the same source is harmless
+    finally:
+        for f in (c_name, tmp_name):
+            try:
+                os.unlink(f)
+            except OSError:
+                pass
+
+
+def compile_error_line(stderr: str) -> str:
+    """The compiler's first error as one line, without the temporary file's name."""
+    for ln in stderr.splitlines():
+        m = re.match(r"^.*?\.c:(\d+):(?:\d+:)? (?:fatal )?error: (.*)$", ln)
+        if m:
+            return f"the C compiler failed on line {m.group(1)} of the generated code: {' '.join(m.group(2).split())[:300]}"
+    first = next((ln for ln in stderr.splitlines() if ln.strip()), "no message")
+    return f"the C compiler failed: {' '.join(first.split())[:300]}"
+
+
+def library_path(src: str, cmd: list[str] | None = None) -> tuple[Path, str]:
+    """(folder, file name) under which the library for ``src`` is cached."""
+    cmd = cmd or compiler_command() or []
+    h = hashlib.sha256()
+    for part in (src, "\0", " ".join(FLAGS), "\0", " ".join(os.path.basename(c) for c in cmd)):
+        h.update(part.encode())
+    return cache_dir(), f"model-{h.hexdigest()[:32]}.so"
+
+
+def build(src: str, symbols: dict | None = None) -> ctypes.CDLL:
+    """Compile ``src`` (or take it from the cache) and load it; ``symbols`` maps a function
+    name to ``(restype, argtypes)``, set on the loaded library.  Raises
+    ``native.Unsupported`` (one line) when there is no compiler or it fails."""
+    global last_compile_seconds, last_cache_hit
+    last_compile_seconds = 0.0
+    last_cache_hit = False
+    cmd = compiler_command()
+    folder, name = library_path(src, cmd)
+    lib = folder / name
+    if os.path.lexists(lib) and not is_private(lib):
+        folder = _make_private_tmp()
+        lib = folder / name
+    if os.path.lexists(lib):
+        last_cache_hit = True
+    else:
+        if cmd is None:
+            raise _unsupported(NO_COMPILER)
+        t0 = time.perf_counter()
+        _compile(cmd, src, folder, lib)
+        last_compile_seconds = time.perf_counter() - t0
+    dll = _loaded.get(str(lib))
+    if dll is None:
+        dll = _loaded[str(lib)] = ctypes.CDLL(str(lib))
+    for fname, (restype, argtypes) in (symbols or {}).items():
+        fn = getattr(dll, fname)
+        fn.restype = restype
+        fn.argtypes = argtypes
+    return dll
+
+
+def fallback_note(reason: str) -> str:
+    """The one line a report prints when ``--engine auto`` runs the Python engine because the
+    native one cannot (``reason``: the ``Unsupported`` message, itself one line)."""
+    reason = " ".join(str(reason).split())
+    return f"engine: python (native engine not used: {reason})"

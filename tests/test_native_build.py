@@ -1,0 +1,189 @@
+"""Building the native engine: compiler discovery, the content-hash cache and its permissions,
+the fallback when no compiler exists.  Engine pinned: native (the fallback cases: python)."""
+import json
+import os
+import stat
+
+import pytest
+
+from asmcheck.cli import main
+from asmcheck.explore import native_build
+from asmcheck.explore.native import NativeExplorer, Unsupported
+
+from helpers import machine, spec, write
+
+COUNTER = spec("\tenum domain Phase = {PH0 | PH1 | PH2 | PH3 | PH4 | PH5}\n\tcontrolled x: Phase",
+               "\tmain rule r_main = switch x\n\t\tcase PH0: x := PH1\n\t\tcase PH1: x := PH2\n\t\t"
+               "case PH2: x := PH3\n\t\tcase PH3: x := PH4\n\t\tcase PH4: x := PH5\n\t\totherwise skip\n\tendswitch",
+               "\tfunction x = PH0")
+# a tiny C source in the shape the engine loads (one exported function)
+SRC = "long asm_probe(long x) { return x + %d; }\n"
+
+
+def need_compiler():
+    if native_build.compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    d = tmp_path / "cache"
+    monkeypatch.setenv("ASMCHECK_CACHE", str(d))
+    return d
+
+
+def probe(src):
+    import ctypes
+    return native_build.build(src, {"asm_probe": (ctypes.c_long, [ctypes.c_long])})
+
+
+def test_cache_folder_is_created_private(cache):
+    d = native_build.cache_dir()
+    assert d == cache
+    assert stat.S_IMODE(os.stat(d).st_mode) == 0o700
+    sub = native_build.private_cache_dir("grammar")
+    assert sub == cache / "grammar"
+    assert stat.S_IMODE(os.stat(sub).st_mode) == 0o700
+
+
+def test_xdg_cache_home_is_the_default_base(tmp_path, monkeypatch):
+    monkeypatch.delenv("ASMCHECK_CACHE", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert native_build.cache_dir() == tmp_path / "xdg" / "asmcheck"
+    assert stat.S_IMODE(os.stat(tmp_path / "xdg" / "asmcheck").st_mode) == 0o700
+
+
+def test_second_build_is_a_cache_hit_that_compiles_nothing(cache):
+    need_compiler()
+    lib = probe(SRC % 7)
+    assert lib.asm_probe(1) == 8
+    assert native_build.last_compile_seconds > 0 and not native_build.last_cache_hit
+    libs = sorted(p.name for p in cache.iterdir())
+    assert len(libs) == 1 and libs[0].endswith(".so")      # no leftover .c or temporary file
+    assert stat.S_IMODE(os.stat(cache / libs[0]).st_mode) == 0o700
+    lib = probe(SRC % 7)
+    assert lib.asm_probe(1) == 8
+    assert native_build.last_compile_seconds == 0.0 and native_build.last_cache_hit
+    assert sorted(p.name for p in cache.iterdir()) == libs
+    # another source is another library
+    assert probe(SRC % 9).asm_probe(1) == 10
+    assert native_build.last_compile_seconds > 0
+    assert len(list(cache.iterdir())) == 2
+
+
+def test_second_run_of_a_spec_compiles_nothing(tmp_path, cache):
+    need_compiler()
+    m = machine(tmp_path, COUNTER)
+    ex = NativeExplorer(m)
+    assert ex.compile_seconds > 0
+    assert ex.run().states == 6
+    ex.close()
+    ex = NativeExplorer(machine(tmp_path, COUNTER))
+    assert ex.compile_seconds == 0.0
+    assert ex.run().states == 6
+    ex.close()
+
+
+def test_world_writable_cache_folder_is_refused(cache):
+    need_compiler()
+    cache.mkdir(mode=0o700)
+    os.chmod(cache, 0o777)
+    assert not native_build.is_private(cache)
+    d = native_build.cache_dir()
+    assert d != cache and native_build.is_private(d)
+    assert stat.S_IMODE(os.stat(d).st_mode) == 0o700
+    assert probe(SRC % 3).asm_probe(0) == 3
+    assert list(cache.iterdir()) == []          # nothing written to (or loaded from) the open folder
+
+
+def test_group_writable_cached_library_is_rebuilt_elsewhere(cache):
+    need_compiler()
+    probe(SRC % 4)
+    (lib,) = cache.iterdir()
+    # someone could have replaced it: the library must not be loaded
+    lib.write_bytes(b"not a library")
+    os.chmod(lib, 0o770)
+    assert probe(SRC % 4).asm_probe(1) == 5
+    assert native_build.last_compile_seconds > 0
+
+
+def test_foreign_owned_cache_folder_is_refused(cache, monkeypatch):
+    need_compiler()
+    cache.mkdir(mode=0o700)
+    me = os.geteuid()
+    if me == 0:
+        os.chown(cache, 12345, -1)          # as root: really give it away
+    else:
+        monkeypatch.setattr(native_build.os, "geteuid", lambda: me + 1)
+    assert not native_build.is_private(cache)
+    d = native_build.cache_dir()
+    assert d != cache
+    if me != 0:
+        monkeypatch.setattr(native_build.os, "geteuid", lambda: me)
+    assert probe(SRC % 5).asm_probe(0) == 5
+    assert list(cache.iterdir()) == []
+
+
+def test_a_symbolic_link_is_not_a_private_folder(tmp_path, monkeypatch):
+    real = tmp_path / "real"
+    real.mkdir(mode=0o700)
+    link = tmp_path / "link"
+    link.symlink_to(real)
+    monkeypatch.setenv("ASMCHECK_CACHE", str(link))
+    assert native_build.cache_dir() != link
+
+
+def test_compiler_discovery_order(monkeypatch, tmp_path):
+    bindir = tmp_path / "bin"
+    bindir.mkdir()
+    for name in ("mycc", "clang"):
+        exe = bindir / name
+        exe.write_text("#!/bin/sh\nexit 0\n")
+        exe.chmod(0o755)
+    monkeypatch.setenv("PATH", str(bindir))
+    monkeypatch.setenv("CC", "mycc -m64")
+    assert native_build.compiler_command() == [str(bindir / "mycc"), "-m64"]
+    monkeypatch.delenv("CC")
+    assert native_build.compiler_command() == [str(bindir / "clang")]
+    (bindir / "clang").unlink()
+    monkeypatch.setattr(native_build, "_ziglang_available", lambda: True)
+    cmd = native_build.compiler_command()
+    assert cmd[1:] == ["-m", "ziglang", "cc"]
+
+
+def test_no_compiler_falls_back_to_python_with_one_line(tmp_path, cache, monkeypatch, capsys):
+    monkeypatch.setenv("PATH", str(tmp_path / "nothing"))
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.setattr(native_build, "_ziglang_available", lambda: False)
+    assert native_build.compiler() is None
+    path = write(tmp_path, COUNTER.replace("function x = PH0", "function x = PH1"))   # not in the cache
+    with pytest.raises(Unsupported) as e:
+        NativeExplorer(machine(tmp_path, open(path).read()))
+    assert str(e.value) == native_build.NO_COMPILER
+    assert "\n" not in str(e.value) and "pip install 'asmcheck[native]'" in str(e.value)
+    # auto: the Python engine runs
+    assert main(["explore", path, "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["engine"], out["states"]) == ("python", 5)
+    # native asked for: the one line says why and how
+    assert main(["explore", path, "--engine", "native"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "pip install 'asmcheck[native]'" in err[0]
+
+
+def test_compile_error_is_one_line(cache):
+    need_compiler()
+    with pytest.raises(Unsupported) as e:
+        native_build.build("int f( {\n")
+    msg = str(e.value)
+    assert msg.startswith("the C compiler failed on line 1 of the generated code: ") and "\n" not in msg
+    assert str(cache) not in msg        # no temporary file name: the same error gives the same line
+    assert list(cache.iterdir()) == []
+
+
+def test_fallback_note_is_one_line():
+    assert native_build.fallback_note(native_build.NO_COMPILER) == (
+        "engine: python (native engine not used: no C compiler found (gcc, cc, clang or $CC); "
+        "for native speed: pip install 'asmcheck[native]')")
+    assert native_build.fallback_note("the infinite domain\nInteger") == \
+        "engine: python (native engine not used: the infinite domain Integer)"
