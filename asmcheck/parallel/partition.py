@@ -99,7 +99,7 @@ class Partition:
         try:
             self._check_memory()
             for count, sid in enumerate(self.frontier):
-                if deadline is not None and time.monotonic() > deadline:
+                if deadline is not None and time.time() > deadline:
                     report["stopped"] = "time"
                     break
                 if (count & 63) == 0:
