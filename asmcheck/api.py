@@ -22,6 +22,7 @@ from pathlib import Path
 from .errors import AsmError, UsageError
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
 from .explore.bfs import Explorer, ReplayError, Result, TimeUp
+from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
 from .props import spec_properties
 from .props.load import load_machine
@@ -36,12 +37,14 @@ __all__ = ["load", "parse", "check", "Simulation", "scenario_report", "scenario_
 
 # ----------------------------------------------------------------- loading
 def load(path, *, import_path=(), monitored=None, int_range=None, properties=None,
-         default_properties: bool = True, unknown_monitored: str = "error") -> "Model":
+         default_properties: bool = True, unknown_monitored: str = "error", properties_must_apply: bool = True
+         ) -> "Model":
     """Parse and type-check the spec at ``path`` (with its imports) and find the properties
     that apply to it.  Raises :class:`AsmError` (located) or :class:`UsageError`.
 
     ``unknown_monitored="ignore"`` leaves out the ``monitored`` names the spec does not
-    declare at all (the gate gives one set of options to many specs)."""
+    declare at all, and ``properties_must_apply=False`` the ``properties`` files that do not
+    name it (the gate gives one set of options to many specs)."""
     from .semantics.machine import Machine
     path = os.fspath(path)
     _set_import_path(import_path)
@@ -61,7 +64,8 @@ def load(path, *, import_path=(), monitored=None, int_range=None, properties=Non
     for p in files or ():
         _check_readable(p, "property file")
     state_props, step_props = spec_properties(machine)
-    extra_state, extra_step, temporal = properties_for(spec, machine, path, files, use_default=default_properties)
+    extra_state, extra_step, temporal = properties_for(spec, machine, path, files, use_default=default_properties,
+                                                       must_apply=properties_must_apply)
     return Model(path, spec, machine, state_props + extra_state, step_props + extra_step, temporal, options,
                  files, default_properties)
 
@@ -348,13 +352,30 @@ def _watchdog(seconds):
         signal.signal(signal.SIGALRM, old)
 
 
+@contextmanager
+def _deadline(machine, seconds):
+    """The step function stops a step that runs past ``seconds`` from now (it raises
+    DeadlineReached); the deadline is lifted afterwards, so traces replay in full."""
+    if seconds is None:
+        yield
+        return
+    old = machine.deadline
+    machine.deadline = time.monotonic() + seconds
+    try:
+        yield
+    finally:
+        machine.deadline = old
+
+
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
 
 
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
              deadlock, fair, graph, progress, started=None, warn=None, scaling=None) -> "Exploration":
+    from .options import unbounded_monitored
     t0 = time.perf_counter()
+    unbounded_monitored(model.machine)
     begin = started if started is not None else t0
     machine, spec = model.machine, model.spec
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
@@ -418,7 +439,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
                       step_props=step_props, max_memory=max_memory, memory=memory_in_use)
-        with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE):
+        with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE), \
+                _deadline(machine, search_seconds):
             result = ex.run()
         result.engine = "python"
         result.native_refused = refused
@@ -435,9 +457,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         try:
             if left is not None and left <= 0:
                 raise TimeUp()
-            with _watchdog(left):
+            with _watchdog(left), _deadline(machine, left):
                 temporal_results = check_temporal(ex, temporal, fair=list(fair or []))
-        except TimeUp:
+        except (TimeUp, DeadlineReached):
             temporal_note = f"time limit {max_seconds} s reached in the LTL/CTL phase"
             temporal_results = []
         except KeyboardInterrupt:
@@ -755,9 +777,10 @@ def find_specs(paths) -> list[str]:
 
 
 def _is_module(path: Path) -> bool:
+    from .syntax.parser import decode_source, read_source_bytes
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except OSError:
+        text = decode_source(read_source_bytes(path))   # regular files only: a FIFO would block
+    except AsmError:
         return False
     m = re.search(r"\b(asm|module)\s+[A-Za-z_]", strip_comments(text))
     return bool(m) and m.group(1) == "module"
@@ -819,10 +842,14 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
     t0 = clock()
     try:
         model = load(path, import_path=import_path, monitored=monitored, int_range=int_range,
-                     properties=properties, default_properties=default_properties, unknown_monitored="ignore")
+                     properties=properties, default_properties=default_properties, unknown_monitored="ignore",
+                     properties_must_apply=False)
         run = model.explore(**explore)
         out = run.outcome(strict=strict, root=root, avalla_dir=avalla_dir, temporal_error=run.temporal_error)
         out.interrupted = run.interrupted
+        if not out.properties:
+            out.properties = [_gate.judge(_gate.PropertyOutcome("(no property)", "input", "none",
+                                                                message=no_property_message(model)), False, False)]
     except UsageError:
         raise
     except AsmError as err:
@@ -830,9 +857,9 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
     except ReplayError as err:
         return _gate.error_outcome(path, AsmError(None, f"internal error: a counterexample does not replay ({err})"),
                                    root, clock() - t0)
-    except RecursionError:
-        return _gate.error_outcome(path, AsmError(None, f"{path}: the spec nests too deeply (recursion limit "
-                                                        f"reached)"), root, clock() - t0)
+    except RecursionError as exc:
+        from .errors import located_recursion_error
+        return _gate.error_outcome(path, located_recursion_error(exc, path), root, clock() - t0)
     except (KeyboardInterrupt, MemoryError, TimeUp) as exc:
         why = {"KeyboardInterrupt": "interrupted (Ctrl-C)", "MemoryError": "out of memory"}.get(
             type(exc).__name__, "time limit reached")
@@ -854,6 +881,16 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
     return out
 
 
+def no_property_message(model: Model) -> str:
+    """What to say when nothing applies to a spec: where property files naming it are."""
+    files = model.candidate_property_files()
+    if files:
+        return (f"{model.name} declares none and no property file found applies to it; "
+                f"property files that name it: {', '.join(files)} (give them with --properties)")
+    return (f"{model.name} declares none and no property file applies to it (put one in a "
+            f"properties/ folder beside it, or give it with --properties)")
+
+
 def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, root=None, clock=None, progress=None,
           **options) -> Gate:
     """The CI gate: explore every spec under ``paths`` with the properties that apply to it.
@@ -869,4 +906,44 @@ def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, roo
         outcomes.append(o)
         if getattr(o, "interrupted", False):
             break               # Ctrl-C: what was checked so far is the report
+    outcomes += unused_property_files(specs, options.get("properties"), root)
     return Gate(outcomes, root)
+
+
+def unused_property_files(specs, given, root=None) -> list:
+    """Input-error outcomes for the files given with ``properties`` to a gate run whose
+    ``applies to`` line names none of the checked specs (a typo would otherwise pass the
+    gate with nothing checked).  Files found beside the specs may name specs kept elsewhere
+    (read through the import path), so they are not judged here."""
+    from .props.files import read_prop_file
+    checked = set()
+    for path in specs:
+        try:
+            checked.add(_asm_name(Path(path)))
+        except OSError:
+            pass
+    out = []
+    for p in given or ():
+        p = os.fspath(p)
+        try:
+            pf = read_prop_file(p)
+        except AsmError as err:
+            out.append(_gate.error_outcome(p, err, root))
+            continue
+        if pf.applies is None or "*" in pf.applies or checked & set(pf.applies):
+            continue
+        out.append(_gate.error_outcome(p, AsmError(pf.applies_span, f"the property file {p} applies to "
+                                                                    f"{', '.join(pf.applies)}: none of the checked "
+                                                                    f"specs has that name; fix its 'applies to' "
+                                                                    f"line"), root))
+    return out
+
+
+def _asm_name(path: Path) -> str:
+    from .syntax.parser import decode_source, read_source_bytes
+    try:
+        text = decode_source(read_source_bytes(path))   # regular files only: a FIFO would block
+    except AsmError:
+        return path.stem
+    m = re.search(r"\b(?:asm|module)\s+([A-Za-z_][A-Za-z0-9_]*)", strip_comments(text))
+    return m.group(1) if m else path.stem

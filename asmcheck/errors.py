@@ -129,6 +129,10 @@ def _quote(span: Span | None) -> list[str]:
     return ["    " + lead + text, "    " + prefix + "^" * min(width, max(1, len(text) - col))]
 
 
+_DECLARATIONS = frozenset({"Function", "Var", "Domain", "RuleDecl", "Spec", "Module", "FunctionDecl",
+                           "DomainDecl", "InitState", "AgentInit", "Property"})
+
+
 def located_recursion_error(exc: BaseException, path: str | None = None) -> "AsmError":
     """A RecursionError raised while processing a spec, as a located error.
 
@@ -149,8 +153,9 @@ def located_recursion_error(exc: BaseException, path: str | None = None) -> "Asm
             sp = getattr(v, "span", None)
             if not isinstance(sp, Span) or sp.line <= 0:
                 continue
-            inner = sp
             kind = type(v).__name__
+            if kind not in _DECLARATIONS:
+                inner = sp              # a term or a rule being worked on (not a declaration)
             if act is None and kind == "RuleDecl":
                 act = (getattr(v, "name", "?"), sp)
             elif act is None and kind == "CallRule" and getattr(v, "rule", None) is not None:

@@ -22,8 +22,14 @@ def _int(text: str, what: str) -> int:
     return v
 
 
+# the most values one range may have: the explorer enumerates every one of them (a monitored
+# value is a successor of every state), so a larger range is an input error, not a long wait
+MAX_RANGE = 1_000_000
+
+
 def parse_int_range(value, what: str = "--int-range") -> tuple[int, int]:
-    """``"LO..HI"`` or ``(lo, hi)`` as a pair of 64-bit integers with LO <= HI."""
+    """``"LO..HI"`` or ``(lo, hi)`` as a pair of 64-bit integers with LO <= HI and at most
+    :data:`MAX_RANGE` values."""
     if isinstance(value, str):
         if ".." not in value:
             raise UsageError(f"{what} {value!r}: expected LO..HI (two integers)")
@@ -41,6 +47,9 @@ def parse_int_range(value, what: str = "--int-range") -> tuple[int, int]:
                 raise UsageError(f"{what}: {v} is outside the 64-bit integers asmcheck computes with")
     if lo > hi:
         raise UsageError(f"{what} {lo}..{hi}: the range is empty (the lower bound is above the upper one)")
+    if hi - lo + 1 > MAX_RANGE:
+        raise UsageError(f"{what} {lo}..{hi}: {hi - lo + 1:,} values; asmcheck enumerates every value of a range, "
+                         f"so it takes at most {MAX_RANGE:,}")
     return lo, hi
 
 
@@ -145,6 +154,9 @@ def monitored_ranges(machine, monitored: dict) -> dict:
             root = f.codomain.root() if hasattr(f.codomain, "root") else f.codomain
             if len(values) == 0:
                 raise UsageError(f"{what}: the range is empty")
+            if len(values) > MAX_RANGE:
+                raise UsageError(f"{what}: {len(values):,} values; asmcheck enumerates every value of a range, so "
+                                 f"it takes at most {MAX_RANGE:,}")
             if codomain is not None:
                 bad = [v for v in (values[0], values[-1]) if v not in codomain or isinstance(codomain[0], bool)]
                 if bad or any(not isinstance(c, int) or isinstance(c, bool) for c in codomain[:1]):
@@ -192,3 +204,48 @@ def default_max_memory() -> int | None:
     except (ImportError, ValueError, OSError):
         pass
     return min(limits) if limits else None
+
+
+def read_monitored(spec) -> list:
+    """The monitored functions the spec reads (in its rules, definitions and properties), in
+    declaration order."""
+    from dataclasses import fields, is_dataclass
+    from .semantics import ir
+    found: dict = {}
+    seen: set = set()
+    stack = [r.body for r in spec.rules] + [f.body for f in spec.functions if f.body is not None] + \
+        [p.body for p in spec.properties] + [getattr(p, "body2", None) for p in spec.properties]
+    while stack:
+        x = stack.pop()
+        if x is None or id(x) in seen:
+            continue
+        if isinstance(x, (list, tuple)):
+            stack.extend(x)
+            continue
+        if not is_dataclass(x) or isinstance(x, (type, ir.Function)):
+            continue
+        seen.add(id(x))
+        if isinstance(x, ir.Loc) and x.func.kind == "monitored":
+            found[x.func.index] = x.func
+        for f in fields(x):
+            if f.name not in ("type", "span", "func"):
+                stack.append(getattr(x, f.name, None))
+    return [found[i] for i in sorted(found)]
+
+
+def unbounded_monitored(machine) -> None:
+    """Raise one located error naming every monitored function the spec reads whose values
+    are not finite (and not given with ``monitored`` or ``int_range``)."""
+    bad = [f for f in read_monitored(machine.spec)
+           if f.name not in machine.monitored_ranges and _codomain_values(machine, f) is None]
+    if not bad:
+        return
+    f = bad[0]
+    if len(bad) == 1:
+        raise AsmError(f.span, f"monitored function {f.name} ranges over {f.codomain}, which is infinite: give its "
+                               f"values with --monitored {f.name}=LO..HI (or --int-range LO..HI)")
+    names = ", ".join(g.name for g in bad)
+    opts = " ".join(f"--monitored {g.name}=LO..HI" for g in bad)
+    raise AsmError(f.span, f"{len(bad)} monitored functions range over infinite domains ({names}): give their "
+                           f"values with {opts} (or --int-range LO..HI)",
+                   notes=[(g.span, f"monitored function {g.name} ranges over {g.codomain}") for g in bad[1:]])

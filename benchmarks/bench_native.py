@@ -4,10 +4,12 @@ state, compile time and the engine used, on the specs users run.
 
     python benchmarks/bench_native.py [--quick] [--engine auto|native|python] [--shared ../shared]
                                       [--max-seconds S] [--only TEXT] [--out benchmarks/results]
+    python benchmarks/bench_native.py --phases SPEC [-- EXPLORE ARGS]
 
 Each model is explored by a separate process (``python -m asmcheck explore ... --format json``);
 its wall time and peak resident memory (``os.wait4``'s rusage of that child) are measured.
-Rates are per second of search (the JSON's ``seconds``); each row is also given as a ratio of
+Rates are per second of the exploration (the JSON's ``seconds``: search, code generation and
+compilation, LTL/CTL); each row is also given as a ratio of
 the transitions/s of the benchmark twin T=63 K=250 measured in the same run (T=31 K=128 with
 ``--quick``).  Bytes/state is the peak memory above that of the same command on a one-state spec,
 divided by the states.  The models:
@@ -39,12 +41,21 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 
+MEMORY_LIMIT = 3 * 2 ** 30      # a model whose search needs more is stopped (out of memory), not the machine
+
+
+def _limit_memory():
+    import resource
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
+
+
 def measure(cmd: list[str], cwd=None, timeout: float | None = None, env: dict | None = None) -> dict:
     """Run ``cmd``; its wall time, peak RSS (bytes, from ``os.wait4``'s rusage of that very
     child), exit code (None when killed at ``timeout``) and stdout/stderr."""
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         t0 = time.perf_counter()
-        proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=err, env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
+        proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=err, preexec_fn=_limit_memory,
+                                env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
         killed = False
         while True:
             pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
@@ -82,7 +93,15 @@ def monitored_rich(asmeta: Path, n: int) -> list[Path]:
         k = len(re.findall(r"\bmonitored\s+\w+\s*:", text))
         scored.append((-k, rel))
     scored.sort()
-    return [asmeta / rel for _, rel in scored[:n]]
+    out, folders = [], set()
+    for _, rel in scored:        # one spec per folder: variants of one model tell nothing new
+        folder = str(Path(rel).parent)
+        if folder not in folders:
+            folders.add(folder)
+            out.append(asmeta / rel)
+        if len(out) == n:
+            break
+    return out
 
 
 def models(shared: Path, work: Path, quick: bool):
@@ -133,10 +152,10 @@ def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None)
     cmd = [sys.executable, "-m", "asmcheck", "explore", str(path), "--format", "json", "--engine", engine,
            "--max-seconds", str(max_seconds), *extra]
     env = {"ASMCHECK_CACHE": str(cache)} if cache is not None else {}
-    r = measure(cmd, timeout=max_seconds * 3 + 60, env=env)
+    r = measure(cmd, timeout=max_seconds + 30, env=env)
     row = _row(name, path, extra, r)
     if cache is not None and row.get("engine") == "native":
-        warm = _row(name, path, extra, measure(cmd, timeout=max_seconds * 3 + 60, env=env))
+        warm = _row(name, path, extra, measure(cmd, timeout=max_seconds + 30, env=env))
         if warm.get("compile_seconds") is None and row.get("compile_seconds") is None:
             warm["compile_seconds"] = round(max(row["wall"] - warm["wall"], 0.0), 3)
         elif warm.get("compile_seconds") is not None and row.get("compile_seconds") is not None:
@@ -154,22 +173,30 @@ def _row(name, path, extra, r) -> dict:
         res = json.loads(r["stdout"])
     except ValueError:
         lines = (r["stderr"].strip() or "no output").splitlines()
-        row.update(engine="-", error=lines[0][:200] if lines else "")
+        why = "killed at the time limit" if r["code"] is None else lines[-1][:200] if lines else ""
+        row.update(engine="-", error=why)
         return row
     search = max(float(res.get("seconds") or 0.0), 1e-6)
     row.update(engine=res.get("engine", "?"), verdict=res.get("verdict"), states=res.get("states", 0),
                transitions=res.get("transitions", 0), search=res.get("seconds"),
                states_per_s=round(res.get("states", 0) / search), transitions_per_s=round(res.get("transitions", 0) / search),
                compile_seconds=res.get("compile_seconds"), reason=res.get("incomplete", ""),
-               engine_reason=res.get("engine_reason", ""))
+               engine_note=res.get("engine_note", ""))
     return row
+
+
+MIN_TIMED = 0.01             # rates of searches shorter than this (s) are not shown: the clock says little
+MIN_STATES_MEMORY = 1000     # bytes/state of smaller models is mostly the interpreter: not shown
 
 
 def markdown(rows, meta) -> str:
     lines = [f"# bench_native {meta['date']} ({meta['mode']}, --engine {meta['engine']})", "",
              f"Machine: {meta['machine']}; twin transitions/s: {meta['twin_tps']:,.0f}; baseline peak "
-             f"{meta['baseline_mb']:.1f} MB.", "",
-             "| model | engine | verdict | states | transitions | wall s | search s | compile s (cold wall) | states/s | "
+             f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
+             "Rates are per second of the explore phase (the JSON's seconds; shown from 0.01 s); bytes/state is peak memory above "
+             "the baseline per state (shown from 1,000 states); compile s is the cold run's compile time, "
+             "the row itself the warm run (cache filled).", "",
+             "| model | engine | verdict | states | transitions | wall s | explore s | compile s (cold wall) | states/s | "
              "transitions/s | × twin | peak MB | bytes/state |",
              "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
@@ -177,13 +204,63 @@ def markdown(rows, meta) -> str:
             lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | "
                          f"{r['peak_mb']:.0f} | |")
             continue
-        comp = "-" if r.get("compile_seconds") is None else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
+        timed = (r.get("search") or 0) >= MIN_TIMED
+        rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
+        ratio = f"{r['ratio']:.3f}" if timed else "-"
+        bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
+        comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = r["verdict"] + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states']:,} | {r['transitions']:,} | "
-                     f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {r['states_per_s']:,} | "
-                     f"{r['transitions_per_s']:,} | {r['ratio']:.3f} | {r['peak_mb']:.0f} | "
-                     f"{r['bytes_per_state']:,} |")
+                     f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {rate(r['states_per_s'])} | "
+                     f"{rate(r['transitions_per_s'])} | {ratio} | {r['peak_mb']:.0f} | {bps} |")
     return "\n".join(lines) + "\n"
+
+
+def phases(spec: str, extra: list[str], engine: str) -> dict:
+    """Where the time of ``explore SPEC`` goes, in this process: import, parse and load,
+    properties, search, Kripke structure, each LTL/CTL check, traces, report."""
+    t0 = time.perf_counter()
+    import asmcheck.api as api
+    import asmcheck.cli as cli
+    import asmcheck.explore.bfs as bfs
+    import asmcheck.temporal as temporal
+    import asmcheck.temporal.ctl as ctl
+    import asmcheck.temporal.ltl as ltl
+    from asmcheck.explore import native, native_build
+    times: dict = {"import": time.perf_counter() - t0}
+
+    def timed_fn(owner, name, key):
+        orig = getattr(owner, name)
+
+        def wrapper(*a, **k):
+            s = time.perf_counter()
+            try:
+                return orig(*a, **k)
+            finally:
+                times[key] = times.get(key, 0.0) + time.perf_counter() - s
+        setattr(owner, name, wrapper)
+    timed_fn(api, "load_machine", "parse and load")
+    timed_fn(api, "properties_for", "property files")
+    timed_fn(bfs.Explorer, "run", "search (python)")
+    timed_fn(native.NativeExplorer, "__init__", "generate and compile (native)")
+    timed_fn(native.NativeExplorer, "run", "search (native)")
+    timed_fn(temporal, "build_kripke", "Kripke structure")
+    timed_fn(temporal, "check_temporal", "temporal, all")
+    timed_fn(ltl, "check_ltl", "LTL checks")
+    timed_fn(ctl.CTL, "check", "CTL checks")
+    import io
+    import contextlib
+    out = io.StringIO()
+    s = time.perf_counter()
+    with contextlib.redirect_stdout(out):
+        code = cli.main(["explore", spec, "--format", "json", "--engine", engine, *extra])
+    times["explore command, all"] = time.perf_counter() - s
+    res = json.loads(out.getvalue())
+    times["total in process"] = time.perf_counter() - t0
+    if "generate and compile (native)" in times:
+        times["of which compile"] = native_build.last_compile_seconds
+    return {"spec": spec, "exit": code, "engine": res.get("engine"), "states": res.get("states"),
+            "transitions": res.get("transitions"), "phases": {k: round(v, 3) for k, v in times.items()}}
 
 
 def main(argv=None):
@@ -195,7 +272,17 @@ def main(argv=None):
                     "(default 300, 20 with --quick)")
     ap.add_argument("--only", help="run only models whose name contains this text")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
+    ap.add_argument("--phases", metavar="SPEC", help="only: where the time of one exploration goes (in process)")
+    ap.add_argument("extra", nargs="*", help="with --phases: more arguments for explore")
+    ap.add_argument("--render", metavar="JSON", help="only: print the markdown table of a results file")
     args = ap.parse_args(argv)
+    if args.render:
+        data = json.loads(Path(args.render).read_text())
+        print(markdown(data["rows"], data["meta"]), end="")
+        return
+    if args.phases:
+        print(json.dumps(phases(args.phases, args.extra, args.engine), indent=1))
+        return
     shared = Path(args.shared)
     max_seconds = args.max_seconds or (20 if args.quick else 300)
     work = Path(tempfile.mkdtemp(prefix="asmcheck-bench-"))

@@ -170,7 +170,7 @@ def explore(run: Run, shared: Path, timeout: float | None) -> dict:
     return res
 
 
-HEAD_RE = re.compile(r"^(\S+\.asm): ([\d,]+) states, ([\d,]+) transitions, depth (\d+), ([\d.]+) s$")
+HEAD_RE = re.compile(r"^(\S+\.asm): ([\d,]+) states, ([\d,]+) transitions, depth (\d+), ([\d.]+) s(?:, (\w+) engine)?$")
 ROW_RE = re.compile(r"^  (\S+)\s+(holds|violated|incomplete)$")
 VIOL_RE = re.compile(r"^(\S+)(?: \(([^)]*)\))? is violated.*shortest trace, (\d+) steps?")
 

@@ -213,13 +213,19 @@ def test_pick_of_a_value_the_guard_excludes_stops_the_run(scenario):
 
 
 def test_pick_of_a_value_out_of_the_range(scenario):
+    # AsmetaV (TestSingleFile.choosePickOutOfDomain): outside a range term the run fails; outside the
+    # domain of a DomainTerm range it throws, an error in the scenario (exit 2), not a failed check
     spec = SCHED.replace("choose $j in Job with", "choose $j in {JA, JB} with")
-    path = scenario(FINS + "pick $j := JC;\nstep\n", spec=spec)
-    # a value the choose rule can never take is an error in the scenario (exit 2), not a failed check
+    out = run_scenario(scenario(FINS + "pick $j := JC;\nstep\n", spec=spec))
+    assert out.stopped == "pick" and out.events[-1].message == "JC is not in the range of $j in r_run"
+    spec = ("asm Two\nimport StandardLibrary\nsignature:\n\tdomain Two subsetof Integer\n"
+            "\tdynamic controlled c: Two\ndefinitions:\n\tdomain Two = {1 : 2}\n"
+            "\trule r_run = choose $k in Two with true do c := $k\n\tmain rule r_main = r_run[]\n")
+    path = scenario("pick $k := 5;\nstep\n", spec=spec, spec_name="Two")
     with pytest.raises(AsmError) as info:
         run_scenario(path)
-    assert info.value.message == "pick $j := JC: JC is not in the range of $j in r_run"
-    assert (info.value.span.line, info.value.span.col) == (7, 12)
+    assert info.value.message == "pick $k := 5: 5 is not in the range of $k in r_run (the domain Two)"
+    assert (info.value.span.line, info.value.span.col) == (3, 12)
     assert main(["scenario", path]) == 2
 
 
@@ -506,3 +512,14 @@ def test_load_tries_the_path_as_given_then_beside_the_scenario(tmp_path, monkeyp
     sc.write_text("scenario a\nload Sched.asm\n" + FINS + "step\ncheck count = 1;\n", encoding="utf-8")
     out = run_scenario(str(sc))
     assert out.ok and out.spec_path == str(tmp_path / "scen" / "Sched.asm")
+
+
+def test_load_of_an_absolute_looking_or_quoted_path_beside_the_scenario(tmp_path):
+    # AsmetaV (ScenarioUtility.getAsmPath): the path as given if it exists, else joined to the scenario's
+    # folder -- so 'load /Sched.asm' finds the Sched.asm beside the scenario
+    (tmp_path / "Sched.asm").write_text(SCHED, encoding="utf-8")
+    sc = tmp_path / "b.avalla"
+    for load in ("/Sched.asm", '"Sched.asm"'):
+        sc.write_text(f"scenario b\nload {load}\n" + FINS + "step\ncheck count = 1;\n", encoding="utf-8")
+        out = run_scenario(str(sc))
+        assert out.ok and out.spec_path == str(tmp_path / "Sched.asm"), load

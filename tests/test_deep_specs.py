@@ -119,3 +119,42 @@ def test_deep_term_outside_a_spec(tmp_path):
     while isinstance(body, ir.Call) and body.name == "and":
         body, n = body.args[0], n + 1
     assert n == 1500 and isinstance(body, ir.Loc)
+
+
+def test_without_a_deep_stack_the_error_is_still_located(tmp_path, monkeypatch):
+    monkeypatch.setattr(resolve, "_DEEP_STACK", 1 << 62)      # a stack that cannot be had
+    p = tmp_path / "Ifs.asm"
+    p.write_text(_spec("Ifs", "\tcontrolled x: Integer", _nested_ifs(800)))
+    with pytest.raises(AsmError) as info:
+        check_file(str(p))
+    err = info.value
+    assert err.span.path == str(p) and err.span.line == 6 and err.span.col > 21
+    assert "nests too deeply: this term is deeper than the stack allows" in err.message
+
+
+def test_recursive_rules(tmp_path):
+    from asmcheck.semantics.ir import recursive_rules
+    p = tmp_path / "R.asm"
+    p.write_text("asm R\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+                 "\trule r_a = r_b[]\n\trule r_b = if x > 0 then r_a[] endif\n"
+                 "\trule r_c($n in Integer) = if $n > 0 then r_c[$n - 1] endif\n"
+                 "\trule r_d = par r_a[] r_e[] endpar\n\trule r_e = x := 1\n"
+                 "\tturbo rule r_f = r_f()\n"
+                 "\tmain rule r_main = r_d[]\ndefault init s0:\n\tfunction x = 0\n")
+    spec = check_file(str(p))
+    assert [r.name for r in recursive_rules(spec.rules)] == ["r_a", "r_b", "r_c", "r_f"]
+
+
+@pytest.mark.parametrize("closed", [False, True])
+def test_recursive_rules_on_a_long_chain(tmp_path, closed):
+    n = 5000
+    lines = ["asm Chain", "import StandardLibrary", "signature:", "\tcontrolled x: Integer", "definitions:"]
+    lines += [f"\trule r_{i} = r_{i + 1}[]" for i in range(n)]
+    lines += [f"\trule r_{n} = " + ("r_0[]" if closed else "x := 1"), "\tmain rule r_main = r_0[]",
+              "default init s0:", "\tfunction x = 0", ""]
+    p = tmp_path / "Chain.asm"
+    p.write_text("\n".join(lines))
+    from asmcheck.semantics.ir import recursive_rules
+    spec = check_file(str(p))
+    got = recursive_rules(spec.rules)
+    assert len(got) == (n + 1 if closed else 0)

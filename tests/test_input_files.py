@@ -105,3 +105,53 @@ def test_runaway_recursion_is_located(tmp_path, rules, line, col, fragment):
     err = located_recursion_error(info.value, str(p))
     assert (err.span.path, err.span.line, err.span.col) == (str(p), line, col), err.render()
     assert fragment in err.message
+
+
+@pytest.mark.parametrize("command", [["simulate", "--steps", "1"], ["explore", "--engine", "python"]])
+def test_runaway_recursion_on_the_command_line(tmp_path, command):
+    import subprocess
+    p = tmp_path / "Rec.asm"
+    p.write_text("asm Rec\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+                 "\trule r_a = r_b[]\n\trule r_b = r_a[]\n\tmain rule r_main = r_a[]\n"
+                 "default init s0:\n\tfunction x = 0\n")
+    root = Path(__file__).resolve().parent.parent
+    env = dict(os.environ, PYTHONPATH=str(root))
+    r = subprocess.run([sys.executable, "-m", "asmcheck", *command, str(p)], capture_output=True, text=True,
+                       env=env, timeout=300, cwd=str(tmp_path))
+    out = r.stdout + r.stderr
+    assert r.returncode == 2, out
+    assert f"{p}:6:7: the rules r_a -> r_b -> r_a call one another without end" in out, out
+    assert "Traceback" not in out and "internal error" not in out
+
+
+def test_fifo_in_a_checked_folder_and_as_a_property_file(tmp_path):
+    """Nothing blocks on a FIFO: a spec folder holding one, a property file that is one."""
+    import subprocess
+    (tmp_path / "specs").mkdir()
+    os.mkfifo(tmp_path / "specs" / "Pipe.asm")
+    good = tmp_path / "specs" / "Ok.asm"
+    good.write_text("asm Ok\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+                    "\tinvariant inv_a over x: x >= 0\n\tmain rule r_main = x := 1\ndefault init s0:\n"
+                    "\tfunction x = 0\n")
+    os.mkfifo(tmp_path / "P.prop")
+    root = Path(__file__).resolve().parent.parent
+    env = dict(os.environ, PYTHONPATH=str(root))
+    for args in (["check", str(tmp_path / "specs")], ["check", "--properties", str(tmp_path / "P.prop"), str(good)]):
+        r = subprocess.run([sys.executable, "-m", "asmcheck", *args], capture_output=True, text=True, env=env,
+                           timeout=120, cwd=str(tmp_path))
+        out = r.stdout + r.stderr
+        assert r.returncode == 2, out
+        assert "Traceback" not in out and "internal error" not in out
+    assert "P.prop" in out and "regular file" in out, out
+
+
+def test_scenario_that_is_a_fifo(tmp_path):
+    import subprocess
+    os.mkfifo(tmp_path / "S.avalla")
+    root = Path(__file__).resolve().parent.parent
+    r = subprocess.run([sys.executable, "-m", "asmcheck", "scenario", str(tmp_path / "S.avalla")],
+                       capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=str(root)), timeout=120,
+                       cwd=str(tmp_path))
+    out = r.stdout + r.stderr
+    assert r.returncode == 2, out
+    assert f"{tmp_path / 'S.avalla'}:1:1: cannot read" in out and "a FIFO (named pipe)" in out, out

@@ -32,6 +32,13 @@ def cache(tmp_path, monkeypatch):
     return d
 
 
+def replace(lib, data, mode):
+    # a new file under the old name (writing into the loaded library would change this process's code)
+    lib.unlink()
+    lib.write_bytes(data)
+    os.chmod(lib, mode)
+
+
 def probe(src):
     import ctypes
     return native_build.build(src, {"asm_probe": (ctypes.c_long, [ctypes.c_long])})
@@ -41,9 +48,6 @@ def test_cache_folder_is_created_private(cache):
     d = native_build.cache_dir()
     assert d == cache
     assert stat.S_IMODE(os.stat(d).st_mode) == 0o700
-    sub = native_build.private_cache_dir("grammar")
-    assert sub == cache / "grammar"
-    assert stat.S_IMODE(os.stat(sub).st_mode) == 0o700
 
 
 def test_xdg_cache_home_is_the_default_base(tmp_path, monkeypatch):
@@ -84,27 +88,38 @@ def test_second_run_of_a_spec_compiles_nothing(tmp_path, cache):
     ex.close()
 
 
-def test_world_writable_cache_folder_is_refused(cache):
+def test_world_writable_cache_folder_is_made_private_and_what_others_put_there_is_not_loaded(cache):
     need_compiler()
-    cache.mkdir(mode=0o700)
+    probe(SRC % 3)
+    (lib,) = cache.iterdir()
     os.chmod(cache, 0o777)
-    assert not native_build.is_private(cache)
-    d = native_build.cache_dir()
-    assert d != cache and native_build.is_private(d)
-    assert stat.S_IMODE(os.stat(d).st_mode) == 0o700
-    assert probe(SRC % 3).asm_probe(0) == 3
-    assert list(cache.iterdir()) == []          # nothing written to (or loaded from) the open folder
+    # someone replaces the library while the folder is open, and leaves it writable by others
+    replace(lib, b"not a library", 0o666)
+    assert probe(SRC % 3).asm_probe(0) == 3          # rebuilt, not loaded
+    assert native_build.last_compile_seconds > 0
+    assert stat.S_IMODE(os.stat(cache).st_mode) == 0o700
+    assert stat.S_IMODE(os.stat(lib).st_mode) == 0o700
 
 
-def test_group_writable_cached_library_is_rebuilt_elsewhere(cache):
+def test_group_writable_cached_library_is_rebuilt(cache):
     need_compiler()
     probe(SRC % 4)
     (lib,) = cache.iterdir()
-    # someone could have replaced it: the library must not be loaded
-    lib.write_bytes(b"not a library")
-    os.chmod(lib, 0o770)
+    replace(lib, b"not a library", 0o770)
     assert probe(SRC % 4).asm_probe(1) == 5
     assert native_build.last_compile_seconds > 0
+    assert stat.S_IMODE(os.stat(lib).st_mode) == 0o700
+
+
+def test_a_link_in_the_cache_is_not_loaded(cache, tmp_path):
+    need_compiler()
+    probe(SRC % 6)
+    (lib,) = cache.iterdir()
+    other = tmp_path / "elsewhere.so"
+    lib.rename(other)
+    lib.symlink_to(other)
+    assert probe(SRC % 6).asm_probe(0) == 6
+    assert native_build.last_compile_seconds > 0 and not lib.is_symlink()
 
 
 def test_foreign_owned_cache_folder_is_refused(cache, monkeypatch):
@@ -115,22 +130,12 @@ def test_foreign_owned_cache_folder_is_refused(cache, monkeypatch):
         os.chown(cache, 12345, -1)          # as root: really give it away
     else:
         monkeypatch.setattr(native_build.os, "geteuid", lambda: me + 1)
-    assert not native_build.is_private(cache)
     d = native_build.cache_dir()
-    assert d != cache
+    assert d != cache and stat.S_IMODE(os.stat(d).st_mode) == 0o700
     if me != 0:
         monkeypatch.setattr(native_build.os, "geteuid", lambda: me)
     assert probe(SRC % 5).asm_probe(0) == 5
-    assert list(cache.iterdir()) == []
-
-
-def test_a_symbolic_link_is_not_a_private_folder(tmp_path, monkeypatch):
-    real = tmp_path / "real"
-    real.mkdir(mode=0o700)
-    link = tmp_path / "link"
-    link.symlink_to(real)
-    monkeypatch.setenv("ASMCHECK_CACHE", str(link))
-    assert native_build.cache_dir() != link
+    assert list(cache.iterdir()) == []          # nothing written to (or loaded from) someone else's folder
 
 
 def test_compiler_discovery_order(monkeypatch, tmp_path):
@@ -187,3 +192,13 @@ def test_fallback_note_is_one_line():
         "for native speed: pip install 'asmcheck[native]')")
     assert native_build.fallback_note("the infinite domain\nInteger") == \
         "engine: python (native engine not used: the infinite domain Integer)"
+
+
+def test_a_damaged_cached_library_is_built_again(cache):
+    need_compiler()
+    folder, name = native_build.library_path(SRC % 11)
+    assert folder == cache
+    (cache / name).write_bytes(b"\x7fELF truncated")
+    os.chmod(cache / name, 0o700)
+    assert probe(SRC % 11).asm_probe(0) == 11
+    assert native_build.last_compile_seconds > 0

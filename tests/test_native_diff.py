@@ -12,6 +12,7 @@ import io
 import json
 import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -25,9 +26,22 @@ pytestmark = [pytest.mark.slow, pytest.mark.corpus]
 
 MAX_STATES = 3000         # a spec that needs more is outside the comparison
 MAX_SECONDS = 2           # the Python explorer's time bound per spec (a hard stop 3 s later)
-# the share of the compared specs that ran native when this test was last tuned: it may only go up
-MIN_NATIVE_SHARE = 0.0
-IGNORED_KEYS = ("seconds", "engine", "compile_seconds", "engine_reason")
+# the share of the compared specs that ran native when this test was last tuned: 148 of 271 (54.6 %) and
+# 161 of 313 (51.4 %) in two runs on a loaded 2-core machine (the time bound makes the set of compared
+# specs vary with the load); it may only go up
+MIN_NATIVE_SHARE = 0.50
+# Specs on which the native engine is known to answer differently, and why.  The test checks that
+# exactly these differ: a fixed one must leave the list, a new difference fails.
+KNOWN_DIFFERENCES: dict[str, str] = {}
+# With --deadlock the native engine once worded its deadlock message "no successor, or only the state
+# itself" where the Python engine says which ("no successor" / "the only successor is the state
+# itself").  While True, that one difference is tolerated and counted (the test fails once it is gone);
+# False: any difference fails.
+DEADLOCK_MESSAGE_DIFFERS = False
+NATIVE_DEADLOCK_MESSAGE = "no successor, or only the state itself"
+PYTHON_DEADLOCK_MESSAGES = ("no successor", "the only successor is the state itself")
+message_only: list[str] = []
+IGNORED_KEYS = ("seconds", "engine", "compile_seconds", "engine_note")
 
 
 def corpus() -> list[Path]:
@@ -54,8 +68,11 @@ def _alarm(signum, frame):
 def run_cli(args: list[str], hard_stop: float) -> tuple[int | None, str, str]:
     """``asmcheck ARGS`` in this process: (exit code or None when stopped, stdout, stderr)."""
     out, err = io.StringIO(), io.StringIO()
-    old = signal.signal(signal.SIGALRM, _alarm)
-    signal.setitimer(signal.ITIMER_REAL, hard_stop)
+    # the hard stop needs the main thread (signals); elsewhere the --max-seconds bound alone applies
+    alarm = hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+    if alarm:
+        old = signal.signal(signal.SIGALRM, _alarm)
+        signal.setitimer(signal.ITIMER_REAL, hard_stop)
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             code = main(args)
@@ -64,8 +81,9 @@ def run_cli(args: list[str], hard_stop: float) -> tuple[int | None, str, str]:
     except RecursionError:
         code = None
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+        if alarm:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, old)
     return code, out.getvalue(), err.getvalue()
 
 
@@ -80,10 +98,20 @@ def _strip(report: dict) -> dict:
 
 
 def compare(path: Path) -> tuple[str, str]:
+    outcome, detail = _compare(path, [])
+    if outcome == "native":
+        # the same spec with the deadlock check: one more verdict and trace to agree on
+        o2, d2 = _compare(path, ["--deadlock"])
+        if o2 == "differs":
+            return o2, f"with --deadlock: {d2}"
+    return outcome, detail
+
+
+def _compare(path: Path, more: list[str]) -> tuple[str, str]:
     """(outcome, detail): outcome is 'skip' (the Python explorer does not finish within the
     bound, or refuses the spec), 'native' (same report), 'refused' (the native engine refuses
     it; detail is its reason) or 'differs' (detail says how)."""
-    base = ["explore", str(path), "--format", "json", "--max-states", str(MAX_STATES), *extra_args(path)]
+    base = ["explore", str(path), "--format", "json", "--max-states", str(MAX_STATES), *extra_args(path), *more]
     code, out, err = run_cli(base + ["--engine", "python", "--max-seconds", str(MAX_SECONDS)], MAX_SECONDS + 3)
     if code is None:
         return "skip", "the Python explorer did not stop in time"
@@ -91,8 +119,10 @@ def compare(path: Path) -> tuple[str, str]:
         why = (err.strip().splitlines() or ["?"])[0]
         return "skip", f"Python explorer: exit {code}: {why[:160]}"
     py = json.loads(out)
-    if py.get("reason") or py["verdict"] == "incomplete":
-        return "skip", f"Python explorer: {py.get('reason') or 'incomplete'}"
+    # a bound ended the search (a run that ends on a run-time error is finished, and compared)
+    stopped = py.get("incomplete", "")
+    if code == 3 or py["verdict"] == "incomplete" or any(w in stopped for w in ("limit", "memory", "interrupt")):
+        return "skip", f"Python explorer: {stopped or 'incomplete'}"
     code_n, out_n, err_n = run_cli(base + ["--engine", "native"], 4 * MAX_SECONDS + 30)
     if code_n is None:
         return "differs", "the native engine did not stop in time"
@@ -100,13 +130,32 @@ def compare(path: Path) -> tuple[str, str]:
         line = next(ln for ln in err_n.splitlines() if "the native explorer cannot run" in ln)
         return "refused", line.split(f"cannot run {path.name}: ", 1)[-1]
     if code_n != code:
-        return "differs", f"exit code {code_n} (python {code}): {err_n.strip()[-300:]}"
+        first = next((ln for ln in err_n.splitlines() if ln.strip()), "")
+        return "differs", f"exit code {code_n} (python {code}): {first[:200]}"
     nat = json.loads(out_n)
+    if DEADLOCK_MESSAGE_DIFFERS and _strip(nat) != _strip(py) and _strip(_same_message(nat, py)) == _strip(py):
+        message_only.append(str(path))
+        nat = _same_message(nat, py)
     if _strip(nat) != _strip(py):
         keys = sorted(k for k in set(py) | set(nat) if k not in IGNORED_KEYS and py.get(k) != nat.get(k))
         return "differs", "different " + ", ".join(keys) + \
             f" (python {py['states']}/{py['transitions']}, native {nat['states']}/{nat['transitions']})"
     return "native", f"{py['states']} states"
+
+
+def _same_message(nat: dict, py: dict) -> dict:
+    """``nat`` with the native deadlock message replaced by the Python engine's, where that is
+    the known difference."""
+    pv = {v["property"]: v for v in py.get("violations", [])}
+    out = dict(nat)
+    out["violations"] = []
+    for v in nat.get("violations", []):
+        p = pv.get(v["property"])
+        if (v["property"] == "deadlock" and p is not None and v.get("message") == NATIVE_DEADLOCK_MESSAGE
+                and p.get("message") in PYTHON_DEADLOCK_MESSAGES):
+            v = {**v, "message": p["message"]}
+        out["violations"].append(v)
+    return out
 
 
 def survey(paths=None, log=None) -> dict[str, tuple[str, str]]:
@@ -126,6 +175,8 @@ def survey(paths=None, log=None) -> dict[str, tuple[str, str]]:
 
 def summary(results: dict) -> tuple[float, str]:
     compared = {k: v for k, v in results.items() if v[0] != "skip"}
+    # a difference is listed with the first line of its detail; compile errors without their line
+    import re
     native = [k for k, v in compared.items() if v[0] == "native"]
     share = len(native) / len(compared) if compared else 1.0
     lines = [f"native engine: {len(native)} of {len(compared)} specs the Python explorer finishes "
@@ -133,6 +184,7 @@ def summary(results: dict) -> tuple[float, str]:
     reasons: dict = {}
     for k, (o, d) in sorted(compared.items()):
         if o != "native":
+            d = re.sub(r" on line \d+ of the generated code", "", d.splitlines()[0] if d else d)
             reasons.setdefault(f"{o}: {d}", []).append(k)
     for why, specs in sorted(reasons.items(), key=lambda x: (-len(x[1]), x[0])):
         lines.append(f"  {len(specs):3}  {why}")
@@ -150,9 +202,14 @@ def test_native_engine_matches_the_python_engine():
     results = survey()
     share, text = summary(results)
     print(text)
+    print(f"{len(message_only)} runs differ only in the wording of the deadlock message")
     differs = {k: d for k, (o, d) in results.items() if o == "differs"}
-    assert differs == {}
+    assert {k: d for k, d in differs.items() if k not in KNOWN_DIFFERENCES} == {}
+    fixed = {k for k in KNOWN_DIFFERENCES if results.get(k, ("",))[0] == "native"}
+    assert fixed == set(), "no longer differ (remove them from KNOWN_DIFFERENCES): " + ", ".join(sorted(fixed))
     assert share >= MIN_NATIVE_SHARE, text
+    if DEADLOCK_MESSAGE_DIFFERS:
+        assert message_only, "the deadlock messages agree now: set DEADLOCK_MESSAGE_DIFFERS = False"
 
 
 if __name__ == "__main__":
@@ -160,3 +217,4 @@ if __name__ == "__main__":
     sys.path.insert(0, str(Path(__file__).parent))
     res = survey([Path(a).resolve() for a in sys.argv[1:]] or None, log=sys.stdout)
     print(summary(res)[1])
+    print(f"{len(message_only)} runs differ only in the wording of the deadlock message")

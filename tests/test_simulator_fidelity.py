@@ -5,7 +5,7 @@ import pytest
 from asmcheck.errors import AsmRuntimeError
 from asmcheck.semantics.machine import RandomChooser
 
-from helpers import machine, run, spec
+from helpers import machine, run, spec, view
 
 
 REALS = ("\tcontrolled a: Real\n\tcontrolled b: Real\n\tcontrolled c: Real\n\tcontrolled ia: Integer\n"
@@ -189,3 +189,39 @@ def test_a_property_over_an_infinite_domain_is_found_before_the_search(tmp_path)
                                      "(forall $i in Integer with $i > x implies $i > 0)\n\tmain rule r_main = x := 1",
                                      "\tfunction x = 0"), int_range=(-2, 2))
     assert bounded.unbounded_properties() == []
+
+
+def test_an_initial_value_that_reads_another_initial_value(tmp_path):
+    # ASMETA's simulator computes an initial value when its location is first read, so
+    # `currentState($m) = initialState($m)` sees initialState's initial value, whatever the order of
+    # the lines; the choose over outgoing(currentState) then has a range (not undef)
+    m = machine(tmp_path, spec("\tenum domain St = {SA | SB}\n\tenum domain Fsm = {MM}\n"
+                               "\tcontrolled current: Fsm -> St\n\tcontrolled initial: Fsm -> St\n"
+                               "\tcontrolled outgoing: St -> Powerset(St)",
+                               "\tmain rule r_main = choose $t in outgoing(current(MM)) with true do current(MM) := $t",
+                               "\tfunction current($m in Fsm) = initial($m)\n"
+                               "\tfunction outgoing($s in St) = if $s = SA then {SB} else {SA} endif\n"
+                               "\tfunction initial($m in Fsm) = SA"))
+    st = m.initial_state()
+    assert (view(m, st)["current(MM)"], view(m, st)["initial(MM)"]) == ("SA", "SA")
+    assert [view(m, nxt)["current(MM)"] for _, _, nxt, _ in m.successors(st)] == ["SB"]
+
+
+def test_a_location_read_at_an_undef_argument_takes_its_initial_value(tmp_path):
+    # the simulator computes an initial value on a location's first read, for any arguments:
+    # accessible(currCard) with currCard undef is true (function accessible($c in Card) = true)
+    m = machine(tmp_path, spec("\tenum domain Card = {CA | CB}\n\tcontrolled cur: Card\n"
+                               "\tcontrolled accessible: Card -> Boolean\n\tcontrolled seen: Boolean",
+                               "\tmain rule r_main = if not(accessible(cur)) then seen := true else seen := false endif",
+                               "\tfunction accessible($c in Card) = true"))
+    assert run(m) == {"accessible(CA)": "true", "accessible(CB)": "true", "seen": "false"}
+
+
+def test_a_monitored_argument_the_macro_does_not_use_is_not_read(tmp_path):
+    # the simulator substitutes a macro's arguments into its body: a monitored location passed as
+    # an argument is read only where the body uses it (no 'taking' line otherwise)
+    m = machine(tmp_path, spec("\tmonitored cur: Integer\n\tcontrolled on: Boolean\n\tcontrolled y: Integer",
+                               "\trule r_check($c in Integer) = if on then y := $c endif\n"
+                               "\tmain rule r_main = r_check[cur]", "\tfunction on = false\n\tfunction y = 0"))
+    assert [(log, view(m, nxt)) for log, _, nxt, _ in m.successors(m.initial_state())] == [
+        ([], {"on": "false", "y": "0"})]

@@ -43,7 +43,7 @@ from ..semantics.values import SetV, show
 from . import syntax as S
 from .terms import ScenarioResolver
 
-MAX_UNTIL = 1000
+MAX_UNTIL = 100_000     # AsmetaV runs a step until without bound
 _DYNAMIC = ("controlled", "monitored", "shared", "out", "local", "derived")
 
 
@@ -165,9 +165,19 @@ class Scenario:
         """The spec to load: the path as given (absolute, or from the working folder), else relative
         to the scenario's folder."""
         load = self.syntax.load
-        if os.path.isabs(load) or os.path.isfile(load):
+        if len(load) >= 2 and load[0] == load[-1] == '"':
+            load = load[1:-1]
+        if os.path.isfile(load):
             return os.path.normpath(load)
-        return os.path.normpath(os.path.join(os.path.dirname(self.path), load))
+        # as AsmetaV joins them: an absolute-looking path is still taken under the scenario's folder
+        here = os.path.dirname(self.path)
+        cand = os.path.normpath(os.path.join(here, load.lstrip("/")))
+        if not os.path.isfile(cand) and "\\" in load:
+            # a path written with Windows separators
+            alt = os.path.normpath(os.path.join(here, load.replace("\\", "/").lstrip("/")))
+            if os.path.isfile(alt):
+                return alt
+        return cand
 
     def _load_spec(self):
         from ..semantics.resolve import check_file
@@ -680,9 +690,14 @@ class _Run:
                     elif items is not None and hasattr(items, "__iter__") and not isinstance(items, (str, dict)):
                         items = list(items)
                     if items is not None and not any(same_value(x, picked[v.uid]) for x in items):
-                        # a value the choose rule can never take: an error in the scenario (exit 2)
-                        raise _OutOfRange(AsmError(p.value.span, f"pick {text}: {show(picked[v.uid])} is not in "
-                                                                 f"the range of {v.name} in {_signature(ch.rule)}"))
+                        msg = f"{show(picked[v.uid])} is not in the range of {v.name} in {_signature(ch.rule)}"
+                        if isinstance(rng, ir.DomainTerm):
+                            # outside the variable's domain: AsmetaV throws, an error in the scenario (exit 2)
+                            raise _OutOfRange(AsmError(p.value.span, f"pick {text}: {msg} (the domain "
+                                                                     f"{rng.domain})"))
+                        # outside a range term: AsmetaV's run fails (the choose rule finds no choice)
+                        self.event("pick", None, p.span, ok=False, text=text, message=msg)
+                        self.stop("pick")
             rest = [(v, r) for v, r in node.bindings if v.uid not in picked]
             guard = node.guard if node.guard is not None else ir.Const(T.BOOLEAN, node.span, True)
             test = ir.Quant(T.BOOLEAN, node.span, "exists", rest, guard) if rest else guard

@@ -149,10 +149,8 @@ class Scenario:
 # ----------------------------------------------------------------- reading
 def read_scenario(path: str) -> Scenario:
     """Read and parse a scenario file."""
-    try:
-        data = Path(path).read_bytes()
-    except OSError as exc:
-        raise AsmError(None, f"{path}: cannot read scenario: {exc.strerror or exc}") from None
+    from ..syntax.parser import read_source_bytes
+    data = read_source_bytes(path)      # regular files only (a FIFO would block): a located error
     return parse_scenario(decode_source(data), path)
 
 

@@ -19,10 +19,10 @@ import sys
 
 from ..version import __version__
 from ..errors import AsmError, UsageError
-from . import advise, bmc, check, common, conform, explore, parse, scenario, simulate, testgen
+from . import advise, bmc, check, common, conform, explore, lsp, parse, scenario, simulate, testgen
 from .common import EXIT_ERROR, EXIT_INCOMPLETE
 
-COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen)
+COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen, lsp)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -69,8 +69,9 @@ def main(argv: list[str] | None = None) -> int:
         except KeyboardInterrupt:
             common.error("asmcheck: interrupted before any result")
             code = EXIT_INCOMPLETE
-        except RecursionError:
-            common.error("asmcheck: error: the spec nests too deeply (recursion limit reached)")
+        except RecursionError as exc:
+            from ..errors import located_recursion_error
+            common.input_error(args, located_recursion_error(exc))
             code = EXIT_ERROR
         except MemoryError:
             common.error("asmcheck: out of memory before any result (bound the search with --max-states or "

@@ -13,6 +13,7 @@ from array import array
 from dataclasses import dataclass, field
 
 from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate
+from ..semantics.choice import DeadlineReached
 from ..semantics.machine import Machine, ScriptChooser, Undetermined
 from ..semantics.state import is_dom_key, same_value
 from .canonical import Canonicalizer, ranged_domains
@@ -286,7 +287,7 @@ class Explorer:
         except KeyboardInterrupt:
             incomplete = interrupted = True
             reason = "interrupted (Ctrl-C)"
-        except TimeUp:
+        except (TimeUp, DeadlineReached):
             incomplete = True
             reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
         except MemoryError:

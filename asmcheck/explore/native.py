@@ -1,22 +1,32 @@
 """The native explorer: C code generated from the IR, compiled once per model.
 
-For a spec whose locations all range over small finite domains (Booleans, enums,
-finite integer subdomains, the named elements of abstract domains) and whose rules
-use par, if, switch, let, choose, forall and macro calls, asmcheck writes a C
-translation of the step function and of the invariants (from the IR only: no text
-of the spec is ever pasted into the C source), compiles it with the system's C
-compiler into a shared library (cached by the hash of its source) and runs the
-breadth-first search there: states are packed into 64-bit words, one bit field per
-location.  The same enumeration of choices as the Python step function is used, so
-states are discovered in the same order; every trace the native search reports is
-decoded and *replayed through the Python step function* before it is shown.
+asmcheck writes a C translation of the step function, of the invariants, step properties and
+INVAR constraints (from the IR only: no text of the spec is ever pasted into the C source;
+strings and other composite constants go into a table of numbers), compiles it (see
+:mod:`.native_build`, cached by the hash of the source) and runs the breadth-first search there.
 
-Anything outside that subset raises :class:`Unsupported` and the Python explorer
-runs instead.
+A state is a few 64-bit words: a location over a small finite domain (Booleans, enums, finite
+integer subdomains, the named elements of abstract domains) is a bit field; an Integer location
+holds its value (64 bits, wrapping like Java's long); a sequence, tuple, set or string is the
+number of its entry in a value table where equal values are interned once.  The rules translated:
+par, seq, if, switch, let, forall, choose, while/iterate, macro calls, agents' programs
+(``program($a)`` and ``self``).  Reads inside a seq block see the working state; update sets are
+composed as the Python step function composes them (a clash is a run-time error).
 
-It is one module of over a thousand lines because the translator (one method per term
-and rule form of the IR) and the packing of states that the C code reads must change
-together; the build and cache of the compiled engines live apart in native_build.
+The same enumeration of choices as the Python step function is used, so states are discovered in
+the same order; a run-time error of a step becomes the pseudo property ``error`` with the Python
+step function's message; every trace the native search reports is decoded and *replayed through
+the Python step function* before it is shown.  The search runs in slices of a quarter second, so
+progress is shown, Ctrl-C is answered and an Integer location that grows level after level is
+named while it runs.
+
+Anything outside that subset raises :class:`Unsupported` (with the reason) and the Python
+explorer runs instead.
+
+It is one module of some 1,300 lines because the generator (IR -> C), the codec between Python
+values and the C encoding (which the generator fixes while it writes the code) and the explorer
+that packs, decodes and replays states share one layout; split, each part would reach into the
+others' tables.
 """
 from __future__ import annotations
 
@@ -31,7 +41,7 @@ from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue
+from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
 from . import native_build
 from .native_build import Unsupported
 
@@ -60,6 +70,10 @@ class Codec:
                     self.abstract_ids[e] = len(self.abstract_ids)
         self.abstract_by_id = {i: e for e, i in self.abstract_ids.items()}
         self.enum_base: dict = {}
+        self.comp: list = []             # composite values met while generating: (kind, element codes)
+        self.comp_ids: dict = {}
+        self.frozen = False
+        self.dll = None
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -82,7 +96,59 @@ class Codec:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
             return (1 << 40) + self.abstract_ids[v]
+        if t is SeqV or t is tuple or t is str or t is SetV:
+            kind = {SeqV: 1, tuple: 2, str: 3, SetV: 4}[t]
+            if t is str:
+                codes = tuple(ord(ch) for ch in v)
+            else:
+                codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
+                if t is SetV:
+                    codes = tuple(sorted(set(codes)))
+            key = (kind, codes)
+            i = self.comp_ids.get(key)
+            if i is None:
+                if self.frozen:
+                    raise Unsupported("a composite value met after the code was generated")
+                i = self.comp_ids[key] = len(self.comp)
+                self.comp.append(key)
+            return i
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def from_c(self, x: int, typ):
+        """The Python value of the int64 ``x`` of static type ``typ``."""
+        if x == UNDEF_V:
+            return None
+        r = T.root(typ)
+        if r is T.BOOLEAN:
+            return bool(x)
+        if r in (T.INTEGER, T.NATURAL):
+            return x
+        if r is T.STRING:
+            return "".join(chr(e) for e in self.fetch(x)[1])
+        if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
+            key = self.fetch(x)
+            kind, elems = key
+            if r.kind == "Seq":
+                return SeqV(self.from_c(e, r.args[0]) for e in elems)
+            if r.kind == "Powerset":
+                return SetV(self.from_c(e, r.args[0]) for e in elems)
+            return tuple(self.from_c(e, a) for e, a in zip(elems, r.args))
+        if x >= 1 << 40:
+            return self.abstract_by_id[x - (1 << 40)]
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            for e in r.elements:
+                if self.to_c(e) == x:
+                    return e
+        raise Unsupported(f"a value of type {typ} that the native search cannot decode")
+
+    def fetch(self, i: int):
+        if i < len(self.comp):
+            return self.comp[i]
+        dll = self.dll
+        n = dll.asm_value_len(i)
+        buf = (ctypes.c_int64 * max(n, 1))()
+        kind = dll.asm_value_elems(i, buf)
+        return kind, tuple(buf[:n])
 
     def literal(self, v) -> str:
         x = self.to_c(v)
@@ -100,6 +166,8 @@ class Generator:
         self.slots: list = []            # slot -> location key
         self.slot_of: dict = {}
         self.slot_values: list = []      # slot -> list of Python values (codes), undef last
+        self.slot_types: list = []       # slot -> codomain type (("map", f) for a map slot)
+        self.map_slot: dict = {}         # function index -> the slot holding its locations as a map
         self.fn_base: dict = {}          # function index -> (base slot, arg domains, codomain values)
         self.mon_base: dict = {}
         self.nmon = 0
@@ -107,6 +175,8 @@ class Generator:
         self.enc_tables: dict = {}       # codomain id -> encoder name
         self.defined_done: set = set()
         self.step_mode = False
+        self.param_uids: set = set()
+        self._plan = None
         self.step_props: list = []
         self.invars: list = []
         self.rules_done: dict = {}
@@ -118,6 +188,9 @@ class Generator:
         return f"{prefix}{self.uid}"
 
     def values_of(self, dom: T.Type) -> list:
+        if isinstance(T.root(dom), T.Struct):
+            # the values of a Powerset/Seq/... domain are not enumerated (2^n of them for a set)
+            raise Unsupported(f"ranging over the values of {dom}")
         try:
             vals = self.m.domain_values(dom, None, None)
         except Undetermined:
@@ -129,12 +202,48 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
+        if self.composite(f.codomain):
+            return None
         try:
             return self.values_of(f.codomain)
         except Unsupported:
-            if T.root(f.codomain) in (T.INTEGER, T.NATURAL):
+            r = T.root(f.codomain)
+            if r in (T.INTEGER, T.NATURAL) or self.composite(f.codomain):
                 return None
             raise
+
+    def composite(self, typ) -> bool:
+        """A sequence or tuple type over types the native search encodes."""
+        r = T.root(typ)
+        if r is T.STRING:
+            return True
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset"):
+            return False
+        for a in r.args:
+            ra = T.root(a)
+            if isinstance(ra, T.Struct) or ra is T.STRING:
+                if not self.composite(a):
+                    return False
+            elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
+                return False
+        return True
+
+    def map_function(self, f) -> bool:
+        """A function whose arguments range over an infinite domain, held as one map value: its
+        arguments and values must be scalars (integers, enums, named elements, Booleans)."""
+        def scalar(t):
+            r = T.root(t)
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+        cd = f.codomain
+        if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
+            return False
+        return bool(f.domain) and all(scalar(d) for d in f.domain) and scalar(cd)
+
+    def map_key(self, f, args: list) -> str:
+        if len(args) == 1:
+            return args[0]
+        arr = self.fresh("k")
+        return f"({{ V {arr}[{len(args)}] = {{{', '.join(args)}}}; v_intern(c, K_TUPLE, {arr}, {len(args)}); }})"
 
     def table(self, values: list) -> str:
         key = tuple(self.codec.to_c(v) for v in values)
@@ -159,7 +268,19 @@ class Generator:
                 continue
             if f.index in self.m.lazy:
                 raise Unsupported(f"the lazily initialised function {f.name}")
-            arg_values = [self.values_of(d) for d in f.domain]
+            try:
+                arg_values = [self.values_of(d) for d in f.domain]
+            except Unsupported:
+                if not self.map_function(f):
+                    raise
+                # a function over an infinite domain: its defined locations are one map value
+                s_ = len(self.slots)
+                self.slot_of[("map", f.index)] = s_
+                self.slots.append(("map", f.index))
+                self.slot_values.append(None)
+                self.slot_types.append(("map", f))
+                self.map_slot[f.index] = s_
+                continue
             cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
@@ -170,12 +291,13 @@ class Generator:
                 self.slot_of[key] = len(self.slots)
                 self.slots.append(key)
                 self.slot_values.append(cod)
+                self.slot_types.append(f.codomain)
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
         for st in self.init_states:
             for k in st:
-                if k not in self.slot_of:
+                if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
                     raise Unsupported("a location outside the finite layout")
         for f in self.spec.functions:
             if f.kind == "monitored":
@@ -227,6 +349,8 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over an infinite domain")
             base, arg_values, cod = self.mon_base[f.index]
             return f"({self.mon_reader(f)}(c{''.join(', ' + a for a in args)}))"
+        if f.index in self.map_slot:
+            return f"map_get(c->rd[{self.map_slot[f.index]}], {self.map_key(f, args)})"
         if f.index not in self.fn_base:
             raise Unsupported(f"the function {f.name}")
         return f"({self.reader(f)}(c{''.join(', ' + a for a in args)}))"
@@ -333,8 +457,16 @@ class Generator:
     BIN = {"eq": "v_eq", "neq": "v_neq", "lt": "v_lt", "le": "v_le", "gt": "v_gt", "ge": "v_ge",
            "plus": "v_add", "minus": "v_sub", "mult": "v_mul", "min": "v_min", "max": "v_max"}
 
+    SEQ1 = {"length": "seq_len", "isEmpty": "seq_empty", "notEmpty": "seq_nonempty", "first": "seq_first",
+            "last": "seq_last"}
+    SEQ2 = {"at": "seq_at", "contains": "seq_contains", "indexOf": "seq_index_of", "count": "seq_count"}
+
     def t_Call(self, t, env):
         name = t.name
+        if t.args and self.composite(t.args[0].type):
+            return self.composite_call(t, env)
+        if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
+            return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
         for a in t.args:
             r = T.root(a.type)
             if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
@@ -379,6 +511,80 @@ class Generator:
             return args[0]
         raise Unsupported(f"the library function {name}")
 
+    def composite_call(self, t, env):
+        import re
+        name = t.name
+        r0 = T.root(t.args[0].type)
+        kind = "String" if r0 is T.STRING else r0.kind
+        args = [self.term(a, env) for a in t.args]
+        if name in ("eq", "neq") and len(args) == 2 and self.composite(t.args[1].type):
+            x, y = self.fresh(), self.fresh()
+            # undef = undef is true, undef = a value false (as for every other value)
+            return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
+        if name in ("isDef", "isUndef"):
+            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if kind == "String":
+            raise Unsupported(f"{name} on String")
+        if kind == "Powerset":
+            if name in ("size",) and len(args) == 1:
+                return f"seq_len({args[0]})"
+            if name in ("isEmpty", "notEmpty") and len(args) == 1:
+                return f"{self.SEQ1[name]}({args[0]})"
+            if name == "contains" and len(args) == 2:
+                return f"set_contains({args[0]}, {args[1]})"
+            if name == "notin" and len(args) == 2:
+                return f"v_not(set_contains({args[0]}, {args[1]}))"
+            if name == "including" and len(args) == 2:
+                return f"set_including(c, {args[0]}, {args[1]})"
+            if name == "excluding" and len(args) == 2:
+                return f"set_excluding(c, {args[0]}, {args[1]})"
+            ops = {"union": 0, "intersection": 1, "difference": 2}
+            if name in ops and len(args) == 2 and T.root(t.args[1].type) == r0:
+                return f"set_op(c, {args[0]}, {args[1]}, {ops[name]})"
+            raise Unsupported(f"{name} on {t.args[0].type}")
+        if name == "union" and len(args) == 2 and kind == "Seq":
+            return f"seq_concat(c, {args[0]}, {args[1]})"
+        if kind == "Prod":
+            m = re.fullmatch(r"#(\d+)", name)
+            k = int(m.group(1)) - 1 if m else {"first": 0, "second": 1, "third": 2, "fourth": 3, "fifth": 4,
+                                                "sixth": 5, "seventh": 6, "eighth": 7, "ninth": 8}.get(name)
+            if k is not None and len(args) == 1:
+                return f"tuple_nth({args[0]}, {k})"
+            raise Unsupported(f"{name} on {t.args[0].type}")
+        if name in self.SEQ1 and len(args) == 1:
+            return f"{self.SEQ1[name]}({args[0]})"
+        if name in self.SEQ2 and len(args) == 2:
+            return f"{self.SEQ2[name]}({args[0]}, {args[1]})"
+        if name == "append" and len(args) == 2:
+            return f"seq_append(c, {args[0]}, {args[1]})"
+        if name == "tail" and len(args) == 1:
+            return f"seq_tail(c, {args[0]})"
+        if name == "excluding" and len(args) == 2:
+            return f"seq_excluding(c, {args[0]}, {args[1]})"
+        if name == "subSequence" and len(args) == 3:
+            return f"seq_sub(c, {args[0]}, {args[1]}, {args[2]})"
+        raise Unsupported(f"{name} on {t.args[0].type}")
+
+    def t_Collection(self, t, env):
+        if t.kind not in ("seq", "set") or not self.composite(t.type):
+            raise Unsupported(f"a {t.kind} literal")
+        if t.kind == "set":
+            arr = self.fresh("e")
+            vals = [self.term(x, env) for x in t.items]
+            return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; set_make(c, {arr}, {len(vals)}); }})"
+        return self.build(1, t.items, env)
+
+    def t_TupleLit(self, t, env):
+        if not self.composite(t.type):
+            raise Unsupported(f"a tuple of type {t.type}")
+        return self.build(2, t.items, env)
+
+    def build(self, kind, items, env):
+        arr = self.fresh("e")
+        vals = [self.term(x, env) for x in items]
+        return (f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; "
+                f"v_intern(c, {kind}, {arr}, {len(vals)}); }})")
+
     def t_Cond(self, t, env):
         c = self.term(t.cond, env)
         a = self.term(t.then, env)
@@ -418,7 +624,7 @@ class Generator:
                     f"c->rd = {sv}; {r}; }})")
         loc = t.args[-1]
         f = loc.func
-        if f.index not in self.fn_base:
+        if f.index not in self.fn_base or f.index in self.map_slot:
             raise Unsupported(f"{t.op} of {f.name}")
         self.reader(f)
         args = [self.term(a, env) for a in loc.args]
@@ -451,22 +657,63 @@ class Generator:
             return vals
         raise Unsupported("ranging over a term that changes with the state")
 
+    def loop_head(self, rg, env, name, q, any_order: bool) -> str:
+        """The C loop header binding ``name`` to each value of the range ``rg``: a constant range
+        is a table in the Python engine's order; with ``any_order`` a set or sequence computed in
+        the state is walked in the order of its codes (the result must not depend on the order)."""
+        try:
+            vals = self.range_values(rg)
+        except Unsupported:
+            r = T.root(rg.type) if rg.type is not None else None
+            if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
+                raise
+            rv = self.fresh("rv")
+            return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
+                    f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
+        tab = self.table(vals)
+        return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+
+    def t_DomainTerm(self, t, env):
+        d = t.domain
+        if isinstance(d, T.Domain) and d.dynamic:
+            raise Unsupported(f"the dynamic domain {d} as a value")
+        vals = self.values_of(d)
+        if not self.composite(T.Struct("Powerset", (d,))):
+            raise Unsupported(f"the domain {d} as a value")
+        return self.codec.literal(SetV(vals))
+
+    def t_Compr(self, t, env):
+        if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
+            raise Unsupported(f"a {t.kind} comprehension")
+        env = dict(env)
+        heads = []
+        for v, rg in t.bindings:
+            q, name = self.fresh("q"), self.fresh("x")
+            heads.append(self.loop_head(rg, env, name, q, t.kind == "set"))
+            env[v.uid] = name
+        guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
+        body = self.term(t.body, env)
+        buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
+        return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
+                f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
+                f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
+                + "}" * len(heads) +
+                (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
+
     def t_Quant(self, t, env):
         env = dict(env)
         heads = []
         for v, r in t.bindings:
-            vals = self.range_values(r)
-            tab = self.table(vals)
             q = self.fresh("q")
             name = self.fresh("x")
+            heads.append(self.loop_head(r, env, name, q, True))
             env[v.uid] = name
-            heads.append((q, name, tab, len(vals)))
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         res = self.fresh("res")
         g = self.fresh("g")
         code = [f"V {res} = {1 if t.kind == 'forall' else 0}; int n_{res} = 0;"]
-        for q, name, tab, n in heads:
-            code.append(f"for (int {q} = 0; {q} < {n}; {q}++) {{ V {name} = {tab}[{q}];")
+        for h in heads:
+            code.append(h)
         code.append(f"V {g} = {guard}; if ({g} == UNDEF) {{ fail(c, E_UNDEF_GUARD, 0); }}")
         if t.kind == "forall":
             code.append(f"if ({g} == 0) {{ {res} = 0; goto end_{res}; }}")
@@ -493,6 +740,11 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if f.index in self.map_slot:
+            args = [self.term(a, env) for a in r.args]
+            v = self.fresh("v")
+            return (f"{{ V {v} = {self.term(r.value, env)}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+                    f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
         if f.index not in self.fn_base:
             raise Unsupported(f"an update of {f.name}")
         args = [self.term(a, env) for a in r.args]
@@ -502,6 +754,17 @@ class Generator:
         enc = self.encoder(f)
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
+    def r_UpdateVar(self, r, env):
+        uid = r.var.uid
+        if uid in self.param_uids:
+            # a rule parameter may stand for a location (an update of it updates that location)
+            raise Unsupported(f"an update of the rule parameter {r.var.name}")
+        name = env.get(uid)
+        if name is None:
+            raise Unsupported("a variable bound outside the translated code")
+        v = self.fresh("uv")
+        return f"{{ V {v} = {self.term(r.value, env)}; if (c->err) return; {name} = {v}; }}"
 
     def r_Block(self, r, env):
         if r.kind == "par":
@@ -599,12 +862,10 @@ class Generator:
         env = dict(env)
         heads = []
         for v, rg in r.bindings:
-            vals = self.range_values(rg)
-            tab = self.table(vals)
             q = self.fresh("q")
             name = self.fresh("x")
+            heads.append(self.loop_head(rg, env, name, q, True))
             env[v.uid] = name
-            heads.append(f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];")
         g = self.fresh("g")
         guard = self.term(r.guard, env) if r.guard is not None else "(V)1"
         body = self.rule(r.body, env)
@@ -678,6 +939,7 @@ class Generator:
         env = {}
         params = []
         for p in rd.params:
+            self.param_uids.add(p.uid)
             v = f"p{p.uid}"
             env[p.uid] = v
             params.append(v)
@@ -700,6 +962,9 @@ class Generator:
             steps.append(self.term(p.prop.body, {}))
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
+        for st in self.init_states:
+            self.pack_values(st)
+        self.codec.frozen = True
         nslots = len(self.slots)
         bits = [64 if vals is None else _ceil_log2(len(vals) + 1) for vals in self.slot_values]
         words, shifts = [], []
@@ -730,11 +995,15 @@ class Generator:
         nwords = max(nxt, 1)
         self.words, self.shifts, self.bits = words, shifts, bits
         self.nwords = nwords
-        head = [f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
+        seed = []
+        for kind, elems in self.codec.comp:
+            seed += [kind, len(elems), *elems]
+        head = [f"#define NSEED {len(self.codec.comp)}",
+                f"#define NSLOTS {nslots}", f"#define NWORDS {nwords}", f"#define NMON {self.nmon}",
                 f"#define NINV {len(invs)}", f"#define NSTEP {len(steps)}", f"#define NINVAR {len(invar_terms)}"]
         rt = resources.files("asmcheck.explore").joinpath("native_rt.c").read_text()
         bfs = resources.files("asmcheck.explore").joinpath("native_bfs.c").read_text()
-        tables = []
+        tables = [f"static const int64_t SEED[] = {{{', '.join(('INT64_MIN' if x == UNDEF_V else f'{x}LL') for x in seed) or '0'}}};"]
         for key, name in self.dom_tables.items():
             vals = ", ".join("UNDEF" if x is None else f"{x}LL" for x in key) or "0"
             tables.append(f"static const V {name}[] = {{{vals}}};")
@@ -774,10 +1043,42 @@ class Generator:
         return src
 
     # -------------------------------------------------------------- packing
+    def map_value(self, st: dict, f) -> int:
+        """The number of the map holding the defined locations of ``f`` in ``st``."""
+        pairs = []
+        for k, v in st.items():
+            if type(k) is tuple and k[0] == f.index and v is not None:
+                args = k[1]
+                kc = self.codec.to_c(args[0] if len(args) == 1 else tuple(args))
+                pairs.append((kc, self.codec.to_c(v)))
+        pairs.sort()
+        key = (5, tuple(x for pr in pairs for x in pr))
+        i = self.codec.comp_ids.get(key)
+        if i is None:
+            if self.codec.frozen:
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.codec.comp_ids[key] = len(self.codec.comp)
+            self.codec.comp.append(key)
+        return i
+
+    def pack_values(self, st: dict) -> None:
+        """Give every composite value of ``st`` its number (before the code is generated)."""
+        for fi in self.map_slot:
+            self.map_value(st, self.spec.functions[fi])
+        for s, key in enumerate(self.slots):
+            if isinstance(self.slot_types[s], tuple):
+                continue
+            v = st.get(key)
+            if v is not None and self.slot_values[s] is None:
+                self.codec.to_c(v)
+
     def pack(self, st: dict) -> list[int]:
         words = [0] * self.nwords
         for s, key in enumerate(self.slots):
             vals = self.slot_values[s]
+            if isinstance(self.slot_types[s], tuple):
+                words[self.words[s]] = self.map_value(st, self.slot_types[s][1]) & MASK64
+                continue
             v = st.get(key)
             if vals is None:
                 x = self.codec.to_c(v)
@@ -793,17 +1094,34 @@ class Generator:
         return words
 
     def unpack(self, words) -> dict:
+        plan = self._plan
+        if plan is None:
+            # per slot: (key, word, shift, mask, values) for a narrow slot, (key, word, type) for a wide one
+            plan = self._plan = [
+                (key, self.words[s], self.slot_types[s], True) if isinstance(self.slot_types[s], tuple) else
+                (key, self.words[s], self.slot_types[s]) if self.slot_values[s] is None else
+                (key, self.words[s], self.shifts[s], (1 << self.bits[s]) - 1, self.slot_values[s])
+                for s, key in enumerate(self.slots)]
         st = {}
-        for s, key in enumerate(self.slots):
-            vals = self.slot_values[s]
-            if vals is None:
-                x = words[self.words[s]]
+        from_c = self.codec.from_c
+        for p in plan:
+            if len(p) == 4:
+                f = p[2][1]
+                kind, elems = self.codec.fetch(words[p[1]])
+                dt = f.domain[0] if len(f.domain) == 1 else T.Struct("Prod", tuple(f.domain))
+                for i in range(0, len(elems), 2):
+                    k = from_c(elems[i], dt)
+                    st[(f.index, (k,) if len(f.domain) == 1 else tuple(k))] = from_c(elems[i + 1], f.codomain)
+                continue
+            if len(p) == 3:
+                x = words[p[1]]
                 if x >= 1 << 63:
                     x -= 1 << 64
                 if x != UNDEF_V:
-                    st[key] = x
+                    st[p[0]] = from_c(x, p[2])
                 continue
-            code = (words[self.words[s]] >> self.shifts[s]) & ((1 << self.bits[s]) - 1)
+            key, w, sh, mask, vals = p
+            code = (words[w] >> sh) & mask
             if code < len(vals):
                 st[key] = vals[code]
         return st
@@ -823,6 +1141,9 @@ _SYMBOLS = {
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
     "asm_err_code": (_i64, []),
+    "asm_value_len": (_i64, [_i64]),
+    "asm_value_elems": (_i64, [_i64, _i64p]),
+    "asm_values": (_i64, []),
     "asm_free": (None, []),
 }
 
@@ -857,6 +1178,7 @@ class NativeExplorer:
         self.gen.invars = self.invars
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
+        self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
@@ -870,6 +1192,7 @@ class NativeExplorer:
         self.warnings: list = []
         self._states: dict = {}
         self._parent = None
+        self._picks_cache = None
         self.nstates = 0
 
     def _growing(self, depth: int) -> list:
@@ -878,7 +1201,8 @@ class NativeExplorer:
         out = []
         buf = (ctypes.c_int64 * 3)()
         for s, vals in enumerate(g.slot_values):
-            if vals is not None:
+            typ = g.slot_types[s]
+            if vals is not None or isinstance(typ, tuple) or T.root(typ) not in (T.INTEGER, T.NATURAL):
                 continue
             self.dll.asm_range(s, buf)
             lo, hi, grew = buf[0], buf[1], buf[2]
@@ -930,6 +1254,8 @@ class NativeExplorer:
                         self.warnings.append(msg)
                         if self.warn is not None:
                             self.warn(msg)
+        if status == 7:
+            raise KeyboardInterrupt
         secs = time.perf_counter() - t0
         nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates
@@ -1006,10 +1332,11 @@ class NativeExplorer:
 
     def _step_error(self, sid, code, PseudoProperty, Violation):
         """The run-time error of a step from ``sid``, as the Python step function reports it."""
-        from ..semantics.machine import TooManySuccessors
         if code == 9:
-            e = TooManySuccessors(None, "more than 1000000 successors of one state")
-            return Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+            # the Python step function merges the alternatives of a choose that have the same
+            # effect before it counts successors: its count is not the native enumeration's
+            raise Unsupported("more than 1,000,000 sequences of choices from one state (the Python engine "
+                              "merges a choose's alternatives with the same effect before counting)")
         st = self.state(sid)
         try:
             self.m.successors(st)
@@ -1029,7 +1356,7 @@ class NativeExplorer:
         if st is None:
             buf = (ctypes.c_uint64 * self.gen.nwords)()
             self.dll.asm_state(sid, buf)
-            st = self.gen.unpack(list(buf))
+            st = self.gen.unpack(buf[:])
             if len(self._states) >= self.STATE_CACHE:
                 self._states.clear()
             self._states[sid] = st
@@ -1064,13 +1391,21 @@ class NativeExplorer:
         return None if sid < 0 else sid
 
     def picks_between(self, src: int, dst: int) -> tuple:
-        """The choices of the first step of the Python step function from ``src`` to ``dst``."""
+        """The choices of the first step of the Python step function from ``src`` to ``dst`` (the
+        successors of the last source asked for are kept: edges are read source by source)."""
         from .bfs import ReplayError
-        want = self.state(dst)
-        for log, ups, nxt, mon in self.m.successors(self.state(src)):
-            if nxt == want:
-                return tuple(c.pick for c in log)
-        raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
+        cache = self._picks_cache
+        if cache is None or cache[0] != src:
+            by_dst: dict = {}
+            for log, ups, nxt, mon in self.m.successors(self.state(src)):
+                sid = self.find(nxt)
+                if sid is not None and sid not in by_dst:
+                    by_dst[sid] = tuple(c.pick for c in log)
+            cache = self._picks_cache = (src, by_dst)
+        picks = cache[1].get(dst)
+        if picks is None:
+            raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
+        return picks
 
     def path_to(self, sid: int) -> list[int]:
         path = []

@@ -81,7 +81,7 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
 }
 
 static inline V slot_decode(int s, V code) {
-    return SLOT_BITS[s] == 64 ? code : SLOT_DECODE[s][code];
+    return (s >= NSLOTS || SLOT_BITS[s] == 64) ? code : SLOT_DECODE[s][code];
 }
 
 static void load_state(Ctx *c, const uint64_t *w) {
@@ -93,10 +93,15 @@ static void load_state(Ctx *c, const uint64_t *w) {
     }
 }
 
-static void store_state(const Ctx *c, const uint64_t *old, uint64_t *w) {
+static void store_state(Ctx *c, const uint64_t *old, uint64_t *w) {
     memcpy(w, old, NWORDS * sizeof(uint64_t));
     for (int i = 0; i < c->nupd; i++) {
         int s = c->upd_slot[i];
+        if (s >= NSLOTS) {
+            int m = c->vs_slot[s - NSLOTS];
+            w[SLOT_WORD[m]] = (uint64_t)map_put(c, (V)w[SLOT_WORD[m]], c->vs_key[s - NSLOTS], c->upd_code[i]);
+            continue;
+        }
         if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)c->upd_code[i]; continue; }
         uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)c->upd_code[i] << SLOT_SHIFT[s]);
@@ -108,7 +113,11 @@ static Ctx ctx_static;
 /* the successor's values (for step properties and INVAR) */
 static void make_post(Ctx *c) {
     memcpy(c->post, c->cur, sizeof(c->post));
-    for (int i = 0; i < c->nupd; i++) { int s = c->upd_slot[i]; c->post[s] = slot_decode(s, c->upd_code[i]); }
+    for (int i = 0; i < c->nupd; i++) {
+        int s = c->upd_slot[i];
+        if (s >= NSLOTS) { int m = c->vs_slot[s - NSLOTS]; c->post[m] = map_put(c, c->post[m], c->vs_key[s - NSLOTS], c->upd_code[i]); }
+        else c->post[s] = slot_decode(s, c->upd_code[i]);
+    }
 }
 static uint64_t *sbuf = 0, *smask = 0;
 static int64_t cap_sbuf = 0;
@@ -186,6 +195,14 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
+    {   /* the composite values the generated code names, numbered as the generator numbered them */
+        int64_t p = 0;
+        for (int64_t i = 0; i < NSEED; i++) {
+            int kind = (int)SEED[p], n = (int)SEED[p + 1];
+            if (v_intern(0, kind, SEED + p + 2, n) != i) { S.status = 5; return 5; }
+            p += 2 + n;
+        }
+    }
     for (int64_t i = 0; i < ninit; i++) {
         int isnew;
         if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { S.status = 5; return 5; }
@@ -201,8 +218,18 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
  *      [5] error state [6] error site [7] number of violations [8] current depth [9] edges
  *      [10] clash slot, then pairs (property, state); property NINV is deadlock. */
 #define OUT_VIOL 12
+static volatile sig_atomic_t interrupted = 0;
+static void on_sigint(int sig) { (void)sig; interrupted = 1; }
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
+    /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
+    struct sigaction sa, old;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    interrupted = 0;
+    sigaction(SIGINT, &sa, &old);
     uint64_t nw[NWORDS > 0 ? NWORDS : 1];
     int64_t succ_ids[4096];
     double ts = now_seconds();
@@ -215,6 +242,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             if (S.max_seconds >= 0 && t - S.t0 >= S.max_seconds) { status = 3; goto finish; }
             if (t - ts >= slice_seconds) { status = 6; goto done; }
         }
+        if (interrupted) { status = 7; goto finish; }
         if (sid == S.level_end) {
             S.depth++;
             S.level_end = nstates;
@@ -247,6 +275,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             c->seqstart = -1;
             c->curstep = 0;
             c->self = UNDEF;
+            c->nvs = 0;
             c->gen++;
             if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
             c->err = 0;
@@ -300,6 +329,10 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
             nbuf++;
             if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
+            if ((nbuf & 4095) == 0) {
+                if (interrupted) { status = 7; goto finish; }
+                if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { status = 3; goto finish; }
+            }
         next_choice: ;
             /* the next sequence of choices */
             int j = c->pos - 1;
@@ -360,6 +393,7 @@ done:
     out[9] = S.nedges;
     out[11] = S.step_failed;
     for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
+    sigaction(SIGINT, &old, 0);
     return status;
 }
 
@@ -400,7 +434,16 @@ int64_t asm_inv_error(int64_t k) { return S.inv_err[k]; }
 
 int64_t asm_err_code(void) { return S.err_code; }
 
+int64_t asm_value_len(int64_t i) { return i < nvals ? vtab[i].len : 0; }
+int64_t asm_value_elems(int64_t i, int64_t *out) {
+    if (i >= nvals) return 0;
+    memcpy(out, vpool + vtab[i].off, vtab[i].len * sizeof(V));
+    return vtab[i].kind;
+}
+int64_t asm_values(void) { return nvals; }
+
 void asm_free(void) {
+    vt_free();
     free(sbuf); sbuf = 0; free(smask); smask = 0; cap_sbuf = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;

@@ -4,12 +4,11 @@
   toolchain shipped as the Python package ``ziglang`` (``pip install 'asmcheck[native]'``),
   run as ``python -m ziglang cc``.
 * **Cache.**  A compiled library is kept under the hash of its source, the compiler and the
-  flags, in the cache folder (``$ASMCHECK_CACHE``, else ``$XDG_CACHE_HOME/asmcheck``, else
-  ``~/.cache/asmcheck``), so a second run of the same spec compiles nothing.  The folder is
-  created with mode 0700.  A folder or a library that belongs to another user, or that
-  others may write, is never used (someone else could put code there that this process would
-  load): the library is then built in a private folder made by :func:`tempfile.mkdtemp` and
-  removed when the process ends.
+  flags, in asmcheck's private cache folder (:mod:`asmcheck.cache`: ``$ASMCHECK_CACHE``, else
+  ``$XDG_CACHE_HOME/asmcheck``, else ``~/.cache/asmcheck``, mode 0700), so a second run of the
+  same spec compiles nothing.  A library there that is a link, belongs to another user or that
+  others may write is never loaded (someone else could have put code there): it is removed
+  and built again.  Compilation writes to a temporary name in that folder and renames.
 * **Timing.**  :data:`last_compile_seconds` is the time the last :func:`build` spent in the
   compiler (0.0 on a cache hit).
 """
@@ -22,12 +21,13 @@ import os
 import re
 import shlex
 import shutil
-import stat
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from ..cache import private_cache_dir, usable_cache_file
 
 FLAGS = ["-O2", "-shared", "-fPIC"]
 INSTALL_HINT = "pip install 'asmcheck[native]'"
@@ -83,57 +83,9 @@ def compiler() -> str | None:
 
 
 # ----------------------------------------------------------------- the cache folder
-def _default_base() -> Path:
-    env = os.environ.get("ASMCHECK_CACHE")
-    if env:
-        return Path(env)
-    xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(xdg) / "asmcheck"
-
-
-def is_private(path: Path | str) -> bool:
-    """``path`` (not followed if it is a symbolic link) belongs to this user and no one else
-    may write it."""
-    try:
-        st = os.lstat(path)
-    except OSError:
-        return False
-    if stat.S_ISLNK(st.st_mode):
-        return False
-    if hasattr(os, "geteuid") and st.st_uid != os.geteuid():
-        return False
-    if st.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
-        return False
-    return True
-
-
-def _make_private_tmp() -> Path:
-    d = tempfile.mkdtemp(prefix="asmcheck-")     # mode 0700, unpredictable name
-    _private_dirs.append(d)
-    return Path(d)
-
-
-def private_cache_dir(sub: str | None = None) -> Path:
-    """A cache folder only this user can write: ``<cache>/<sub>`` (created with mode 0700).
-    When the cache folder cannot be made, or belongs to someone else, or is writable by
-    others, a fresh private folder (``tempfile.mkdtemp``, removed at exit) is returned
-    instead, never a predictable name in a shared folder."""
-    base = _default_base()
-    target = base / sub if sub else base
-    try:
-        for p in (base, target):
-            if not os.path.lexists(p):
-                os.makedirs(p, mode=0o700, exist_ok=True)
-                os.chmod(p, 0o700)
-            if not is_private(p):
-                raise PermissionError(str(p))
-        return target
-    except OSError:
-        return _make_private_tmp()
-
-
 def cache_dir() -> Path:
-    """The folder where compiled engines are kept."""
+    """The folder where compiled engines are kept: asmcheck's private cache folder
+    (:func:`asmcheck.cache.private_cache_dir`: mode 0700, never another user's or a shared one)."""
     return private_cache_dir()
 
 
@@ -199,20 +151,37 @@ def build(src: str, symbols: dict | None = None) -> ctypes.CDLL:
     cmd = compiler_command()
     folder, name = library_path(src, cmd)
     lib = folder / name
-    if os.path.lexists(lib) and not is_private(lib):
-        folder = _make_private_tmp()
+    if not usable_cache_file(lib):     # not ours, or open to others, and it cannot be removed
+        folder = Path(tempfile.mkdtemp(prefix="asmcheck-build-"))
+        _private_dirs.append(str(folder))
         lib = folder / name
-    if os.path.lexists(lib):
-        last_cache_hit = True
-    else:
-        if cmd is None:
-            raise _unsupported(NO_COMPILER)
-        t0 = time.perf_counter()
-        _compile(cmd, src, folder, lib)
-        last_compile_seconds = time.perf_counter() - t0
-    dll = _loaded.get(str(lib))
+    dll = _loaded.get(str(lib)) if os.path.lexists(lib) else None
     if dll is None:
-        dll = _loaded[str(lib)] = ctypes.CDLL(str(lib))
+        for attempt in (1, 2):
+            if os.path.lexists(lib):
+                last_cache_hit = True
+            else:
+                if cmd is None:
+                    raise _unsupported(NO_COMPILER)
+                t0 = time.perf_counter()
+                _compile(cmd, src, folder, lib)
+                last_compile_seconds = time.perf_counter() - t0
+            try:
+                dll = ctypes.CDLL(str(lib))
+                break
+            except OSError as e:
+                # a damaged cache entry (a run killed while writing, a full disk): build it again once
+                try:
+                    os.unlink(lib)
+                except OSError:
+                    pass
+                last_cache_hit = False
+                if attempt == 2 or cmd is None:
+                    raise _unsupported(f"the compiled engine cannot be loaded: {' '.join(str(e).split())[:200]}") \
+                        from None
+        _loaded[str(lib)] = dll
+    else:
+        last_cache_hit = True
     for fname, (restype, argtypes) in (symbols or {}).items():
         fn = getattr(dll, fname)
         fn.restype = restype

@@ -10,11 +10,13 @@
 #include <string.h>
 #include <time.h>
 #include <stdio.h>
+#include <signal.h>
 
 typedef int64_t V;
 #define UNDEF INT64_MIN
 #define MAXCH 4096
 #define MAXUPD 65536
+#define MAXV 4096
 
 /* error codes reported to Python */
 #define E_NONE 0
@@ -44,8 +46,12 @@ typedef struct {
     int32_t rlog_slot[MAXUPD];
     V rlog_val[MAXUPD];
     int32_t nlog;
-    uint32_t wgen[NSLOTS > 0 ? NSLOTS : 1];
-    int32_t wpos[NSLOTS > 0 ? NSLOTS : 1];   /* where the slot's latest update is in the buffer */
+    uint32_t wgen[NSLOTS + MAXV];
+    int32_t wpos[NSLOTS + MAXV];             /* where the slot's latest update is in the buffer */
+    /* virtual slots: the locations f(k) of a function held as a map value in slot vs_slot */
+    int32_t nvs;
+    int32_t vs_slot[MAXV];
+    V vs_key[MAXV];
     V self;                                  /* the agent running (self) */
     uint32_t gen;
     /* monitored values of this step */
@@ -87,6 +93,8 @@ static inline void fail(Ctx *c, int code, int site) {
  * end of the block restores the values it overwrote (c->rlog).
  */
 static inline V slot_decode(int s, V code);
+static V map_get(V m, V k);
+static V map_put(Ctx *c, V m, V k, V v);
 
 static inline void upd(Ctx *c, int slot, V code, int site) {
     if (c->err) return;
@@ -131,6 +139,12 @@ static inline void seq_step_end(Ctx *c, SeqFrame *f) {
         if (c->ustamp[i] != c->curstep) continue;
         int s = c->upd_slot[i];
         if (c->nlog >= MAXUPD) { fail(c, E_UNSUPPORTED, 0); return; }
+        if (s >= NSLOTS) {
+            int m = c->vs_slot[s - NSLOTS];
+            c->rlog_slot[c->nlog] = m; c->rlog_val[c->nlog] = c->cur[m]; c->nlog++;
+            c->cur[m] = map_put(c, c->cur[m], c->vs_key[s - NSLOTS], c->upd_code[i]);
+            continue;
+        }
         c->rlog_slot[c->nlog] = s; c->rlog_val[c->nlog] = c->cur[s]; c->nlog++;
         c->cur[s] = slot_decode(s, c->upd_code[i]);
     }
@@ -140,6 +154,7 @@ static inline int seq_step_idle(Ctx *c, SeqFrame *f, int32_t mark) {
     for (int32_t i = f->start; i < c->nupd; i++) {
         if (c->ustamp[i] != c->curstep) continue;
         int s = c->upd_slot[i];
+        if (s >= NSLOTS) { if (map_get(c->cur[c->vs_slot[s - NSLOTS]], c->vs_key[s - NSLOTS]) != c->upd_code[i]) return 0; continue; }
         if (slot_decode(s, c->upd_code[i]) != c->cur[s]) return 0;
     }
     return 1;
@@ -223,5 +238,222 @@ static inline int guard(Ctx *c, V g, int site) {
     if (g == UNDEF) { fail(c, E_UNDEF_GUARD, site); return 0; }
     return g != 0;
 }
+
+/* ------------------------------------------------------------------ the value table
+ * Composite values (sequences, tuples) are interned: a value of such a type is the number of
+ * its entry (hash-consed, so equal values have equal numbers and a state stays one word per
+ * location).  Entries are never removed during a search.
+ */
+#define K_SEQ 1
+#define K_TUPLE 2
+#define K_STRING 3
+#define K_SET 4
+#define K_MAP 5
+typedef struct { int64_t off; int32_t len; int32_t kind; } VEnt;
+static V *vpool = 0;
+static int64_t npool = 0, cap_pool = 0;
+static VEnt *vtab = 0;
+static int64_t nvals = 0, cap_vals = 0;
+static int64_t *vhash = 0;
+static uint64_t vmask = 0;
+static int vt_oom = 0;
+
+static uint64_t vt_hash(int kind, const V *e, int n) {
+    uint64_t h = 0x243f6a8885a308d3ULL ^ (uint64_t)kind * 0x9e3779b97f4a7c15ULL ^ (uint64_t)n;
+    for (int i = 0; i < n; i++) { h ^= (uint64_t)e[i]; h *= 0xff51afd7ed558ccdULL; h ^= h >> 32; }
+    return h;
+}
+
+static void vt_rehash(void) {
+    uint64_t ncap = vmask ? (vmask + 1) * 2 : 1024;
+    int64_t *nh = (int64_t *)malloc(ncap * sizeof(int64_t));
+    if (!nh) { vt_oom = 1; return; }
+    memset(nh, 0xff, ncap * sizeof(int64_t));
+    for (int64_t i = 0; i < nvals; i++) {
+        uint64_t h = vt_hash(vtab[i].kind, vpool + vtab[i].off, vtab[i].len) & (ncap - 1);
+        while (nh[h] >= 0) h = (h + 1) & (ncap - 1);
+        nh[h] = i;
+    }
+    free(vhash); vhash = nh; vmask = ncap - 1;
+}
+
+static V v_intern(Ctx *c, int kind, const V *e, int n) {
+    if ((nvals + 1) * 2 > (int64_t)(vmask + 1)) { vt_rehash(); if (vt_oom) { if (c) fail(c, E_MEMORY, 0); return UNDEF; } }
+    uint64_t h = vt_hash(kind, e, n) & vmask;
+    while (vhash[h] >= 0) {
+        VEnt *x = &vtab[vhash[h]];
+        if (x->kind == kind && x->len == n && memcmp(vpool + x->off, e, n * sizeof(V)) == 0) return vhash[h];
+        h = (h + 1) & vmask;
+    }
+    if (nvals >= cap_vals) {
+        int64_t nc = cap_vals ? cap_vals * 2 : 1024;
+        VEnt *t = (VEnt *)realloc(vtab, nc * sizeof(VEnt));
+        if (!t) { vt_oom = 1; if (c) fail(c, E_MEMORY, 0); return UNDEF; }
+        vtab = t; cap_vals = nc;
+    }
+    if (npool + n > cap_pool) {
+        int64_t nc = cap_pool ? cap_pool * 2 : 4096;
+        while (nc < npool + n) nc *= 2;
+        V *t = (V *)realloc(vpool, nc * sizeof(V));
+        if (!t) { vt_oom = 1; if (c) fail(c, E_MEMORY, 0); return UNDEF; }
+        vpool = t; cap_pool = nc;
+    }
+    memcpy(vpool + npool, e, n * sizeof(V));
+    vtab[nvals].off = npool; vtab[nvals].len = n; vtab[nvals].kind = kind;
+    npool += n;
+    vhash[h] = nvals;
+    return nvals++;
+}
+
+static void vt_free(void) {
+    free(vpool); free(vtab); free(vhash);
+    vpool = 0; vtab = 0; vhash = 0; npool = cap_pool = nvals = cap_vals = 0; vmask = 0; vt_oom = 0;
+}
+
+static inline int32_t v_len(V a) { return vtab[a].len; }
+static inline const V *v_elems(V a) { return vpool + vtab[a].off; }
+
+/* scratch space for building values (a value is built from its parts before it is interned) */
+static V vscratch[1 << 16];
+
+static V seq_append(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[n] = x;
+    return v_intern(c, K_SEQ, vscratch, n + 1);
+}
+static V seq_prepend(Ctx *c, V x, V s) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    vscratch[0] = x; memcpy(vscratch + 1, v_elems(s), n * sizeof(V));
+    return v_intern(c, K_SEQ, vscratch, n + 1);
+}
+static V seq_at(V s, V i) {
+    if (s == UNDEF || i == UNDEF) return UNDEF;
+    if (i < 0 || i >= v_len(s)) return UNDEF;
+    return v_elems(s)[i];
+}
+static V seq_len(V s) { return s == UNDEF ? UNDEF : (V)v_len(s); }
+static V seq_empty(V s) { return s == UNDEF ? UNDEF : (V)(v_len(s) == 0); }
+static V seq_nonempty(V s) { return s == UNDEF ? UNDEF : (V)(v_len(s) != 0); }
+static V seq_first(V s) { return (s == UNDEF || v_len(s) == 0) ? UNDEF : v_elems(s)[0]; }
+static V seq_last(V s) { return (s == UNDEF || v_len(s) == 0) ? UNDEF : v_elems(s)[v_len(s) - 1]; }
+static V seq_sub(Ctx *c, V s, V i, V j) {
+    if (s == UNDEF || i == UNDEF || j == UNDEF) return UNDEF;
+    int64_t n = v_len(s);
+    /* Python slice semantics */
+    if (i < 0) { i += n; if (i < 0) i = 0; } if (i > n) i = n;
+    if (j < 0) { j += n; if (j < 0) j = 0; } if (j > n) j = n;
+    if (j < i) j = i;
+    return v_intern(c, K_SEQ, v_elems(s) + i, (int)(j - i));
+}
+static V seq_tail(Ctx *c, V s) { return s == UNDEF ? UNDEF : seq_sub(c, s, 1, v_len(s) > 0 ? v_len(s) : 1); }
+static V seq_contains(V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    const V *e = v_elems(s);
+    for (int i = 0; i < v_len(s); i++) if (e[i] == x) return 1;
+    return 0;
+}
+static V seq_index_of(V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    const V *e = v_elems(s);
+    for (int i = 0; i < v_len(s); i++) if (e[i] == x) return i;
+    return -1;
+}
+static V seq_count(V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    const V *e = v_elems(s); V k = 0;
+    for (int i = 0; i < v_len(s); i++) if (e[i] == x) k++;
+    return k;
+}
+static V seq_excluding(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), k = 0, done = 0;
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) { if (!done && e[i] == x) { done = 1; continue; } vscratch[k++] = e[i]; }
+    return v_intern(c, K_SEQ, vscratch, k);
+}
+static int v_cmp(const void *a, const void *b) { V x = *(const V *)a, y = *(const V *)b; return x < y ? -1 : x > y; }
+/* a set: its elements sorted (by their int64 codes) without repetitions */
+static V set_make(Ctx *c, V *e, int n) {
+    qsort(e, n, sizeof(V), v_cmp);
+    int k = 0;
+    for (int i = 0; i < n; i++) if (k == 0 || e[k - 1] != e[i]) e[k++] = e[i];
+    return v_intern(c, K_SET, e, k);
+}
+static V set_contains(V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    const V *e = v_elems(s); int lo = 0, hi = v_len(s) - 1;
+    while (lo <= hi) { int m = (lo + hi) / 2; if (e[m] == x) return 1; if (e[m] < x) lo = m + 1; else hi = m - 1; }
+    return 0;
+}
+static V set_including(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[n] = x;
+    return set_make(c, vscratch, n + 1);
+}
+static V set_excluding(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), k = 0; const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) if (e[i] != x) vscratch[k++] = e[i];
+    return v_intern(c, K_SET, vscratch, k);
+}
+/* op 0 union, 1 intersection, 2 difference */
+static V set_op(Ctx *c, V a, V b, int op) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b), k = 0;
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    const V *x = v_elems(a), *y = v_elems(b);
+    for (int i = 0; i < n; i++) {
+        int in = set_contains(b, x[i]) == 1;
+        if (op == 0 || (op == 1 && in) || (op == 2 && !in)) vscratch[k++] = x[i];
+    }
+    if (op == 0) for (int j = 0; j < m; j++) vscratch[k++] = y[j];
+    return set_make(c, vscratch, k);
+}
+static V seq_concat(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
+    return v_intern(c, K_SEQ, vscratch, n + m);
+}
+
+/* a map: pairs (key, value) sorted by key, no undef value */
+static V map_get(V m, V k) {
+    if (m == UNDEF) return UNDEF;
+    const V *e = v_elems(m); int lo = 0, hi = v_len(m) / 2 - 1;
+    while (lo <= hi) { int mid = (lo + hi) / 2; V x = e[2 * mid]; if (x == k) return e[2 * mid + 1]; if (x < k) lo = mid + 1; else hi = mid - 1; }
+    return UNDEF;
+}
+static V map_put(Ctx *c, V m, V k, V v) {
+    int n = v_len(m) / 2, w = 0, done = 0;
+    if (2 * (n + 1) > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return m; }
+    const V *e = v_elems(m);
+    for (int i = 0; i < n; i++) {
+        if (!done && e[2 * i] >= k) {
+            done = 1;
+            if (v != UNDEF) { vscratch[w++] = k; vscratch[w++] = v; }
+            if (e[2 * i] == k) continue;
+        }
+        vscratch[w++] = e[2 * i]; vscratch[w++] = e[2 * i + 1];
+    }
+    if (!done && v != UNDEF) { vscratch[w++] = k; vscratch[w++] = v; }
+    return v_intern(c, K_MAP, vscratch, w);
+}
+/* the virtual slot of location k of the map in slot s (made on first use in this step) */
+static int vslot(Ctx *c, int s, V k) {
+    for (int i = 0; i < c->nvs; i++) if (c->vs_slot[i] == s && c->vs_key[i] == k) return NSLOTS + i;
+    if (c->nvs >= MAXV) { fail(c, E_UNSUPPORTED, 0); return -1; }
+    c->vs_slot[c->nvs] = s; c->vs_key[c->nvs] = k;
+    c->wgen[NSLOTS + c->nvs] = 0;
+    return NSLOTS + c->nvs++;
+}
+
+static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
 
 /* ------------------------------------------------------------------ the model (generated) */

@@ -65,10 +65,8 @@ class PropFile:
 
 
 def read_prop_file(path: str) -> PropFile:
-    try:
-        text = decode_source(Path(path).read_bytes())
-    except OSError as e:
-        raise AsmError(None, f"{path}: cannot read property file: {e.strerror or e}") from None
+    from ..syntax.parser import read_source_bytes
+    text = decode_source(read_source_bytes(path))      # regular files only (located error otherwise)
     SOURCES.add(path, text)
     lines = text.split("\n")
     # blank out comments (keeping columns) to find where declarations start
@@ -159,9 +157,10 @@ def strip_comments(text: str) -> str:
 
 def expected_violations(spec_path: str) -> set[str]:
     """Property names a spec declares it breaks (``// asmcheck: expect violated NAME``)."""
+    from ..syntax.parser import read_source_bytes
     try:
-        text = decode_source(Path(spec_path).read_bytes())
-    except OSError:
+        text = decode_source(read_source_bytes(spec_path))
+    except AsmError:
         return set()
     out = set()
     for m in _EXPECT.finditer(text):
@@ -247,9 +246,10 @@ def evaluate_all_step(machine, fn, state, ups, nxt, mon):
         prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
-def properties_for(spec, machine, spec_path, files=None, use_default=True):
+def properties_for(spec, machine, spec_path, files=None, use_default=True, must_apply=False):
     """(state properties, step properties, temporal properties and fairness) that apply to
-    the spec: the given files, plus by default the property files beside the specs."""
+    the spec: the given files, plus by default the property files beside the specs.  With
+    ``must_apply``, a given file whose ``applies to`` line does not name the spec is an error."""
     from . import MonitoredInvariant, StateProperty
     from ..semantics.analysis import mentions_monitored
 
@@ -267,6 +267,10 @@ def properties_for(spec, machine, spec_path, files=None, use_default=True):
         if pf.applies is None and not explicit:
             continue
         if not pf.applies_to(spec.name) and not (explicit and pf.applies is None):
+            if explicit and must_apply:
+                raise AsmTypeError(pf.applies_span, f"the property file {path} applies to "
+                                                    f"{', '.join(pf.applies)}, not to {spec.name}; fix its "
+                                                    f"'applies to' line, or leave the file out")
             continue
         for decl in pf.decls:
             prop = resolve_decl(spec, decl)

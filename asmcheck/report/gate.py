@@ -16,6 +16,7 @@ holds, declared expected           holds (expected to be violated)        fail
 incomplete                         incomplete                             incomplete
 not checked, declared expected     not checked (expected to be violated)  incomplete
 no such property, declared         no such property                       error
+no property at all                 no property checked                    error
 ================================  =====================================  ==========
 
 .. [#] A spec that declares expected violations is a seeded-bug spec: the gate checks that
@@ -148,6 +149,8 @@ def judge(row: PropertyOutcome, declares_expectations: bool, strict: bool) -> Pr
         row.status, row.label = INCOMPLETE, "not checked" + (" (expected to be violated)" if exp else "")
     elif v == "unknown":
         row.status, row.label = ERROR, "no such property"
+    elif v == "none":
+        row.status, row.label = ERROR, "no property checked"
     elif row.kind == "input":
         row.status, row.label = ERROR, "input error"
     else:
@@ -164,10 +167,11 @@ _EXPECT_LINE = re.compile(r"//[ \t]*asmcheck:[ \t]*expect[ \t]+violated[ \t]+"
 
 def expect_lines(spec_path: str) -> dict:
     """Property name -> (line, column) of the ``// asmcheck: expect violated`` comment naming it."""
-    from ..syntax.parser import decode_source
+    from ..errors import AsmError
+    from ..syntax.parser import decode_source, read_source_bytes
     try:
-        text = decode_source(Path(spec_path).read_bytes())
-    except OSError:
+        text = decode_source(read_source_bytes(spec_path))
+    except AsmError:
         return {}
     out = {}
     for n, line in enumerate(text.split("\n"), start=1):
@@ -312,6 +316,14 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
                                             location=span_location(prop.span, prop.name, root),
                                             expect_location=expect_loc(prop.name), text=property_text(prop),
                                             message=temporal_error))
+                seen.add(prop.name)
+    if incomplete:
+        # a limit stopped the search before LTL/CTL ran: the properties stay in the report
+        for prop in temporal:
+            if getattr(prop, "kind", "") in TEMPORAL_KINDS and prop.name not in seen and prop.name not in expected:
+                rows.append(PropertyOutcome(prop.name, prop.kind, "incomplete", False,
+                                            location=span_location(prop.span, prop.name, root),
+                                            text=property_text(prop), message="the exploration is incomplete"))
                 seen.add(prop.name)
     for name in sorted(expected - seen):
         prop = by_name.get(name)

@@ -14,7 +14,7 @@ def summary_table(outcomes, color: bool = False, timings: bool = True) -> list[s
             if timings:
                 row.append(f"{o.seconds:.2f}")
             rows.append((row, p.status))
-    widths = [max(len(head[i]), *(len(r[i]) for r, _ in rows)) for i in range(len(head))]
+    widths = [max([len(head[i])] + [len(r[i]) for r, _ in rows]) for i in range(len(head))]
 
     def fmt(cells, status=None):
         parts = []

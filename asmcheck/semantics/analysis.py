@@ -171,3 +171,30 @@ def infinite_ranges(t, bounded_ints: bool = False) -> list:
                 walk(v)
     walk(t)
     return out
+
+
+
+def reads_functions(t) -> set:
+    """The indexes of the functions a term reads (through the definitions of the derived and
+    static functions it reads)."""
+    out: set = set()
+    seen_funcs: set = set()
+    seen: set = set()
+
+    def walk(x):
+        if isinstance(x, (ir.Term, ir.Rule)):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Loc):
+                out.add(x.func.index)
+                if x.func.body is not None and x.func not in seen_funcs:
+                    seen_funcs.add(x.func)
+                    walk(x.func.body)
+            for v in vars(x).values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+    walk(t)
+    return out

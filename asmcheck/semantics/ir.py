@@ -361,3 +361,74 @@ class Spec:
             if i.default:
                 return i
         return None
+
+
+# ----------------------------------------------------------------- the rule call graph
+def called_rules(rule: "Rule | Term | None") -> list[RuleDecl]:
+    """The rule declarations a rule (or term) calls, in order of appearance, each once:
+    ``r[...]`` and ``r(...)`` calls, and rules written as terms (``<<r>>``, conservatively)."""
+    out: list[RuleDecl] = []
+    seen: set[int] = set()
+    todo: list = [rule]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, (CallRule, RuleRef)):
+            if id(x.rule) not in seen:
+                seen.add(id(x.rule))
+                out.append(x.rule)
+            if isinstance(x, CallRule):
+                todo.extend(reversed(x.args))
+            continue
+        if isinstance(x, (Rule, Term)):
+            todo.extend(reversed([v for k, v in vars(x).items() if k not in ("span", "type")]))
+        elif isinstance(x, (list, tuple)):
+            todo.extend(reversed(x))
+        # RuleDecl, Function, Var, types and values are not entered
+    return out
+
+
+def recursive_rules(rules: list[RuleDecl]) -> list[RuleDecl]:
+    """The rules that can call themselves, directly or through other rules (the rules of a
+    cycle of the call graph), in the order of ``rules``.  Iterative (Tarjan), linear."""
+    edges = {id(r): [c for c in called_rules(r.body)] for r in rules}
+    index: dict[int, int] = {}
+    low: dict[int, int] = {}
+    on_stack: set[int] = set()
+    stack: list[RuleDecl] = []
+    cyclic: set[int] = set()
+    counter = 0
+    for root in rules:
+        if id(root) in index:
+            continue
+        work = [(root, 0)]
+        while work:
+            node, i = work.pop()
+            nid = id(node)
+            if i == 0:
+                index[nid] = low[nid] = counter
+                counter += 1
+                stack.append(node)
+                on_stack.add(nid)
+            succ = edges.get(nid, [])
+            if i < len(succ):
+                work.append((node, i + 1))
+                nxt = succ[i]
+                if id(nxt) not in index:
+                    work.append((nxt, 0))
+                elif id(nxt) in on_stack:
+                    low[nid] = min(low[nid], index[id(nxt)])
+                continue
+            if low[nid] == index[nid]:
+                comp = []
+                while True:
+                    w = stack.pop()
+                    on_stack.discard(id(w))
+                    comp.append(w)
+                    if w is node:
+                        break
+                if len(comp) > 1 or any(c is node for c in edges.get(nid, [])):
+                    cyclic.update(id(c) for c in comp)
+            if work:
+                parent = work[-1][0]
+                low[id(parent)] = min(low[id(parent)], low[nid])
+    return [r for r in rules if id(r) in cyclic]

@@ -20,7 +20,7 @@ from . import ir
 from . import types as T
 from .state import UpdateSet, apply_updates, dom_key, is_dom_key
 from .values import SetV, show
-from .analysis import infinite_ranges, is_subdomain, mentions_monitored
+from .analysis import infinite_ranges, is_subdomain, mentions_monitored, reads_functions
 from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors)
 from .rules import MAX_LOOP, RuleExecutor
@@ -64,12 +64,17 @@ class Machine(TermEvaluator, RuleExecutor):
         self.dedupe = self.options.get("dedupe", True)
         init = spec.default_init
         self.lazy: dict = {}        # function index -> (params, body IR): inits over infinite domains
+        self.init_terms: dict = {}  # function index -> (params, body IR): the other inits with parameters
         if init is not None:
             for ag in init.agents:
                 self.agent_programs[ag.domain] = ag
             for func, params, body, span in init.functions:
                 if params and not self._enumerable([p.type for p in params]):
                     self.lazy[func.index] = (params, body)
+                elif params:
+                    # read at arguments outside the domain (undef), the init term gives the value,
+                    # as the simulator computes an initial value on a location's first read
+                    self.init_terms[func.index] = (params, body)
         self.keep_undef = frozenset(self.lazy)
         self._lazy_fns: dict = {}
         self.main = self.rule_fn(spec.main) if spec.main is not None else None
@@ -180,7 +185,7 @@ class Machine(TermEvaluator, RuleExecutor):
         evaluated when the location is first read (in the state of that moment)."""
         fn = self._lazy_fns.get(idx)
         if fn is None:
-            params, body = self.lazy[idx]
+            params, body = self.lazy[idx] if idx in self.lazy else self.init_terms[idx]
             uids = [p.uid for p in params]
             holder = {}
 
@@ -251,7 +256,7 @@ class Machine(TermEvaluator, RuleExecutor):
                     if isinstance(dom, T.Domain) and dom.kind == "subset" and not T.agent_like(dom) and \
                             not (isinstance(T.root(dom), T.Domain) and T.root(dom).kind == "abstract"):
                         self._domain_cache[dom] = list(v.ordered()) if isinstance(v, SetV) else list(v)
-            for func, params, body, span in init.functions:
+            for func, params, body, span in self._init_order():
                 if func.index in self.lazy:
                     continue
                 fn = self.term(body)
@@ -271,6 +276,34 @@ class Machine(TermEvaluator, RuleExecutor):
                 ctx.env = {}
         self.init_mon = ctx.mon
         return st
+
+    def _init_order(self) -> list:
+        """The function initialisations in an order where an initial value that reads another
+        function's initial value comes after it (``function current($m in Fsm) = initial($m)``).
+        ASMETA's simulator computes an initial value when the location is first read, so such
+        reads see the other initial value; otherwise the declaration order is kept."""
+        order = getattr(self, "_init_order_cache", None)
+        if order is not None:
+            return order
+        items = list(self.spec.default_init.functions)
+        index = {func.index: i for i, (func, _, _, _) in enumerate(items)}
+        deps = [sorted(index[j] for j in reads_functions(body) if j in index and index[j] != i)
+                for i, (_, _, body, _) in enumerate(items)]
+        done: list = []
+        state = [0] * len(items)        # 0 new, 1 in progress, 2 placed
+
+        def place(i):
+            if state[i]:
+                return                  # placed, or a cycle: keep the declaration order
+            state[i] = 1
+            for j in deps[i]:
+                place(j)
+            state[i] = 2
+            done.append(items[i])
+        for i in range(len(items)):
+            place(i)
+        self._init_order_cache = done
+        return done
 
     def initial_states(self, fixed=None, parse=None, limit: int = 100_000):
         """Every initial state (more than one when inits read monitored functions), with the

@@ -390,14 +390,15 @@ def resolve_type(t: A.TypeExpr, scope) -> T.Type:
 # recursion limit (deep_call), so every depth up to this one resolves.
 MAX_NESTING = 3000
 _DEEP_RECURSION = 40_000
-_DEEP_STACK = 512 * 1024 * 1024
+_DEEP_STACK = 256 * 1024 * 1024
 _deep_state = threading.local()
 _deep_lock = threading.Lock()
 
 
-def _too_deep(span: Span, what: str) -> AsmError:
-    return AsmTypeError(span, f"the spec nests too deeply: this {what} is more than {MAX_NESTING} terms and rules "
-                              f"deep (group a long sum or conjunction with parentheses, or split the rule)")
+def _too_deep(span: Span, what: str, stack: bool = False) -> AsmError:
+    how = "deeper than the stack allows" if stack else f"more than {MAX_NESTING} terms and rules deep"
+    return AsmTypeError(span, f"the spec nests too deeply: this {what} is {how} (group a long sum or conjunction "
+                              f"with parentheses, or split the rule)")
 
 
 def deep_call(fn, *args, **kwargs):
@@ -416,27 +417,34 @@ def deep_call(fn, *args, **kwargs):
         except BaseException as exc:        # handed to the caller's thread as is
             box["error"] = exc
 
+    worker = None
     with _deep_lock:
         try:
             old_stack = threading.stack_size(_DEEP_STACK)
         except (ValueError, RuntimeError):
-            return fn(*args, **kwargs)
-        old_limit = sys.getrecursionlimit()
-        sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION))
-        try:
+            old_stack = None
+        if old_stack is not None:
+            old_limit = sys.getrecursionlimit()
+            sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION))
             try:
-                worker = threading.Thread(target=run, name="asmcheck-deep", daemon=True)
-                worker.start()
-            except RuntimeError:            # no room for the stack (a memory limit): run here
-                worker = None
+                try:
+                    worker = threading.Thread(target=run, name="asmcheck-deep", daemon=True)
+                    worker.start()
+                except RuntimeError:        # no room for the stack (a memory limit)
+                    worker = None
+                finally:
+                    threading.stack_size(old_stack)
+                if worker is not None:
+                    worker.join()
             finally:
-                threading.stack_size(old_stack)
-            if worker is not None:
-                worker.join()
-        finally:
-            sys.setrecursionlimit(old_limit)
-        if worker is None:
+                sys.setrecursionlimit(old_limit)
+    if worker is None:
+        # no deep stack could be had: run here (and do not try again for nested calls)
+        _deep_state.active = True
+        try:
             return fn(*args, **kwargs)
+        finally:
+            _deep_state.active = False
     if "error" in box:
         raise box["error"]
     return box.get("value")
@@ -499,6 +507,8 @@ class Resolver:
             if self.depth > MAX_NESTING:
                 raise _too_deep(t.span, "term")
             return meth(t, env)
+        except RecursionError:          # no deep stack could be had: the error is still located
+            raise _too_deep(t.span, "term", stack=True) from None
         finally:
             self.depth -= 1
 
@@ -755,6 +765,8 @@ class Resolver:
             if self.depth > MAX_NESTING:
                 raise _too_deep(r.span, "rule")
             return meth(r, env)
+        except RecursionError:          # no deep stack could be had: the error is still located
+            raise _too_deep(r.span, "rule", stack=True) from None
         finally:
             self.depth -= 1
 

@@ -329,6 +329,8 @@ class RuleExecutor:
                     if v is NO_VALUE:
                         return False
                     if not true_guard:
+                        if ch.log and ch.log[-1].label == label:
+                            ch.log.pop()        # the value drawn is not used
                         raise AsmRuntimeError(gspan, f"choose over the infinite domain {d} with a guard: ASMETA's "
                                                      f"simulator draws a value only when the guard is true (bound "
                                                      f"the range with a subset domain or an interval)")
@@ -488,7 +490,9 @@ class RuleExecutor:
                     a.func.kind == "static"):
                 modes.append(3)
                 locs.append((a.func.index, [self.term(x) for x in a.args]))
-            elif by_name and not is_simple(a):
+            elif (by_name and not is_simple(a)) or mentions_monitored(a):
+                # by name: evaluated where the body uses it (a monitored location the body does
+                # not read is not read, as in the simulator, which substitutes macro arguments)
                 modes.append(1)
                 locs.append(None)
             else:

@@ -8,11 +8,12 @@ evaluated arguments (``None`` is undef).
 """
 from __future__ import annotations
 
-import math
 import re
 
 from . import types as T
 from .values import BagV, CharV, MapV, SeqV, SetV, show, vkey
+from .reals import (java_abs as _abs, java_div as _div, java_floor as _floor, java_max as _max, java_min as _min,
+                    java_pwr as _pwr, java_round as _round, java_rtoi as _rtoi, java_sqrt as _sqrt)
 
 SIGNATURES = """
 eq: D, D -> Boolean
@@ -428,64 +429,6 @@ def _idiv(a, b):
     return q if (a < 0) == (b < 0) else -q
 
 
-def _div(a, b):
-    """``div`` is a division of doubles (Java's ``/``): by zero it gives an infinity or NaN."""
-    if a is None or b is None:
-        return None
-    x, y = float(a), float(b)
-    if y == 0:
-        if x == 0 or x != x:
-            return math.nan
-        return math.copysign(math.inf, x) * math.copysign(1.0, y)
-    return x / y
-
-
-JAVA_LONG_MIN, JAVA_LONG_MAX = -(1 << 63), (1 << 63) - 1
-JAVA_INT_MIN, JAVA_INT_MAX = -(1 << 31), (1 << 31) - 1
-
-
-def java_to_integral(x, lo=JAVA_LONG_MIN, hi=JAVA_LONG_MAX) -> int:
-    """Java's narrowing of a double to long (or int): towards zero, NaN is 0, out of range saturates."""
-    if type(x) is int:
-        return x
-    if x != x:
-        return 0
-    if x >= hi:
-        return hi
-    if x <= lo:
-        return lo
-    return int(x)
-
-
-def java_compare(a, b) -> int:
-    """``Double.compareTo``: NaN above everything (and equal to itself), -0.0 below 0.0."""
-    def key(v):
-        v = float(v)
-        if v != v:
-            return (2, 0.0)
-        return (1, v, math.copysign(1.0, v))
-    ka, kb = key(a), key(b)
-    return (ka > kb) - (ka < kb)
-
-
-def java_pow(a, b) -> float:
-    """``Math.pow``: never fails; overflow is an infinity, a domain error NaN."""
-    x, y = float(a), float(b)
-    if y != y:
-        return math.nan
-    if y == 0:
-        return 1.0
-    if abs(x) == 1 and math.isinf(y):
-        return math.nan
-    try:
-        return math.pow(x, y)
-    except OverflowError:
-        odd = y.is_integer() and abs(y) < 2 ** 53 and int(y) % 2 == 1
-        return -math.inf if x < 0 and odd else math.inf
-    except ValueError:
-        return math.nan
-
-
 def _seq_at(s, i):
     if s is None or i is None:
         return None
@@ -801,59 +744,6 @@ def _iton(x):
     return x
 
 
-def _rtoi(x):
-    if x is None:
-        return None
-    return java_to_integral(x)
-
-
-def _round(x):
-    """``Math.round``: floor(x + 0.5) as a long (NaN is 0, saturating)."""
-    if x is None:
-        return None
-    if type(x) is int:
-        return x
-    if x != x or math.isinf(x):
-        return java_to_integral(x)
-    return java_to_integral(math.floor(x + 0.5))
-
-
-def _floor(x):
-    """ASMETA's floor of a Real narrows ``Math.floor`` to a Java int (32 bits, saturating)."""
-    if x is None:
-        return None
-    if type(x) is int:
-        return x
-    if x != x or math.isinf(x):
-        return java_to_integral(x, JAVA_INT_MIN, JAVA_INT_MAX)
-    return java_to_integral(float(math.floor(x)), JAVA_INT_MIN, JAVA_INT_MAX)
-
-
-def _abs(x):
-    """ASMETA's abs of a Real is ``d > 0 ? d : -d`` (so abs(0.0) is -0.0, and NaN stays NaN)."""
-    if x is None:
-        return None
-    if type(x) is float:
-        return x if x > 0 else -x
-    return abs(x)
-
-
-def _max(a, b):
-    if a is None or b is None:
-        return None
-    if type(a) is float or type(b) is float:
-        return a if java_compare(a, b) > 0 else b
-    return max(a, b)
-
-
-def _min(a, b):
-    if a is None or b is None:
-        return None
-    if type(a) is float or type(b) is float:
-        return a if java_compare(a, b) < 0 else b
-    return min(a, b)
-
-
 def _merge(a, b):
     if a is None or b is None:
         return None
@@ -864,22 +754,6 @@ def _assign(m, k, v):
     if m is None:
         return None
     return MapV.of(list(m) + [(k, v)])
-
-
-def _pwr(a, b):
-    if a is None or b is None:
-        return None
-    return java_pow(a, b)
-
-
-def _sqrt(a):
-    """``Math.sqrt``: NaN below zero."""
-    if a is None:
-        return None
-    a = float(a)
-    if a != a or a < 0:
-        return math.nan
-    return math.sqrt(a)
 
 
 IMPLEMENTATIONS = {

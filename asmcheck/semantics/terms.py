@@ -159,6 +159,18 @@ class TermEvaluator:
             return lazy_read
         if not args:
             return lambda ctx: ctx.st.get(idx)
+        if idx in self.init_terms:
+            init_default = self._lazy_default(idx)
+
+            def read_with_init(ctx):
+                vals = tuple(a(ctx) for a in args)
+                key = (idx, vals)
+                v = ctx.st.get(key)
+                if v is None and None in vals and key not in ctx.st:
+                    # an argument outside the domain (undef): the init term gives the value
+                    return init_default(ctx, vals)
+                return v
+            return read_with_init
         if len(args) == 1:
             a0 = args[0]
             return lambda ctx: ctx.st.get((idx, (a0(ctx),)))
