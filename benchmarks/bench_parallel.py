@@ -8,12 +8,14 @@ For each model (specs/*.asm with their property files, benchmark twins generated
 this process, the search time of:
 
 * 1 worker: the sequential explorer (asmcheck.explore.bfs.Explorer, Python engine);
-* 2 workers: the partitioned search on two forked worker processes;
+* 2 workers: the partitioned search on two forked worker processes: its wall time, and the CPU
+  time of the busiest worker plus the coordinator's ("2 idle cores": what the run would take on
+  two cores nobody else uses, the transfer of batches included);
 * 8 workers, simulated: the partitioned search with 8 partitions run one after the other in
-  this process, each partition's work timed.  The simulated wall time is, per phase of each
-  level, the time of the slowest partition, plus the coordinator's own time: what 8 idle cores
-  would take if moving the batches cost nothing.  It shows the balance of the partitioning and
-  the coordinator's share, not a measured speed-up;
+  this process, each partition's work timed in CPU time.  The simulated time is, per phase of
+  each level, the CPU time of the slowest partition, plus the coordinator's own: what 8 idle
+  cores would take if moving the batches cost nothing.  It shows the balance of the partitioning
+  and the coordinator's share, not a measured speed-up;
 * with --ray: the partitioned search on a local Ray instance with 2 actors.
 
 Every run's state and transition counts are checked against the sequential search.  It prints a
@@ -60,18 +62,18 @@ class TimedInline(InlineBackend):
     def call_all(self, method, args_list):
         out, worst = [], 0.0
         for p, a in zip(self.parts, args_list):
-            t = time.perf_counter()
+            t = time.process_time()
             out.append(getattr(p, method)(*a))
-            d = time.perf_counter() - t
+            d = time.process_time() - t
             worst = max(worst, d)
             self.busy += d
         self.slowest += worst
         return out
 
     def call(self, w, method, *args):
-        t = time.perf_counter()
+        t = time.process_time()
         r = getattr(self.parts[w], method)(*args)
-        d = time.perf_counter() - t
+        d = time.process_time() - t
         self.slowest += d
         self.busy += d
         return r
@@ -81,20 +83,25 @@ def simulated(path, n):
     m, sp, stp, kg = load(path)
     b = TimedInline(lambda: PythonExpander(m, sp, stp), n, None, kg)
     s = PartitionedSearch(b, PythonExpander(m, sp, stp), state_props=sp, step_props=stp, keep_graph=kg)
-    t = time.perf_counter()
+    t = time.process_time()
     r = s.run()
-    wall = time.perf_counter() - t
-    coordinator = wall - b.busy
+    cpu = time.process_time() - t
+    coordinator = cpu - b.busy
     return r, b.slowest + coordinator, coordinator
 
 
 def best(fn, repeat):
-    times, res = [], None
+    """(wall seconds, CPU seconds of this process, result) of the fastest of ``repeat`` runs;
+    ``fn(start)`` loads the spec, then calls ``start()`` when the search begins."""
+    runs = []
     for _ in range(repeat):
-        t = time.perf_counter()
-        res = fn()
-        times.append(time.perf_counter() - t)
-    return min(times), res
+        mark = {}
+
+        def start():
+            mark["t"], mark["c"] = time.perf_counter(), time.process_time()
+        res = fn(start)
+        runs.append((time.perf_counter() - mark["t"], time.process_time() - mark["c"], res))
+    return min(runs, key=lambda r: r[0])
 
 
 def loadavg():
@@ -129,7 +136,8 @@ def main():
     cores = len(os.sched_getaffinity(0))
     print(f"load average before: {loadavg()}; {cores} cores usable")
     print()
-    head = "| model | states | 1 worker | 2 workers (processes) | speed-up | 8 simulated | speed-up | coordinator |"
+    head = ("| model | states | 1 worker: wall (CPU) | 2 workers: wall | speed-up | 2 idle cores | speed-up "
+            "| 8 simulated | speed-up | coordinator |")
     if args.ray:
         head += " Ray, 2 actors |"
     print(head)
@@ -137,29 +145,33 @@ def main():
     for path in models:
         m, sp, stp, kg = load(path)
 
-        def seq():
+        def seq(start):
             m2, sp2, stp2, _ = load(path)
+            start()
             ex = Explorer(m2, state_props=sp2, step_props=stp2, keep_graph=kg)
             return ex.run()
 
-        def two():
+        def two(start):
             m2, sp2, stp2, _ = load(path)
+            start()
             return explore_partitioned(m2, workers=2, backend="processes", state_props=sp2, step_props=stp2,
                                        keep_graph=kg)[1]
-        t1, r1 = best(seq, args.repeat)
-        t2, r2 = best(two, args.repeat)
+        t1, c1, r1 = best(seq, args.repeat)
+        t2, c2, r2 = best(two, args.repeat)
         assert (r2.states, r2.transitions, r2.verdict) == (r1.states, r1.transitions, r1.verdict), path
+        idle2 = max(r2.worker_cpu) + c2
         r8, t8, coord = simulated(path, 8)
         assert (r8.states, r8.transitions) == (r1.states, r1.transitions), path
-        row = (f"| {path.name} | {r1.states:,} | {t1:.2f} s | {t2:.2f} s | {t1 / t2:.2f}x | {t8:.2f} s | "
-               f"{t1 / t8:.2f}x | {coord:.2f} s |")
+        row = (f"| {path.name} | {r1.states:,} | {t1:.2f} s ({c1:.2f} s) | {t2:.2f} s | {t1 / t2:.2f}x | "
+               f"{idle2:.2f} s | {c1 / idle2:.2f}x | {t8:.2f} s | {c1 / t8:.2f}x | {coord:.2f} s |")
         if args.ray:
-            def on_ray():
+            def on_ray(start):
                 m2, sp2, stp2, _ = load(path)
+                start()
                 return explore_partitioned(m2, workers=2, backend="ray", cluster="local",
                                            recipe=Recipe(str(path.resolve())), state_props=sp2, step_props=stp2,
                                            keep_graph=kg)[1]
-            tr, rr = best(on_ray, 1)
+            tr, _, rr = best(on_ray, 1)
             assert (rr.states, rr.transitions) == (r1.states, r1.transitions), path
             row += f" {tr:.2f} s |"
         print(row, flush=True)

@@ -97,3 +97,30 @@ def test_without_ray_cluster_says_how_to_get_it(tmp_path):
     assert r.returncode == 2
     assert r.stderr.strip() == ("asmcheck: error: --cluster needs Ray, an optional extra: pip install "
                                 "'asmcheck[cluster]' (or pip install 'ray[default]>=2')")
+
+
+@pytest.mark.slow
+def test_swarm_walks_as_ray_tasks_equal_the_local_walks(ray_local):
+    from asmcheck.parallel.swarm import swarm
+    path = SPECS / "buggy/sb_async_master_no_release.asm"
+    spec, m = load_spec(path)
+    sp, stp, temporal = props(spec, m, path)
+    local = swarm(m, sp, stp, 8, 25, seed=2, workers=1, temporal=temporal)
+    remote = swarm(m, sp, stp, 8, 25, seed=2, workers=2, temporal=temporal, cluster="local",
+                   recipe=Recipe(str(path.resolve())))
+    assert (remote.states_met, remote.steps_taken, remote.covered, remote.found) == \
+        (local.states_met, local.steps_taken, local.covered, local.found)
+    assert remote.steps_taken == 8 * 25
+
+
+def load_spec(path):
+    from asmcheck.props.load import load_machine
+    return load_machine(str(path), {})
+
+
+def props(spec, m, path):
+    from asmcheck.props import spec_properties
+    from asmcheck.props.files import properties_for
+    sp, stp = spec_properties(m)
+    es, est, temporal = properties_for(spec, m, str(path), None, use_default=True)
+    return sp + es, stp + est, temporal

@@ -278,3 +278,17 @@ def test_cli_worker_memory_gives_exit_3():
     assert r.returncode == 3, r.stderr
     assert "incomplete: worker 1 went over its memory share at depth 0" in r.stdout
     assert r.stdout.rstrip().endswith("verdict: incomplete")
+
+
+def test_a_time_limit_stops_at_a_level_boundary(tmp_path):
+    bench = need_bench()
+    subprocess.run([sys.executable, str(bench / "gen_swing.py"), "15", "32", str(tmp_path)], capture_output=True,
+                   text=True, check=True)
+    path = tmp_path / "swing_T15_K32.asm"          # 38,403 states: several seconds in Python
+    m, sp, stp = load(path)
+    ex, r = explore_partitioned(m, workers=2, backend="processes", state_props=sp, step_props=stp, max_seconds=0.5)
+    assert (r.verdict, r.reason) == ("incomplete", "time limit 0.5 s reached")
+    # the states of complete levels only: the count is that of a depth-bounded search
+    assert r.states == Explorer(m, state_props=sp, step_props=stp, max_depth=r.depth).run().states
+    out = run_cli("explore", str(path), "--workers", "2", "--max-seconds", "0.5")
+    assert out.returncode == 3 and "incomplete: time limit 0.5 s reached" in out.stdout

@@ -53,6 +53,10 @@ class Recipe:
     step_names: list | None = None
 
     def load(self):
+        return self.load_all()[:3]
+
+    def load_all(self):
+        """(machine, state properties, step properties, temporal properties and fairness)."""
         from ..props import spec_properties
         from ..props.files import properties_for
         from ..props.load import load_machine
@@ -69,7 +73,7 @@ class Recipe:
             state_props = [p for p in state_props if p.name in self.state_names]
         if self.step_names is not None:
             step_props = [p for p in step_props if p.name in self.step_names]
-        return machine, state_props, step_props
+        return machine, state_props, step_props, temporal
 
     def __call__(self):
         from .expand import PythonExpander
@@ -116,6 +120,8 @@ def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes"
         result = search.run()
         ex = PartitionedExplorer(machine, search, state_props, step_props, deadlock, keep_graph)
         ex.finish(result)
+        if backend != "inline":
+            result.worker_cpu = b.call_all("cpu", [()] * workers)
     finally:
         b.close()
     result.engine = "python"

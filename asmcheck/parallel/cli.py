@@ -45,7 +45,9 @@ def add_simulate_options(p) -> None:
     g.add_argument("--depth", type=int, default=DEFAULT_DEPTH, metavar="D",
                    help=f"steps per walk of --swarm (default {DEFAULT_DEPTH})")
     g.add_argument("--swarm-workers", metavar="N|auto", default="auto",
-                   help="worker processes for --swarm (default: one per core)")
+                   help="worker processes (or Ray tasks) for --swarm (default: one per core)")
+    g.add_argument("--cluster", metavar="ADDRESS|auto|local", default=None,
+                   help="run the --swarm walks as Ray tasks on this cluster (needs pip install 'asmcheck[cluster]')")
 
 
 def options(args) -> dict:
@@ -146,9 +148,18 @@ def cmd_swarm(args, model) -> int:
     seed = args.seed if args.seed is not None else 0
     fair = getattr(args, "fair", None) or []
     t0 = time.perf_counter()
+    cluster = getattr(args, "cluster", None)
+    recipe = None
+    if cluster:
+        from ..semantics.resolve import import_path
+        from .cluster import import_ray
+        import_ray()
+        recipe = Recipe(str(Path(model.path).resolve()), dict(model.options), model.prop_files,
+                        model.default_properties, list(import_path()))
     try:
         res = swarm(machine, state_props, step_props, args.swarm, args.depth, seed=seed, workers=workers,
-                    deadlock=getattr(args, "deadlock", False), temporal=temporal, fair=fair)
+                    deadlock=getattr(args, "deadlock", False), temporal=temporal, fair=fair, cluster=cluster,
+                    recipe=recipe)
     except WorkerLost as e:
         raise UsageError(str(e)) from None
     secs = time.perf_counter() - t0

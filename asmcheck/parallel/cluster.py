@@ -20,8 +20,18 @@ from .search import WorkerLost
 NO_RAY = ("--cluster needs Ray, an optional extra: pip install 'asmcheck[cluster]' "
           "(or pip install 'ray[default]>=2')")
 
-# a small local instance: this search moves pickled batches, not large arrays
-LOCAL_OBJECT_STORE = 96 * 1024 * 1024
+# the local instance's object store holds one level's batches: a fifth of the memory available,
+# from 96 MB to 1 GB (a level's batches beyond it are spilled to disk, which is slow)
+def local_object_store() -> int:
+    avail = 0
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+    except OSError:  # pragma: no cover - not Linux
+        pass
+    return max(96 << 20, min(1 << 30, avail // 5))
 
 
 def import_ray():
@@ -60,7 +70,7 @@ def connect(cluster: str, workers: int):
     env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
     try:
         if cluster == "local":
-            ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=LOCAL_OBJECT_STORE,
+            ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
                      include_dashboard=False, log_to_driver=False, runtime_env=env,
                      configure_logging=False)
         else:

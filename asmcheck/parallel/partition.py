@@ -59,6 +59,7 @@ class Partition:
         self.pending_order: list = []          # the pending frozen keys in discovery-key order
         self.candidates: list = []             # (discovery key, frozen key, picks) of every received successor
         self.sources: list = []                # (state number, distinct successors) in order, this level
+        self.local: list = []                  # this level's successors that this partition owns
         self.level_depth = 0
 
     # -------------------------------------------------------------- memory
@@ -98,7 +99,7 @@ class Partition:
         try:
             self._check_memory()
             for count, sid in enumerate(self.frontier):
-                if deadline is not None and time.monotonic() > deadline:
+                if deadline is not None and time.time() > deadline:
                     report["stopped"] = "time"
                     break
                 if (count & 63) == 0:
@@ -130,7 +131,10 @@ class Partition:
             report["stopped"] = "memory"
         report["transitions"] = transitions
         report["rss"] = rss_bytes()
-        return report, [pickle.dumps(b, protocol=pickle.HIGHEST_PROTOCOL) for b in out]
+        # this partition's own successors stay here, unpickled; its slot travels empty
+        self.local = out[self.wid]
+        return report, [b"" if w == self.wid else pickle.dumps(b, protocol=pickle.HIGHEST_PROTOCOL)
+                        for w, b in enumerate(out)]
 
     def source_counts(self) -> list:
         """(state number, distinct successors) of the states expanded at this level."""
@@ -145,9 +149,10 @@ class Partition:
         index = self.index
         pending = {}
         cands = [] if self.keep_graph else None
+        local, self.local = self.local, []
         try:
             for count, b in enumerate(batches):
-                for k, dkey, picks in pickle.loads(b):
+                for k, dkey, picks in (local if count == self.wid else pickle.loads(b)):
                     fz = x.freeze(k)
                     if cands is not None:
                         cands.append((dkey, fz, picks))
@@ -215,3 +220,7 @@ class Partition:
 
     def ping(self) -> int:
         return os.getpid()
+
+    def cpu(self) -> float:
+        """CPU seconds this worker's process has used (for benchmarks)."""
+        return time.process_time()

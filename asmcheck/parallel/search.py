@@ -85,7 +85,7 @@ class PartitionedSearch:
     # -------------------------------------------------------------- the search
     def run(self) -> Result:
         t0 = time.perf_counter()
-        deadline = None if self.max_seconds is None else time.monotonic() + self.max_seconds
+        deadline = None if self.max_seconds is None else time.time() + self.max_seconds  # wall clock: comparable across machines
         n = self.n
         all_props = self.state_props + self.step_props
         total_props = len(all_props) + (1 if self.deadlock else 0)
@@ -223,7 +223,7 @@ class PartitionedSearch:
                 self.progress(n_states, depth, transitions, time.perf_counter() - t0)
             if self.on_level is not None:
                 self.on_level(self, depth)
-            if not stop and self.max_seconds is not None and time.monotonic() > deadline and frontier_size:
+            if not stop and self.max_seconds is not None and time.time() > deadline and frontier_size:
                 incomplete = True
                 reason = f"time limit {self.max_seconds} s reached"
                 break

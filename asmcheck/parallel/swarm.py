@@ -172,11 +172,32 @@ def _walker(conn, machine, state_props, step_props, ids, depth, seed, deadlock, 
         conn.send(("err", f"{type(e).__name__}: {e}"))
 
 
+def _ray_walks(recipe, ids, depth, seed, deadlock, fair):
+    machine, state_props, step_props, temporal = recipe.load_all()
+    return run_walks(machine, state_props, step_props, ids, depth, seed, deadlock, temporal, fair)
+
+
 def swarm(machine, state_props, step_props, walks: int, depth: int, seed: int = 0, workers: int = 1,
-          deadlock=False, temporal=(), fair=()) -> SwarmResult:
-    """``walks`` random walks of up to ``depth`` steps, on ``workers`` forked processes."""
+          deadlock=False, temporal=(), fair=(), cluster=None, recipe=None) -> SwarmResult:
+    """``walks`` random walks of up to ``depth`` steps, on ``workers`` forked processes, or as
+    ``workers`` Ray tasks on ``cluster`` (each rebuilding the machine from ``recipe``)."""
     ids = list(range(walks))
     temporal = list(temporal)
+    if cluster:
+        from .cluster import connect
+        from .search import WorkerLost
+        ray, started = connect(cluster, workers)
+        try:
+            task = ray.remote(num_cpus=1, max_retries=0)(_ray_walks)
+            refs = [task.remote(recipe, ids[w::workers], depth, seed, deadlock, list(fair)) for w in range(workers)]
+            try:
+                parts = ray.get(refs)
+            except ray.exceptions.RayError as e:
+                raise WorkerLost(f"a swarm task failed ({type(e).__name__}); no result") from None
+        finally:
+            if started:
+                ray.shutdown()
+        return merge(parts, walks, depth, seed)
     if workers <= 1 or walks <= 1:
         return merge([run_walks(machine, state_props, step_props, ids, depth, seed, deadlock, temporal, fair)],
                      walks, depth, seed)
