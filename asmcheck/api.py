@@ -296,6 +296,7 @@ def scenario(path, *, max_until: int = 1000, seed=None, import_path=()):
     """Run the Avalla scenario at ``path``: an :class:`asmcheck.avalla.runner.Outcome`."""
     from .avalla.runner import run_scenario
     _set_import_path(import_path)
+    _check_readable(os.fspath(path), "scenario")
     return run_scenario(os.fspath(path), max_until=max_until, seed=seed)
 
 
@@ -645,14 +646,20 @@ class Exploration:
         """The explored state graph as a networkx MultiDiGraph (needs ``explore(graph=True)``):
         nodes are state numbers with ``label`` (the state), ``depth`` and ``initial``; edges carry
         the choices of the step."""
-        from .report.graph import state_graph
+        from .report.graph import highlight_of, state_graph
         if not getattr(self.explorer, "keep_graph", False):
             raise UsageError("the state graph was not kept: explore with graph=True")
-        return state_graph(self.explorer)
+        return state_graph(self.explorer, highlight_of(self.explorer, self.result.violations))
 
-    def write_graph(self, path: str) -> None:
-        from .report.graph import write_graph
-        write_graph(self.explorer, path)
+    def write_graph(self, path: str) -> str:
+        """Write the state graph (DOT or GraphML), counterexamples highlighted; returns a
+        warning to show ("" when none: a graph over 500 states is written, with one)."""
+        from .report.graph import READABLE_STATES, highlight_of, write_graph
+        n = write_graph(self.explorer, path, highlight_of(self.explorer, self.result.violations))
+        if n > READABLE_STATES:
+            return (f"the graph in {path} has {n:,} states; over {READABLE_STATES} a drawing of it is hard to read "
+                    f"(bound the search with --max-depth, or give fewer monitored values)")
+        return ""
 
     def write_avalla(self, out: str) -> list[str]:
         from .report.avalla_export import explore_avalla
@@ -740,6 +747,8 @@ def find_specs(paths) -> list[str]:
                 rel = f.relative_to(path)
                 if any(part.startswith(".") for part in rel.parts[:-1]):
                     continue
+                if not f.is_file():
+                    continue            # a pipe or a device named *.asm is not read while walking
                 if _is_module(f):
                     continue
                 out.append(str(f))
