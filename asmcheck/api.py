@@ -636,11 +636,13 @@ class Exploration:
             out["incomplete"] = r.reason
         return out
 
-    def outcome(self, *, strict: bool = False, root=None, avalla_dir=None, temporal_error: str = ""):
-        """This run as a gate row set (:class:`asmcheck.report.gate.SpecOutcome`)."""
+    def outcome(self, *, strict: bool = False, root=None, avalla_dir=None, temporal_error: str = "",
+                expectations: bool = True):
+        """This run as a gate row set (:class:`asmcheck.report.gate.SpecOutcome`);
+        ``expectations=False`` ignores the spec's ``// asmcheck: expect violated`` lines."""
         return _gate.build_outcome(self.model.path, self.model.spec, self.model.machine, self.explorer, self.result,
                                    self.temporal_props, self.temporal, strict=strict, root=root,
-                                   avalla_dir=avalla_dir, temporal_error=temporal_error)
+                                   avalla_dir=avalla_dir, temporal_error=temporal_error, expectations=expectations)
 
     def graph(self):
         """The explored state graph as a networkx MultiDiGraph (needs ``explore(graph=True)``):
@@ -667,7 +669,8 @@ class Exploration:
 
     def html(self) -> str:
         from .report import html as html_report
-        return html_report.html_report([self.outcome()], self.exit_code, title="asmcheck explore")
+        # one verdict: the rows are judged as explore judges (a violation fails, expected or not), as the title
+        return html_report.html_report([self.outcome(expectations=False)], self.exit_code, title="asmcheck explore")
 
     def write_html(self, path: str) -> None:
         from .report import html as html_report

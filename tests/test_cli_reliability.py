@@ -404,3 +404,14 @@ def test_the_graph_names_choices_marks_the_counterexample_and_is_valid_graphml(t
     big = write(tmp_path, COUNTER.format(bound=10**6))
     assert main(["explore", big, "--engine", "python", "--max-depth", "600", "--graph", str(tmp_path / "b.dot")]) == 3
     assert "asmcheck: warning: the graph in " in capsys.readouterr().err
+
+
+def test_explore_html_has_one_verdict(tmp_path, capsys):
+    """The title and the rows agree: explore does not judge expectations, so an expected
+    violation is a failing row under a FAIL title (the gate's check judges them)."""
+    path = write(tmp_path, "// asmcheck: expect violated inv_small\n" + COUNTER.format(bound=3))
+    html = tmp_path / "r.html"
+    assert main(["explore", path, "--engine", "python", "--max-depth", "5", "--html", str(html)]) == 1
+    text = html.read_text()
+    assert "FAIL</span> (exit 1)" in text and "violated (expected)" not in text
+    assert '<td><a href="#cx1">inv_small</a></td><td class="verdict">VIOLATED</td>' in text
