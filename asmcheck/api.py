@@ -304,6 +304,7 @@ def scenario(path, *, max_until: int = 1000, seed=None, import_path=()):
     """Run the Avalla scenario at ``path``: an :class:`asmcheck.avalla.runner.Outcome`."""
     from .avalla.runner import run_scenario
     _set_import_path(import_path)
+    _check_readable(os.fspath(path), "scenario")
     return run_scenario(os.fspath(path), max_until=max_until, seed=seed)
 
 
@@ -654,24 +655,32 @@ class Exploration:
             out["incomplete"] = r.reason
         return out
 
-    def outcome(self, *, strict: bool = False, root=None, avalla_dir=None, temporal_error: str = ""):
-        """This run as a gate row set (:class:`asmcheck.report.gate.SpecOutcome`)."""
+    def outcome(self, *, strict: bool = False, root=None, avalla_dir=None, temporal_error: str = "",
+                expectations: bool = True):
+        """This run as a gate row set (:class:`asmcheck.report.gate.SpecOutcome`);
+        ``expectations=False`` ignores the spec's ``// asmcheck: expect violated`` lines."""
         return _gate.build_outcome(self.model.path, self.model.spec, self.model.machine, self.explorer, self.result,
                                    self.temporal_props, self.temporal, strict=strict, root=root,
-                                   avalla_dir=avalla_dir, temporal_error=temporal_error)
+                                   avalla_dir=avalla_dir, temporal_error=temporal_error, expectations=expectations)
 
     def graph(self):
         """The explored state graph as a networkx MultiDiGraph (needs ``explore(graph=True)``):
         nodes are state numbers with ``label`` (the state), ``depth`` and ``initial``; edges carry
         the choices of the step."""
-        from .report.graph import state_graph
+        from .report.graph import highlight_of, state_graph
         if not getattr(self.explorer, "keep_graph", False):
             raise UsageError("the state graph was not kept: explore with graph=True")
-        return state_graph(self.explorer)
+        return state_graph(self.explorer, highlight_of(self.explorer, self.result.violations))
 
-    def write_graph(self, path: str) -> None:
-        from .report.graph import write_graph
-        write_graph(self.explorer, path)
+    def write_graph(self, path: str) -> str:
+        """Write the state graph (DOT or GraphML), counterexamples highlighted; returns a
+        warning to show ("" when none: a graph over 500 states is written, with one)."""
+        from .report.graph import READABLE_STATES, highlight_of, write_graph
+        n = write_graph(self.explorer, path, highlight_of(self.explorer, self.result.violations))
+        if n > READABLE_STATES:
+            return (f"the graph in {path} has {n:,} states; over {READABLE_STATES} a drawing of it is hard to read "
+                    f"(bound the search with --max-depth, or give fewer monitored values)")
+        return ""
 
     def write_avalla(self, out: str) -> list[str]:
         from .report.avalla_export import explore_avalla
@@ -679,7 +688,8 @@ class Exploration:
 
     def html(self) -> str:
         from .report import html as html_report
-        return html_report.html_report([self.outcome()], self.exit_code, title="asmcheck explore")
+        # one verdict: the rows are judged as explore judges (a violation fails, expected or not), as the title
+        return html_report.html_report([self.outcome(expectations=False)], self.exit_code, title="asmcheck explore")
 
     def write_html(self, path: str) -> None:
         from .report import html as html_report
@@ -759,6 +769,8 @@ def find_specs(paths) -> list[str]:
                 rel = f.relative_to(path)
                 if any(part.startswith(".") for part in rel.parts[:-1]):
                     continue
+                if not f.is_file():
+                    continue            # a pipe or a device named *.asm is not read while walking
                 if _is_module(f):
                     continue
                 out.append(str(f))

@@ -364,3 +364,54 @@ def test_output_into_a_missing_folder_is_created_and_said(tmp_path, capsys):
     plain.write_text("")
     assert main(["check", path, "--junit", str(plain / "sub" / "x.xml")]) == 2
     assert capsys.readouterr().err == f"asmcheck: error: --junit {plain / 'sub' / 'x.xml'}: {plain} is not a folder\n"
+
+
+# ----------------------------------------------------------------- 22: --graph for people
+GRAPH = """asm Graph
+import StandardLibrary
+signature:
+	enum domain Light = {RED | GREEN}
+	monitored go: Boolean
+	controlled light: Light
+	controlled c: Integer
+definitions:
+	invariant inv_c over c: c < 3
+	main rule r_main = if go then par light := GREEN c := (c + 1) mod 4 endpar
+		else choose $l in Light with true do light := $l endif
+default init s0:
+	function light = RED
+	function c = 0
+"""
+
+
+def test_the_graph_names_choices_marks_the_counterexample_and_is_valid_graphml(tmp_path, capsys):
+    import networkx as nx
+    path = write(tmp_path, GRAPH)
+    dot, gml = tmp_path / "g.dot", tmp_path / "g.graphml"
+    assert main(["explore", path, "--graph", str(dot)]) == 1
+    text = dot.read_text()
+    assert '  s0 -> s1 [label="go = false; choose at Graph.asm:11:8: $l = GREEN"];' in text
+    assert '  s0 -> s2 [label="go = true", color=red, fontcolor=red, penwidth=2];' in text
+    assert text.count(", color=red") == 4 + 3        # the 4 states and 3 steps to c = 3
+    assert main(["explore", path, "--graph", str(gml)]) == 1
+    xml = gml.read_text()
+    assert '<data key="n_initial">true</data>' in xml and "True" not in xml
+    ids = [line.split('"')[1] for line in xml.splitlines() if line.strip().startswith("<edge ")]
+    assert len(ids) == len(set(ids)) == 24
+    g = nx.read_graphml(gml)
+    assert g.nodes["s0"]["initial"] is True and g.nodes["s1"]["counterexample"] is False
+    capsys.readouterr()
+    big = write(tmp_path, COUNTER.format(bound=10**6))
+    assert main(["explore", big, "--engine", "python", "--max-depth", "600", "--graph", str(tmp_path / "b.dot")]) == 3
+    assert "asmcheck: warning: the graph in " in capsys.readouterr().err
+
+
+def test_explore_html_has_one_verdict(tmp_path, capsys):
+    """The title and the rows agree: explore does not judge expectations, so an expected
+    violation is a failing row under a FAIL title (the gate's check judges them)."""
+    path = write(tmp_path, "// asmcheck: expect violated inv_small\n" + COUNTER.format(bound=3))
+    html = tmp_path / "r.html"
+    assert main(["explore", path, "--engine", "python", "--max-depth", "5", "--html", str(html)]) == 1
+    text = html.read_text()
+    assert "FAIL</span> (exit 1)" in text and "violated (expected)" not in text
+    assert '<td><a href="#cx1">inv_small</a></td><td class="verdict">VIOLATED</td>' in text

@@ -20,7 +20,7 @@ import os
 import sys
 
 from .. import api
-from .common import add_explore_options, check_output_path, color_on, explore_options, load_options
+from .common import add_explore_options, check_output_path, color_on, explore_options, load_options, writing
 
 
 def run(args) -> int:
@@ -37,7 +37,8 @@ def run(args) -> int:
     gate = api.check(paths, strict_expect=args.strict_expect, avalla_dir=args.avalla, **opts,
                      **explore_options(args))
     code = gate.exit_code
-    gate.write(json=args.json, junit=args.junit, sarif=args.sarif, html=args.html)
+    with writing("a report", ", ".join(p for p in (args.json, args.junit, args.sarif, args.html) if p and p != "-")):
+        gate.write(json=args.json, junit=args.junit, sarif=args.sarif, html=args.html)
     if args.json == "-":
         sys.stdout.write(gate.json_text())
         return code

@@ -135,6 +135,9 @@ def check_output_path(path: str, what: str, folder_ok: bool = False) -> None:
     ``folder_ok``), not a special file, not read-only.  A missing parent folder is created
     now, and asmcheck says so on stderr."""
     target = os.path.abspath(path)
+    real = os.path.realpath(target)
+    if real.startswith(("/proc/", "/sys/", "/dev/")) or real in ("/proc", "/sys", "/dev"):
+        raise UsageError(f"{what} {path}: is a file of the system, not one asmcheck writes reports to")
     if os.path.isdir(target):
         if not folder_ok:
             raise UsageError(f"{what} {path}: is a folder; give a file name")
@@ -163,6 +166,16 @@ def check_output_path(path: str, what: str, folder_ok: bool = False) -> None:
         error(f"asmcheck: created the folder {parent} for {what}")
     elif not os.access(parent, os.W_OK | os.X_OK):
         raise UsageError(f"{what} {path}: cannot write into {parent} (permission denied)")
+
+
+@contextmanager
+def writing(what: str, path: str):
+    """Writing a report: an OSError (disk full, a file that changed since it was checked) is a
+    plain error, not an internal one."""
+    try:
+        yield
+    except OSError as e:
+        raise UsageError(f"{what} {path}: cannot write it: {e.strerror or e}") from None
 
 
 def non_negative_int(text: str) -> int:

@@ -7,7 +7,8 @@ from pathlib import Path
 from .. import api
 from ..parallel import cli as scaled
 from .common import (EXIT_ERROR, EXIT_INCOMPLETE, EXIT_OK, EXIT_VIOLATED, Progress, add_explore_options,
-                     check_output_path, color_on, error, explore_options, load_options, out, verdict_rows)
+                     check_output_path, color_on, error, explore_options, load_options, out, verdict_rows,
+                     writing)
 
 
 def run(args) -> int:
@@ -26,11 +27,16 @@ def run(args) -> int:
         error(f"asmcheck: {run_.temporal_error}")
         return EXIT_ERROR
     if args.graph:
-        run_.write_graph(args.graph)
+        with writing("--graph", args.graph):
+            warning = run_.write_graph(args.graph)
+        if warning:
+            error(f"asmcheck: warning: {warning}")
     if args.avalla and run_.traces():
-        run_.write_avalla(args.avalla)
+        with writing("--avalla", args.avalla):
+            run_.write_avalla(args.avalla)
     if args.html:
-        run_.write_html(args.html)
+        with writing("--html", args.html):
+            run_.write_html(args.html)
     code = {"violated": EXIT_VIOLATED, "incomplete": EXIT_INCOMPLETE}.get(run_.verdict, EXIT_OK)
     nothing = run_.checked == 0 and not run_.result.violations and not getattr(run_.result, "deadlock_checked", False)
     if args.format == "itf":

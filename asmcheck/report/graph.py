@@ -1,42 +1,121 @@
-"""The explored state graph as a networkx graph, written as DOT or GraphML."""
+"""The explored state graph for people: DOT or GraphML.
+
+Each edge is labelled with the choices of its step (the ``choose`` bindings and the
+monitored values read, as traces show them), found by running the step again with its
+recorded choices; the states and steps of counterexamples are highlighted.  GraphML is
+written by hand so that it is valid: ``boolean`` values are ``true``/``false`` and every
+edge has its own id.
+"""
 from __future__ import annotations
 
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from ..errors import UsageError
+from ..semantics.choice import ScriptChooser
+from ..semantics.printer import state_lines
+from .trace import choice_text, flat_choices
+
+# a graph over this many states is written, with a warning that few people can read it
+READABLE_STATES = 500
 
 
-def state_graph(explorer):
+def edge_label(machine, state: dict, picks) -> str:
+    """The choices of the step from ``state`` taken with ``picks``, as a trace names them."""
+    ch = ScriptChooser(picks)
+    try:
+        machine.step(state, ch)
+    except Exception:        # a step that fails: its choices are still those made before it failed
+        pass
+    return "; ".join(choice_text(c) for c in flat_choices(ch.log))
+
+
+def state_graph(explorer, highlight=None):
+    """A networkx MultiDiGraph of the explored states: nodes carry ``label`` (the state),
+    ``depth``, ``initial`` and ``counterexample``; edges ``choices`` (text), ``id`` and
+    ``counterexample``.  ``highlight``: (state ids, (source, target) pairs) to mark."""
     import networkx as nx
-    from ..semantics.printer import state_lines
 
+    states, steps = highlight or (set(), set())
     g = nx.MultiDiGraph()
     m = explorer.m
     for sid in range(len(explorer.frozen)):
         st = explorer.state(sid)
         g.add_node(sid, label="\n".join(state_lines(m, st)), depth=int(explorer.depth_of[sid]),
-                   initial=explorer.parent[sid] == -1)
-    for src, dst, picks in explorer.edges:
-        g.add_edge(src, dst, choices=",".join(map(str, picks)))
+                   initial=explorer.parent[sid] == -1, counterexample=sid in states)
+    for i, (src, dst, picks) in enumerate(explorer.edges):
+        g.add_edge(src, dst, key=f"e{i}", choices=edge_label(m, explorer.state(src), picks),
+                   counterexample=(src, dst) in steps)
     return g
 
 
-def write_graph(explorer, path: str) -> None:
-    import networkx as nx
+def highlight_of(explorer, violations) -> tuple[set, set]:
+    """The states and steps on the shortest paths to the given violations."""
+    states, steps = set(), set()
+    for v in violations:
+        end = v.source if v.source >= 0 else v.state
+        path = explorer.path_to(end)
+        if v.source >= 0:
+            path = path + [v.state]
+        states.update(path)
+        steps.update(zip(path, path[1:]))
+    return states, steps
 
-    g = state_graph(explorer)
+
+def _dot_text(s: str) -> str:
+    return s.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def write_graph(explorer, path: str, highlight=None) -> int:
+    """Write the graph (``.dot``/``.gv`` or ``.graphml``); returns the number of states."""
     suffix = Path(path).suffix.lower()
-    if suffix == ".graphml":
-        nx.write_graphml(g, path)
-    elif suffix in (".dot", ".gv"):
-        lines = ["digraph states {", "  node [shape=box, fontname=monospace];"]
-        for n, data in sorted(g.nodes(data=True)):
-            label = data["label"].replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\l") + "\\l"
-            extra = ", penwidth=2" if data.get("initial") else ""
-            lines.append(f'  s{n} [label="{label}"{extra}];')
-        for u, v, data in sorted(g.edges(data=True), key=lambda e: (e[0], e[1], e[2]["choices"])):
-            lines.append(f'  s{u} -> s{v} [label="{data["choices"]}"];')
-        lines.append("}")
-        Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
-    else:
+    if suffix not in (".graphml", ".dot", ".gv"):
         raise UsageError(f"--graph: write a .dot or .graphml file, not {path!r}")
+    g = state_graph(explorer, highlight)
+    if suffix == ".graphml":
+        Path(path).write_text(graphml(g), encoding="utf-8")
+        return g.number_of_nodes()
+    lines = ["digraph states {", "  node [shape=box, fontname=monospace];"]
+    for n, data in sorted(g.nodes(data=True)):
+        label = _dot_text(data["label"]).replace("\n", "\\l") + "\\l"
+        extra = ", penwidth=2" if data.get("initial") else ""
+        if data.get("counterexample"):
+            extra += ", color=red, fontcolor=red"
+        lines.append(f'  s{n} [label="{label}"{extra}];')
+    edges = sorted(g.edges(data=True), key=lambda e: (e[0], e[1], e[2]["choices"]))
+    for u, v, data in edges:
+        extra = ", color=red, fontcolor=red, penwidth=2" if data.get("counterexample") else ""
+        lines.append(f'  s{u} -> s{v} [label="{_dot_text(data["choices"])}"{extra}];')
+    lines.append("}")
+    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return g.number_of_nodes()
+
+
+def graphml(g) -> str:
+    """GraphML 1.0 of the state graph (valid against the schema)."""
+    ns = "http://graphml.graphdrawing.org/xmlns"
+    root = ET.Element("graphml", {"xmlns": ns})
+    keys = [("label", "node", "string"), ("depth", "node", "int"), ("initial", "node", "boolean"),
+            ("counterexample", "node", "boolean"), ("choices", "edge", "string"),
+            ("counterexample_edge", "edge", "boolean")]
+    for name, where, typ in keys:
+        attr = "counterexample" if name == "counterexample_edge" else name
+        ET.SubElement(root, "key", {"id": f"{where[0]}_{name}", "for": where, "attr.name": attr, "attr.type": typ})
+    graph = ET.SubElement(root, "graph", {"id": "states", "edgedefault": "directed"})
+
+    def data(parent, key, value):
+        el = ET.SubElement(parent, "data", {"key": key})
+        el.text = ("true" if value else "false") if isinstance(value, bool) else str(value)
+
+    for n, d in sorted(g.nodes(data=True)):
+        node = ET.SubElement(graph, "node", {"id": f"s{n}"})
+        data(node, "n_label", d["label"])
+        data(node, "n_depth", d["depth"])
+        data(node, "n_initial", bool(d["initial"]))
+        data(node, "n_counterexample", bool(d["counterexample"]))
+    for u, v, k, d in sorted(g.edges(keys=True, data=True), key=lambda e: int(e[2][1:])):
+        edge = ET.SubElement(graph, "edge", {"id": k, "source": f"s{u}", "target": f"s{v}"})
+        data(edge, "e_choices", d["choices"])
+        data(edge, "e_counterexample_edge", bool(d["counterexample"]))
+    ET.indent(root, space="  ")
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -53,9 +53,12 @@ def junit_xml(outcomes, timings: bool = True) -> str:
             ET.SubElement(props, "property", name=k, value=str(v))
         for p in o.properties:
             n["tests"] += 1
-            case = ET.SubElement(suite, "testcase", name=p.name, classname=_classname(o.path), file=o.path)
-            if p.location and p.location.path == o.path:
-                case.set("line", str(p.location.line))
+            # a property declared in a property file points there (file and line), one of the spec at the spec
+            where = p.location if p.location else None
+            case = ET.SubElement(suite, "testcase", name=p.name, classname=_classname(o.path),
+                                 file=where.path if where else o.path)
+            if where:
+                case.set("line", str(where.line))
             if p.status == FAIL:
                 n["failures"] += 1
                 if p.verdict == "violated":

@@ -1,0 +1,268 @@
+"""The command line under attack: arbitrary options (hypothesis), hostile output paths and
+input files, deep nesting, limits under a wall clock, Ctrl-C at any moment, memory caps.
+Whatever happens, the exit code is one of 0-3 and no output holds a Traceback or an
+'internal error'."""
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import resource
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+from asmcheck.cli import main
+
+from helpers import write
+
+ROOT = Path(__file__).resolve().parents[1]
+ENV = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+ENV.pop("ASMCHECK_DEBUG", None)
+
+SMALL = """asm Small
+import StandardLibrary
+signature:
+	enum domain Light = {RED | GREEN}
+	monitored go: Boolean
+	monitored n: Integer
+	controlled light: Light
+	controlled c: Integer
+definitions:
+	invariant inv_c over c: c < 3
+	main rule r_main = if go then par light := GREEN c := (c + 1) mod 4 endpar else light := RED endif
+default init s0:
+	function light = RED
+	function c = 0
+"""
+
+COUNTER = """asm Counter
+import StandardLibrary
+signature:
+	controlled x: Integer
+definitions:
+	invariant inv_pos over x: x >= 0
+	main rule r_main = x := x + 1
+default init s0:
+	function x = 0
+"""
+
+
+def clean(text: str) -> None:
+    assert "Traceback" not in text, text
+    assert "internal error" not in text, text
+
+
+def run_main(argv) -> tuple[int, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    return code, out.getvalue() + err.getvalue()
+
+
+# ----------------------------------------------------------------- options
+NUMBERS = st.one_of(st.integers(-10**22, 10**22).map(str), st.sampled_from(["", "-", "1e9", "nan", "inf", "0x10",
+                                                                             " 3", "3 ", "--", "-0"]))
+RANGES = st.one_of(
+    st.tuples(st.integers(-10**21, 10**21), st.integers(-10**21, 10**21)).map(lambda t: f"{t[0]}..{t[1]}"),
+    st.sampled_from(["..", "1..", "..2", "a..b", "1...3", "1..2..3", "-3..3", "0..0", ""]),
+    st.text(max_size=12))
+MONITORED = st.one_of(
+    st.tuples(st.sampled_from(["go", "n", "light", "c", "nope", "", "1x", "go go"]),
+              st.one_of(RANGES, st.sampled_from(["true", "false", "true,false", "RED", "GREEN,RED", "\"s\"",
+                                                 "1,2,3", ",", "true,"])))
+    .map(lambda t: f"{t[0]}={t[1]}"),
+    st.text(max_size=10))
+
+OPTION = st.one_of(
+    st.tuples(st.sampled_from(["--max-states", "--max-depth", "--max-seconds"]), NUMBERS),
+    st.tuples(st.just("--max-memory"), st.one_of(NUMBERS, st.sampled_from(["1K", "2G", "0", "1.5M", "x"]))),
+    st.tuples(st.just("--int-range"), RANGES),
+    st.tuples(st.just("--monitored"), MONITORED),
+    st.tuples(st.just("--engine"), st.sampled_from(["auto", "python", "native", "jit", ""])),
+    st.tuples(st.just("--fair"), st.sampled_from(["all", "Light", "Nope", ""])),
+    st.tuples(st.sampled_from(["--deadlock", "--no-default-properties"]), st.just(None)),
+    st.tuples(st.just("--format"), st.sampled_from(["text", "json", "xml"])),
+)
+
+
+def flatten(opts):
+    out = []
+    for name, value in opts:
+        out.append(name)
+        if value is not None:
+            out.append(value)
+    return out
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(OPTION, max_size=5))
+def test_explore_with_any_options_ends_well(tmp_path, opts):
+    path = write(tmp_path, SMALL)
+    argv = ["explore", path, "--max-seconds", "20", *flatten(opts)]
+    code, text = run_main(argv)
+    clean(text)
+    assert code in (0, 1, 2, 3), (argv, code, text)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.sampled_from(["check", "bmc", "simulate"]), st.lists(OPTION, max_size=4))
+def test_other_commands_with_any_options_end_well(tmp_path, command, opts):
+    path = write(tmp_path, SMALL)
+    argv = [command, path, *flatten(opts)]
+    if command == "bmc":
+        argv = [a for a in argv if a not in ("--max-states", "--max-depth", "--engine", "--fair", "--deadlock",
+                                             "--max-memory")]
+        argv += ["-k", "2"]
+    if command == "simulate":
+        argv += ["-n", "3"]
+    code, text = run_main(argv)
+    clean(text)
+    assert code in (0, 1, 2, 3), (argv, code, text)
+
+
+# ----------------------------------------------------------------- output paths
+def output_targets(tmp_path: Path) -> list[str]:
+    folder = tmp_path / "folder"
+    folder.mkdir(exist_ok=True)
+    plain = tmp_path / "plain.txt"
+    plain.write_text("x")
+    return [str(folder), str(plain / "below.dot"), "/dev/full", "/dev/null", "/proc/self/status",
+            str(tmp_path / "new" / "g.dot"), str(tmp_path / "a.graphml"), str(tmp_path / "x.html"),
+            str(tmp_path / ".."), ""]
+
+
+@pytest.mark.parametrize("opt", ["--graph", "--html", "--avalla"])
+def test_explore_outputs_anywhere_end_well(tmp_path, opt):
+    path = write(tmp_path, SMALL)
+    for target in output_targets(tmp_path):
+        code, text = run_main(["explore", path, "--monitored", "n=0", opt, target])
+        clean(text)
+        assert code in (0, 1, 2), (target, code, text)
+
+
+@pytest.mark.parametrize("opt", ["--junit", "--sarif", "--json", "--html", "--avalla"])
+def test_check_outputs_anywhere_end_well(tmp_path, opt):
+    path = write(tmp_path, SMALL)
+    for target in output_targets(tmp_path):
+        code, text = run_main(["check", path, "--monitored", "n=0", opt, target])
+        clean(text)
+        assert code in (1, 2), (target, code, text)
+
+
+# ----------------------------------------------------------------- input files
+def hostile_inputs(tmp_path: Path) -> list[str]:
+    fifo = tmp_path / "fifo.asm"
+    if not fifo.exists():
+        os.mkfifo(fifo)
+    env = tmp_path / "env.asm"
+    if not env.exists():
+        env.symlink_to("/proc/self/environ")
+    binary = tmp_path / "bin.asm"
+    binary.write_bytes(bytes(range(256)) * 4)
+    empty = tmp_path / "empty.asm"
+    empty.write_text("")
+    dangling = tmp_path / "dangling.asm"
+    if not dangling.is_symlink():
+        dangling.symlink_to(tmp_path / "nowhere.asm")
+    return [str(fifo), str(env), str(binary), str(empty), str(dangling), str(tmp_path), "/dev/null", "/dev/zero",
+            "/etc/passwd", str(tmp_path / "missing.asm"), "-"]
+
+
+@pytest.mark.parametrize("command", ["parse", "explore", "check", "simulate", "bmc"])
+def test_hostile_input_files_end_well(tmp_path, command):
+    for target in hostile_inputs(tmp_path):
+        t0 = time.monotonic()
+        code, text = run_main([command, target])
+        clean(text)
+        ok = {2}
+        if target.endswith("empty.asm") and command == "parse":
+            ok = {0}                             # an empty file is no error for the parser
+        if target == str(tmp_path) and command == "check":
+            ok = {0, 1, 2}                       # a folder is what check walks
+        assert code in ok, (target, code, text)
+        assert time.monotonic() - t0 < 30        # a fifo or /dev/zero is never read
+
+
+def test_conform_and_scenario_with_hostile_files_end_well(tmp_path):
+    path = write(tmp_path, SMALL)
+    for target in hostile_inputs(tmp_path):
+        for argv in (["conform", path, target], ["scenario", target], ["simulate", path, "--input", target]):
+            code, text = run_main(argv)
+            clean(text)
+            # an input file with no usable line leaves the monitored values to the simulator
+            assert code in ((0, 1, 2) if argv[0] == "simulate" else (1, 2)), (argv, code, text)
+
+
+# ----------------------------------------------------------------- deep nesting
+@pytest.mark.parametrize("depth", [200, 800])
+def test_deeply_nested_specs_end_well(tmp_path, depth):
+    body = "x := 1"
+    for i in range(depth):
+        body = f"if x = {i} then {body} endif"
+    text = ("asm Deep\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+            f"\tmain rule r_main = {body}\ndefault init s0:\n\tfunction x = 0\n")
+    path = write(tmp_path, text)
+    code, out = run_main(["explore", path, "--max-seconds", "30"])
+    clean(out)
+    assert code in (0, 2, 3), out
+
+
+# ----------------------------------------------------------------- limits under a wall clock
+@pytest.mark.parametrize("limit", ["1", "2.5"])
+def test_time_limits_hold_under_a_wall_clock(tmp_path, limit):
+    path = write(tmp_path, COUNTER)
+    t0 = time.monotonic()
+    res = subprocess.run([sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python",
+                          "--max-seconds", limit], capture_output=True, text=True, env=ENV, timeout=120)
+    wall = time.monotonic() - t0
+    clean(res.stdout + res.stderr)
+    assert res.returncode == 3 and f"incomplete: time limit {float(limit)} s reached" in res.stdout
+    assert wall < float(limit) + 4, wall
+
+
+# ----------------------------------------------------------------- Ctrl-C at any moment
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+@pytest.mark.parametrize("cpu", [0.0, 0.3, 1.0, 2.0])
+@pytest.mark.parametrize("command", ["explore", "check"])
+def test_sigint_at_any_moment_ends_well(tmp_path, command, cpu):
+    path = write(tmp_path, COUNTER)
+    proc = subprocess.Popen([sys.executable, "-m", "asmcheck", command, path, "--engine", "python"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    clean(out + err)
+    if proc.returncode == -signal.SIGINT:
+        # the signal came before the interpreter had set up its handler: killed, silently
+        assert cpu == 0.0 and out == "" and err == ""
+    else:
+        assert proc.returncode == 3, (out, err)
+
+
+# ----------------------------------------------------------------- memory caps
+def capped(limit_mb: int):
+    def pre():
+        resource.setrlimit(resource.RLIMIT_AS, (limit_mb * 2**20, limit_mb * 2**20))
+    return pre
+
+
+@pytest.mark.parametrize("limit_mb", [600, 800])
+def test_memory_caps_end_well(tmp_path, limit_mb):
+    path = write(tmp_path, COUNTER)
+    res = subprocess.run([sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python",
+                          "--max-seconds", "60"], capture_output=True, text=True, env=ENV, timeout=300,
+                         preexec_fn=capped(limit_mb))
+    clean(res.stdout + res.stderr)
+    assert res.returncode == 3, res.stderr
+    assert "incomplete: " in res.stdout or "out of memory" in res.stderr
