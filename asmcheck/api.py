@@ -32,7 +32,7 @@ from .props.files import properties_for, strip_comments
 from .props import spec_properties
 from .props.load import load_machine
 from .report import gate as _gate
-from .report.trace import build_trace, temporal_json, temporal_text, trace_json, trace_text
+from .report.trace import build_trace, failing_json, temporal_json, temporal_text, trace_json, trace_text
 
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
 
@@ -42,14 +42,15 @@ __all__ = ["load", "parse", "check", "Simulation", "scenario_report", "scenario_
 
 # ----------------------------------------------------------------- loading
 def load(path, *, import_path=(), monitored=None, int_range=None, properties=None,
-         default_properties: bool = True, unknown_monitored: str = "error", properties_must_apply: bool = True
-         ) -> "Model":
+         default_properties: bool = True, unknown_monitored: str = "error", properties_must_apply: bool = True,
+         max_loop=None) -> "Model":
     """Parse and type-check the spec at ``path`` (with its imports) and find the properties
     that apply to it.  Raises :class:`AsmError` (located) or :class:`UsageError`.
 
     ``unknown_monitored="ignore"`` leaves out the ``monitored`` names the spec does not
     declare at all, and ``properties_must_apply=False`` the ``properties`` files that do not
-    name it (the gate gives one set of options to many specs)."""
+    name it (the gate gives one set of options to many specs).  ``max_loop`` bounds the
+    iterations of one while/iterate within a step (10,000 by default)."""
     from .semantics.machine import Machine
     path = os.fspath(path)
     _set_import_path(import_path)
@@ -57,6 +58,8 @@ def load(path, *, import_path=(), monitored=None, int_range=None, properties=Non
     options: dict = {}
     if int_range is not None:
         options["int_range"] = parse_int_range(int_range)
+    if max_loop is not None:
+        options["max_loop"] = _max_loop(max_loop)
     spec, machine = load_machine(path, options)
     if monitored and unknown_monitored == "ignore":
         declared = {f.name for f in spec.functions}
@@ -237,9 +240,11 @@ class Model:
         tr = read_transcript(os.fspath(transcript))
         return tr, conform(self.machine, tr)
 
-    def scenario(self, path, *, max_until: int = 1000, seed=None):
-        """Run an Avalla scenario (it loads its own spec, normally this one)."""
-        return scenario(path, max_until=max_until, seed=seed)
+    def scenario(self, path, *, max_until: int = 100_000, seed=None):
+        """Run an Avalla scenario (it loads its own spec, normally this one) with this model's
+        --int-range and --max-loop."""
+        return scenario(path, max_until=max_until, seed=seed, int_range=self.options.get("int_range"),
+                        max_loop=self.options.get("max_loop"))
 
 
 class Simulation:
@@ -305,12 +310,26 @@ class ReplayMismatch(Exception):
     """A trace found by Z3 does not replay through the step function (an internal error)."""
 
 
-def scenario(path, *, max_until: int = 1000, seed=None, import_path=()):
-    """Run the Avalla scenario at ``path``: an :class:`asmcheck.avalla.runner.Outcome`."""
+def scenario(path, *, max_until: int = 100_000, seed=None, import_path=(), int_range=None, max_loop=None):
+    """Run the Avalla scenario at ``path``: an :class:`asmcheck.avalla.runner.Outcome`.
+    ``int_range`` and ``max_loop`` bound the scenario's spec as they bound :func:`load`'s (a
+    choose or quantifier over Integer, a while loop).  There is no ``monitored``: a scenario
+    gives the monitored functions their values with ``set``, as AsmetaV does."""
     from .avalla.runner import run_scenario
     _set_import_path(import_path)
     _check_readable(os.fspath(path), "scenario")
-    return run_scenario(os.fspath(path), max_until=max_until, seed=seed)
+    options: dict = {}
+    if int_range is not None:
+        options["int_range"] = parse_int_range(int_range)
+    if max_loop is not None:
+        options["max_loop"] = _max_loop(max_loop)
+    return run_scenario(os.fspath(path), max_until=max_until, seed=seed, options=options)
+
+
+def _max_loop(n) -> int:
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise UsageError(f"max_loop must be a positive number of iterations, not {n!r}")
+    return n
 
 
 # ----------------------------------------------------------------- engines
@@ -382,6 +401,16 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     from .options import unbounded_monitored
     t0 = time.perf_counter()
     unbounded_monitored(model.machine)
+    # a property that quantifies over an infinite domain cannot be evaluated: an input error at
+    # its range (as the same quantifier in a rule is), not a violation in the initial state
+    bodies = [p for p in model.spec.properties if p.kind in ("invariant", "invar")]
+    for p in list(model.state_props) + list(model.step_props):
+        ir_prop = getattr(p, "prop", None)
+        if getattr(ir_prop, "body", None) is not None and ir_prop not in bodies:
+            bodies.append(ir_prop)
+    unbounded = model.machine.unbounded_properties(bodies)
+    if unbounded:
+        raise unbounded[0]
     begin = started if started is not None else t0
     machine, spec = model.machine, model.spec
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
@@ -526,6 +555,14 @@ class Trace:
                               prop=self.prop, loop=self.loop_start)
 
 
+def _violation_json(v) -> dict:
+    out = {"property": v.property, "kind": v.trace.kind, "message": v.message, "trace": v.trace.json()}
+    failing = failing_json(v.trace.raw)
+    if failing is not None:
+        out["failing_step"] = failing
+    return out
+
+
 @dataclass
 class Violation:
     property: str
@@ -650,8 +687,7 @@ class Exploration:
             "engine": self.engine,
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
-            "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
-                            "trace": v.trace.json()} for v in self.violations if not hasattr(v.raw, "holds")]
+            "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]
                           + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
         }
         if self.engine_note:

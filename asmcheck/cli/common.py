@@ -188,11 +188,25 @@ def non_negative_int(text: str) -> int:
     return v
 
 
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number of 1 or more."""
+    import argparse
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"{v}: expected 1 or more")
+    return v
+
+
 def add_domain_options(p) -> None:
     p.add_argument("--int-range", metavar="LO..HI",
                    help="bound the Integer and Natural domains (for monitored functions and quantifiers over them)")
     p.add_argument("--monitored", action="append", metavar="NAME=LO..HI",
                    help="the values a monitored function ranges over (repeatable); also NAME=v1,v2,...")
+    p.add_argument("--max-loop", type=positive_int, metavar="N",
+                   help="the most iterations of one while/iterate within a step (default 10000)")
 
 
 def monitored_option(args) -> dict:
@@ -217,6 +231,8 @@ def load_options(args) -> dict:
     opts = {"import_path": list(getattr(args, "import_path", None) or []),
             "monitored": monitored_option(args),
             "int_range": parse_int_range(args.int_range) if getattr(args, "int_range", None) else None}
+    if getattr(args, "max_loop", None) is not None:
+        opts["max_loop"] = args.max_loop
     if hasattr(args, "properties"):
         opts["properties"] = args.properties
         opts["default_properties"] = not getattr(args, "no_default_properties", False)

@@ -5,7 +5,7 @@ import json
 import os
 
 from .. import api
-from .common import EXIT_ERROR, EXIT_OK, EXIT_VIOLATED, out
+from .common import EXIT_ERROR, EXIT_OK, EXIT_VIOLATED, add_domain_options, out
 
 
 def run(args) -> int:
@@ -14,10 +14,14 @@ def run(args) -> int:
     files = _expand(args.files)
     if not files:
         raise api.UsageError("no scenario to run (the folder has no .avalla file)")
+    if getattr(args, "monitored", None):
+        raise api.UsageError("--monitored does not apply to a scenario: its monitored functions take the values "
+                             "its set commands give, as in AsmetaV (--int-range and --max-loop do apply)")
     for path in files:
         try:
             res = api.scenario(path, max_until=args.max_until, seed=args.seed,
-                               import_path=list(getattr(args, "import_path", None) or []))
+                               import_path=list(getattr(args, "import_path", None) or []),
+                               int_range=args.int_range, max_loop=args.max_loop)
         except api.AsmError as err:
             results.append((path, None, err))
             code = EXIT_ERROR
@@ -98,7 +102,8 @@ def register(sub) -> None:
                         "spec's source coloured by coverage to OUT.html)")
     p.add_argument("-v", "--verbose", action="store_true",
                    help="also list steps, sets, picks and execs, and the values read by passed checks")
-    p.add_argument("--max-until", type=int, default=1000, metavar="N",
-                   help="the most steps one 'step until' may take (default 1000)")
+    p.add_argument("--max-until", type=int, default=100_000, metavar="N",
+                   help="the most steps one 'step until' may take (default 100000; AsmetaV has no bound)")
+    add_domain_options(p)
     p.add_argument("--seed", type=int, help="choose rules that no pick fixes take random choices from this seed")
     p.set_defaults(func=run)

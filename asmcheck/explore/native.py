@@ -39,7 +39,6 @@ from ..errors import AsmError, AsmRuntimeError
 from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
-from ..semantics.rules import MAX_LOOP
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
 from . import native_build
@@ -788,7 +787,7 @@ class Generator:
             test = ""
             idle = f"if (seq_step_idle(c, &{f}, {mark})) {{ seq_step_drop(c, {mark}); break; }}"
         return (f"{{ SeqFrame {f}; seq_begin(c, &{f}); int {n} = 0; "
-                f"for (;; {n}++) {{ if ({n} >= {MAX_LOOP}) {{ fail(c, E_MODEL, 0); break; }} {test} "
+                f"for (;; {n}++) {{ if ({n} >= {int(self.m.max_loop)}) {{ fail(c, E_MODEL, 0); break; }} {test} "
                 f"seq_step_begin(c); int32_t {mark} = c->nupd; {{ {body} }} if (c->err) break; {idle} "
                 f"seq_step_end(c, &{f}); if (c->err) break; }} "
                 f"seq_end(c, &{f}); if (c->err) return; }}")

@@ -51,6 +51,8 @@ class Trace:
     steps: list = field(default_factory=list)
     kind: str = "state"            # state: the last state violates; step: the last step does
     message: str = ""
+    # a step that fails (property 'error'): the inputs and choices it had taken when it failed
+    failing: list | None = None
 
 
 def _elements(v, out: set) -> None:
@@ -187,4 +189,6 @@ def build_trace(explorer, violation) -> Trace:
     # (state, choices, update set, monitored values[, raw successor, renaming])
     steps = trace_steps([(r[0], r[1], r[2], r[4] if len(r) > 5 else None, r[5] if len(r) > 5 else None)
                          for r in replayed])
-    return Trace(violation.prop, steps, kind, violation.message)
+    err = getattr(violation, "error", None)
+    failing = getattr(err, "choices", None) if violation.prop.name == "error" else None
+    return Trace(violation.prop, steps, kind, violation.message, list(failing) if failing is not None else None)

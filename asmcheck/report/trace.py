@@ -89,7 +89,19 @@ def trace_text(machine, trace: Trace, color: bool = False) -> list[str]:
             out.append(f"    {location_name(machine, k)} = {value_text(k, st.changed[k])}")
         if not keys and st.number > 0:
             out.append("    (no change)")
+    if trace.failing is not None:
+        ch = "; ".join(choice_text(c) for c in flat_choices(trace.failing))
+        out.append(bold(f"step {len(trace.steps)}") + (dim(f"  [{ch}]") if ch else "") +
+                   ": fails (the step cannot be made)")
     return out
+
+
+def failing_json(trace: Trace) -> dict | None:
+    """The inputs and choices of the step that fails at the end of an 'error' trace."""
+    if trace.failing is None:
+        return None
+    return {"step": len(trace.steps),
+            "choices": [{"kind": c.kind, "at": c.label, "value": json_value(c.value)} for c in trace.failing]}
 
 
 def trace_json(machine, trace: Trace) -> list[dict]:
