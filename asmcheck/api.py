@@ -99,6 +99,9 @@ def _check_readable(path: str, what: str) -> None:
     if stat.S_ISDIR(st.st_mode):
         raise AsmError(None, f"{path}: is a folder, not a {what}")
     if not stat.S_ISREG(st.st_mode):
+        # the reader's own refusal (located at 1:1, naming the kind of file), without opening it
+        from .syntax.parser import read_source_bytes
+        read_source_bytes(path)
         raise AsmError(None, f"{path}: is not a regular file; asmcheck reads a {what} only from a regular file")
 
 
@@ -811,7 +814,10 @@ def find_specs(paths) -> list[str]:
                 if any(part.startswith(".") for part in rel.parts[:-1]):
                     continue
                 if not f.is_file():
-                    continue            # a pipe or a device named *.asm is not read while walking
+                    # a pipe or a device named *.asm is not read while walking: it is listed, and the
+                    # gate reports it as an input error (it was asked to check that folder)
+                    out.append(str(f))
+                    continue
                 if _is_module(f):
                     continue
                 out.append(str(f))

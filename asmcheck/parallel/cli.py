@@ -140,7 +140,7 @@ def cmd_swarm(args, model) -> int:
     """``simulate --swarm``: print the report; returns the exit code (1: a violation found)."""
     spec, machine = model.spec, model.machine
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
-    from ..report.trace import trace_json, trace_text
+    from ..report.trace import temporal_json, temporal_text, trace_json, trace_text
     from .swarm import run_walks, swarm, swarm_traces
     if args.swarm < 1 or args.depth < 1:
         raise UsageError("--swarm and --depth expect positive numbers")
@@ -194,7 +194,7 @@ def cmd_swarm(args, model) -> int:
                "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message,
                                "walk": res.found[v.prop.name].walk, "trace": trace_json(machine, tr)}
                               for v, tr in traces]
-                             + [t.json(machine) for t in lassos],
+                             + [temporal_json(t, machine) for t in lassos],
                "verdict": "violated" if violated else "no violation found"}
         print(json.dumps(doc, indent=2))
         return 1 if violated else 0
@@ -217,7 +217,7 @@ def cmd_swarm(args, model) -> int:
             print("  " + line)
     for t in lassos:
         print()
-        for line in t.text(machine, color):
+        for line in temporal_text(t, machine, color):
             print(line)
     print("verdict: " + ("violated" if violated else
                          "no violation found (random walks prove nothing: explore does)"))

@@ -223,9 +223,21 @@ class EdgePicks:
         self.explorer = explorer
         self.src = src
         self.dst = dst
+        # an explorer that records its edges in another order (a random walk's) is looked up
+        # through an index of the first edge of each pair
+        self.index = None
+        if any(src[i] > src[i + 1] for i in range(len(src) - 1)):
+            self.index = {}
+            for i in range(len(src)):
+                self.index.setdefault((src[i], dst[i]), i)
 
     def __getitem__(self, key):
         a, b = key
+        if self.index is not None:
+            i = self.index.get((a, b))
+            if i is None:
+                raise KeyError(key)
+            return self.explorer.edges[i][2]
         src, dst = self.src, self.dst
         i = bisect_left(src, a)
         while i < len(src) and src[i] == a:
