@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import AsmError, UsageError
+from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
 from .explore.bfs import Explorer, ReplayError, Result, TimeUp
 from .semantics.choice import DeadlineReached
@@ -197,6 +198,17 @@ class Model:
                         max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
                         fair=fair, graph=graph, progress=progress, started=started, warn=warn,
                         scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory})
+
+    # ------------------------------------------------------------- swarm
+    def swarm(self, *, walks: int = 32, depth: int = 100, seed=None, workers="auto", cluster=None,
+              deadlock: bool = False, fair=(), color: bool = False):
+        """Random walks (``walks`` of up to ``depth`` steps) that check every property on every
+        state met, in parallel (``workers``, or Ray tasks on ``cluster``): a report with
+        ``json()``, ``lines`` (the text report) and ``violated``.  Random walks prove nothing;
+        :meth:`explore` does."""
+        from .parallel.run import swarm_report
+        return swarm_report(self, walks=walks, depth=depth, seed=seed, workers=workers, cluster=cluster,
+                            deadlock=deadlock, fair=fair, color=color)
 
     # ------------------------------------------------------------- simulate
     def simulate(self, steps: int = 10, *, seed=None, random: bool = False, inputs=None) -> "Simulation":
@@ -446,7 +458,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     result = None
     interrupted = False
     refused = ""
-    from .parallel import cli as scaled
+    from .parallel import run as scaled
     if scaled.wanted(workers, **(scaling or {})):
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
@@ -601,6 +613,15 @@ class Exploration:
     @property
     def verdict(self) -> str:
         return self.result.verdict
+
+    def scaling_lines(self) -> list:
+        """What a scaling mode adds to the text report (the bitstate search's miss probability)."""
+        return list(getattr(self.result, "notes", ()))
+
+    def scaling_json(self) -> dict:
+        """What a scaling mode adds to the JSON report."""
+        bits = getattr(self.result, "bitstate", None)
+        return {"bitstate": bits} if bits else {}
 
     @property
     def reason(self) -> str:

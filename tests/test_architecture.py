@@ -200,8 +200,7 @@ def test_the_command_line_uses_the_api_only():
             t = internal(target)
             if t is None or t.startswith("asmcheck.cli") or t in ("asmcheck.api", "asmcheck.version",
                                                                    "asmcheck.errors") or \
-                    t.startswith("asmcheck.review") or \
-                    t == "asmcheck.parallel.cli":         # the review tools and the scaling options, beside the API
+                    t.startswith("asmcheck.review"):      # the review tools, beside the API
                 continue
             if t == "asmcheck.lsp" and mod == "asmcheck.cli.lsp":
                 continue        # `asmcheck lsp` starts the language server, which sits beside the command line

@@ -262,7 +262,7 @@ def add_explore_options(p) -> None:
                    help="weak fairness for LTL/CTL: every agent of DOMAIN (or every choice, 'all') that is "
                         "continuously enabled eventually moves")
     add_domain_options(p)
-    from ..parallel.cli import add_explore_options as add_scaling_options
+    from .scaling import add_explore_options as add_scaling_options
     add_scaling_options(p)
 
 
@@ -281,7 +281,7 @@ def explore_options(args) -> dict:
             "max_depth": getattr(args, "max_depth", None), "max_seconds": secs,
             "max_memory": parse_size(mem) if mem is not None else None,
             "deadlock": getattr(args, "deadlock", False), "fair": list(getattr(args, "fair", []) or [])}
-    from ..parallel.cli import options as scaling_options
+    from .scaling import options as scaling_options
     opts.update(scaling_options(args))
     if secs is not None:
         opts["started"] = getattr(args, "started", None)

@@ -5,7 +5,6 @@ import json
 from pathlib import Path
 
 from .. import api
-from ..parallel import cli as scaled
 from .common import (EXIT_ERROR, EXIT_INCOMPLETE, EXIT_OK, EXIT_VIOLATED, Progress, add_explore_options,
                      check_output_path, color_on, error, explore_options, load_options, out, verdict_rows,
                      writing)
@@ -45,7 +44,7 @@ def run(args) -> int:
         return code
     if args.format == "json":
         doc = run_.json()
-        doc.update(scaled.report_json(run_.result))
+        doc.update(run_.scaling_json())
         if nothing:
             doc["verdict"] = "no property checked"
             doc["property_files"] = model.candidate_property_files()
@@ -90,7 +89,7 @@ def run(args) -> int:
                 out(f"  {f}")
     if r.reason:
         out(f"incomplete: {r.reason}")
-    for line in scaled.report_lines(r):
+    for line in run_.scaling_lines():
         out(line)
     out(f"verdict: {'no property checked' if nothing else r.verdict}")
     if args.coverage:

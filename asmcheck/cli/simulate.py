@@ -4,14 +4,22 @@ from __future__ import annotations
 import json
 
 from .. import api
-from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, load_options, out
+from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, color_on, load_options, out
 
 
 def run(args) -> int:
     opts = load_options(args)
     if getattr(args, "swarm", None) is not None:
-        from ..parallel.cli import cmd_swarm
-        return cmd_swarm(args, api.load(args.file, **opts))
+        model = api.load(args.file, **opts)
+        rep = model.swarm(walks=args.swarm, depth=args.depth, seed=args.seed,
+                          workers=getattr(args, "swarm_workers", "auto"), cluster=getattr(args, "cluster", None),
+                          deadlock=getattr(args, "deadlock", False), fair=getattr(args, "fair", None) or [],
+                          color=args.format != "json" and color_on())
+        if args.format == "json":
+            out(json.dumps(rep.json(), indent=2))
+        else:
+            out("\n".join(rep.lines))
+        return EXIT_VIOLATED if rep.violated else EXIT_OK
     model = api.load(args.file, default_properties=False, **opts)
     sim = model.simulate(args.steps, seed=args.seed, random=args.random, inputs=args.input)
     if args.format == "json":
@@ -36,6 +44,6 @@ def register(sub) -> None:
     p.add_argument("--format", choices=["text", "asmeta", "json"], default="text",
                    help="text: changes per step; asmeta: ASMETA's <State n (controlled)> blocks; json")
     add_domain_options(p)
-    from ..parallel.cli import add_simulate_options
+    from .scaling import add_simulate_options
     add_simulate_options(p)
     p.set_defaults(func=run)

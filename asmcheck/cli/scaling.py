@@ -1,0 +1,43 @@
+"""The scaling options of the command line: ``explore --workers/--cluster/--worker-memory/--bitstate``
+and ``simulate --swarm/--depth/--swarm-workers/--cluster``."""
+from __future__ import annotations
+
+from .. import api
+
+DEFAULT_WALKS = 32
+DEFAULT_DEPTH = 100
+
+
+def add_explore_options(p) -> None:
+    g = p.add_argument_group("scaling")
+    g.add_argument("--workers", metavar="N|auto", default=None,
+                   help="partition the states among N worker processes (auto: one per core); the result is "
+                        "the same as with one worker, state numbers and traces included")
+    g.add_argument("--cluster", metavar="ADDRESS|auto|local", default=None,
+                   help="run the partitioned search on a Ray cluster (local: start one on this machine); "
+                        "needs pip install 'asmcheck[cluster]'")
+    g.add_argument("--worker-memory", type=float, metavar="MB", default=None,
+                   help="resident memory each worker may use; a worker over it ends the run with a partial "
+                        "report (exit 3)")
+    g.add_argument("--bitstate", type=int, metavar="BITS", default=None,
+                   help="bitstate search: remember visited states as 3 bits in a table of 2**BITS bits; the "
+                        "report gives the probability that a state was missed")
+
+
+def add_simulate_options(p) -> None:
+    g = p.add_argument_group("swarm simulation")
+    g.add_argument("--swarm", type=int, nargs="?", const=DEFAULT_WALKS, default=None, metavar="N",
+                   help=f"run N random walks (default {DEFAULT_WALKS}) checking every property on every state "
+                        "met; prints rule coverage and the shortest violation found, replayed")
+    g.add_argument("--depth", type=int, default=DEFAULT_DEPTH, metavar="D",
+                   help=f"steps per walk of --swarm (default {DEFAULT_DEPTH})")
+    g.add_argument("--swarm-workers", metavar="N|auto", default="auto",
+                   help="worker processes (or Ray tasks) for --swarm (default: one per core)")
+    g.add_argument("--cluster", metavar="ADDRESS|auto|local", default=None,
+                   help="run the --swarm walks as Ray tasks on this cluster (needs pip install 'asmcheck[cluster]')")
+
+
+def options(args) -> dict:
+    """The scaling options of :meth:`asmcheck.Model.explore` given on the command line."""
+    return {"workers": api.parse_workers(getattr(args, "workers", None)), "cluster": getattr(args, "cluster", None),
+            "bitstate": getattr(args, "bitstate", None), "worker_memory": getattr(args, "worker_memory", None)}
