@@ -138,7 +138,8 @@ def output_targets(tmp_path: Path) -> list[str]:
 
 
 @pytest.mark.parametrize("opt", ["--graph", "--html", "--avalla"])
-def test_explore_outputs_anywhere_end_well(tmp_path, opt):
+def test_explore_outputs_anywhere_end_well(tmp_path, opt, monkeypatch):
+    monkeypatch.chdir(tmp_path)     # an empty target means the working folder: keep it out of the checkout
     path = write(tmp_path, SMALL)
     for target in output_targets(tmp_path):
         code, text = run_main(["explore", path, "--monitored", "n=0", opt, target])
@@ -147,7 +148,8 @@ def test_explore_outputs_anywhere_end_well(tmp_path, opt):
 
 
 @pytest.mark.parametrize("opt", ["--junit", "--sarif", "--json", "--html", "--avalla"])
-def test_check_outputs_anywhere_end_well(tmp_path, opt):
+def test_check_outputs_anywhere_end_well(tmp_path, opt, monkeypatch):
+    monkeypatch.chdir(tmp_path)     # an empty target means the working folder: keep it out of the checkout
     path = write(tmp_path, SMALL)
     for target in output_targets(tmp_path):
         code, text = run_main(["check", path, "--monitored", "n=0", opt, target])
