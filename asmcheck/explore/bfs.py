@@ -204,7 +204,7 @@ class Explorer:
                         continue
                     # successors
                     try:
-                        succ = m.successors(st)
+                        succ = self.admitted_successors(st)
                     except Undetermined:
                         raise
                     except AsmError as e:
@@ -214,14 +214,7 @@ class Explorer:
                         reason = reason or "a step could not be computed"
                         continue
                     targets = []
-                    for log, ups, nxt, mon in succ:
-                        if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
-                            continue
-                        picks = tuple(c.pick for c in log)
-                        raw = nxt
-                        # stored under canonical names; step properties see the successor as the step made
-                        # it, so an extend-made element keeps its identity across the step
-                        nxt = self._norm(nxt)
+                    for picks, ups, raw, nxt, mon in succ:
                         tid, new = self._add(nxt, sid, picks, depth + 1)
                         targets.append(tid)
                         if self.keep_graph:
@@ -331,7 +324,7 @@ class Explorer:
         m = self.m
         ch = ScriptChooser(self.via[first])
         st0 = self._norm(m.initial_state(ch))
-        if self.layout.freeze(st0) != self.frozen[first]:
+        if not self.is_stored(st0, first):
             raise ReplayError("the initial state does not replay")
         out = [(st0, ch.log, None, getattr(m, "init_mon", {}), None, None)]
         cur = st0
@@ -339,11 +332,28 @@ class Explorer:
             ch = ScriptChooser(picks)
             ups, raw, ctx = m.step(cur, ch)
             nxt, mapping = self.normalise(raw)
-            if self.layout.freeze(nxt) != self.frozen[dst]:
+            if not self.is_stored(nxt, dst):
                 raise ReplayError(f"step to state {dst} does not replay")
             out.append((nxt, ch.log, ups, ctx.mon, raw, mapping))
             cur = nxt
         return out
+
+    def admitted_successors(self, st: dict) -> list:
+        """The successors of ``st`` that the INVAR constraints admit, in the step function's
+        order: (choices, update set, the successor as the step made it, the same under canonical
+        names, monitored values).  An AsmError of the step is raised here, before any successor."""
+        out = []
+        for log, ups, nxt, mon in self.m.successors(st):
+            if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
+                continue
+            # stored under canonical names; step properties see the successor as the step made it,
+            # so an extend-made element keeps its identity across the step
+            out.append((tuple(c.pick for c in log), ups, nxt, self._norm(nxt), mon))
+        return out
+
+    def is_stored(self, st: dict, sid: int) -> bool:
+        """Is ``st`` (in canonical names) the stored state ``sid``?  A replay checks each step with it."""
+        return self.layout.freeze(st) == self.frozen[sid]
 
 
 class ReplayError(Exception):

@@ -96,7 +96,7 @@ class PythonExpander:
         if not successors:
             return res
         try:
-            succ = m.successors(st)
+            succ = ex.admitted_successors(st)
         except AsmError as e:
             res.error = (e.message, e)
             return res
@@ -105,12 +105,7 @@ class PythonExpander:
         targets = set()
         step_props = [(i, p) for i, p in enumerate(self.step_props) if p.name not in skip]
         out = res.succ
-        for log, ups, nxt, mon in succ:
-            if ex.invars and not (ex._invar_ok(st, mon) and ex._invar_ok(nxt)):
-                continue
-            picks = tuple(c.pick for c in log)
-            raw = nxt
-            nxt = ex._norm(nxt)
+        for picks, ups, raw, nxt, mon in succ:
             j = len(out)
             out.append((tuple(nxt.items()), picks))
             targets.add(layout.freeze(nxt))

@@ -78,20 +78,16 @@ def run_walks(machine, state_props, step_props, walk_ids, depth: int, seed: int,
             note(state_props[i].name, Found("state", i, 0, w, list(path), msg))
         for d in range(depth):
             try:
-                succ = m.successors(st)
+                succ = ex.admitted_successors(st)
             except AsmError as e:
                 note("error", Found("error", -1, d, w, list(path), e.message))
                 out.errors += 1
                 break
             options = []
-            for log, ups, nxt, mon in succ:
-                if ex.invars and not (ex._invar_ok(st, mon) and ex._invar_ok(nxt)):
-                    continue
-                picks = tuple(c.pick for c in log)
+            for picks, ups, nxt, canon, mon in succ:
                 for u in ups.locs.values():
                     if u.rule is not None:
                         out.covered.add(u.rule)
-                canon = ex._norm(nxt)
                 out.states_met += 1
                 for i, prop in enumerate(step_props):
                     try:
