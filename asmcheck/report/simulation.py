@@ -6,22 +6,7 @@ from ..semantics.printer import asmeta_state_lines, location_sort_key, location_
     show_asmeta
 from ..semantics.state import is_dom_key
 from ..semantics.values import show
-from .trace import json_value
-
-
-def choice_text(c) -> str:
-    if c.kind == "monitored":
-        return f"{c.label} = {show(c.value)}"
-    if isinstance(c.value, dict):
-        binds = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
-        return f"{c.label}: {binds}"
-    return f"{c.label}: {c.value!r}"
-
-
-def key_order(machine, k):
-    if is_dom_key(k):
-        return ("~", 0, k[1])
-    return location_sort_key(machine, k)
+from .trace import choice_text, json_value, key_order
 
 
 def _problems(st, out: list) -> bool:
