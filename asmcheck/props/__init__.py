@@ -4,6 +4,7 @@ from __future__ import annotations
 from ..errors import AsmRuntimeError
 from ..semantics.machine import Chooser, Ctx
 from ..semantics.analysis import mentions_monitored
+from ..semantics.choice import next_prefix
 
 
 class StateProperty:
@@ -73,13 +74,9 @@ def evaluate_all(machine, fn, state, mon=None):
         if mon:
             ctx.mon = dict(mon)
         yield fn(ctx)
-        log = ch.log
-        j = len(log) - 1
-        while j >= 0 and log[j].index + 1 >= log[j].n:
-            j -= 1
-        if j < 0:
+        prefix = next_prefix(ch.log)
+        if prefix is None:
             return
-        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
 def spec_properties(machine):

@@ -34,6 +34,7 @@ from ..errors import AsmError, AsmRuntimeError, AsmSyntaxError, AsmTypeError, SO
 from ..semantics import ir
 from ..semantics.machine import Chooser, Ctx
 from ..syntax.parser import decode_source, parse_term
+from ..semantics.choice import next_prefix
 
 KEYWORDS = ("invariant", "step", "LTLSPEC", "ltlspec", "CTLSPEC", "ctlspec", "JUSTICE", "justice",
             "COMPASSION", "compassion", "applies")
@@ -237,13 +238,9 @@ def evaluate_all_step(machine, fn, state, ups, nxt, mon):
         if mon:
             ctx.mon = dict(mon)
         yield fn(ctx)
-        log = ch.log
-        j = len(log) - 1
-        while j >= 0 and log[j].index + 1 >= log[j].n:
-            j -= 1
-        if j < 0:
+        prefix = next_prefix(ch.log)
+        if prefix is None:
             return
-        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
 def properties_for(spec, machine, spec_path, files=None, use_default=True, must_apply=False):

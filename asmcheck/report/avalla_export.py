@@ -38,6 +38,7 @@ import re
 from pathlib import Path
 
 from ..version import __version__
+from ..semantics.choice import next_prefix
 
 _GOOD = re.compile(r"[!-#%-9<-~]+")         # Avalla's GOOD_CHARS_NO_COLON
 
@@ -183,13 +184,9 @@ def violating_inputs(machine, prop, state: dict, mon: dict) -> dict:
             v = None
         if v is not True:
             return dict(ctx.mon)
-        log = ch.log
-        j = len(log) - 1
-        while j >= 0 and log[j].index + 1 >= log[j].n:
-            j -= 1
-        if j < 0:
+        prefix = next_prefix(ch.log)
+        if prefix is None:
             return dict(mon or {})
-        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
 def _comment_block(text: str, width: int = 92) -> list[str]:

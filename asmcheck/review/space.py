@@ -26,6 +26,7 @@ from ..semantics.choice import Chooser, Enumerator, Prune
 from ..semantics.machine import Machine
 from ..semantics.state import UpdateSet, apply_updates, same_value
 from ..semantics.terms import Ctx, Thunk, Undetermined
+from ..semantics.choice import next_prefix
 
 
 class Event:
@@ -379,13 +380,9 @@ class Space:
                                 self.observer(Configuration(sid, picks, ch.log, events, clashes, err, tid, mon))
                     if count > self.max_configurations:
                         raise AsmError(None, f"more than {self.max_configurations} configurations from one state")
-                    log = ch.log
-                    j = len(log) - 1
-                    while j >= 0 and log[j].index + 1 >= log[j].n:
-                        j -= 1
-                    if j < 0:
+                    prefix = next_prefix(ch.log)
+                    if prefix is None:
                         break
-                    prefix = [c.index for c in log[:j]] + [log[j].index + 1]
                 self.transitions += len(targets)
                 if self.max_states is not None and len(ex.frozen) >= self.max_states:
                     self.incomplete = f"state limit {self.max_states} reached"

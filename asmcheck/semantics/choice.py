@@ -295,3 +295,14 @@ class DeadlineReached(Exception):
 class NoAlternative(AsmRuntimeError):
     """A transcript asks for a value the spec does not allow."""
 
+
+def next_prefix(log) -> list | None:
+    """The next sequence of choices to try after the one recorded in ``log`` (an enumerating
+    chooser's): the last choice point with an untried alternative takes its next one, and the
+    choice points after it start again.  None when every sequence has been tried."""
+    j = len(log) - 1
+    while j >= 0 and log[j].index + 1 >= log[j].n:
+        j -= 1
+    if j < 0:
+        return None
+    return [c.index for c in log[:j]] + [log[j].index + 1]

@@ -22,7 +22,7 @@ from .state import UpdateSet, apply_updates, dom_key, is_dom_key
 from .values import SetV, show
 from .analysis import infinite_ranges, is_subdomain, mentions_monitored, reads_functions
 from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
-                     Sampler, ScriptChooser, TooManySuccessors)
+                     Sampler, ScriptChooser, TooManySuccessors, next_prefix)
 from .rules import MAX_LOOP, RuleExecutor
 from .terms import LONG_MAX, LONG_MIN, Ctx, TermEvaluator, Thunk, Undetermined
 
@@ -317,13 +317,9 @@ class Machine(TermEvaluator, RuleExecutor):
             out.append((ch.log, st))
             if len(out) >= limit:
                 raise TooManySuccessors(None, f"more than {limit} initial states")
-            log = ch.log
-            j = len(log) - 1
-            while j >= 0 and log[j].index + 1 >= log[j].n:
-                j -= 1
-            if j < 0:
+            prefix = next_prefix(ch.log)
+            if prefix is None:
                 return out
-            prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
     def step(self, state: dict, chooser: Chooser, prune=None) -> tuple[UpdateSet, dict, Ctx]:
         """One step from ``state``: the update set, the next state and the context (monitored values)."""
@@ -369,13 +365,9 @@ class Machine(TermEvaluator, RuleExecutor):
             if len(out) >= limit:
                 raise TooManySuccessors(None, f"more than {limit} successors of one state")
             # next prefix: the last choice point with an untried alternative
-            log = ch.log
-            j = len(log) - 1
-            while j >= 0 and log[j].index + 1 >= log[j].n:
-                j -= 1
-            if j < 0:
+            prefix = next_prefix(ch.log)
+            if prefix is None:
                 return out
-            prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
     def sample_successors(self, state: dict, samples: int, seed: int = 0, fixed=None, parse=None):
         """Successors along random sequences of choices (for branchings too big to enumerate)."""

@@ -8,7 +8,7 @@ from . import types as T
 from .state import UpdateSet, apply_in_place, dom_key, same_value
 from .values import (RuleValue, fresh_value, show)
 from .analysis import has_sequencing, hkey, is_simple, mentions_monitored
-from .choice import NO_VALUE, Chooser, Prune
+from .choice import NO_VALUE, Chooser, Prune, next_prefix
 from .terms import MISSING, Ctx, Thunk
 
 
@@ -384,13 +384,9 @@ class RuleExecutor:
                     except Prune:
                         pruned = True
                     if pruned:
-                        log = sub_ch.log
-                        j = len(log) - 1
-                        while j >= 0 and log[j].index + 1 >= log[j].n:
-                            j -= 1
-                        if j < 0:
+                        prefix = next_prefix(sub_ch.log)
+                        if prefix is None:
                             break
-                        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
                         continue
                     new_mon = tuple((k, v) for k, v in ctx.mon.items() if k not in outer_mon)
                     if exc is None:
@@ -401,13 +397,9 @@ class RuleExecutor:
                     if key not in seen:
                         seen[key] = len(outcomes)
                         outcomes.append((sub, ctx.mon, ctx.fresh, dict(zip(names, cand)), exc, sub_ch.log))
-                    log = sub_ch.log
-                    j = len(log) - 1
-                    while j >= 0 and log[j].index + 1 >= log[j].n:
-                        j -= 1
-                    if j < 0:
+                    prefix = next_prefix(sub_ch.log)
+                    if prefix is None:
                         break
-                    prefix = [c.index for c in log[:j]] + [log[j].index + 1]
         finally:
             ctx.chooser, ctx.mon, ctx.fresh = outer_ch, outer_mon, outer_fresh
             for u in uids:

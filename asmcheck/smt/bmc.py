@@ -25,6 +25,7 @@ from ..semantics.values import show
 from . import sym
 from .encode import Encoder, Locations, StepEncoding, unsupported
 from .sym import AND, NOT, OR
+from ..semantics.choice import next_prefix
 
 
 class ReplayMismatch(Exception):
@@ -242,13 +243,9 @@ def all_successors(machine, state):
             yield ch.log, ups, nxt, ctx.mon
         except (Prune, AsmError):
             pass
-        log = ch.log
-        j = len(log) - 1
-        while j >= 0 and log[j].index + 1 >= log[j].n:
-            j -= 1
-        if j < 0:
+        prefix = next_prefix(ch.log)
+        if prefix is None:
             return
-        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
 def replay(model: Model, prop: Prop, states: list[dict]) -> tuple[Trace, str]:

@@ -32,6 +32,7 @@ from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show
 from .formula import Atoms
+from ..semantics.choice import next_prefix
 
 
 class AtomError(AsmError):
@@ -128,13 +129,9 @@ def joint_values(machine, items, state, mon) -> list[tuple]:
         if t not in seen:
             seen.add(t)
             out.append(t)
-        log = ch.log
-        j = len(log) - 1
-        while j >= 0 and log[j].index + 1 >= log[j].n:
-            j -= 1
-        if j < 0:
+        prefix = next_prefix(ch.log)
+        if prefix is None:
             return out
-        prefix = [c.index for c in log[:j]] + [log[j].index + 1]
 
 
 # ----------------------------------------------------------------- agents (weak fairness)
