@@ -40,7 +40,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
+from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV, fresh_value
 from . import native_build
 from .native_build import Unsupported
 
@@ -48,6 +48,8 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+CN_K = 16              # element slots per domain extended at run time (native_canon.c)
+CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
 
 
 def _ceil_log2(n: int) -> int:
@@ -73,6 +75,7 @@ class Codec:
         self.comp_ids: dict = {}
         self.frozen = False
         self.dll = None
+        self.dyn: dict = {}              # dynamic domain extended by the spec -> its number
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -92,6 +95,11 @@ class Codec:
                 base = self.enum_base[v.domain] = len(self.enum_base) << 20
             return base + v.index
         if t is AbstractValue:
+            if v.serial > 0 and v.domain in self.dyn:
+                # an element made by extend: see native_canon.c
+                if v.serial > CN_K:
+                    raise Unsupported(f"more than {CN_K} elements of {v.domain} made by extend")
+                return CN_FRESH + (self.dyn[v.domain] << 24) + v.serial
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
             return (1 << 40) + self.abstract_ids[v]
@@ -132,6 +140,9 @@ class Codec:
             if r.kind == "Powerset":
                 return SetV(self.from_c(e, r.args[0]) for e in elems)
             return tuple(self.from_c(e, a) for e, a in zip(elems, r.args))
+        if CN_FRESH <= x < CN_FRESH + (len(self.dyn) << 24):
+            name = sorted(self.dyn)[(x - CN_FRESH) >> 24]
+            return fresh_value(name, (x - CN_FRESH) & 0xffffff)
         if x >= 1 << 40:
             return self.abstract_by_id[x - (1 << 40)]
         if isinstance(r, T.Domain) and r.kind == "enum":
@@ -190,6 +201,9 @@ class Generator:
         if isinstance(T.root(dom), T.Struct):
             # the values of a Powerset/Seq/... domain are not enumerated (2^n of them for a set)
             raise Unsupported(f"ranging over the values of {dom}")
+        fresh = self.dyn_values(dom)
+        if fresh:
+            return fresh
         try:
             vals = self.m.domain_values(dom, None, None)
         except Undetermined:
@@ -254,6 +268,7 @@ class Generator:
 
     # -------------------------------------------------------------- layout
     def layout(self) -> None:
+        self.dyn_setup()
         init_states = self.m.initial_states()
         self.init_states = [st for _, st in init_states]
         for st in self.init_states:
@@ -294,6 +309,7 @@ class Generator:
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
+        self.dyn_slots()
         for st in self.init_states:
             for k in st:
                 if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
@@ -1037,8 +1053,9 @@ class Generator:
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
+        head.append(f"#define CN_NDYN {len(self.dyn)}")
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
-            "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+            self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         return src
 
     # -------------------------------------------------------------- packing
@@ -1072,6 +1089,7 @@ class Generator:
                 self.codec.to_c(v)
 
     def pack(self, st: dict) -> list[int]:
+        st = self.dyn_counts(st)
         words = [0] * self.nwords
         for s, key in enumerate(self.slots):
             vals = self.slot_values[s]
@@ -1123,7 +1141,253 @@ class Generator:
             code = (words[w] >> sh) & mask
             if code < len(vals):
                 st[key] = vals[code]
+        if self.dyn:
+            self.dyn_elements(st)
         return st
+
+    # -------------------------------------------------------------- fresh elements (extend)
+    def dyn_setup(self) -> None:
+        """The domains the spec extends, numbered in the order of their names (native_canon.c)."""
+        from ..semantics.analysis import is_subdomain
+        from .canonical import ROUNDS, ranged_domains
+        found: dict = {}
+        seen: set = set()
+
+        def walk(x):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Extend):
+                found[x.domain.name] = x.domain
+            if isinstance(x, ir.Loop) and x.cond is None and _has_extend(x.body):
+                raise Unsupported(f"extend inside iterate at {x.span.short() if x.span else '?'}")
+            if isinstance(x, (ir.Term, ir.Rule)):
+                for v in vars(x).values():
+                    walk(v)
+            elif isinstance(x, (list, tuple)):
+                for v in x:
+                    walk(v)
+        for r in self.spec.rules:
+            walk(r.body)
+        self.dyn_doms = [found[n] for n in sorted(found)]
+        self.dyn = {d.name: i for i, d in enumerate(self.dyn_doms)}
+        self.codec.dyn = self.dyn
+        self.cn_rounds = ROUNDS
+        if not self.dyn:
+            return
+        for d in self.dyn_doms:
+            if not isinstance(d, T.Domain) or not d.dynamic:
+                raise Unsupported(f"extend of the domain {d}")
+        gc = {d.name for d in self.spec.domains if getattr(d, "dynamic", False)} - ranged_domains(self.spec)
+        self.dyn_gc = [d.name in gc for d in self.dyn_doms]
+        self._dyn_sub = is_subdomain
+        for f in self.spec.functions:
+            if f.kind == "monitored" and (self.cn_may_hold(f.codomain) or any(self.cn_may_hold(d) for d in f.domain)):
+                raise Unsupported(f"the monitored function {f.name} over a domain extended at run time")
+
+    def dyn_values(self, dom) -> list | None:
+        """The values of an extended domain: its named elements, then element slots 1..CN_K;
+        None for other domains (a domain holding an extended one is refused)."""
+        if not self.dyn or not isinstance(dom, T.Domain):
+            return None
+        if dom.name in self.dyn and self.dyn_doms[self.dyn[dom.name]] is dom:
+            try:
+                named = list(self.m.domain_values(dom, None, None))
+            except Undetermined:
+                raise Unsupported(f"the infinite domain {dom}")
+            for v in named:
+                self.codec.to_c(v)
+            return named + [fresh_value(dom.name, k) for k in range(1, CN_K + 1)]
+        for d in self.dyn_doms:
+            if d is not dom and self._dyn_sub(d, dom):
+                raise Unsupported(f"the domain {dom}, which holds the elements extend adds to {d}")
+        return None
+
+    def dyn_slots(self) -> None:
+        """One slot per extended domain: its number of elements (0..CN_K)."""
+        self.dyn_count_slot = []
+        for d in self.dyn_doms:
+            key = ("#dom", d.name)
+            self.dyn_count_slot.append(len(self.slots))
+            self.slot_of[key] = len(self.slots)
+            self.slots.append(key)
+            self.slot_values.append(list(range(CN_K + 1)))
+            self.slot_types.append(T.INTEGER)
+
+    def dyn_counts(self, st: dict) -> dict:
+        """``st`` with each extended domain's elements as their number (canonical: 1..n)."""
+        if not self.dyn:
+            return st
+        st = dict(st)
+        for d in self.dyn_doms:
+            key = ("#dom", d.name)
+            els = st.get(key, ())
+            if tuple(e.serial for e in els) != tuple(range(1, len(els) + 1)) or len(els) > CN_K:
+                raise Unsupported(f"the elements of {d.name} are not numbered 1..n (or more than {CN_K})")
+            st[key] = len(els)
+        return st
+
+    def dyn_elements(self, st: dict) -> None:
+        """The decoded numbers of elements back as the domains' elements."""
+        for d in self.dyn_doms:
+            key = ("#dom", d.name)
+            n = st.pop(key, 0)
+            if n:
+                st[key] = tuple(fresh_value(d.name, k) for k in range(1, n + 1))
+
+    def cn_may_hold(self, typ) -> bool:
+        """Can a value of ``typ`` hold an element made by extend?"""
+        if not self.dyn:
+            return False
+        if isinstance(typ, T.Domain):
+            if typ.name in self.dyn:
+                return True
+            if typ.kind == "any":
+                return True
+            return any(self._dyn_sub(d, typ) for d in self.dyn_doms)
+        if isinstance(typ, T.Struct):
+            return any(self.cn_may_hold(a) for a in typ.args)
+        return False
+
+    def cn_type(self, typ, tys: list, memo: dict) -> int:
+        """The offset of ``typ``'s descriptor in CN_TY (see native_canon.c)."""
+        key = str(typ)
+        if key in memo:
+            return memo[key]
+        r = T.root(typ)
+        if r in (T.INTEGER, T.NATURAL):
+            node = [0]
+        elif r is T.BOOLEAN:
+            node = [1]
+        elif isinstance(r, T.Domain) and r.kind in ("enum", "abstract"):
+            node = [2]
+        elif r is T.STRING:
+            node = [3]
+        elif isinstance(r, T.Struct) and r.kind in ("Seq", "Powerset") and self.composite(typ):
+            node = [4 if r.kind == "Seq" else 6, self.cn_type(r.args[0], tys, memo)]
+        elif isinstance(r, T.Struct) and r.kind == "Prod" and self.composite(typ):
+            node = [5, len(r.args)] + [self.cn_type(a, tys, memo) for a in r.args]
+        else:
+            raise Unsupported(f"a value of type {typ} beside elements made by extend")
+        memo[key] = len(tys)
+        tys.extend(node)
+        return memo[key]
+
+    def canon_code(self) -> str:
+        """The tables of native_canon.c and the file itself (nothing without extend)."""
+        if not self.dyn:
+            return ""
+        chars: list = []
+        text_off: dict = {}
+
+        def text(t: str) -> int:
+            if t not in text_off:
+                text_off[t] = len(chars)
+                chars.append(len(t))
+                chars.extend(ord(ch) for ch in t)
+            return text_off[t]
+        tys: list = []
+        memo: dict = {}
+        fn_ids: dict = {}
+        slot_fn, slot_vty, slot_nargs, slot_arg, slot_base = [], [], [], [], []
+        args: list = []
+        idxs: list = []
+        for s, key in enumerate(self.slots):
+            typ = self.slot_types[s]
+            if isinstance(typ, tuple):          # a map slot
+                f = typ[1]
+                if self.cn_may_hold(f.codomain) or any(self.cn_may_hold(d) for d in f.domain):
+                    raise Unsupported(f"the function {f.name} over an infinite domain and extended domains")
+                key = None
+            if key is None or (type(key) is tuple and key[0] == "#dom"):
+                slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
+                continue
+            fi = key if type(key) is int else key[0]
+            f = self.spec.functions[fi]
+            over = any(self.cn_may_hold(d) for d in f.domain)
+            if not over and not self.cn_may_hold(f.codomain):
+                slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
+                continue
+            if fi not in fn_ids:
+                fn_ids[fi] = len(fn_ids)
+            slot_fn.append(fn_ids[fi])
+            slot_vty.append(self.cn_type(f.codomain, tys, memo))
+            combo = () if type(key) is int else key[1]
+            slot_nargs.append(len(combo))
+            slot_arg.append(len(args))
+            base, arg_values, _ = self.fn_base[fi]
+            slot_base.append(base if over else -1)
+            for i, v in enumerate(combo):
+                stride = 1
+                for vals in arg_values[i + 1:]:
+                    stride *= len(vals)
+                args += [self.codec.to_c(v), self.cn_type(f.domain[i], tys, memo), stride]
+                idxs.append(next(j for j, x in enumerate(arg_values[i]) if same_value(x, v)))
+        fn_off = [0] * len(fn_ids)
+        for fi, i in fn_ids.items():
+            fn_off[i] = text(self.m.fname[fi])
+        atoms: dict = {}
+        for d in self.spec.domains:
+            if isinstance(d, T.Domain) and d.kind == "enum":
+                for e in d.elements:
+                    atoms[self.codec.to_c(e)] = text(repr(e))
+        for e, i in self.codec.abstract_ids.items():
+            atoms[(1 << 40) + i] = text(e.name)
+        codes = sorted(atoms)
+
+        def arr(ctype, name, xs):
+            return f"static const {ctype} {name}[] = {{{', '.join(f'{x}' for x in xs) or '0'}}};"
+        out = [
+            f"#define CN_K {CN_K}", f"#define CN_ROUNDS {self.cn_rounds}", f"#define CN_NATOM {len(codes)}",
+            arr("int", "CN_COUNT_SLOT", self.dyn_count_slot),
+            arr("int", "CN_GC", [int(g) for g in self.dyn_gc]),
+            arr("int", "CN_SLOT_FN", slot_fn), arr("int", "CN_SLOT_VTY", slot_vty),
+            arr("int", "CN_SLOT_NARGS", slot_nargs), arr("int", "CN_SLOT_ARG", slot_arg),
+            arr("int", "CN_SLOT_BASE", slot_base),
+            arr("int64_t", "CN_ARGS", [f"{x}LL" if x != UNDEF_V else "INT64_MIN" for x in args]),
+            arr("int64_t", "CN_SLOT_IDX", idxs),
+            arr("int", "CN_TY", tys),
+            arr("int64_t", "CN_ATOM_CODE", [f"{x}LL" for x in codes]),
+            arr("int", "CN_ATOM_OFF", [atoms[x] for x in codes]),
+            arr("int", "CN_FN_OFF", fn_off),
+            arr("int", "CN_CHARS", chars),
+        ]
+        canon = resources.files("asmcheck.explore").joinpath("native_canon.c").read_text()
+        return "\n".join(out) + "\n" + canon
+
+    def r_Extend(self, r, env):
+        d = r.domain
+        di = self.dyn.get(getattr(d, "name", None))
+        if di is None:
+            raise Unsupported(f"extend of the domain {d}")
+        env = dict(env)
+        parts = []
+        for v in r.vars:
+            x = self.fresh("fx")
+            parts.append(f"V {x} = fresh_elem(c, {di}); if (c->err) return;")
+            env[v.uid] = x
+        return "{ " + " ".join(parts) + " " + self.rule(r.body, env) + " }"
+
+
+def _has_extend(rule) -> bool:
+    """Does ``rule`` (or a rule inside it) extend a domain?"""
+    stack, seen = [rule], set()
+    while stack:
+        x = stack.pop()
+        if id(x) in seen:
+            continue
+        seen.add(id(x))
+        if isinstance(x, ir.Extend):
+            return True
+        if isinstance(x, ir.CallRule):
+            stack.append(x.rule.body)
+        if isinstance(x, ir.RuleRef):
+            stack.append(x.rule.body)
+        if isinstance(x, (ir.Term, ir.Rule)):
+            stack.extend(vars(x).values())
+        elif isinstance(x, (list, tuple)):
+            stack.extend(x)
+    return False
 
 
 # ----------------------------------------------------------------- compile and load
@@ -1192,6 +1456,7 @@ class NativeExplorer:
         self._states: dict = {}
         self._parent = None
         self._picks_cache = None
+        self._canon = None
         self.nstates = 0
 
     def _growing(self, depth: int) -> list:
@@ -1259,6 +1524,8 @@ class NativeExplorer:
         nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates
         self._err_code = self.dll.asm_err_code()
+        if status == 4 and g.dyn:
+            self._canon_refusal()
         if status == 4:
             code = out[4]
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
@@ -1311,13 +1578,38 @@ class NativeExplorer:
         res.compile_seconds = self.compile_seconds
         return res
 
+    def _canon_refusal(self) -> None:
+        """Raise the reason the search stopped on elements made by extend, if it did."""
+        fn = self.dll.asm_canon_reason
+        fn.restype = ctypes.c_int64
+        fn.argtypes = [_i64p]
+        buf = (ctypes.c_int64 * 1)()
+        why = fn(buf)
+        if why == 1:
+            raise Unsupported(f"more than {CN_K} elements of {self.gen.dyn_doms[buf[0]].name} made by extend "
+                              f"in one state")
+        if why:
+            raise Unsupported("a state with elements made by extend that the native canonical form does not handle")
+
+    def _norm(self, st: dict) -> tuple:
+        """The canonical form of a successor the Python step function made, and the renaming."""
+        if not self.gen.dyn:
+            return st, {}
+        if self._canon is None:
+            from .canonical import Canonicalizer, ranged_domains
+            spec = self.m.spec
+            gc = {d.name for d in spec.domains if getattr(d, "dynamic", False)} - ranged_domains(spec)
+            self._canon = Canonicalizer(self.m, gc)
+        out = self._canon(st)
+        return out, dict(self._canon.last_mapping)
+
     def _step_violation(self, prop, src, dst, failed, Violation):
         """The violation of a step property by a step from ``src`` to ``dst``: the first such step
         of the Python step function gives the choices (and the message, when it cannot be evaluated)."""
         st = self.state(src)
         want = self.state(dst)
         for log, ups, nxt, mon in self.m.successors(st):
-            if nxt != want:
+            if self._norm(nxt)[0] != want:
                 continue
             picks = tuple(c.pick for c in log)
             try:
@@ -1397,7 +1689,7 @@ class NativeExplorer:
         if cache is None or cache[0] != src:
             by_dst: dict = {}
             for log, ups, nxt, mon in self.m.successors(self.state(src)):
-                sid = self.find(nxt)
+                sid = self.find(self._norm(nxt)[0])
                 if sid is not None and sid not in by_dst:
                     by_dst[sid] = tuple(c.pick for c in log)
             cache = self._picks_cache = (src, by_dst)
@@ -1441,12 +1733,14 @@ class NativeExplorer:
             if picks is not None:
                 ch = ScriptChooser(picks)
                 ups, raw, ctx = m.step(cur, ch)
-                if raw == want:
-                    found = (raw, ch.log, ups, ctx.mon, raw, {})
+                nxt, mapping = self._norm(raw)
+                if nxt == want:
+                    found = (nxt, ch.log, ups, ctx.mon, raw, mapping)
             else:
-                for log, ups, nxt, mon in m.successors(cur):
+                for log, ups, raw, mon in m.successors(cur):
+                    nxt, mapping = self._norm(raw)
                     if nxt == want:
-                        found = (nxt, log, ups, mon, nxt, {})
+                        found = (nxt, log, ups, mon, raw, mapping)
                         break
             if found is None:
                 raise ReplayError(f"step to state {dst} does not replay")

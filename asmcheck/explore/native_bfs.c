@@ -327,6 +327,9 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             c->err = 0;
 #endif
             store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
+#if CN_NDYN > 0
+            if (canon_state(c, sbuf + nbuf * NWORDS)) { out[4] = E_UNSUPPORTED; out[5] = sid; out[6] = 0; status = 4; goto finish; }
+#endif
             nbuf++;
             if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
             if ((nbuf & 4095) == 0) {

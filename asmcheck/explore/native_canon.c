@@ -1,0 +1,434 @@
+/* ------------------------------------------------------------------ fresh elements
+ * Elements made by `extend` and the canonical form of a state that holds them: the same
+ * function as asmcheck/explore/canonical.py computes in Python, on the packed state.
+ *
+ * Element k of dynamic domain d (domains numbered in the order of their names) has the code
+ * CN_FRESH + (d << 24) + k.  A state holds, per domain, its number of elements n in a count
+ * slot; in a canonical state they are exactly 1..n.  A step numbers its new elements on from
+ * n + 1 (as the Python step function does); canon_state() then
+ *   - drops the elements no location refers to (domains nobody ranges over),
+ *   - colours the rest from the texts of the locations where they occur (the texts of
+ *     canonical.py, built here from the tables CN_*: function names, atom names, types),
+ *     a few rounds, and numbers each domain's elements by colour, ties by old number,
+ *   - renames them everywhere (locations move with their arguments, values are rebuilt).
+ * The generated tables come before this file: CN_K (element slots per domain), CN_NDYN,
+ * CN_COUNT_SLOT, CN_GC, CN_ROUNDS, per slot CN_SLOT_FN / CN_SLOT_VTY / CN_SLOT_NARGS /
+ * CN_SLOT_ARG (offset into CN_ARGS: code, type, stride triples) / CN_SLOT_BASE, the types
+ * CN_TY, the atom names CN_ATOM_CODE / CN_ATOM_OFF and the function names CN_FN_OFF, all
+ * texts as numbers in CN_CHARS.
+ */
+#define CN_FRESH (2LL << 40)
+#define CN_MAXE (CN_NDYN * CN_K)
+#define T_INT 0
+#define T_BOOL 1
+#define T_ATOM 2
+#define T_STR 3
+#define T_SEQ 4
+#define T_TUPLE 5
+#define T_SET 6
+
+static inline int cn_is_fresh(V v) { return v >= CN_FRESH && v < CN_FRESH + ((V)CN_NDYN << 24); }
+static inline int cn_dom(V v) { return (int)((v - CN_FRESH) >> 24); }
+static inline int cn_num(V v) { return (int)((v - CN_FRESH) & 0xffffff); }
+static inline V cn_code(int d, int k) { return CN_FRESH + ((V)d << 24) + k; }
+
+/* why the native search stopped on fresh elements (0: it did not) */
+static int cn_reason = 0, cn_reason_dom = 0;
+#define CN_TOO_MANY 1
+#define CN_TEXT 2
+
+/* the number of each domain's next element in this run of the step */
+static __thread uint32_t cn_dgen[CN_NDYN];
+static __thread int cn_dnext[CN_NDYN];
+
+static V fresh_elem(Ctx *c, int d) {
+    if (cn_dgen[d] != c->gen) {
+        cn_dgen[d] = c->gen;
+        cn_dnext[d] = (int)c->cur[CN_COUNT_SLOT[d]] + 1;
+    }
+    int k = cn_dnext[d]++;
+    if (k > CN_K) {
+        cn_reason = CN_TOO_MANY; cn_reason_dom = d;
+        fail(c, E_UNSUPPORTED, 0);
+        return UNDEF;
+    }
+    return cn_code(d, k);
+}
+
+/* ---------------------------------------------------------------- texts */
+typedef struct { char *p; int n, cap; } CnBuf;
+
+static int cn_put(CnBuf *b, const char *s, int n) {
+    if (b->n + n > b->cap) {
+        int nc = b->cap ? b->cap * 2 : 256;
+        while (nc < b->n + n) nc *= 2;
+        char *x = (char *)realloc(b->p, nc);
+        if (!x) return 0;
+        b->p = x; b->cap = nc;
+    }
+    memcpy(b->p + b->n, s, n);
+    b->n += n;
+    return 1;
+}
+
+static int cn_chars(CnBuf *b, int off) {
+    /* a text of CN_CHARS: its length first */
+    int n = CN_CHARS[off];
+    char tmp[256];
+    int k = 0;
+    for (int i = 0; i < n; i++) {
+        tmp[k++] = (char)CN_CHARS[off + 1 + i];
+        if (k == (int)sizeof(tmp)) { if (!cn_put(b, tmp, k)) return 0; k = 0; }
+    }
+    return cn_put(b, tmp, k);
+}
+
+static int cn_atom(CnBuf *b, V v) {
+    int lo = 0, hi = CN_NATOM - 1;
+    while (lo <= hi) {
+        int m = (lo + hi) / 2;
+        if (CN_ATOM_CODE[m] == v) return cn_chars(b, CN_ATOM_OFF[m]);
+        if (CN_ATOM_CODE[m] < v) lo = m + 1; else hi = m - 1;
+    }
+    return 0;
+}
+
+static __thread const int *cn_col;    /* colours of the elements (by element index) while texts are made */
+static __thread int cn_me;            /* the element shown as '*' */
+static int cn_eidx(V v) { return cn_dom(v) * CN_K + cn_num(v) - 1; }
+
+static int cn_text(CnBuf *b, V v, int ty);
+
+typedef struct { int off, len; } CnSpan;
+static int cn_span_cmp_base(const char *base, const CnSpan *x, const CnSpan *y) {
+    int n = x->len < y->len ? x->len : y->len;
+    int r = memcmp(base + x->off, base + y->off, n);
+    if (r) return r;
+    return x->len < y->len ? -1 : x->len > y->len;
+}
+static __thread const char *cn_sort_base;
+static int cn_span_cmp(const void *a, const void *b) { return cn_span_cmp_base(cn_sort_base, (const CnSpan *)a, (const CnSpan *)b); }
+
+static int cn_text(CnBuf *b, V v, int ty) {
+    if (v == UNDEF) return cn_put(b, "None", 4);
+    if (cn_is_fresh(v)) {
+        int i = cn_eidx(v);
+        if (i == cn_me) return cn_put(b, "*", 1);
+        char t[32];
+        int n = cn_col[i] < 0 ? snprintf(t, sizeof t, "#?") : snprintf(t, sizeof t, "#%d", cn_col[i]);
+        return cn_put(b, t, n);
+    }
+    switch (CN_TY[ty]) {
+    case T_INT: { char t[32]; int n = snprintf(t, sizeof t, "%lld", (long long)v); return cn_put(b, t, n); }
+    case T_BOOL: return v ? cn_put(b, "True", 4) : cn_put(b, "False", 5);
+    case T_ATOM: return cn_atom(b, v);
+    case T_STR: {
+        /* Python's repr of a string of printable ASCII without quotes or backslashes */
+        const V *e = v_elems(v);
+        int n = v_len(v);
+        for (int i = 0; i < n; i++) if (e[i] < 32 || e[i] > 126 || e[i] == '\'' || e[i] == '\\' || e[i] == '"') return 0;
+        if (!cn_put(b, "'", 1)) return 0;
+        for (int i = 0; i < n; i++) { char ch = (char)e[i]; if (!cn_put(b, &ch, 1)) return 0; }
+        return cn_put(b, "'", 1);
+    }
+    case T_SEQ: case T_TUPLE: {
+        int seq = CN_TY[ty] == T_SEQ;
+        const V *e = v_elems(v);
+        int n = v_len(v);
+        if (!cn_put(b, seq ? "[" : "(", 1)) return 0;
+        for (int i = 0; i < n; i++) {
+            if (i && !cn_put(b, ",", 1)) return 0;
+            if (!cn_text(b, e[i], seq ? CN_TY[ty + 1] : CN_TY[ty + 2 + i])) return 0;
+        }
+        return cn_put(b, seq ? "]" : ")", 1);
+    }
+    case T_SET: {
+        /* the members' texts, sorted */
+        const V *e = v_elems(v);
+        int n = v_len(v);
+        CnBuf tmp = {0, 0, 0};
+        CnSpan *sp = (CnSpan *)malloc((n > 0 ? n : 1) * sizeof(CnSpan));
+        int ok = sp != 0;
+        for (int i = 0; ok && i < n; i++) {
+            sp[i].off = tmp.n;
+            ok = cn_text(&tmp, e[i], CN_TY[ty + 1]);
+            sp[i].len = tmp.n - sp[i].off;
+        }
+        if (ok) {
+            cn_sort_base = tmp.p;
+            qsort(sp, n, sizeof(CnSpan), cn_span_cmp);
+            ok = cn_put(b, "{", 1);
+            for (int i = 0; ok && i < n; i++) {
+                if (i) ok = cn_put(b, ",", 1);
+                if (ok) ok = cn_put(b, tmp.p + sp[i].off, sp[i].len);
+            }
+            if (ok) ok = cn_put(b, "}", 1);
+        }
+        free(sp); free(tmp.p);
+        return ok;
+    }
+    }
+    return 0;
+}
+
+/* the fresh elements in v (each occurrence) added to cnt[] */
+static void cn_walk(V v, int ty, int *cnt, int *total) {
+    if (v == UNDEF) return;
+    if (cn_is_fresh(v)) { cnt[cn_eidx(v)]++; (*total)++; return; }
+    switch (CN_TY[ty]) {
+    case T_SEQ: case T_SET: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 1], cnt, total); break; }
+    case T_TUPLE: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 2 + i], cnt, total); break; }
+    }
+}
+
+/* v with the elements renamed by map (element index -> new number) */
+static V cn_rename(Ctx *c, V v, int ty, const int *map) {
+    if (v == UNDEF) return v;
+    if (cn_is_fresh(v)) return cn_code(cn_dom(v), map[cn_eidx(v)]);
+    int k = CN_TY[ty];
+    if (k != T_SEQ && k != T_SET && k != T_TUPLE) return v;
+    int n = v_len(v);
+    V *e = (V *)malloc((n > 0 ? n : 1) * sizeof(V));
+    if (!e) { fail(c, E_MEMORY, 0); return v; }
+    int changed = 0;
+    for (int i = 0; i < n; i++) {
+        V x = v_elems(v)[i];
+        e[i] = cn_rename(c, x, k == T_TUPLE ? CN_TY[ty + 2 + i] : CN_TY[ty + 1], map);
+        if (e[i] != x) changed = 1;
+    }
+    V r = v;
+    if (changed) r = k == T_SET ? set_make(c, e, n) : v_intern(c, k == T_SEQ ? K_SEQ : K_TUPLE, e, n);
+    free(e);
+    return r;
+}
+
+/* ---------------------------------------------------------------- the canonical form */
+typedef struct { int slot; int nel; int el[8]; int cnt[8]; } CnLoc;
+
+static __thread V cn_val[NSLOTS > 0 ? NSLOTS : 1], cn_new[NSLOTS > 0 ? NSLOTS : 1];
+
+static int cn_text_loc(CnBuf *b, int s) {
+    if (!cn_chars(b, CN_FN_OFF[CN_SLOT_FN[s]])) return 0;
+    int na = CN_SLOT_NARGS[s];
+    if (na > 0) {
+        if (!cn_put(b, "(", 1)) return 0;
+        for (int i = 0; i < na; i++) {
+            if (i && !cn_put(b, ",", 1)) return 0;
+            if (!cn_text(b, CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1])) return 0;
+        }
+        if (!cn_put(b, ")", 1)) return 0;
+    }
+    if (!cn_put(b, "=", 1)) return 0;
+    return cn_text(b, cn_val[s], CN_SLOT_VTY[s]);
+}
+
+typedef struct { int e; int dom; int col; int num; int sig_off, sig_n; } CnEl;
+static __thread CnBuf cn_tb;                 /* the texts of this round */
+static __thread CnSpan *cn_sp = 0;           /* the signatures' texts: spans into cn_tb */
+static __thread int cn_nsp = 0, cn_capsp = 0;
+
+static int cn_sig_cmp(const CnEl *x, const CnEl *y) {
+    int n = x->sig_n < y->sig_n ? x->sig_n : y->sig_n;
+    for (int i = 0; i < n; i++) {
+        int r = cn_span_cmp_base(cn_tb.p, &cn_sp[x->sig_off + i], &cn_sp[y->sig_off + i]);
+        if (r) return r;
+    }
+    return x->sig_n < y->sig_n ? -1 : x->sig_n > y->sig_n;
+}
+static int cn_by_sig(const void *a, const void *b) {
+    const CnEl *x = (const CnEl *)a, *y = (const CnEl *)b;
+    int r = cn_sig_cmp(x, y);
+    return r ? r : (x->e < y->e ? -1 : x->e > y->e);
+}
+static int cn_by_group(const void *a, const void *b) {
+    const CnEl *x = (const CnEl *)a, *y = (const CnEl *)b;
+    if (x->dom != y->dom) return x->dom < y->dom ? -1 : 1;
+    if (x->col != y->col) return x->col < y->col ? -1 : 1;
+    return x->e < y->e ? -1 : x->e > y->e;
+}
+static int cn_final(const void *a, const void *b) {
+    const CnEl *x = (const CnEl *)a, *y = (const CnEl *)b;
+    if (x->dom != y->dom) return x->dom < y->dom ? -1 : 1;
+    if (x->col != y->col) return x->col < y->col ? -1 : 1;
+    return x->num < y->num ? -1 : x->num > y->num;
+}
+
+static int cn_add_span(int off, int len) {
+    if (cn_nsp >= cn_capsp) {
+        int nc = cn_capsp ? cn_capsp * 2 : 256;
+        CnSpan *x = (CnSpan *)realloc(cn_sp, nc * sizeof(CnSpan));
+        if (!x) return 0;
+        cn_sp = x; cn_capsp = nc;
+    }
+    cn_sp[cn_nsp].off = off; cn_sp[cn_nsp].len = len; cn_nsp++;
+    return 1;
+}
+
+static inline V slot_decode(int s, V code);
+
+/* Canonical form of the packed successor w (in place).  0 on success, else an error code. */
+static int canon_state_(Ctx *c, uint64_t *w) {
+    int n[CN_NDYN], any = 0;
+    for (int d = 0; d < CN_NDYN; d++) {
+        int s = CN_COUNT_SLOT[d];
+        int32_t code = (int32_t)((w[SLOT_WORD[s]] >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
+        n[d] = (int)SLOT_DECODE[s][code];
+        if (cn_dgen[d] == c->gen && cn_dnext[d] - 1 > n[d]) n[d] = cn_dnext[d] - 1;
+        if (n[d] > 0) any = 1;
+    }
+    if (!any) {
+        for (int d = 0; d < CN_NDYN; d++) {
+            int s = CN_COUNT_SLOT[d];
+            uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
+            w[SLOT_WORD[s]] &= ~mask;          /* code 0: no element */
+        }
+        return 0;
+    }
+    /* decode */
+    for (int s = 0; s < NSLOTS; s++) {
+        uint64_t word = w[SLOT_WORD[s]];
+        if (SLOT_BITS[s] == 64) { cn_val[s] = (V)word; continue; }
+        int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
+        cn_val[s] = SLOT_DECODE[s][code];
+    }
+    /* the locations where elements occur */
+    static __thread CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
+    int nloc = 0;
+    int occ[CN_MAXE > 0 ? CN_MAXE : 1];
+    memset(occ, 0, sizeof(occ));
+    for (int s = 0; s < NSLOTS; s++) {
+        if (CN_SLOT_FN[s] < 0 || cn_val[s] == UNDEF) continue;
+        int cnt[CN_MAXE > 0 ? CN_MAXE : 1];
+        int total = 0;
+        memset(cnt, 0, sizeof(cnt));
+        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], cnt, &total);
+        cn_walk(cn_val[s], CN_SLOT_VTY[s], cnt, &total);
+        if (!total) continue;
+        CnLoc *L = &locs[nloc++];
+        L->slot = s; L->nel = 0;
+        for (int e = 0; e < CN_MAXE; e++) if (cnt[e]) {
+            if (L->nel >= 8) return CN_TEXT;
+            L->el[L->nel] = e; L->cnt[L->nel] = cnt[e]; L->nel++;
+            occ[e] += cnt[e];
+        }
+    }
+    /* the elements kept (unreferenced ones leave domains nobody ranges over) */
+    CnEl els[CN_MAXE > 0 ? CN_MAXE : 1];
+    int ne = 0;
+    int changed = 0;
+    int kept[CN_NDYN];
+    for (int d = 0; d < CN_NDYN; d++) {
+        kept[d] = 0;
+        for (int k = 1; k <= n[d]; k++) {
+            int e = d * CN_K + k - 1;
+            if (CN_GC[d] && !occ[e]) { changed = 1; continue; }
+            els[ne].e = e; els[ne].dom = d; els[ne].col = 0; els[ne].num = k; ne++;
+            kept[d]++;
+        }
+    }
+    for (int e = 0; e < CN_MAXE; e++) {
+        /* an element that occurs but is not in its domain: not a state the search makes */
+        if (occ[e] && (e % CN_K) + 1 > n[e / CN_K]) return CN_TEXT;
+    }
+    /* colours */
+    int col[CN_MAXE > 0 ? CN_MAXE : 1], newcol[CN_MAXE > 0 ? CN_MAXE : 1];
+    for (int e = 0; e < CN_MAXE; e++) col[e] = -1;
+    for (int i = 0; i < ne; i++) col[els[i].e] = 0;
+    /* a domain with one element needs no colours, nor does any when every domain has one */
+    int need = 0;
+    for (int d = 0; d < CN_NDYN; d++) if (kept[d] > 1) need = 1;
+    for (int r = 0; need && r < CN_ROUNDS; r++) {
+        for (int i = 0; i < ne; i++) els[i].col = col[els[i].e];
+        qsort(els, ne, sizeof(CnEl), cn_by_group);
+        int ngroups = 0;
+        for (int i = 0; i < ne; i++) if (i == 0 || els[i].dom != els[i - 1].dom || els[i].col != els[i - 1].col) ngroups++;
+        if (ngroups == ne) break;
+        cn_tb.n = 0; cn_nsp = 0;
+        cn_col = col;
+        int rank = 0;
+        for (int i = 0; i < ne;) {
+            int j = i + 1;
+            while (j < ne && els[j].dom == els[i].dom && els[j].col == els[i].col) j++;
+            if (j - i == 1) { newcol[els[i].e] = rank++; i = j; continue; }
+            for (int q = i; q < j; q++) {
+                int e = els[q].e;
+                cn_me = e;
+                els[q].sig_off = cn_nsp;
+                for (int l = 0; l < nloc; l++) {
+                    CnLoc *L = &locs[l];
+                    int cnt = 0;
+                    for (int x = 0; x < L->nel; x++) if (L->el[x] == e) cnt = L->cnt[x];
+                    if (!cnt) continue;
+                    int off = cn_tb.n;
+                    if (!cn_text_loc(&cn_tb, L->slot)) return CN_TEXT;
+                    for (int x = 0; x < cnt; x++) if (!cn_add_span(off, cn_tb.n - off)) return CN_TEXT;
+                }
+                els[q].sig_n = cn_nsp - els[q].sig_off;
+                cn_sort_base = cn_tb.p;
+                qsort(cn_sp + els[q].sig_off, els[q].sig_n, sizeof(CnSpan), cn_span_cmp);
+            }
+            qsort(els + i, j - i, sizeof(CnEl), cn_by_sig);
+            for (int q = i; q < j; q++) {
+                if (q > i && cn_sig_cmp(&els[q], &els[q - 1]) != 0) rank++;
+                newcol[els[q].e] = rank;
+            }
+            rank++;
+            i = j;
+        }
+        for (int i = 0; i < ne; i++) col[els[i].e] = newcol[els[i].e];
+    }
+    /* new numbers: per domain by colour, ties by old number */
+    for (int i = 0; i < ne; i++) els[i].col = col[els[i].e];
+    qsort(els, ne, sizeof(CnEl), cn_final);
+    int map[CN_MAXE > 0 ? CN_MAXE : 1];
+    for (int e = 0; e < CN_MAXE; e++) map[e] = 0;
+    for (int i = 0, k = 0; i < ne; i++) {
+        k = (i > 0 && els[i].dom == els[i - 1].dom) ? k + 1 : 1;
+        map[els[i].e] = k;
+        if (k != els[i].num) changed = 1;
+    }
+    for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)cn_val[CN_COUNT_SLOT[d]]) changed = 1;
+    if (!changed) return 0;
+    /* rebuild: locations over elements move with them, values are renamed */
+    memcpy(cn_new, cn_val, NSLOTS * sizeof(V));
+    for (int s = 0; s < NSLOTS; s++) if (CN_SLOT_FN[s] >= 0 && CN_SLOT_BASE[s] >= 0) cn_new[s] = UNDEF;
+    for (int s = 0; s < NSLOTS; s++) {
+        if (CN_SLOT_FN[s] < 0) continue;
+        V v = cn_val[s];
+        if (CN_SLOT_BASE[s] < 0) { cn_new[s] = cn_rename(c, v, CN_SLOT_VTY[s], map); continue; }
+        if (v == UNDEF) continue;
+        int t = CN_SLOT_BASE[s];
+        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) {
+            V a = CN_ARGS[CN_SLOT_ARG[s] + 3 * i];
+            int stride = (int)CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 2];
+            int idx = (int)CN_SLOT_IDX[CN_SLOT_ARG[s] / 3 + i];
+            if (cn_is_fresh(a)) idx += map[cn_eidx(a)] - cn_num(a);
+            t += idx * stride;
+        }
+        cn_new[t] = cn_rename(c, v, CN_SLOT_VTY[s], map);
+    }
+    if (c->err) return CN_TEXT;
+    for (int d = 0; d < CN_NDYN; d++) cn_new[CN_COUNT_SLOT[d]] = kept[d];
+    /* pack */
+    for (int s = 0; s < NSLOTS; s++) {
+        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)cn_new[s]; continue; }
+        if (cn_new[s] == cn_val[s]) continue;
+        const V *dec = SLOT_DECODE[s];
+        int code = 0;
+        while (dec[code] != cn_new[s]) {
+            if (dec[code] == UNDEF) return CN_TEXT;   /* not in the slot's values */
+            code++;
+        }
+        uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
+        w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
+    }
+    return 0;
+}
+
+static int canon_state(Ctx *c, uint64_t *w) {
+    int r = canon_state_(c, w);
+    if (r && !cn_reason) cn_reason = r;
+    return r;
+}
+
+int64_t asm_canon_reason(int64_t *out) { int r = cn_reason; out[0] = cn_reason_dom; cn_reason = 0; return r; }
