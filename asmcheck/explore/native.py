@@ -658,6 +658,8 @@ class Generator:
     def range_values(self, r: ir.Term) -> list:
         if isinstance(r, ir.DomainTerm):
             d = r.domain
+            if self.dyn_values(d):
+                return self.dyn_values(d)
             if isinstance(d, T.Domain) and d.dynamic and (d.kind == "abstract" or (
                     d.kind == "subset" and isinstance(T.root(d), T.Domain) and T.root(d).kind == "abstract")):
                 raise Unsupported(f"ranging over the dynamic domain {d}")
@@ -686,10 +688,17 @@ class Generator:
             return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
         tab = self.table(vals)
-        return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+        return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
 
     def t_DomainTerm(self, t, env):
         d = t.domain
+        if self.dyn_values(d):
+            vals = self.dyn_values(d)
+            arr = self.fresh("e")
+            tab = self.table(vals)
+            n = self.range_len(t, vals)
+            return (f"({{ V {arr}[{len(vals)}]; for (int q = 0; q < {n}; q++) {arr}[q] = {tab}[q]; "
+                    f"set_make(c, {arr}, {n}); }})")
         if isinstance(d, T.Domain) and d.dynamic:
             raise Unsupported(f"the dynamic domain {d} as a value")
         vals = self.values_of(d)
@@ -900,7 +909,7 @@ class Generator:
             env2[v.uid] = name
             names.append(name)
             sizes *= max(len(vals), 1)
-            heads.append(f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];")
+            heads.append(f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];")
         if sizes > MAX_CANDIDATES:
             raise Unsupported("a choose over too many candidates")
         k = len(names)
@@ -1202,6 +1211,14 @@ class Generator:
             if d is not dom and self._dyn_sub(d, dom):
                 raise Unsupported(f"the domain {dom}, which holds the elements extend adds to {d}")
         return None
+
+    def range_len(self, rg, vals) -> str:
+        """The C expression for how many of ``vals`` (the range ``rg``'s values) to walk: for an
+        extended domain its named elements and the elements it has now."""
+        if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain):
+            d = self.dyn[rg.domain.name]
+            return f"({len(vals) - CN_K} + cn_count(c, {d}))"
+        return str(len(vals))
 
     def dyn_slots(self) -> None:
         """One slot per extended domain: its number of elements (0..CN_K)."""
@@ -1588,6 +1605,8 @@ class NativeExplorer:
         if why == 1:
             raise Unsupported(f"more than {CN_K} elements of {self.gen.dyn_doms[buf[0]].name} made by extend "
                               f"in one state")
+        if why == 3:
+            raise Unsupported(f"{self.gen.dyn_doms[buf[0]].name} ranged over inside a seq block after an extend of it")
         if why:
             raise Unsupported("a state with elements made by extend that the native canonical form does not handle")
 

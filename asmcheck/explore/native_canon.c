@@ -36,6 +36,7 @@ static inline V cn_code(int d, int k) { return CN_FRESH + ((V)d << 24) + k; }
 static int cn_reason = 0, cn_reason_dom = 0;
 #define CN_TOO_MANY 1
 #define CN_TEXT 2
+#define CN_SEQ 3
 
 /* the number of each domain's next element in this run of the step */
 static __thread uint32_t cn_dgen[CN_NDYN];
@@ -53,6 +54,19 @@ static V fresh_elem(Ctx *c, int d) {
         return UNDEF;
     }
     return cn_code(d, k);
+}
+
+/* How many elements domain d has where terms are read: in the state expanded, or in the
+ * successor (INVAR, next()): those of the state and the ones this step made.  Inside a seq
+ * block after an extend of d the Python step function sees the new elements: not followed. */
+static int cn_count(Ctx *c, int d) {
+    int extended = cn_dgen[d] == c->gen;
+    if (c->rd == c->post) return extended ? cn_dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
+    if (extended && c->seqstart >= 0) {
+        cn_reason = CN_SEQ; cn_reason_dom = d;
+        fail(c, E_UNSUPPORTED, 0);
+    }
+    return (int)c->rd[CN_COUNT_SLOT[d]];
 }
 
 /* ---------------------------------------------------------------- texts */

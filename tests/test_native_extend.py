@@ -1,0 +1,325 @@
+"""Elements made by ``extend`` on the native engine: fresh elements of dynamic abstract domains
+(a count per domain in the state, element slots 1..16), canonicalised in C (native_canon.c) with
+the Python canonicaliser's result (explore/canonical.py): unreferenced elements dropped, symmetric
+states merged, elements numbered by their colours.  Each spec runs on both engines (pinned with
+--engine); the JSON reports must be equal apart from the engine and the time, and the states must
+be the same, in the same order.
+
+Engines: both (python is the reference, native is checked)."""
+import json
+
+import pytest
+
+from asmcheck.cli import main
+from asmcheck.explore.bfs import Explorer
+from asmcheck.explore.native import NativeExplorer
+from asmcheck.explore.native_build import Unsupported, compiler
+from asmcheck.semantics.machine import Machine
+from asmcheck.semantics.resolve import check_file
+from helpers import write
+
+pytestmark = pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")
+
+QUEUE = """asm Queue
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Job
+	enum domain Phase = {IDLE | RUN | DONE}
+	controlled phase: Job -> Phase
+	controlled queue: Seq(Job)
+	controlled made: Integer
+
+definitions:
+
+	main rule r_main =
+		par
+			if made < 3 then
+				extend Job with $j do
+					par
+						phase($j) := IDLE
+						queue := append(queue, $j)
+						made := made + 1
+					endpar
+			endif
+			if made >= 3 and length(queue) > 0 then
+				choose $k in {0 : 1} with $k < length(queue) do
+					let ($x = at(queue, iton($k))) in
+						if phase($x) = IDLE then phase($x) := RUN
+						else if phase($x) = RUN then
+							par
+								phase($x) := DONE
+								queue := excluding(queue, $x)
+							endpar
+						endif endif
+					endlet
+			endif
+		endpar
+
+default init s0:
+	function queue = []
+	function made = 0
+"""
+
+TOKENS = """asm Tokens
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Token
+	controlled holder: Token -> Boolean
+	controlled cur: Token
+	controlled n: Integer
+
+definitions:
+
+	main rule r_main =
+		if n < 6 then
+			par
+				n := n + 1
+				choose $b in Boolean with true do
+					if $b then
+						extend Token with $t do
+							par
+								holder($t) := true
+								cur := $t
+							endpar
+					else
+						cur := undef
+					endif
+			endpar
+		endif
+
+default init s0:
+	function n = 0
+"""
+
+PAIRS = """asm Pairs
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Node
+	controlled nxt: Node -> Node
+	controlled val: Node -> Integer
+	controlled head: Node
+	controlled steps: Integer
+
+definitions:
+
+	main rule r_main =
+		if steps < 4 then
+			par
+				steps := steps + 1
+				forall $i in {1 : 2} with true do
+					extend Node with $a do
+						par
+							val($a) := $i
+							nxt($a) := head
+						endpar
+				choose $v in {1 : 2} with true do
+					skip
+			endpar
+		endif
+
+default init s0:
+	function steps = 0
+"""
+
+MSGS = """asm Msgs
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Msg
+	enum domain Kind = {REQ | ACK}
+	controlled kind: Msg -> Kind
+	controlled pending: Powerset(Msg)
+	controlled last: Msg
+	controlled sent: Integer
+
+definitions:
+
+	main rule r_main =
+		par
+			if sent < 4 then
+				choose $k in Kind with true do
+					extend Msg with $m do
+						par
+							kind($m) := $k
+							pending := including(pending, $m)
+							last := $m
+							sent := sent + 1
+						endpar
+			endif
+			if sent >= 4 then
+				choose $b in Boolean with true do
+					if $b then last := undef endif
+			endif
+		endpar
+
+default init s0:
+	function pending = {}
+	function sent = 0
+"""
+
+PROCS = """asm Procs
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Proc
+	controlled busy: Proc -> Boolean
+	controlled n: Integer
+	controlled seen: Integer
+
+definitions:
+
+	invariant inv_few over busy: not (exists $a in Proc, $b in Proc with $a != $b and busy($a) and busy($b) and n = 3 and seen > 3)
+
+	main rule r_main =
+		par
+			if n < 3 then
+				choose $go in Boolean with true do
+					if $go then
+						extend Proc with $p do
+							par
+								busy($p) := false
+								n := n + 1
+							endpar
+					endif
+			endif
+			choose $q in Proc with busy($q) = false do
+				busy($q) := true
+			ifnone
+				if seen < 3 then seen := seen + 1 endif
+			forall $r in Proc with busy($r) and n >= 2 and seen < 2 do
+				busy($r) := false
+		endpar
+
+default init s0:
+	function n = 0
+	function seen = 0
+"""
+
+FOREST = """asm Forest
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Node
+	controlled parent: Node -> Node
+	controlled mark: Node -> Boolean
+	controlled n: Integer
+
+definitions:
+
+	main rule r_main =
+		if n < 6 then
+			par
+				n := n + 1
+				choose $a in Node with true do
+					extend Node with $b do
+						parent($b) := $a
+				ifnone
+					extend Node with $r do
+						mark($r) := true
+			endpar
+		else
+			choose $m in Node with mark($m) != true do
+				mark($m) := true
+		endif
+
+default init s0:
+	function n = 0
+"""
+
+STACK = """asm Stack
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Cell
+	controlled top: Cell
+	controlled below: Cell -> Cell
+
+definitions:
+
+	main rule r_main =
+		extend Cell with $c do
+			par
+				below($c) := top
+				top := $c
+			endpar
+"""
+
+def both(tmp_path, capsys, text, *extra):
+    path = write(tmp_path, text)
+    outs = []
+    for engine in ("native", "python"):
+        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
+        out = json.loads(capsys.readouterr().out)
+        assert out.pop("engine") == engine
+        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+            out.pop(key, None)
+        outs.append((code, out))
+    assert outs[0] == outs[1]
+    return outs[0]
+
+
+def same_states(tmp_path, text):
+    """Both explorers over ``text``: the states (as dicts, in discovery order) must be equal."""
+    spec = check_file(write(tmp_path, text))
+    py = Explorer(Machine(spec, {}))
+    r_py = py.run()
+    nat = NativeExplorer(Machine(spec, {}))
+    try:
+        r_nat = nat.run()
+        assert [py.state(i) for i in range(py.n_states)] == [nat.state(i) for i in range(nat.n_states)]
+    finally:
+        nat.close()
+    assert (r_nat.states, r_nat.transitions, r_nat.depth) == (r_py.states, r_py.transitions, r_py.depth)
+    return r_nat.states, r_nat.transitions, r_nat.depth
+
+
+@pytest.mark.parametrize("text, counts", [
+    (QUEUE, (14, 20, 9)),       # elements leave the queue and are dropped from Job
+    (TOKENS, (43, 74, 6)),      # tokens that nothing refers to any more are dropped
+    (PAIRS, (5, 5, 4)),         # two elements a step from a forall: numbered by their values
+    (MSGS, (26, 47, 5)),        # elements in a set: texts of sets sorted member by member
+    (PROCS, (20, 35, 6)),       # Proc is ranged over (choose, forall, exists): nothing dropped
+    (FOREST, (476, 1088, 11)),  # trees: siblings are symmetric, colours refined over parents
+], ids=["queue", "tokens", "pairs", "msgs", "procs", "forest"])
+def test_the_same_canonical_states_in_the_same_order(tmp_path, text, counts):
+    assert same_states(tmp_path, text) == counts
+
+
+def test_reports_and_shortest_traces_equal_with_fresh_elements(tmp_path, capsys):
+    text = QUEUE.replace("definitions:\n", "definitions:\n\tinvariant inv_short over queue: length(queue) < 3\n", 1)
+    code, out = both(tmp_path, capsys, text)
+    assert (code, out["verdict"], out["states"], out["transitions"]) == (1, "violated", 6, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_short"
+    assert [s["state"] for s in v["trace"]] == [
+        {"made": 0, "queue": {"seq": []}},
+        {"made": 1, "phase(Job!1)": "IDLE", "queue": {"seq": ["Job!1"]}, "Job": {"tuple": ["Job!1"]}},
+        {"made": 2, "phase(Job!1)": "IDLE", "phase(Job!2)": "IDLE", "queue": {"seq": ["Job!1", "Job!2"]},
+         "Job": {"tuple": ["Job!1", "Job!2"]}},
+        {"made": 3, "phase(Job!1)": "IDLE", "phase(Job!2)": "IDLE", "phase(Job!3)": "IDLE",
+         "queue": {"seq": ["Job!1", "Job!2", "Job!3"]}, "Job": {"tuple": ["Job!1", "Job!2", "Job!3"]}}]
+
+
+def test_ranging_over_an_extended_domain_with_an_invariant(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, PROCS)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (0, "holds", 20, 35, 6)
+
+
+def test_more_elements_than_the_slots_is_refused_with_the_reason(tmp_path):
+    spec = check_file(write(tmp_path, STACK))
+    nat = NativeExplorer(Machine(spec, {}))
+    try:
+        with pytest.raises(Unsupported, match="more than 16 elements of Cell made by extend in one state"):
+            nat.run()
+    finally:
+        nat.close()
