@@ -684,8 +684,9 @@ class Exploration:
                 r["relative_to"] = rel
             return r
         for p in result.checked:
+            # a violation of an invariant or step property has a well-defined trace: not relative
             verdict = "violated" if p.name in bad else ("incomplete" if incomplete else "holds")
-            rows.append(row(p.name, getattr(p, "kind", "invariant"), verdict, True))
+            rows.append(row(p.name, getattr(p, "kind", "invariant"), verdict, verdict == "holds"))
         for v in result.violations:
             if v.prop.name in ("deadlock", "error"):
                 rows.append({"property": v.prop.name, "kind": v.prop.kind, "verdict": "violated"})
