@@ -214,7 +214,12 @@ class Explorer:
                     except Undetermined:
                         raise
                     except AsmError as e:
-                        succ, failed = [], [e]
+                        # not one branch: the successors cannot be enumerated (too many of them)
+                        err = PseudoProperty("error", "error", e.span)
+                        record(Violation(err, sid, message=e.message, error=e))
+                        incomplete = True
+                        reason = reason or "a step could not be computed"
+                        continue
                     for e in failed:
                         if "error" not in violated:
                             err = PseudoProperty("error", "error", e.span)
