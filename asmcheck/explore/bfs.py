@@ -225,6 +225,7 @@ class Explorer:
                             err = PseudoProperty("error", "error", e.span)
                             record(Violation(err, sid, message=e.message, error=e))
                         if self.keep_graph:
+                            e.__traceback__ = None      # its frames would hold on to the step's data
                             self.error_edges.append((sid, tuple(c.pick for c in (e.choices or ())), e))
                     targets = []
                     for picks, ups, raw, nxt, mon in succ:
