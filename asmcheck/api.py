@@ -556,7 +556,7 @@ class Trace:
 
     def text(self, color: bool = False) -> str:
         """The trace as ``asmcheck explore`` prints it (per step the choices, inputs and what changed)."""
-        return "\n".join(trace_text(self.model.machine, self.raw, color)) + "\n"
+        return "\n".join(trace_text(self.model.machine, self.raw, color, self.loop_start)) + "\n"
 
     def json(self) -> list:
         """The trace as JSON (docs/trace.schema.json)."""

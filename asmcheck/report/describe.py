@@ -8,7 +8,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from .trace import key_order, location_name, value_text
+from .trace import key_order, location_name, step_header, value_text  # noqa: F401
 
 
 @dataclass
@@ -242,23 +242,29 @@ def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -
     return recs
 
 
-def step_header(rec: StepRecord) -> str:
-    """``step 3: r_main chooses $t = master; reads timeUp(master) = true``"""
-    if rec.number == 0:
-        return "state 0 (initial)"
-    parts = []
-    rules: dict = {}
-    for c in rec.choices:
+def failing_record(machine, trace, chooses: ChooseIndex, root=None) -> StepRecord | None:
+    """The step that fails at the end of an 'error' trace, as a StepRecord: the choices and
+    monitored values it had taken when it failed (it changes nothing)."""
+    from ..semantics.values import show
+    failing = getattr(trace, "failing", None)
+    if failing is None:
+        return None
+    choices = []
+    reads = []
+    for c in flat_choices(failing):
         if c.kind == "choose":
-            rules.setdefault(c.rule or "choose", []).append(c.text)
-    for r, items in rules.items():
-        parts.append(f"{r} chooses " + ", ".join(items))
-    if not parts:
-        parts.append(rec.rule)
-    reads = [c.text for c in rec.choices if c.kind == "monitored"]
-    if reads:
-        parts.append("reads " + ", ".join(reads))
-    return f"step {rec.number}: " + "; ".join(p for p in parts if p)
+            if isinstance(c.value, dict):
+                text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
+            else:
+                text = show(c.value)
+            choices.append(Choice("choose", text, chooses.rule(c.label),
+                                  span_location(chooses.span(c.label), root=root)))
+        elif c.kind == "monitored":
+            reads.append(Choice("monitored", f"{c.label} = {show(c.value)}"))
+    last = trace.steps[-1] if trace.steps else None
+    return StepRecord(len(trace.steps), chooses.main, choices + reads, {},
+                      {} if last is None else {location_name(machine, k): value_text(k, last.display[k])
+                                               for k in sorted(last.display, key=lambda k: key_order(machine, k))})
 
 
 def property_text(prop) -> str:
