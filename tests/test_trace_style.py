@@ -13,6 +13,9 @@ import pytest
 
 from asmcheck.cli import main
 
+# the same trace on both engines (each trace is replayed through the Python machine)
+pytestmark = pytest.mark.engines("both")
+
 ROOT = Path(__file__).resolve().parent.parent
 
 # the choose rule is in r_pick (not the main rule), and the step reads m inside its body

@@ -213,27 +213,37 @@ def shown_inputs(step, mon: dict) -> dict:
     return {(k if type(k) is not tuple else (k[0], step.show(k[1]))): step.show(v) for k, v in mon.items()}
 
 
-def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -> list[StepRecord]:
+def choose_records(log, chooses: ChooseIndex, root=None) -> list[Choice]:
+    """The choose rules' choices of a step's log (nested ones after theirs), each with the rule it is in."""
+    from ..semantics.values import show
+    out = []
+    for c in flat_choices(log):
+        if c.kind != "choose":
+            continue
+        if isinstance(c.value, dict):
+            text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
+        else:
+            text = show(c.value)
+        out.append(Choice("choose", text, chooses.rule(c.label), span_location(chooses.span(c.label), root=root)))
+    return out
+
+
+def read_records(machine, mon: dict) -> list[Choice]:
+    """The monitored values a step read (location key -> value), in the order of the locations."""
     from ..semantics.printer import location_text
     from ..semantics.values import show
+    return [Choice("monitored", f"{location_text(machine, k)} = {show(mon[k])}")
+            for k in sorted(mon, key=lambda k: key_order(machine, k))]
+
+
+def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -> list[StepRecord]:
     if inputs is None:
         inputs = step_inputs(machine, trace)
     recs = []
     for st, mon in zip(trace.steps, inputs):
         choices = []
         if st.number > 0:
-            for c in flat_choices(st.shown_choices()):
-                if c.kind != "choose":
-                    continue
-                if isinstance(c.value, dict):
-                    text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
-                else:
-                    text = show(c.value)
-                choices.append(Choice("choose", text, chooses.rule(c.label),
-                                      span_location(chooses.span(c.label), root=root)))
-            mon = shown_inputs(st, mon)
-            for k in sorted(mon, key=lambda k: key_order(machine, k)):
-                choices.append(Choice("monitored", f"{location_text(machine, k)} = {show(mon[k])}"))
+            choices = choose_records(st.shown_choices(), chooses, root) + read_records(machine, shown_inputs(st, mon))
         keys = sorted(st.changed, key=lambda k: key_order(machine, k))
         recs.append(StepRecord(st.number, chooses.main, choices,
                                {location_name(machine, k): value_text(k, st.changed[k]) for k in keys},
@@ -249,18 +259,9 @@ def failing_record(machine, trace, chooses: ChooseIndex, root=None) -> StepRecor
     failing = getattr(trace, "failing", None)
     if failing is None:
         return None
-    choices = []
-    reads = []
-    for c in flat_choices(failing):
-        if c.kind == "choose":
-            if isinstance(c.value, dict):
-                text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
-            else:
-                text = show(c.value)
-            choices.append(Choice("choose", text, chooses.rule(c.label),
-                                  span_location(chooses.span(c.label), root=root)))
-        elif c.kind == "monitored":
-            reads.append(Choice("monitored", f"{c.label} = {show(c.value)}"))
+    choices = choose_records(failing, chooses, root)
+    reads = [Choice("monitored", f"{c.label} = {show(c.value)}") for c in flat_choices(failing)
+             if c.kind == "monitored"]
     last = trace.steps[-1] if trace.steps else None
     return StepRecord(len(trace.steps), chooses.main, choices + reads, {},
                       {} if last is None else {location_name(machine, k): value_text(k, last.display[k])
