@@ -265,3 +265,25 @@ def test_the_trace_text_is_deterministic(tmp_path, capsys):
             assert first == second
             outs.add(first)
     assert len(outs) == 6
+
+
+def test_the_fairness_assumed_is_shown_with_the_formula(tmp_path, capsys):
+    path = write(tmp_path, STAY)
+    fair = tmp_path / "lp.prop"
+    fair.write_text("applies to Lp\nJUSTICE turn = PA\n")
+    _, out = run(capsys, "explore", path, "--properties", str(fair))
+    assert block(out, "ltlSpec_pb_done") == STAY_TRACE[:2] + ["  under fairness: JUSTICE turn = PA"] + STAY_TRACE[2:]
+    _, out = run(capsys, "check", path, "--properties", str(fair))
+    assert block(out, f"FAIL {Path(path).as_posix()}: ltlSpec_pb_done")[1:] == \
+        STAY_TRACE[1:2] + ["  under fairness: JUSTICE turn = PA"] + STAY_TRACE[2:]
+
+
+def test_simulate_prints_its_steps_as_a_trace(tmp_path, capsys):
+    """Without --random the simulation takes the first choice, here the explorer's shortest trace."""
+    path = write(tmp_path, TICK)
+    inputs = tmp_path / "in.txt"
+    inputs.write_text("m = true\n---\nm = true\n")
+    code, out = run(capsys, "simulate", path, "-n", "2", "--input", str(inputs))
+    assert code == 1
+    assert out.splitlines() == [ln[2:].split("  <-")[0] for ln in TICK_TRACE[1:]] + [
+        f"{path}:18:2: invariant inv_small is violated after step 2"]
