@@ -11,6 +11,8 @@ from asmcheck.smt.differential import agree, explicit_depths
 
 from conftest import ROOT, need_bench
 
+pytestmark = pytest.mark.engines("both")
+
 SB_ASYNC_MASTER = str(ROOT / "specs" / "sb_async_master.asm")
 
 # the invariants that make inv_exclusive of the correct twins 1-inductive
@@ -137,7 +139,7 @@ def test_text_output(tmp_path, capsys):
     assert code == 1
     assert "inv_exclusive                            violated at depth 13" in out
     assert "shortest trace, 13 steps, replayed:" in out
-    assert "step 13  [choose at" in out and "verdict: violated" in out
+    assert "  step 13: r_main chooses $a = " in out and "verdict: violated" in out
 
 
 # ----------------------------------------------------------------- specs of the project

@@ -24,6 +24,7 @@ from .analysis import infinite_ranges, is_subdomain, mentions_monitored, reads_f
 from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors, next_prefix)
 from .rules import MAX_LOOP, RuleExecutor
+from .resolve import deep_active, deep_call
 from .terms import LONG_MAX, LONG_MIN, Ctx, TermEvaluator, Thunk, Undetermined
 
 
@@ -77,11 +78,21 @@ class Machine(TermEvaluator, RuleExecutor):
                     self.init_terms[func.index] = (params, body)
         self.keep_undef = frozenset(self.lazy)
         self._lazy_fns: dict = {}
-        self.main = self.rule_fn(spec.main) if spec.main is not None else None
+        self.main = self._deep(self.rule_fn, spec.main) if spec.main is not None else None
         self.invariants = []
         for p in spec.properties:
             if p.kind == "invariant":
-                self.invariants.append((p, self.term(p.body), mentions_monitored(p.body)))
+                self.invariants.append((p, self._deep(self.term, p.body), mentions_monitored(p.body)))
+
+    @staticmethod
+    def _deep(fn, *args):
+        """``fn(*args)``, again on a thread with a deep stack when the spec nests too deeply for this one."""
+        try:
+            return fn(*args)
+        except RecursionError:
+            if deep_active():
+                raise
+            return deep_call(fn, *args)
 
     def unbounded_properties(self, props=None) -> list:
         """The errors a property over an infinite domain would raise when evaluated, found before
@@ -321,14 +332,38 @@ class Machine(TermEvaluator, RuleExecutor):
             if prefix is None:
                 return out
 
-    def step(self, state: dict, chooser: Chooser, prune=None) -> tuple[UpdateSet, dict, Ctx]:
-        """One step from ``state``: the update set, the next state and the context (monitored values)."""
+    def _run_main(self, state: dict, chooser: Chooser, prune):
         ctx = Ctx(self, state, chooser)
         ctx.prune = prune
         ups = UpdateSet()
         if self.main is not None:
-            self.main(ctx, ups)
-        nxt = apply_updates(state, ups, self.keep_undef)
+            try:
+                self.main(ctx, ups)
+            except AsmError as e:
+                # the monitored values the failing step had read (a temporal property reads
+                # them in the step that fails, as in every other step)
+                if getattr(e, "mon", None) is None:
+                    e.mon = dict(ctx.mon)
+                raise
+        return ups, ctx
+
+    def step(self, state: dict, chooser: Chooser, prune=None) -> tuple[UpdateSet, dict, Ctx]:
+        """One step from ``state``: the update set, the next state and the context (monitored values)."""
+        log = list(chooser.log)
+        try:
+            ups, ctx = self._run_main(state, chooser, prune)
+        except RecursionError:
+            if deep_active():
+                raise
+            # a deeply nested rule: the step again, from scratch, on a thread with a deep stack
+            chooser.log[:] = log
+            ups, ctx = deep_call(self._run_main, state, chooser, prune)
+        try:
+            nxt = apply_updates(state, ups, self.keep_undef)
+        except AsmError as e:
+            if getattr(e, "mon", None) is None:
+                e.mon = dict(ctx.mon)
+            raise
         if ctx.lazy:
             for k, v in ctx.lazy.items():
                 if k not in nxt and k not in ups.locs:
@@ -342,7 +377,8 @@ class Machine(TermEvaluator, RuleExecutor):
         the sequences of choices that cannot lead to a wanted successor.  With ``errors`` (a
         list), a sequence of choices whose step fails is skipped and its error appended there
         (following a transcript, a branch that fails is not the step the simulator made);
-        without it the error ends the enumeration."""
+        without it the error ends the enumeration.  Each appended error carries ``choices``
+        (the choices log of its step) and ``mon`` (the monitored values it had read)."""
         prefix: list[int] = []
         out = []
         memo: dict = {}
@@ -359,7 +395,7 @@ class Machine(TermEvaluator, RuleExecutor):
                 # the inputs and choices of the failing step, for its trace
                 if getattr(e, "choices", None) is None:
                     e.choices = list(ch.log)
-                if errors is None or isinstance(e, Undetermined):
+                if errors is None or isinstance(e, (Undetermined, TooManySuccessors)):
                     raise
                 errors.append(e)
             if len(out) >= limit:
