@@ -18,7 +18,8 @@ from asmcheck.semantics.machine import Machine
 from asmcheck.semantics.resolve import check_file
 from helpers import write
 
-pytestmark = pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")
+pytestmark = [pytest.mark.engines("native"),
+              pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")]
 
 QUEUE = """asm Queue
 

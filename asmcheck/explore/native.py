@@ -1278,6 +1278,8 @@ class Generator:
             node = [1]
         elif isinstance(r, T.Domain) and r.kind in ("enum", "abstract"):
             node = [2]
+        elif isinstance(r, T.Struct) and r.kind == "Rule":
+            node = [2]                          # rule values: texts from the atom table
         elif r is T.STRING:
             node = [3]
         elif isinstance(r, T.Struct) and r.kind in ("Seq", "Powerset") and self.composite(typ):
@@ -1350,6 +1352,17 @@ class Generator:
                     atoms[self.codec.to_c(e)] = text(repr(e))
         for e, i in self.codec.abstract_ids.items():
             atoms[(1 << 40) + i] = text(e.name)
+        # other atoms a narrow location holds (rule values): their texts as canonical.py shows them
+        from ..semantics.values import RuleValue
+        for vals in self.slot_values:
+            for v in vals or ():
+                if type(v) is RuleValue:
+                    if v.agent is not None:
+                        raise Unsupported("a rule value bound to an agent beside elements made by extend")
+                    x = self.codec.to_c(v)
+                    if atoms.get(x, text(repr(v))) != text(repr(v)):
+                        raise Unsupported("two values with one code beside elements made by extend")
+                    atoms[x] = text(repr(v))
         codes = sorted(atoms)
 
         def arr(ctype, name, xs):
@@ -1508,6 +1521,8 @@ class NativeExplorer:
         nprops = len(self.state_props)
         out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
         t0 = time.perf_counter()
+        if g.dyn:
+            self.dll.asm_canon_reset()
         self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),

@@ -113,6 +113,17 @@ static int cn_eidx(V v) { return cn_dom(v) * CN_K + cn_num(v) - 1; }
 
 static int cn_text(CnBuf *b, V v, int ty);
 
+/* the decimal text of x (Python's str of an int) into t; its length */
+static int cn_itoa(char *t, V x) {
+    char r[24];
+    int n = 0, k = 0;
+    uint64_t u = x < 0 ? (uint64_t)0 - (uint64_t)x : (uint64_t)x;
+    do { r[n++] = (char)('0' + u % 10); u /= 10; } while (u);
+    if (x < 0) t[k++] = '-';
+    while (n) t[k++] = r[--n];
+    return k;
+}
+
 typedef struct { int off, len; } CnSpan;
 static int cn_span_cmp_base(const char *base, const CnSpan *x, const CnSpan *y) {
     int n = x->len < y->len ? x->len : y->len;
@@ -129,11 +140,12 @@ static int cn_text(CnBuf *b, V v, int ty) {
         int i = cn_eidx(v);
         if (i == cn_me) return cn_put(b, "*", 1);
         char t[32];
-        int n = cn_col[i] < 0 ? snprintf(t, sizeof t, "#?") : snprintf(t, sizeof t, "#%d", cn_col[i]);
-        return cn_put(b, t, n);
+        if (cn_col[i] < 0) return cn_put(b, "#?", 2);
+        t[0] = '#';
+        return cn_put(b, t, 1 + cn_itoa(t + 1, cn_col[i]));
     }
     switch (CN_TY[ty]) {
-    case T_INT: { char t[32]; int n = snprintf(t, sizeof t, "%lld", (long long)v); return cn_put(b, t, n); }
+    case T_INT: { char t[32]; return cn_put(b, t, cn_itoa(t, v)); }
     case T_BOOL: return v ? cn_put(b, "True", 4) : cn_put(b, "False", 5);
     case T_ATOM: return cn_atom(b, v);
     case T_STR: {
@@ -234,6 +246,59 @@ static int cn_text_loc(CnBuf *b, int s) {
     }
     if (!cn_put(b, "=", 1)) return 0;
     return cn_text(b, cn_val[s], CN_SLOT_VTY[s]);
+}
+
+/* Texts of round 0 (every element colour 0) depend only on the location, its value and the
+ * element shown as '*': kept in a table, so most successors need no text made. */
+typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
+static __thread CnMemo *cn_memo = 0;
+static __thread uint64_t cn_mmask = 0, cn_mcount = 0;
+static __thread CnBuf cn_mtext;
+
+static inline uint64_t cn_mix(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* a new search: the value table starts again, so do the texts kept */
+void asm_canon_reset(void) {
+    free(cn_memo); cn_memo = 0; cn_mmask = 0; cn_mcount = 0; cn_mtext.n = 0;
+    cn_reason = 0;
+}
+
+static int cn_memo_grow(void) {
+    uint64_t ncap = cn_mmask ? (cn_mmask + 1) * 2 : 4096;
+    CnMemo *t = (CnMemo *)malloc(ncap * sizeof(CnMemo));
+    if (!t) return 0;
+    for (uint64_t i = 0; i < ncap; i++) t[i].slot = -1;
+    for (uint64_t i = 0; cn_memo && i <= cn_mmask; i++) {
+        if (cn_memo[i].slot < 0) continue;
+        uint64_t h = cn_mix((uint64_t)cn_memo[i].val ^ ((uint64_t)cn_memo[i].slot << 40) ^ ((uint64_t)cn_memo[i].me << 20)) & (ncap - 1);
+        while (t[h].slot >= 0) h = (h + 1) & (ncap - 1);
+        t[h] = cn_memo[i];
+    }
+    free(cn_memo); cn_memo = t; cn_mmask = ncap - 1;
+    return 1;
+}
+
+static int cn_text_loc(CnBuf *b, int s);
+
+/* the round-0 text of location s with element me as '*', appended to b */
+static int cn_text_loc0(CnBuf *b, int s, V val, int me) {
+    if ((cn_mcount + 1) * 2 > cn_mmask + 1 && !cn_memo_grow()) return 0;
+    uint64_t h = cn_mix((uint64_t)val ^ ((uint64_t)s << 40) ^ ((uint64_t)me << 20)) & cn_mmask;
+    while (cn_memo[h].slot >= 0) {
+        CnMemo *m = &cn_memo[h];
+        if (m->slot == s && m->me == me && m->val == val) return cn_put(b, cn_mtext.p + m->off, m->len);
+        h = (h + 1) & cn_mmask;
+    }
+    int off = cn_mtext.n;
+    if (!cn_text_loc(&cn_mtext, s)) return 0;
+    CnMemo *m = &cn_memo[h];
+    m->slot = s; m->me = me; m->val = val; m->off = off; m->len = cn_mtext.n - off;
+    cn_mcount++;
+    return cn_put(b, cn_mtext.p + off, m->len);
 }
 
 typedef struct { int e; int dom; int col; int num; int sig_off, sig_n; } CnEl;
@@ -374,7 +439,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                     for (int x = 0; x < L->nel; x++) if (L->el[x] == e) cnt = L->cnt[x];
                     if (!cnt) continue;
                     int off = cn_tb.n;
-                    if (!cn_text_loc(&cn_tb, L->slot)) return CN_TEXT;
+                    if (!(r == 0 ? cn_text_loc0(&cn_tb, L->slot, cn_val[L->slot], e) : cn_text_loc(&cn_tb, L->slot))) return CN_TEXT;
                     for (int x = 0; x < cnt; x++) if (!cn_add_span(off, cn_tb.n - off)) return CN_TEXT;
                 }
                 els[q].sig_n = cn_nsp - els[q].sig_off;
