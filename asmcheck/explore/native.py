@@ -1354,7 +1354,8 @@ class Generator:
             atoms[(1 << 40) + i] = text(e.name)
         # other atoms a narrow location holds (rule values): their texts as canonical.py shows them
         from ..semantics.values import RuleValue
-        for vals in self.slot_values:
+        known = [RuleValue(rd) for rd in getattr(self.codec, "rule_by_id", ())]
+        for vals in self.slot_values + [known]:
             for v in vals or ():
                 if type(v) is RuleValue:
                     if v.agent is not None:
