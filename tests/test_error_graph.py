@@ -24,6 +24,8 @@ from asmcheck.temporal import check_temporal
 from conftest import ASMETA, need_asmeta
 from helpers import write
 
+pytestmark = pytest.mark.engines("python")
+
 # n counts to 3; with go true in n = 1 the rule also sets n := 0: an inconsistent update that
 # depends on the monitored value, beside the well-defined step with go false
 HALT = """asm Halt
@@ -233,6 +235,7 @@ def test_halt_and_drop_differ_on_a_path_through_the_error(tmp_path):
     assert drop == [("ltl_1", True), ("ltl_2", True), ("ctl_1", True), ("ctl_2", True)]
 
 
+@pytest.mark.engines("native")
 def test_a_native_search_that_ends_on_an_error_is_handed_to_the_python_engine(tmp_path, capsys):
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
