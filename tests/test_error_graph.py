@@ -305,3 +305,21 @@ def test_agreement_with_nusmv_on_the_specs_whose_steps_fail(mode):
     # 11 verdicts in 3 specs: 10 agree in both designs, each with one known difference
     assert (len(rows), len(rows) - len(differ)) == (11, 10)
     assert differ == set(DIFFERS[mode])
+
+
+def test_a_halt_holds_the_monitored_values_of_the_failing_step(tmp_path):
+    # g(not (go and n = 1)) reads the monitored go: nodes are steps, and the halt after the
+    # failing step from n = 1 holds go = true, which breaks it; without the failing branch
+    # (drop) no node has go true in n = 1
+    text = HALT.replace("\tLTLSPEC f(n = 3)\n", "\tLTLSPEC g(not (go and n = 1))\n")
+    m, ex, _ = explore(tmp_path, text)
+    props = [p for p in m.spec.properties if p.kind == "ltl"]
+    (halt, _), (drop, _) = (check_temporal(ex, props, on_error=mode) for mode in ("halt", "drop"))
+    assert (halt.name, halt.holds, drop.holds) == ("ltl_1", False, True)
+    assert halt.K.mode == "step" and len(halt.K.halt) == 1
+    tr, loop, inputs_step = halt.trace()
+    n = next(f for f in m.spec.functions if f.name == "n").index
+    assert ([s.changed for s in tr.steps], [c.value for c in tr.steps[1].choices], loop, inputs_step) == (
+        [{n: 0}, {n: 1}], [False], None, False)
+    assert ([(c.label, c.value) for c in tr.failing], tr.message) == (
+        [("go", True)], "inconsistent update of n: 2 and 0")
