@@ -1,5 +1,5 @@
 """Elements made by ``extend`` on the native engine: fresh elements of dynamic abstract domains
-(a count per domain in the state, element slots 1..16), canonicalised in C (native_canon.c) with
+(a count per domain in the state, element slots 1..32), canonicalised in C (native_canon.c) with
 the Python canonicaliser's result (explore/canonical.py): unreferenced elements dropped, symmetric
 states merged, elements numbered by their colours.  Each spec runs on both engines (pinned with
 --engine); the JSON reports must be equal apart from the engine and the time, and the states must
@@ -320,7 +320,7 @@ def test_more_elements_than_the_slots_is_refused_with_the_reason(tmp_path):
     spec = check_file(write(tmp_path, STACK))
     nat = NativeExplorer(Machine(spec, {}))
     try:
-        with pytest.raises(Unsupported, match="more than 16 elements of Cell made by extend in one state"):
+        with pytest.raises(Unsupported, match="more than 32 elements of Cell made by extend in one state"):
             nat.run()
     finally:
         nat.close()

@@ -48,7 +48,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
-CN_K = 16              # element slots per domain extended at run time (native_canon.c)
+CN_K = 32              # element slots per domain extended at run time (native_canon.c)
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
 
 
@@ -1375,6 +1375,8 @@ class Generator:
             arr("int", "CN_SLOT_FN", slot_fn), arr("int", "CN_SLOT_VTY", slot_vty),
             arr("int", "CN_SLOT_NARGS", slot_nargs), arr("int", "CN_SLOT_ARG", slot_arg),
             arr("int", "CN_SLOT_BASE", slot_base),
+            f"#define CN_NREL {sum(1 for x in slot_fn if x >= 0)}",
+            arr("int", "CN_REL", [i for i, x in enumerate(slot_fn) if x >= 0]),
             arr("int64_t", "CN_ARGS", [f"{x}LL" if x != UNDEF_V else "INT64_MIN" for x in args]),
             arr("int64_t", "CN_SLOT_IDX", idxs),
             arr("int", "CN_TY", tys),

@@ -197,13 +197,13 @@ static int cn_text(CnBuf *b, V v, int ty) {
     return 0;
 }
 
-/* the fresh elements in v (each occurrence) added to cnt[] */
-static void cn_walk(V v, int ty, int *cnt, int *total) {
-    if (v == UNDEF) return;
-    if (cn_is_fresh(v)) { cnt[cn_eidx(v)]++; (*total)++; return; }
+/* the fresh elements in v (each occurrence) appended to list[] (at most 256: else *nl = -1) */
+static void cn_walk(V v, int ty, int *list, int *nl) {
+    if (v == UNDEF || *nl < 0) return;
+    if (cn_is_fresh(v)) { if (*nl >= 256) *nl = -1; else list[(*nl)++] = cn_eidx(v); return; }
     switch (CN_TY[ty]) {
-    case T_SEQ: case T_SET: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 1], cnt, total); break; }
-    case T_TUPLE: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 2 + i], cnt, total); break; }
+    case T_SEQ: case T_SET: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 1], list, nl); break; }
+    case T_TUPLE: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 2 + i], list, nl); break; }
     }
 }
 
@@ -355,6 +355,16 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (cn_dgen[d] == c->gen && cn_dnext[d] - 1 > n[d]) n[d] = cn_dnext[d] - 1;
         if (n[d] > 0) any = 1;
     }
+    {   /* no element made and no location that holds or is keyed by elements updated: the
+           state keeps the canonical form of the state it comes from */
+        int touched = 0;
+        for (int d = 0; d < CN_NDYN; d++) if (cn_dgen[d] == c->gen) touched = 1;
+        for (int i = 0; !touched && i < c->nupd; i++) {
+            int s = c->upd_slot[i];
+            if (s >= NSLOTS || CN_SLOT_FN[s] >= 0) touched = 1;
+        }
+        if (!touched) return 0;
+    }
     if (!any) {
         for (int d = 0; d < CN_NDYN; d++) {
             int s = CN_COUNT_SLOT[d];
@@ -363,8 +373,11 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         }
         return 0;
     }
-    /* decode */
-    for (int s = 0; s < NSLOTS; s++) {
+    /* decode (the locations that may hold elements, and the counts) */
+    for (int d = 0; d < CN_NDYN; d++) cn_val[CN_COUNT_SLOT[d]] = SLOT_DECODE[CN_COUNT_SLOT[d]][
+        (int32_t)((w[SLOT_WORD[CN_COUNT_SLOT[d]]] >> SLOT_SHIFT[CN_COUNT_SLOT[d]]) & ((1ULL << SLOT_BITS[CN_COUNT_SLOT[d]]) - 1))];
+    for (int r = 0; r < CN_NREL; r++) {
+        int s = CN_REL[r];
         uint64_t word = w[SLOT_WORD[s]];
         if (SLOT_BITS[s] == 64) { cn_val[s] = (V)word; continue; }
         int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
@@ -375,20 +388,25 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     int nloc = 0;
     int occ[CN_MAXE > 0 ? CN_MAXE : 1];
     memset(occ, 0, sizeof(occ));
-    for (int s = 0; s < NSLOTS; s++) {
-        if (CN_SLOT_FN[s] < 0 || cn_val[s] == UNDEF) continue;
-        int cnt[CN_MAXE > 0 ? CN_MAXE : 1];
-        int total = 0;
-        memset(cnt, 0, sizeof(cnt));
-        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], cnt, &total);
-        cn_walk(cn_val[s], CN_SLOT_VTY[s], cnt, &total);
-        if (!total) continue;
+    for (int r = 0; r < CN_NREL; r++) {
+        int s = CN_REL[r];
+        if (cn_val[s] == UNDEF) continue;
+        int list[256], nl = 0;
+        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], list, &nl);
+        cn_walk(cn_val[s], CN_SLOT_VTY[s], list, &nl);
+        if (nl < 0) return CN_TEXT;
+        if (!nl) continue;
         CnLoc *L = &locs[nloc++];
         L->slot = s; L->nel = 0;
-        for (int e = 0; e < CN_MAXE; e++) if (cnt[e]) {
-            if (L->nel >= 8) return CN_TEXT;
-            L->el[L->nel] = e; L->cnt[L->nel] = cnt[e]; L->nel++;
-            occ[e] += cnt[e];
+        for (int i = 0; i < nl; i++) {
+            int e = list[i], x = 0;
+            while (x < L->nel && L->el[x] != e) x++;
+            if (x == L->nel) {
+                if (L->nel >= 8) return CN_TEXT;
+                L->el[x] = e; L->cnt[x] = 0; L->nel++;
+            }
+            L->cnt[x]++;
+            occ[e]++;
         }
     }
     /* the elements kept (unreferenced ones leave domains nobody ranges over) */
@@ -413,6 +431,13 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     int col[CN_MAXE > 0 ? CN_MAXE : 1], newcol[CN_MAXE > 0 ? CN_MAXE : 1];
     for (int e = 0; e < CN_MAXE; e++) col[e] = -1;
     for (int i = 0; i < ne; i++) col[els[i].e] = 0;
+    /* the locations of each element: eloc[eoff[e] .. eoff[e + 1]) */
+    static __thread int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
+    int eoff[CN_MAXE + 1], efill[CN_MAXE > 0 ? CN_MAXE : 1];
+    memset(eoff, 0, sizeof(eoff));
+    for (int l = 0; l < nloc; l++) for (int x = 0; x < locs[l].nel; x++) eoff[locs[l].el[x] + 1]++;
+    for (int e = 0; e < CN_MAXE; e++) { eoff[e + 1] += eoff[e]; efill[e] = eoff[e]; }
+    for (int l = 0; l < nloc; l++) for (int x = 0; x < locs[l].nel; x++) eloc[efill[locs[l].el[x]]++] = l;
     /* a domain with one element needs no colours, nor does any when every domain has one */
     int need = 0;
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] > 1) need = 1;
@@ -433,11 +458,10 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                 int e = els[q].e;
                 cn_me = e;
                 els[q].sig_off = cn_nsp;
-                for (int l = 0; l < nloc; l++) {
-                    CnLoc *L = &locs[l];
+                for (int li = eoff[e]; li < eoff[e + 1]; li++) {
+                    CnLoc *L = &locs[eloc[li]];
                     int cnt = 0;
                     for (int x = 0; x < L->nel; x++) if (L->el[x] == e) cnt = L->cnt[x];
-                    if (!cnt) continue;
                     int off = cn_tb.n;
                     if (!(r == 0 ? cn_text_loc0(&cn_tb, L->slot, cn_val[L->slot], e) : cn_text_loc(&cn_tb, L->slot))) return CN_TEXT;
                     for (int x = 0; x < cnt; x++) if (!cn_add_span(off, cn_tb.n - off)) return CN_TEXT;
@@ -469,10 +493,12 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)cn_val[CN_COUNT_SLOT[d]]) changed = 1;
     if (!changed) return 0;
     /* rebuild: locations over elements move with them, values are renamed */
-    memcpy(cn_new, cn_val, NSLOTS * sizeof(V));
-    for (int s = 0; s < NSLOTS; s++) if (CN_SLOT_FN[s] >= 0 && CN_SLOT_BASE[s] >= 0) cn_new[s] = UNDEF;
-    for (int s = 0; s < NSLOTS; s++) {
-        if (CN_SLOT_FN[s] < 0) continue;
+    for (int r = 0; r < CN_NREL; r++) {
+        int s = CN_REL[r];
+        cn_new[s] = CN_SLOT_BASE[s] >= 0 ? UNDEF : cn_val[s];
+    }
+    for (int r = 0; r < CN_NREL; r++) {
+        int s = CN_REL[r];
         V v = cn_val[s];
         if (CN_SLOT_BASE[s] < 0) { cn_new[s] = cn_rename(c, v, CN_SLOT_VTY[s], map); continue; }
         if (v == UNDEF) continue;
@@ -489,9 +515,10 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     if (c->err) return CN_TEXT;
     for (int d = 0; d < CN_NDYN; d++) cn_new[CN_COUNT_SLOT[d]] = kept[d];
     /* pack */
-    for (int s = 0; s < NSLOTS; s++) {
-        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)cn_new[s]; continue; }
+    for (int r = 0; r < CN_NREL + CN_NDYN; r++) {
+        int s = r < CN_NREL ? CN_REL[r] : CN_COUNT_SLOT[r - CN_NREL];
         if (cn_new[s] == cn_val[s]) continue;
+        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)cn_new[s]; continue; }
         const V *dec = SLOT_DECODE[s];
         int code = 0;
         while (dec[code] != cn_new[s]) {
