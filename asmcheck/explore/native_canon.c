@@ -261,8 +261,8 @@ static inline uint64_t cn_mix(uint64_t z) {
     return z ^ (z >> 31);
 }
 
-/* a new search: the value table starts again, so do the texts kept */
-void asm_canon_reset(void) {
+/* the texts kept go (a new search) */
+static void cn_memo_reset(void) {
     free(cn_memo); cn_memo = 0; cn_mmask = 0; cn_mcount = 0; cn_mtext.n = 0;
     cn_reason = 0;
 }
@@ -345,6 +345,61 @@ static int cn_add_span(int off, int len) {
 
 static inline V slot_decode(int s, V code);
 
+/* Canonical forms already worked out: key (the locations that may hold elements, then the
+ * counts), the new values of the same, and whether anything changed; all in one pool. */
+#define CN_KL (CN_NREL + CN_NDYN)
+static __thread V *cn_dpool = 0;
+static __thread int64_t cn_dn = 0, cn_dcap = 0;
+static __thread int64_t *cn_dtab = 0;
+static __thread uint64_t cn_dmask = 0;
+
+static uint64_t cn_key_hash(const V *k) {
+    uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (int i = 0; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
+    return h;
+}
+static const V *cn_done_find(const V *k, uint64_t h) {
+    if (!cn_dtab) return 0;
+    int64_t *tab = cn_dtab;
+    uint64_t m = cn_dmask, i = h & m;
+    while (tab[i] >= 0) {
+        const V *e = cn_dpool + tab[i] * (2 * CN_KL + 1);
+        if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e;
+        i = (i + 1) & m;
+    }
+    return 0;
+}
+/* the result for key k: cn_new over the same locations (changed), else k itself */
+static void cn_done_add(const V *k, uint64_t h, int changed) {
+    if (cn_dn >= (1 << 20)) return;                     /* enough kept */
+    if ((cn_dn + 1) * 2 > (int64_t)(cn_dmask + 1)) {
+        uint64_t ncap = cn_dmask ? (cn_dmask + 1) * 2 : 1024;
+        int64_t *t = (int64_t *)malloc(ncap * sizeof(int64_t));
+        if (!t) return;
+        memset(t, 0xff, ncap * sizeof(int64_t));
+        for (int64_t j = 0; j < cn_dn; j++) {
+            uint64_t i = cn_key_hash(cn_dpool + j * (2 * CN_KL + 1)) & (ncap - 1);
+            while (t[i] >= 0) i = (i + 1) & (ncap - 1);
+            t[i] = j;
+        }
+        free(cn_dtab); cn_dtab = t; cn_dmask = ncap - 1;
+    }
+    if (cn_dn >= cn_dcap) {
+        int64_t nc = cn_dcap ? cn_dcap * 2 : 256;
+        V *p = (V *)realloc(cn_dpool, nc * (2 * CN_KL + 1) * sizeof(V));
+        if (!p) return;
+        cn_dpool = p; cn_dcap = nc;
+    }
+    V *e = cn_dpool + cn_dn * (2 * CN_KL + 1);
+    memcpy(e, k, CN_KL * sizeof(V));
+    for (int r = 0; r < CN_NREL; r++) e[CN_KL + r] = changed ? cn_new[CN_REL[r]] : k[r];
+    for (int d = 0; d < CN_NDYN; d++) e[CN_KL + CN_NREL + d] = changed ? cn_new[CN_COUNT_SLOT[d]] : k[CN_NREL + d];
+    e[2 * CN_KL] = changed;
+    uint64_t i = h & cn_dmask;
+    while (cn_dtab[i] >= 0) i = (i + 1) & cn_dmask;
+    cn_dtab[i] = cn_dn++;
+}
+
 /* Canonical form of the packed successor w (in place).  0 on success, else an error code. */
 static int canon_state_(Ctx *c, uint64_t *w) {
     int n[CN_NDYN], any = 0;
@@ -382,6 +437,21 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (SLOT_BITS[s] == 64) { cn_val[s] = (V)word; continue; }
         int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
         cn_val[s] = SLOT_DECODE[s][code];
+    }
+    /* the canonical form depends on these locations and the counts only: met before? */
+    V key[CN_NREL + CN_NDYN];
+    for (int r = 0; r < CN_NREL; r++) key[r] = cn_val[CN_REL[r]];
+    for (int d = 0; d < CN_NDYN; d++) key[CN_NREL + d] = n[d];
+    uint64_t kh = cn_key_hash(key);
+    {
+        const V *res = cn_done_find(key, kh);
+        if (res) {
+            /* (unchanged: the counts may still differ from the packed ones, which count the
+               elements of the state before this step) */
+            for (int r = 0; r < CN_NREL; r++) cn_new[CN_REL[r]] = res[CN_NREL + CN_NDYN + r];
+            for (int d = 0; d < CN_NDYN; d++) cn_new[CN_COUNT_SLOT[d]] = res[2 * CN_NREL + CN_NDYN + d];
+            goto pack;
+        }
     }
     /* the locations where elements occur */
     static __thread CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
@@ -491,7 +561,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (k != els[i].num) changed = 1;
     }
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)cn_val[CN_COUNT_SLOT[d]]) changed = 1;
-    if (!changed) return 0;
+    if (!changed) { cn_done_add(key, kh, 0); return 0; }
     /* rebuild: locations over elements move with them, values are renamed */
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
@@ -514,7 +584,8 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     }
     if (c->err) return CN_TEXT;
     for (int d = 0; d < CN_NDYN; d++) cn_new[CN_COUNT_SLOT[d]] = kept[d];
-    /* pack */
+    cn_done_add(key, kh, 1);
+pack:
     for (int r = 0; r < CN_NREL + CN_NDYN; r++) {
         int s = r < CN_NREL ? CN_REL[r] : CN_COUNT_SLOT[r - CN_NREL];
         if (cn_new[s] == cn_val[s]) continue;
@@ -538,3 +609,9 @@ static int canon_state(Ctx *c, uint64_t *w) {
 }
 
 int64_t asm_canon_reason(int64_t *out) { int r = cn_reason; out[0] = cn_reason_dom; cn_reason = 0; return r; }
+
+/* a new search: the value table starts again, so do the texts and forms kept */
+void asm_canon_reset(void) {
+    cn_memo_reset();
+    free(cn_dpool); cn_dpool = 0; cn_dn = cn_dcap = 0; free(cn_dtab); cn_dtab = 0; cn_dmask = 0;
+}
