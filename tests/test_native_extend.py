@@ -324,3 +324,16 @@ def test_more_elements_than_the_slots_is_refused_with_the_reason(tmp_path):
             nat.run()
     finally:
         nat.close()
+
+
+def test_a_second_search_of_the_same_model_starts_from_nothing(tmp_path):
+    # the canonical forms kept by the first search hold numbers of its value table: the second
+    # (same compiled engine, a new value table) must not reuse them
+    spec = check_file(write(tmp_path, FOREST))
+    for bound, counts in ((50, (52, 71)), (None, (476, 1088)), (None, (476, 1088))):
+        nat = NativeExplorer(Machine(spec, {}), max_states=bound)
+        try:
+            r = nat.run()
+        finally:
+            nat.close()
+        assert (r.states, r.transitions) == counts

@@ -261,12 +261,6 @@ static inline uint64_t cn_mix(uint64_t z) {
     return z ^ (z >> 31);
 }
 
-/* the texts kept go (a new search) */
-static void cn_memo_reset(void) {
-    free(cn_memo); cn_memo = 0; cn_mmask = 0; cn_mcount = 0; cn_mtext.n = 0;
-    cn_reason = 0;
-}
-
 static int cn_memo_grow(void) {
     uint64_t ncap = cn_mmask ? (cn_mmask + 1) * 2 : 4096;
     CnMemo *t = (CnMemo *)malloc(ncap * sizeof(CnMemo));
@@ -400,6 +394,16 @@ static void cn_done_add(const V *k, uint64_t h, int changed) {
     cn_dtab[i] = cn_dn++;
 }
 
+static int64_t cn_search = 0;               /* the search the tables below were made in */
+static __thread int64_t cn_my_search = -1;
+static void cn_fresh_search(void) {
+    int64_t now = __atomic_load_n(&cn_search, __ATOMIC_SEQ_CST);
+    if (now == cn_my_search) return;
+    cn_my_search = now;
+    free(cn_memo); cn_memo = 0; cn_mmask = 0; cn_mcount = 0; cn_mtext.n = 0;
+    free(cn_dpool); cn_dpool = 0; cn_dn = cn_dcap = 0; free(cn_dtab); cn_dtab = 0; cn_dmask = 0;
+}
+
 /* Canonical form of the packed successor w (in place).  0 on success, else an error code. */
 static int canon_state_(Ctx *c, uint64_t *w) {
     int n[CN_NDYN], any = 0;
@@ -428,6 +432,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         }
         return 0;
     }
+    cn_fresh_search();
     /* decode (the locations that may hold elements, and the counts) */
     for (int d = 0; d < CN_NDYN; d++) cn_val[CN_COUNT_SLOT[d]] = SLOT_DECODE[CN_COUNT_SLOT[d]][
         (int32_t)((w[SLOT_WORD[CN_COUNT_SLOT[d]]] >> SLOT_SHIFT[CN_COUNT_SLOT[d]]) & ((1ULL << SLOT_BITS[CN_COUNT_SLOT[d]]) - 1))];
@@ -610,8 +615,9 @@ static int canon_state(Ctx *c, uint64_t *w) {
 
 int64_t asm_canon_reason(int64_t *out) { int r = cn_reason; out[0] = cn_reason_dom; cn_reason = 0; return r; }
 
-/* a new search: the value table starts again, so do the texts and forms kept */
+/* a new search: the value table starts again, so do the texts and forms kept (each thread's
+ * own when it next works out a canonical form: see cn_fresh_search) */
 void asm_canon_reset(void) {
-    cn_memo_reset();
-    free(cn_dpool); cn_dpool = 0; cn_dn = cn_dcap = 0; free(cn_dtab); cn_dtab = 0; cn_dmask = 0;
+    __atomic_add_fetch(&cn_search, 1, __ATOMIC_SEQ_CST);
+    cn_reason = 0;
 }
