@@ -27,6 +27,46 @@
 #define T_TUPLE 5
 #define T_SET 6
 
+/* ---------------------------------------------------------------- one worker's tables
+ * Each search context (one per thread of a parallel search) has its own: looked up once per
+ * call by the context's address. */
+typedef struct { char *p; int n, cap; } CnBuf;
+typedef struct { int off, len; } CnSpan;
+typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
+typedef struct { int slot; int nel; int el[8]; int cnt[8]; } CnLoc;
+typedef struct {
+    uint32_t dgen[CN_NDYN];          /* the run of the step (c->gen) that made elements of d */
+    int dnext[CN_NDYN];              /* the number of d's next element in that run */
+    const int *col;                  /* colours of the elements while texts are made */
+    int me;                          /* the element shown as '*' */
+    V val[NSLOTS > 0 ? NSLOTS : 1], new_[NSLOTS > 0 ? NSLOTS : 1];
+    CnMemo *memo; uint64_t mmask, mcount; CnBuf mtext;       /* texts of round 0 */
+    CnBuf tb; CnSpan *sp; int nsp, capsp;                    /* the texts of this round */
+    V *dpool; int64_t dn, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept */
+    int64_t my_search;
+    CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
+    int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
+} CnW;
+#define CN_MAXW 256
+static struct { Ctx *volatile c; CnW *volatile w; } cn_ws[CN_MAXW];
+
+/* the tables of context c (made on first use; 0 when out of memory or contexts) */
+static CnW *cn_w(Ctx *c) {
+    for (int i = 0; i < CN_MAXW; i++) {
+        Ctx *o = cn_ws[i].c;
+        if (o == c) { CnW *w = cn_ws[i].w; if (w) return w; continue; }
+        if (o == 0) {
+            Ctx *expect = 0;
+            if (!__atomic_compare_exchange_n(&cn_ws[i].c, &expect, c, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) { i--; continue; }
+            CnW *w = (CnW *)calloc(1, sizeof(CnW));
+            if (w) w->my_search = -1;
+            __atomic_store_n(&cn_ws[i].w, w, __ATOMIC_SEQ_CST);
+            return w;
+        }
+    }
+    return 0;
+}
+
 static inline int cn_is_fresh(V v) { return v >= CN_FRESH && v < CN_FRESH + ((V)CN_NDYN << 24); }
 static inline int cn_dom(V v) { return (int)((v - CN_FRESH) >> 24); }
 static inline int cn_num(V v) { return (int)((v - CN_FRESH) & 0xffffff); }
@@ -39,15 +79,15 @@ static int cn_reason = 0, cn_reason_dom = 0;
 #define CN_SEQ 3
 
 /* the number of each domain's next element in this run of the step */
-static __thread uint32_t cn_dgen[CN_NDYN];
-static __thread int cn_dnext[CN_NDYN];
 
 static V fresh_elem(Ctx *c, int d) {
-    if (cn_dgen[d] != c->gen) {
-        cn_dgen[d] = c->gen;
-        cn_dnext[d] = (int)c->cur[CN_COUNT_SLOT[d]] + 1;
+    CnW *W = cn_w(c);
+    if (!W) { fail(c, E_MEMORY, 0); return UNDEF; }
+    if (W->dgen[d] != c->gen) {
+        W->dgen[d] = c->gen;
+        W->dnext[d] = (int)c->cur[CN_COUNT_SLOT[d]] + 1;
     }
-    int k = cn_dnext[d]++;
+    int k = W->dnext[d]++;
     if (k > CN_K) {
         cn_reason = CN_TOO_MANY; cn_reason_dom = d;
         fail(c, E_UNSUPPORTED, 0);
@@ -60,8 +100,10 @@ static V fresh_elem(Ctx *c, int d) {
  * successor (INVAR, next()): those of the state and the ones this step made.  Inside a seq
  * block after an extend of d the Python step function sees the new elements: not followed. */
 static int cn_count(Ctx *c, int d) {
-    int extended = cn_dgen[d] == c->gen;
-    if (c->rd == c->post) return extended ? cn_dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
+    CnW *W = cn_w(c);
+    if (!W) { fail(c, E_MEMORY, 0); return 0; }
+    int extended = W->dgen[d] == c->gen;
+    if (c->rd == c->post) return extended ? W->dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
     if (extended && c->seqstart >= 0) {
         cn_reason = CN_SEQ; cn_reason_dom = d;
         fail(c, E_UNSUPPORTED, 0);
@@ -70,7 +112,6 @@ static int cn_count(Ctx *c, int d) {
 }
 
 /* ---------------------------------------------------------------- texts */
-typedef struct { char *p; int n, cap; } CnBuf;
 
 static int cn_put(CnBuf *b, const char *s, int n) {
     if (b->n + n > b->cap) {
@@ -107,11 +148,9 @@ static int cn_atom(CnBuf *b, V v) {
     return 0;
 }
 
-static __thread const int *cn_col;    /* colours of the elements (by element index) while texts are made */
-static __thread int cn_me;            /* the element shown as '*' */
 static int cn_eidx(V v) { return cn_dom(v) * CN_K + cn_num(v) - 1; }
 
-static int cn_text(CnBuf *b, V v, int ty);
+static int cn_text(CnW *W, CnBuf *b, V v, int ty);
 
 /* the decimal text of x (Python's str of an int) into t; its length */
 static int cn_itoa(char *t, V x) {
@@ -124,25 +163,31 @@ static int cn_itoa(char *t, V x) {
     return k;
 }
 
-typedef struct { int off, len; } CnSpan;
 static int cn_span_cmp_base(const char *base, const CnSpan *x, const CnSpan *y) {
     int n = x->len < y->len ? x->len : y->len;
     int r = memcmp(base + x->off, base + y->off, n);
     if (r) return r;
     return x->len < y->len ? -1 : x->len > y->len;
 }
-static __thread const char *cn_sort_base;
-static int cn_span_cmp(const void *a, const void *b) { return cn_span_cmp_base(cn_sort_base, (const CnSpan *)a, (const CnSpan *)b); }
+/* spans sorted by their texts in base (insertion sort: a few texts at a time) */
+static void cn_sort_spans(const char *base, CnSpan *sp, int n) {
+    for (int i = 1; i < n; i++) {
+        CnSpan x = sp[i];
+        int j = i - 1;
+        while (j >= 0 && cn_span_cmp_base(base, &sp[j], &x) > 0) { sp[j + 1] = sp[j]; j--; }
+        sp[j + 1] = x;
+    }
+}
 
-static int cn_text(CnBuf *b, V v, int ty) {
+static int cn_text(CnW *W, CnBuf *b, V v, int ty) {
     if (v == UNDEF) return cn_put(b, "None", 4);
     if (cn_is_fresh(v)) {
         int i = cn_eidx(v);
-        if (i == cn_me) return cn_put(b, "*", 1);
+        if (i == W->me) return cn_put(b, "*", 1);
         char t[32];
-        if (cn_col[i] < 0) return cn_put(b, "#?", 2);
+        if (W->col[i] < 0) return cn_put(b, "#?", 2);
         t[0] = '#';
-        return cn_put(b, t, 1 + cn_itoa(t + 1, cn_col[i]));
+        return cn_put(b, t, 1 + cn_itoa(t + 1, W->col[i]));
     }
     switch (CN_TY[ty]) {
     case T_INT: { char t[32]; return cn_put(b, t, cn_itoa(t, v)); }
@@ -164,7 +209,7 @@ static int cn_text(CnBuf *b, V v, int ty) {
         if (!cn_put(b, seq ? "[" : "(", 1)) return 0;
         for (int i = 0; i < n; i++) {
             if (i && !cn_put(b, ",", 1)) return 0;
-            if (!cn_text(b, e[i], seq ? CN_TY[ty + 1] : CN_TY[ty + 2 + i])) return 0;
+            if (!cn_text(W, b, e[i], seq ? CN_TY[ty + 1] : CN_TY[ty + 2 + i])) return 0;
         }
         return cn_put(b, seq ? "]" : ")", 1);
     }
@@ -177,12 +222,11 @@ static int cn_text(CnBuf *b, V v, int ty) {
         int ok = sp != 0;
         for (int i = 0; ok && i < n; i++) {
             sp[i].off = tmp.n;
-            ok = cn_text(&tmp, e[i], CN_TY[ty + 1]);
+            ok = cn_text(W, &tmp, e[i], CN_TY[ty + 1]);
             sp[i].len = tmp.n - sp[i].off;
         }
         if (ok) {
-            cn_sort_base = tmp.p;
-            qsort(sp, n, sizeof(CnSpan), cn_span_cmp);
+            cn_sort_spans(tmp.p, sp, n);
             ok = cn_put(b, "{", 1);
             for (int i = 0; ok && i < n; i++) {
                 if (i) ok = cn_put(b, ",", 1);
@@ -229,31 +273,25 @@ static V cn_rename(Ctx *c, V v, int ty, const int *map) {
 }
 
 /* ---------------------------------------------------------------- the canonical form */
-typedef struct { int slot; int nel; int el[8]; int cnt[8]; } CnLoc;
 
-static __thread V cn_val[NSLOTS > 0 ? NSLOTS : 1], cn_new[NSLOTS > 0 ? NSLOTS : 1];
 
-static int cn_text_loc(CnBuf *b, int s) {
+static int cn_text_loc(CnW *W, CnBuf *b, int s) {
     if (!cn_chars(b, CN_FN_OFF[CN_SLOT_FN[s]])) return 0;
     int na = CN_SLOT_NARGS[s];
     if (na > 0) {
         if (!cn_put(b, "(", 1)) return 0;
         for (int i = 0; i < na; i++) {
             if (i && !cn_put(b, ",", 1)) return 0;
-            if (!cn_text(b, CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1])) return 0;
+            if (!cn_text(W, b, CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1])) return 0;
         }
         if (!cn_put(b, ")", 1)) return 0;
     }
     if (!cn_put(b, "=", 1)) return 0;
-    return cn_text(b, cn_val[s], CN_SLOT_VTY[s]);
+    return cn_text(W, b, W->val[s], CN_SLOT_VTY[s]);
 }
 
 /* Texts of round 0 (every element colour 0) depend only on the location, its value and the
  * element shown as '*': kept in a table, so most successors need no text made. */
-typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
-static __thread CnMemo *cn_memo = 0;
-static __thread uint64_t cn_mmask = 0, cn_mcount = 0;
-static __thread CnBuf cn_mtext;
 
 static inline uint64_t cn_mix(uint64_t z) {
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -261,56 +299,52 @@ static inline uint64_t cn_mix(uint64_t z) {
     return z ^ (z >> 31);
 }
 
-static int cn_memo_grow(void) {
-    uint64_t ncap = cn_mmask ? (cn_mmask + 1) * 2 : 4096;
+static int cn_memo_grow(CnW *W) {
+    uint64_t ncap = W->mmask ? (W->mmask + 1) * 2 : 4096;
     CnMemo *t = (CnMemo *)malloc(ncap * sizeof(CnMemo));
     if (!t) return 0;
     for (uint64_t i = 0; i < ncap; i++) t[i].slot = -1;
-    for (uint64_t i = 0; cn_memo && i <= cn_mmask; i++) {
-        if (cn_memo[i].slot < 0) continue;
-        uint64_t h = cn_mix((uint64_t)cn_memo[i].val ^ ((uint64_t)cn_memo[i].slot << 40) ^ ((uint64_t)cn_memo[i].me << 20)) & (ncap - 1);
+    for (uint64_t i = 0; W->memo && i <= W->mmask; i++) {
+        if (W->memo[i].slot < 0) continue;
+        uint64_t h = cn_mix((uint64_t)W->memo[i].val ^ ((uint64_t)W->memo[i].slot << 40) ^ ((uint64_t)W->memo[i].me << 20)) & (ncap - 1);
         while (t[h].slot >= 0) h = (h + 1) & (ncap - 1);
-        t[h] = cn_memo[i];
+        t[h] = W->memo[i];
     }
-    free(cn_memo); cn_memo = t; cn_mmask = ncap - 1;
+    free(W->memo); W->memo = t; W->mmask = ncap - 1;
     return 1;
 }
 
-static int cn_text_loc(CnBuf *b, int s);
+static int cn_text_loc(CnW *W, CnBuf *b, int s);
 
 /* the round-0 text of location s with element me as '*', appended to b */
-static int cn_text_loc0(CnBuf *b, int s, V val, int me) {
-    if ((cn_mcount + 1) * 2 > cn_mmask + 1 && !cn_memo_grow()) return 0;
-    uint64_t h = cn_mix((uint64_t)val ^ ((uint64_t)s << 40) ^ ((uint64_t)me << 20)) & cn_mmask;
-    while (cn_memo[h].slot >= 0) {
-        CnMemo *m = &cn_memo[h];
-        if (m->slot == s && m->me == me && m->val == val) return cn_put(b, cn_mtext.p + m->off, m->len);
-        h = (h + 1) & cn_mmask;
+static int cn_text_loc0(CnW *W, CnBuf *b, int s, V val, int me) {
+    if ((W->mcount + 1) * 2 > W->mmask + 1 && !cn_memo_grow(W)) return 0;
+    uint64_t h = cn_mix((uint64_t)val ^ ((uint64_t)s << 40) ^ ((uint64_t)me << 20)) & W->mmask;
+    while (W->memo[h].slot >= 0) {
+        CnMemo *m = &W->memo[h];
+        if (m->slot == s && m->me == me && m->val == val) return cn_put(b, W->mtext.p + m->off, m->len);
+        h = (h + 1) & W->mmask;
     }
-    int off = cn_mtext.n;
-    if (!cn_text_loc(&cn_mtext, s)) return 0;
-    CnMemo *m = &cn_memo[h];
-    m->slot = s; m->me = me; m->val = val; m->off = off; m->len = cn_mtext.n - off;
-    cn_mcount++;
-    return cn_put(b, cn_mtext.p + off, m->len);
+    int off = W->mtext.n;
+    if (!cn_text_loc(W, &W->mtext, s)) return 0;
+    CnMemo *m = &W->memo[h];
+    m->slot = s; m->me = me; m->val = val; m->off = off; m->len = W->mtext.n - off;
+    W->mcount++;
+    return cn_put(b, W->mtext.p + off, m->len);
 }
 
 typedef struct { int e; int dom; int col; int num; int sig_off, sig_n; } CnEl;
-static __thread CnBuf cn_tb;                 /* the texts of this round */
-static __thread CnSpan *cn_sp = 0;           /* the signatures' texts: spans into cn_tb */
-static __thread int cn_nsp = 0, cn_capsp = 0;
 
-static int cn_sig_cmp(const CnEl *x, const CnEl *y) {
+static int cn_sig_cmp(CnW *W, const CnEl *x, const CnEl *y) {
     int n = x->sig_n < y->sig_n ? x->sig_n : y->sig_n;
     for (int i = 0; i < n; i++) {
-        int r = cn_span_cmp_base(cn_tb.p, &cn_sp[x->sig_off + i], &cn_sp[y->sig_off + i]);
+        int r = cn_span_cmp_base(W->tb.p, &W->sp[x->sig_off + i], &W->sp[y->sig_off + i]);
         if (r) return r;
     }
     return x->sig_n < y->sig_n ? -1 : x->sig_n > y->sig_n;
 }
-static int cn_by_sig(const void *a, const void *b) {
-    const CnEl *x = (const CnEl *)a, *y = (const CnEl *)b;
-    int r = cn_sig_cmp(x, y);
+static int cn_by_sig(CnW *W, const CnEl *x, const CnEl *y) {
+    int r = cn_sig_cmp(W, x, y);
     return r ? r : (x->e < y->e ? -1 : x->e > y->e);
 }
 static int cn_by_group(const void *a, const void *b) {
@@ -326,14 +360,14 @@ static int cn_final(const void *a, const void *b) {
     return x->num < y->num ? -1 : x->num > y->num;
 }
 
-static int cn_add_span(int off, int len) {
-    if (cn_nsp >= cn_capsp) {
-        int nc = cn_capsp ? cn_capsp * 2 : 256;
-        CnSpan *x = (CnSpan *)realloc(cn_sp, nc * sizeof(CnSpan));
+static int cn_add_span(CnW *W, int off, int len) {
+    if (W->nsp >= W->capsp) {
+        int nc = W->capsp ? W->capsp * 2 : 256;
+        CnSpan *x = (CnSpan *)realloc(W->sp, nc * sizeof(CnSpan));
         if (!x) return 0;
-        cn_sp = x; cn_capsp = nc;
+        W->sp = x; W->capsp = nc;
     }
-    cn_sp[cn_nsp].off = off; cn_sp[cn_nsp].len = len; cn_nsp++;
+    W->sp[W->nsp].off = off; W->sp[W->nsp].len = len; W->nsp++;
     return 1;
 }
 
@@ -342,82 +376,79 @@ static inline V slot_decode(int s, V code);
 /* Canonical forms already worked out: key (the locations that may hold elements, then the
  * counts), the new values of the same, and whether anything changed; all in one pool. */
 #define CN_KL (CN_NREL + CN_NDYN)
-static __thread V *cn_dpool = 0;
-static __thread int64_t cn_dn = 0, cn_dcap = 0;
-static __thread int64_t *cn_dtab = 0;
-static __thread uint64_t cn_dmask = 0;
 
 static uint64_t cn_key_hash(const V *k) {
     uint64_t h = 0x9e3779b97f4a7c15ULL;
     for (int i = 0; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
     return h;
 }
-static const V *cn_done_find(const V *k, uint64_t h) {
-    if (!cn_dtab) return 0;
-    int64_t *tab = cn_dtab;
-    uint64_t m = cn_dmask, i = h & m;
+static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
+    if (!W->dtab) return 0;
+    int64_t *tab = W->dtab;
+    uint64_t m = W->dmask, i = h & m;
     while (tab[i] >= 0) {
-        const V *e = cn_dpool + tab[i] * (2 * CN_KL + 1);
+        const V *e = W->dpool + tab[i] * (2 * CN_KL + 1);
         if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e;
         i = (i + 1) & m;
     }
     return 0;
 }
-/* the result for key k: cn_new over the same locations (changed), else k itself */
-static void cn_done_add(const V *k, uint64_t h, int changed) {
-    if (cn_dn >= (1 << 20)) return;                     /* enough kept */
-    if ((cn_dn + 1) * 2 > (int64_t)(cn_dmask + 1)) {
-        uint64_t ncap = cn_dmask ? (cn_dmask + 1) * 2 : 1024;
+/* the result for key k: W->new_ over the same locations (changed), else k itself */
+static void cn_done_add(CnW *W, const V *k, uint64_t h, int changed) {
+    if (W->dn >= (1 << 20)) return;                     /* enough kept */
+    if ((W->dn + 1) * 2 > (int64_t)(W->dmask + 1)) {
+        uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
         int64_t *t = (int64_t *)malloc(ncap * sizeof(int64_t));
         if (!t) return;
         memset(t, 0xff, ncap * sizeof(int64_t));
-        for (int64_t j = 0; j < cn_dn; j++) {
-            uint64_t i = cn_key_hash(cn_dpool + j * (2 * CN_KL + 1)) & (ncap - 1);
+        for (int64_t j = 0; j < W->dn; j++) {
+            uint64_t i = cn_key_hash(W->dpool + j * (2 * CN_KL + 1)) & (ncap - 1);
             while (t[i] >= 0) i = (i + 1) & (ncap - 1);
             t[i] = j;
         }
-        free(cn_dtab); cn_dtab = t; cn_dmask = ncap - 1;
+        free(W->dtab); W->dtab = t; W->dmask = ncap - 1;
     }
-    if (cn_dn >= cn_dcap) {
-        int64_t nc = cn_dcap ? cn_dcap * 2 : 256;
-        V *p = (V *)realloc(cn_dpool, nc * (2 * CN_KL + 1) * sizeof(V));
+    if (W->dn >= W->dcap) {
+        int64_t nc = W->dcap ? W->dcap * 2 : 256;
+        V *p = (V *)realloc(W->dpool, nc * (2 * CN_KL + 1) * sizeof(V));
         if (!p) return;
-        cn_dpool = p; cn_dcap = nc;
+        W->dpool = p; W->dcap = nc;
     }
-    V *e = cn_dpool + cn_dn * (2 * CN_KL + 1);
+    V *e = W->dpool + W->dn * (2 * CN_KL + 1);
     memcpy(e, k, CN_KL * sizeof(V));
-    for (int r = 0; r < CN_NREL; r++) e[CN_KL + r] = changed ? cn_new[CN_REL[r]] : k[r];
-    for (int d = 0; d < CN_NDYN; d++) e[CN_KL + CN_NREL + d] = changed ? cn_new[CN_COUNT_SLOT[d]] : k[CN_NREL + d];
+    for (int r = 0; r < CN_NREL; r++) e[CN_KL + r] = changed ? W->new_[CN_REL[r]] : k[r];
+    for (int d = 0; d < CN_NDYN; d++) e[CN_KL + CN_NREL + d] = changed ? W->new_[CN_COUNT_SLOT[d]] : k[CN_NREL + d];
     e[2 * CN_KL] = changed;
-    uint64_t i = h & cn_dmask;
-    while (cn_dtab[i] >= 0) i = (i + 1) & cn_dmask;
-    cn_dtab[i] = cn_dn++;
+    uint64_t i = h & W->dmask;
+    while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
+    W->dtab[i] = W->dn++;
 }
 
 static int64_t cn_search = 0;               /* the search the tables below were made in */
-static __thread int64_t cn_my_search = -1;
-static void cn_fresh_search(void) {
+static void cn_fresh_search(CnW *W) {
     int64_t now = __atomic_load_n(&cn_search, __ATOMIC_SEQ_CST);
-    if (now == cn_my_search) return;
-    cn_my_search = now;
-    free(cn_memo); cn_memo = 0; cn_mmask = 0; cn_mcount = 0; cn_mtext.n = 0;
-    free(cn_dpool); cn_dpool = 0; cn_dn = cn_dcap = 0; free(cn_dtab); cn_dtab = 0; cn_dmask = 0;
+    if (now == W->my_search) return;
+    W->my_search = now;
+    free(W->memo); W->memo = 0; W->mmask = 0; W->mcount = 0; W->mtext.n = 0;
+    free(W->dpool); W->dpool = 0; W->dn = W->dcap = 0; free(W->dtab); W->dtab = 0; W->dmask = 0;
 }
 
 /* Canonical form of the packed successor w (in place).  0 on success, else an error code. */
 static int canon_state_(Ctx *c, uint64_t *w) {
+    CnW *W = cn_w(c);
+    if (!W) { fail(c, E_MEMORY, 0); return CN_TEXT; }
     int n[CN_NDYN], any = 0;
     for (int d = 0; d < CN_NDYN; d++) {
         int s = CN_COUNT_SLOT[d];
         int32_t code = (int32_t)((w[SLOT_WORD[s]] >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
         n[d] = (int)SLOT_DECODE[s][code];
-        if (cn_dgen[d] == c->gen && cn_dnext[d] - 1 > n[d]) n[d] = cn_dnext[d] - 1;
+        if (W->dgen[d] == c->gen && W->dnext[d] - 1 > n[d]) n[d] = W->dnext[d] - 1;
         if (n[d] > 0) any = 1;
     }
     {   /* no element made and no location that holds or is keyed by elements updated: the
            state keeps the canonical form of the state it comes from */
         int touched = 0;
-        for (int d = 0; d < CN_NDYN; d++) if (cn_dgen[d] == c->gen) touched = 1;
+        for (int d = 0; d < CN_NDYN; d++) if (W->dgen[d] == c->gen) touched = 1;
         for (int i = 0; !touched && i < c->nupd; i++) {
             int s = c->upd_slot[i];
             if (s >= NSLOTS || CN_SLOT_FN[s] >= 0) touched = 1;
@@ -432,46 +463,45 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         }
         return 0;
     }
-    cn_fresh_search();
+    cn_fresh_search(W);
     /* decode (the locations that may hold elements, and the counts) */
-    for (int d = 0; d < CN_NDYN; d++) cn_val[CN_COUNT_SLOT[d]] = SLOT_DECODE[CN_COUNT_SLOT[d]][
+    for (int d = 0; d < CN_NDYN; d++) W->val[CN_COUNT_SLOT[d]] = SLOT_DECODE[CN_COUNT_SLOT[d]][
         (int32_t)((w[SLOT_WORD[CN_COUNT_SLOT[d]]] >> SLOT_SHIFT[CN_COUNT_SLOT[d]]) & ((1ULL << SLOT_BITS[CN_COUNT_SLOT[d]]) - 1))];
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
         uint64_t word = w[SLOT_WORD[s]];
-        if (SLOT_BITS[s] == 64) { cn_val[s] = (V)word; continue; }
+        if (SLOT_BITS[s] == 64) { W->val[s] = (V)word; continue; }
         int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-        cn_val[s] = SLOT_DECODE[s][code];
+        W->val[s] = SLOT_DECODE[s][code];
     }
     /* the canonical form depends on these locations and the counts only: met before? */
     V key[CN_NREL + CN_NDYN];
-    for (int r = 0; r < CN_NREL; r++) key[r] = cn_val[CN_REL[r]];
+    for (int r = 0; r < CN_NREL; r++) key[r] = W->val[CN_REL[r]];
     for (int d = 0; d < CN_NDYN; d++) key[CN_NREL + d] = n[d];
     uint64_t kh = cn_key_hash(key);
     {
-        const V *res = cn_done_find(key, kh);
+        const V *res = cn_done_find(W, key, kh);
         if (res) {
             /* (unchanged: the counts may still differ from the packed ones, which count the
                elements of the state before this step) */
-            for (int r = 0; r < CN_NREL; r++) cn_new[CN_REL[r]] = res[CN_NREL + CN_NDYN + r];
-            for (int d = 0; d < CN_NDYN; d++) cn_new[CN_COUNT_SLOT[d]] = res[2 * CN_NREL + CN_NDYN + d];
+            for (int r = 0; r < CN_NREL; r++) W->new_[CN_REL[r]] = res[CN_NREL + CN_NDYN + r];
+            for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = res[2 * CN_NREL + CN_NDYN + d];
             goto pack;
         }
     }
     /* the locations where elements occur */
-    static __thread CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
     int nloc = 0;
     int occ[CN_MAXE > 0 ? CN_MAXE : 1];
     memset(occ, 0, sizeof(occ));
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
-        if (cn_val[s] == UNDEF) continue;
+        if (W->val[s] == UNDEF) continue;
         int list[256], nl = 0;
         for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], list, &nl);
-        cn_walk(cn_val[s], CN_SLOT_VTY[s], list, &nl);
+        cn_walk(W->val[s], CN_SLOT_VTY[s], list, &nl);
         if (nl < 0) return CN_TEXT;
         if (!nl) continue;
-        CnLoc *L = &locs[nloc++];
+        CnLoc *L = &W->locs[nloc++];
         L->slot = s; L->nel = 0;
         for (int i = 0; i < nl; i++) {
             int e = list[i], x = 0;
@@ -506,13 +536,12 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     int col[CN_MAXE > 0 ? CN_MAXE : 1], newcol[CN_MAXE > 0 ? CN_MAXE : 1];
     for (int e = 0; e < CN_MAXE; e++) col[e] = -1;
     for (int i = 0; i < ne; i++) col[els[i].e] = 0;
-    /* the locations of each element: eloc[eoff[e] .. eoff[e + 1]) */
-    static __thread int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
+    /* the locations of each element: W->eloc[eoff[e] .. eoff[e + 1]) */
     int eoff[CN_MAXE + 1], efill[CN_MAXE > 0 ? CN_MAXE : 1];
     memset(eoff, 0, sizeof(eoff));
-    for (int l = 0; l < nloc; l++) for (int x = 0; x < locs[l].nel; x++) eoff[locs[l].el[x] + 1]++;
+    for (int l = 0; l < nloc; l++) for (int x = 0; x < W->locs[l].nel; x++) eoff[W->locs[l].el[x] + 1]++;
     for (int e = 0; e < CN_MAXE; e++) { eoff[e + 1] += eoff[e]; efill[e] = eoff[e]; }
-    for (int l = 0; l < nloc; l++) for (int x = 0; x < locs[l].nel; x++) eloc[efill[locs[l].el[x]]++] = l;
+    for (int l = 0; l < nloc; l++) for (int x = 0; x < W->locs[l].nel; x++) W->eloc[efill[W->locs[l].el[x]]++] = l;
     /* a domain with one element needs no colours, nor does any when every domain has one */
     int need = 0;
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] > 1) need = 1;
@@ -522,8 +551,8 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         int ngroups = 0;
         for (int i = 0; i < ne; i++) if (i == 0 || els[i].dom != els[i - 1].dom || els[i].col != els[i - 1].col) ngroups++;
         if (ngroups == ne) break;
-        cn_tb.n = 0; cn_nsp = 0;
-        cn_col = col;
+        W->tb.n = 0; W->nsp = 0;
+        W->col = col;
         int rank = 0;
         for (int i = 0; i < ne;) {
             int j = i + 1;
@@ -531,23 +560,27 @@ static int canon_state_(Ctx *c, uint64_t *w) {
             if (j - i == 1) { newcol[els[i].e] = rank++; i = j; continue; }
             for (int q = i; q < j; q++) {
                 int e = els[q].e;
-                cn_me = e;
-                els[q].sig_off = cn_nsp;
+                W->me = e;
+                els[q].sig_off = W->nsp;
                 for (int li = eoff[e]; li < eoff[e + 1]; li++) {
-                    CnLoc *L = &locs[eloc[li]];
+                    CnLoc *L = &W->locs[W->eloc[li]];
                     int cnt = 0;
                     for (int x = 0; x < L->nel; x++) if (L->el[x] == e) cnt = L->cnt[x];
-                    int off = cn_tb.n;
-                    if (!(r == 0 ? cn_text_loc0(&cn_tb, L->slot, cn_val[L->slot], e) : cn_text_loc(&cn_tb, L->slot))) return CN_TEXT;
-                    for (int x = 0; x < cnt; x++) if (!cn_add_span(off, cn_tb.n - off)) return CN_TEXT;
+                    int off = W->tb.n;
+                    if (!(r == 0 ? cn_text_loc0(W, &W->tb, L->slot, W->val[L->slot], e) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
+                    for (int x = 0; x < cnt; x++) if (!cn_add_span(W, off, W->tb.n - off)) return CN_TEXT;
                 }
-                els[q].sig_n = cn_nsp - els[q].sig_off;
-                cn_sort_base = cn_tb.p;
-                qsort(cn_sp + els[q].sig_off, els[q].sig_n, sizeof(CnSpan), cn_span_cmp);
+                els[q].sig_n = W->nsp - els[q].sig_off;
+                cn_sort_spans(W->tb.p, W->sp + els[q].sig_off, els[q].sig_n);
             }
-            qsort(els + i, j - i, sizeof(CnEl), cn_by_sig);
+            for (int q = i + 1; q < j; q++) {     /* by signature, ties by element */
+                CnEl x = els[q];
+                int p = q - 1;
+                while (p >= i && cn_by_sig(W, &els[p], &x) > 0) { els[p + 1] = els[p]; p--; }
+                els[p + 1] = x;
+            }
             for (int q = i; q < j; q++) {
-                if (q > i && cn_sig_cmp(&els[q], &els[q - 1]) != 0) rank++;
+                if (q > i && cn_sig_cmp(W, &els[q], &els[q - 1]) != 0) rank++;
                 newcol[els[q].e] = rank;
             }
             rank++;
@@ -565,17 +598,17 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         map[els[i].e] = k;
         if (k != els[i].num) changed = 1;
     }
-    for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)cn_val[CN_COUNT_SLOT[d]]) changed = 1;
-    if (!changed) { cn_done_add(key, kh, 0); return 0; }
+    for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)W->val[CN_COUNT_SLOT[d]]) changed = 1;
+    if (!changed) { cn_done_add(W, key, kh, 0); return 0; }
     /* rebuild: locations over elements move with them, values are renamed */
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
-        cn_new[s] = CN_SLOT_BASE[s] >= 0 ? UNDEF : cn_val[s];
+        W->new_[s] = CN_SLOT_BASE[s] >= 0 ? UNDEF : W->val[s];
     }
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
-        V v = cn_val[s];
-        if (CN_SLOT_BASE[s] < 0) { cn_new[s] = cn_rename(c, v, CN_SLOT_VTY[s], map); continue; }
+        V v = W->val[s];
+        if (CN_SLOT_BASE[s] < 0) { W->new_[s] = cn_rename(c, v, CN_SLOT_VTY[s], map); continue; }
         if (v == UNDEF) continue;
         int t = CN_SLOT_BASE[s];
         for (int i = 0; i < CN_SLOT_NARGS[s]; i++) {
@@ -585,19 +618,19 @@ static int canon_state_(Ctx *c, uint64_t *w) {
             if (cn_is_fresh(a)) idx += map[cn_eidx(a)] - cn_num(a);
             t += idx * stride;
         }
-        cn_new[t] = cn_rename(c, v, CN_SLOT_VTY[s], map);
+        W->new_[t] = cn_rename(c, v, CN_SLOT_VTY[s], map);
     }
     if (c->err) return CN_TEXT;
-    for (int d = 0; d < CN_NDYN; d++) cn_new[CN_COUNT_SLOT[d]] = kept[d];
-    cn_done_add(key, kh, 1);
+    for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = kept[d];
+    cn_done_add(W, key, kh, 1);
 pack:
     for (int r = 0; r < CN_NREL + CN_NDYN; r++) {
         int s = r < CN_NREL ? CN_REL[r] : CN_COUNT_SLOT[r - CN_NREL];
-        if (cn_new[s] == cn_val[s]) continue;
-        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)cn_new[s]; continue; }
+        if (W->new_[s] == W->val[s]) continue;
+        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)W->new_[s]; continue; }
         const V *dec = SLOT_DECODE[s];
         int code = 0;
-        while (dec[code] != cn_new[s]) {
+        while (dec[code] != W->new_[s]) {
             if (dec[code] == UNDEF) return CN_TEXT;   /* not in the slot's values */
             code++;
         }
