@@ -42,7 +42,7 @@ typedef struct {
     V val[NSLOTS > 0 ? NSLOTS : 1], new_[NSLOTS > 0 ? NSLOTS : 1];
     CnMemo *memo; uint64_t mmask, mcount; CnBuf mtext;       /* texts of round 0 */
     CnBuf tb; CnSpan *sp; int nsp, capsp;                    /* the texts of this round */
-    V *dpool; int64_t dn, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept */
+    V *dpool; int64_t dn, dused, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept */
     int64_t my_search;
     CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
     int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
@@ -373,8 +373,9 @@ static int cn_add_span(CnW *W, int off, int len) {
 
 static inline V slot_decode(int s, V code);
 
-/* Canonical forms already worked out: key (the locations that may hold elements, then the
- * counts), the new values of the same, and whether anything changed; all in one pool. */
+/* Canonical forms already worked out, one entry each in a pool: key (the locations that may
+ * hold elements, then the counts), whether anything changes, and (only then) the new values of
+ * the same locations and counts.  The table holds the entries' offsets in the pool. */
 #define CN_KL (CN_NREL + CN_NDYN)
 
 static uint64_t cn_key_hash(const V *k) {
@@ -387,41 +388,48 @@ static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
     int64_t *tab = W->dtab;
     uint64_t m = W->dmask, i = h & m;
     while (tab[i] >= 0) {
-        const V *e = W->dpool + tab[i] * (2 * CN_KL + 1);
+        const V *e = W->dpool + tab[i];
         if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e;
         i = (i + 1) & m;
     }
     return 0;
 }
-/* the result for key k: W->new_ over the same locations (changed), else k itself */
+/* the result for key k: W->new_ over the same locations when it changes anything */
 static void cn_done_add(CnW *W, const V *k, uint64_t h, int changed) {
-    if (W->dn >= (1 << 20)) return;                     /* enough kept */
+    int64_t size = CN_KL + 1 + (changed ? CN_KL : 0);
+    if (W->dn >= (1 << 20) || W->dused + size > ((int64_t)1 << 25)) return;     /* enough kept */
     if ((W->dn + 1) * 2 > (int64_t)(W->dmask + 1)) {
         uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
         int64_t *t = (int64_t *)malloc(ncap * sizeof(int64_t));
         if (!t) return;
         memset(t, 0xff, ncap * sizeof(int64_t));
-        for (int64_t j = 0; j < W->dn; j++) {
-            uint64_t i = cn_key_hash(W->dpool + j * (2 * CN_KL + 1)) & (ncap - 1);
+        for (uint64_t j = 0; W->dtab && j <= W->dmask; j++) {
+            if (W->dtab[j] < 0) continue;
+            uint64_t i = cn_key_hash(W->dpool + W->dtab[j]) & (ncap - 1);
             while (t[i] >= 0) i = (i + 1) & (ncap - 1);
-            t[i] = j;
+            t[i] = W->dtab[j];
         }
         free(W->dtab); W->dtab = t; W->dmask = ncap - 1;
     }
-    if (W->dn >= W->dcap) {
-        int64_t nc = W->dcap ? W->dcap * 2 : 256;
-        V *p = (V *)realloc(W->dpool, nc * (2 * CN_KL + 1) * sizeof(V));
+    if (W->dused + size > W->dcap) {
+        int64_t nc = W->dcap ? W->dcap * 2 : 4096;
+        while (nc < W->dused + size) nc *= 2;
+        V *p = (V *)realloc(W->dpool, nc * sizeof(V));
         if (!p) return;
         W->dpool = p; W->dcap = nc;
     }
-    V *e = W->dpool + W->dn * (2 * CN_KL + 1);
+    V *e = W->dpool + W->dused;
     memcpy(e, k, CN_KL * sizeof(V));
-    for (int r = 0; r < CN_NREL; r++) e[CN_KL + r] = changed ? W->new_[CN_REL[r]] : k[r];
-    for (int d = 0; d < CN_NDYN; d++) e[CN_KL + CN_NREL + d] = changed ? W->new_[CN_COUNT_SLOT[d]] : k[CN_NREL + d];
-    e[2 * CN_KL] = changed;
+    e[CN_KL] = changed;
+    if (changed) {
+        for (int r = 0; r < CN_NREL; r++) e[CN_KL + 1 + r] = W->new_[CN_REL[r]];
+        for (int d = 0; d < CN_NDYN; d++) e[CN_KL + 1 + CN_NREL + d] = W->new_[CN_COUNT_SLOT[d]];
+    }
     uint64_t i = h & W->dmask;
     while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
-    W->dtab[i] = W->dn++;
+    W->dtab[i] = W->dused;
+    W->dused += size;
+    W->dn++;
 }
 
 static int64_t cn_search = 0;               /* the search the tables below were made in */
@@ -430,7 +438,7 @@ static void cn_fresh_search(CnW *W) {
     if (now == W->my_search) return;
     W->my_search = now;
     free(W->memo); W->memo = 0; W->mmask = 0; W->mcount = 0; W->mtext.n = 0;
-    free(W->dpool); W->dpool = 0; W->dn = W->dcap = 0; free(W->dtab); W->dtab = 0; W->dmask = 0;
+    free(W->dpool); W->dpool = 0; W->dn = W->dused = W->dcap = 0; free(W->dtab); W->dtab = 0; W->dmask = 0;
 }
 
 /* Canonical form of the packed successor w (in place).  0 on success, else an error code. */
@@ -484,8 +492,9 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (res) {
             /* (unchanged: the counts may still differ from the packed ones, which count the
                elements of the state before this step) */
-            for (int r = 0; r < CN_NREL; r++) W->new_[CN_REL[r]] = res[CN_NREL + CN_NDYN + r];
-            for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = res[2 * CN_NREL + CN_NDYN + d];
+            const V *nv = res[CN_KL] ? res + CN_KL + 1 : res;
+            for (int r = 0; r < CN_NREL; r++) W->new_[CN_REL[r]] = nv[r];
+            for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = nv[CN_NREL + d];
             goto pack;
         }
     }
