@@ -255,6 +255,59 @@ definitions:
 			endpar
 """
 
+SIZES = """asm Sizes
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Item
+	controlled weight: Item -> Integer
+	controlled total: Integer
+	controlled steps: Integer
+
+definitions:
+
+	main rule r_main =
+		if steps < 4 then
+			par
+				steps := steps + 1
+				choose $w in {1 : 2} with true do
+					extend Item with $i do
+						weight($i) := $w
+				total := size(Item)
+			endpar
+		endif
+
+default init s0:
+	function steps = 0
+	function total = 0
+"""
+
+SEQSIZE = """asm SeqSize
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Item
+	controlled weight: Item -> Integer
+	controlled total: Integer
+
+definitions:
+
+	main rule r_main =
+		if total < 3 then
+			seq
+				extend Item with $i do
+					weight($i) := 1
+				total := size(Item)
+			endseq
+		endif
+
+default init s0:
+	function total = 0
+"""
+
+
 def both(tmp_path, capsys, text, *extra):
     path = write(tmp_path, text)
     outs = []
@@ -291,7 +344,8 @@ def same_states(tmp_path, text):
     (MSGS, (26, 47, 5)),        # elements in a set: texts of sets sorted member by member
     (PROCS, (20, 35, 6)),       # Proc is ranged over (choose, forall, exists): nothing dropped
     (FOREST, (476, 1088, 11)),  # trees: siblings are symmetric, colours refined over parents
-], ids=["queue", "tokens", "pairs", "msgs", "procs", "forest"])
+    (SIZES, (15, 25, 4)),       # the domain as a value (size(Item)): the elements of the state
+], ids=["queue", "tokens", "pairs", "msgs", "procs", "forest", "sizes"])
 def test_the_same_canonical_states_in_the_same_order(tmp_path, text, counts):
     assert same_states(tmp_path, text) == counts
 
@@ -337,3 +391,14 @@ def test_a_second_search_of_the_same_model_starts_from_nothing(tmp_path):
         finally:
             nat.close()
         assert (r.states, r.transitions) == counts
+
+
+def test_a_domain_read_in_a_seq_block_after_its_extend_is_refused(tmp_path):
+    # the Python step function sees the new element in the later steps of the block
+    spec = check_file(write(tmp_path, SEQSIZE))
+    nat = NativeExplorer(Machine(spec, {}))
+    try:
+        with pytest.raises(Unsupported, match="Item ranged over inside a seq block after an extend of it"):
+            nat.run()
+    finally:
+        nat.close()
