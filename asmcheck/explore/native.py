@@ -1385,6 +1385,15 @@ class Generator:
             arr("int", "CN_FN_OFF", fn_off),
             arr("int", "CN_CHARS", chars),
         ]
+        # the bits of the words that hold those locations and the counts (the key of a kept form)
+        masks: dict = {}
+        for sl in [i for i, x in enumerate(slot_fn) if x >= 0] + list(self.dyn_count_slot):
+            b = self.bits[sl]
+            m = MASK64 if b == 64 else ((1 << b) - 1) << self.shifts[sl]
+            masks[self.words[sl]] = masks.get(self.words[sl], 0) | m
+        kw = sorted(masks)
+        out += [f"#define CN_NKW {len(kw)}", arr("int", "CN_KW", kw),
+                arr("uint64_t", "CN_KMASK", [f"{masks[x]}ULL" for x in kw])]
         canon = resources.files("asmcheck.explore").joinpath("native_canon.c").read_text()
         return "\n".join(out) + "\n" + canon
 

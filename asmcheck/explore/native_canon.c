@@ -373,10 +373,10 @@ static int cn_add_span(CnW *W, int off, int len) {
 
 static inline V slot_decode(int s, V code);
 
-/* Canonical forms already worked out, one entry each in a pool: key (the locations that may
- * hold elements, then the counts), whether anything changes, and (only then) the new values of
- * the same locations and counts.  The table holds the entries' offsets in the pool. */
-#define CN_KL (CN_NREL + CN_NDYN)
+/* Canonical forms already worked out, one entry each in a pool: key (the bits of the words
+ * that hold locations that may hold elements or counts, CN_KMASK, then the counts of this
+ * step), then the same bits of the canonical successor.  The table holds the entries' offsets. */
+#define CN_KL (CN_NKW + CN_NDYN)
 
 static uint64_t cn_key_hash(const V *k) {
     uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -394,9 +394,9 @@ static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
     }
     return 0;
 }
-/* the result for key k: W->new_ over the same locations when it changes anything */
-static void cn_done_add(CnW *W, const V *k, uint64_t h, int changed) {
-    int64_t size = CN_KL + 1 + (changed ? CN_KL : 0);
+/* the canonical successor w of key k */
+static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
+    int64_t size = CN_KL + CN_NKW;
     if (W->dn >= (1 << 20) || W->dused + size > ((int64_t)1 << 25)) return;     /* enough kept */
     if ((W->dn + 1) * 2 > (int64_t)(W->dmask + 1)) {
         uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
@@ -420,11 +420,7 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, int changed) {
     }
     V *e = W->dpool + W->dused;
     memcpy(e, k, CN_KL * sizeof(V));
-    e[CN_KL] = changed;
-    if (changed) {
-        for (int r = 0; r < CN_NREL; r++) e[CN_KL + 1 + r] = W->new_[CN_REL[r]];
-        for (int d = 0; d < CN_NDYN; d++) e[CN_KL + 1 + CN_NREL + d] = W->new_[CN_COUNT_SLOT[d]];
-    }
+    for (int i = 0; i < CN_NKW; i++) e[CN_KL + i] = (V)(w[CN_KW[i]] & CN_KMASK[i]);
     uint64_t i = h & W->dmask;
     while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
     W->dtab[i] = W->dused;
@@ -472,6 +468,19 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         return 0;
     }
     cn_fresh_search(W);
+    /* the canonical form depends only on the bits of the locations that may hold elements and
+       on the counts: met before?  (the kept result: the same bits, canonical) */
+    V key[CN_KL];
+    for (int i = 0; i < CN_NKW; i++) key[i] = (V)(w[CN_KW[i]] & CN_KMASK[i]);
+    for (int d = 0; d < CN_NDYN; d++) key[CN_NKW + d] = n[d];
+    uint64_t kh = cn_key_hash(key);
+    {
+        const V *res = cn_done_find(W, key, kh);
+        if (res) {
+            for (int i = 0; i < CN_NKW; i++) w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[CN_KL + i];
+            return 0;
+        }
+    }
     /* decode (the locations that may hold elements, and the counts) */
     for (int d = 0; d < CN_NDYN; d++) W->val[CN_COUNT_SLOT[d]] = SLOT_DECODE[CN_COUNT_SLOT[d]][
         (int32_t)((w[SLOT_WORD[CN_COUNT_SLOT[d]]] >> SLOT_SHIFT[CN_COUNT_SLOT[d]]) & ((1ULL << SLOT_BITS[CN_COUNT_SLOT[d]]) - 1))];
@@ -481,22 +490,6 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (SLOT_BITS[s] == 64) { W->val[s] = (V)word; continue; }
         int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
         W->val[s] = SLOT_DECODE[s][code];
-    }
-    /* the canonical form depends on these locations and the counts only: met before? */
-    V key[CN_NREL + CN_NDYN];
-    for (int r = 0; r < CN_NREL; r++) key[r] = W->val[CN_REL[r]];
-    for (int d = 0; d < CN_NDYN; d++) key[CN_NREL + d] = n[d];
-    uint64_t kh = cn_key_hash(key);
-    {
-        const V *res = cn_done_find(W, key, kh);
-        if (res) {
-            /* (unchanged: the counts may still differ from the packed ones, which count the
-               elements of the state before this step) */
-            const V *nv = res[CN_KL] ? res + CN_KL + 1 : res;
-            for (int r = 0; r < CN_NREL; r++) W->new_[CN_REL[r]] = nv[r];
-            for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = nv[CN_NREL + d];
-            goto pack;
-        }
     }
     /* the locations where elements occur */
     int nloc = 0;
@@ -608,7 +601,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (k != els[i].num) changed = 1;
     }
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)W->val[CN_COUNT_SLOT[d]]) changed = 1;
-    if (!changed) { cn_done_add(W, key, kh, 0); return 0; }
+    if (!changed) { cn_done_add(W, key, kh, w); return 0; }
     /* rebuild: locations over elements move with them, values are renamed */
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
@@ -631,8 +624,6 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     }
     if (c->err) return CN_TEXT;
     for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = kept[d];
-    cn_done_add(W, key, kh, 1);
-pack:
     for (int r = 0; r < CN_NREL + CN_NDYN; r++) {
         int s = r < CN_NREL ? CN_REL[r] : CN_COUNT_SLOT[r - CN_NREL];
         if (W->new_[s] == W->val[s]) continue;
@@ -646,6 +637,7 @@ pack:
         uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
     }
+    cn_done_add(W, key, kh, w);
     return 0;
 }
 
