@@ -40,7 +40,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
+from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, SeqV, SetV
 from . import native_build
 from .native_build import Unsupported
 
@@ -48,6 +48,8 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
+K_MAPV = 11
 
 
 def _ceil_log2(n: int) -> int:
@@ -111,7 +113,28 @@ class Codec:
                 i = self.comp_ids[key] = len(self.comp)
                 self.comp.append(key)
             return i
+        if t is BagV or t is MapV:
+            return self.bag_map_code(v)
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def bag_map_code(self, v) -> int:
+        """A bag (its element codes sorted, repetitions kept) or a map value (its (key, value)
+        code pairs sorted by key code, an undef value kept) as an entry of the value table."""
+        def code(e):
+            x = self.to_c(e)
+            return UNDEF_V if x is None else x
+        if type(v) is BagV:
+            key = (K_BAG, tuple(sorted(code(e) for e in v)))
+        else:
+            pairs = sorted((code(k), code(x)) for k, x in v)
+            key = (K_MAPV, tuple(x for pr in pairs for x in pr))
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
@@ -124,6 +147,12 @@ class Codec:
             return x
         if r is T.STRING:
             return "".join(chr(e) for e in self.fetch(x)[1])
+        if isinstance(r, T.Struct) and r.kind in ("Bag", "Map"):
+            kind, elems = self.fetch(x)
+            if r.kind == "Bag":
+                return BagV.of(self.from_c(e, r.args[0]) for e in elems)
+            return MapV.of((self.from_c(elems[i], r.args[0]), self.from_c(elems[i + 1], r.args[1]))
+                           for i in range(0, len(elems), 2))
         if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
             key = self.fetch(x)
             kind, elems = key
@@ -216,7 +245,7 @@ class Generator:
         r = T.root(typ)
         if r is T.STRING:
             return True
-        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset"):
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset", "Bag", "Map"):
             return False
         for a in r.args:
             ra = T.root(a)
@@ -232,7 +261,8 @@ class Generator:
         arguments and values must be scalars (integers, enums, named elements, Booleans)."""
         def scalar(t):
             r = T.root(t)
-            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract")) \
+                or self.composite(t)     # a set, sequence, ... is the number of its entry in the value table
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
@@ -522,6 +552,9 @@ class Generator:
             return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if name in ("isDef", "isUndef"):
             return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        lib = self.library_call(t, args, kind)
+        if lib is not None:
+            return lib
         if kind == "String":
             raise Unsupported(f"{name} on String")
         if kind == "Powerset":
@@ -564,7 +597,140 @@ class Generator:
             return f"seq_sub(c, {args[0]}, {args[1]}, {args[2]})"
         raise Unsupported(f"{name} on {t.args[0].type}")
 
+    def orderable(self, typ) -> bool:
+        """Elements whose codes are in the order of the Python engine's values (:func:`vkey`):
+        integers, Booleans and the constants of one enum domain."""
+        r = T.root(typ)
+        return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
+
+    @staticmethod
+    def regex_literal(p: str):
+        """The text a regular expression matches when it is a plain literal (``\\|`` is ``|``),
+        else None."""
+        out = []
+        i = 0
+        while i < len(p):
+            ch = p[i]
+            if ch == "\\":
+                if i + 1 >= len(p) or p[i + 1].isascii() and p[i + 1].isalnum():
+                    return None
+                out.append(p[i + 1])
+                i += 2
+                continue
+            if ch in ".^$*+?{}[]|()":
+                return None
+            out.append(ch)
+            i += 1
+        return "".join(out)
+
+    def library_call(self, t, args, kind):
+        """The StandardLibrary functions on strings, bags, map values and the conversions between
+        collections (None: not one of them)."""
+        name = t.name
+        n = len(args)
+        a0 = t.args[0].type
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){n}; }})"
+        if kind == "String":
+            def string(i):
+                return T.root(t.args[i].type) is T.STRING
+            if name in ("size", "length") and n == 1:
+                return f"seq_len({args[0]})"
+            if name in ("toUpper", "toLower") and n == 1:
+                return f"str_case(c, {args[0]}, {int(name == 'toUpper')})"
+            if name == "contains" and n == 2 and string(1):
+                return f"str_contains({args[0]}, {args[1]})"
+            if name in ("concat", "plus") and n == 2 and string(1):
+                return f"str_concat(c, {args[0]}, {args[1]})"
+            if name == "subString" and n == 3:
+                return f"str_sub(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "toString" and n == 1:
+                return args[0]
+            if name == "split" and n == 2 and string(1):
+                sep = t.args[1]
+                lit = self.regex_literal(sep.value) if isinstance(sep, ir.Const) and type(sep.value) is str else None
+                if not lit:
+                    raise Unsupported("split on String by a regular expression other than a literal text")
+                return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
+            return None
+        if kind == "Map":
+            if name == "at" and n == 2:
+                return f"mapv_at({args[0]}, {args[1]})"
+            if name == "merge" and n == 2:
+                return f"mapv_merge(c, {args[0]}, {args[1]})"
+            if name == "assign" and n == 3:
+                return f"mapv_assign(c, {args[0]}, {args[1]}, {args[2]})"
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Bag":
+            if name in ("contains", "count") and n == 2:
+                return f"{self.SEQ2[name]}({args[0]}, {args[1]})"
+            if name == "notin" and n == 2:
+                return f"v_not(seq_contains({args[0]}, {args[1]}))"
+            if name == "including" and n == 2:
+                return f"bag_including(c, {args[0]}, {args[1]})"
+            if name == "excluding" and n == 2:
+                return f"bag_excluding(c, {args[0]}, {args[1]})"
+            if name == "union" and n == 2 and T.root(t.args[1].type) == T.root(a0):
+                return f"bag_union(c, {args[0]}, {args[1]})"
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asSequence" and n == 1 and self.orderable(T.root(a0).args[0]):
+                return f"v_rekind(c, {args[0]}, K_SEQ)"
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Seq":
+            if name == "insertAt" and n == 3:
+                return f"seq_insert_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "replaceAt" and n == 3:
+                return f"seq_replace_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "asSequence" and n == 1:
+                return args[0]
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            return None
+        if kind == "Powerset":
+            elem = T.root(a0).args[0]
+            if name == "asSequence" and n == 1 and self.orderable(elem):
+                return f"v_rekind(c, {args[0]}, K_SEQ)"
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            if name == "asSet" and n == 1:
+                return args[0]
+            return None
+        return None
+
+    def t_MapLit(self, t, env):
+        if not self.composite(t.type):
+            raise Unsupported(f"a map of type {t.type}")
+        if self.literal_term(t):
+            from ..semantics.machine import Ctx, Chooser
+            return self.codec.literal(self.m.term(t)(Ctx(self.m, {}, Chooser())))
+        arr = self.fresh("e")
+        vals = [self.term(x, env) for pr in t.pairs for x in pr]
+        return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; mapv_make(c, {arr}, {len(t.pairs)}); }})"
+
+    def literal_term(self, t) -> bool:
+        """A term made of constants and the named elements of abstract domains only (its value is
+        computed once, while the code is generated)."""
+        if isinstance(t, ir.Const):
+            return True
+        if isinstance(t, ir.Loc):
+            f = t.func
+            return (f.kind == "static" and f.arity == 0 and f.body is None and isinstance(f.codomain, T.Domain)
+                    and isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract")
+        if isinstance(t, (ir.Collection, ir.TupleLit)):
+            return all(self.literal_term(x) for x in t.items)
+        if isinstance(t, ir.MapLit):
+            return all(self.literal_term(x) for pr in t.pairs for x in pr)
+        return False
+
     def t_Collection(self, t, env):
+        if t.kind == "bag" and self.composite(t.type):
+            arr = self.fresh("e")
+            vals = [self.term(x, env) for x in t.items]
+            return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; bag_make(c, {arr}, {len(vals)}); }})"
         if t.kind not in ("seq", "set") or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} literal")
         if t.kind == "set":
@@ -682,22 +848,31 @@ class Generator:
         return self.codec.literal(SetV(vals))
 
     def t_Compr(self, t, env):
-        if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
+        if t.kind not in ("set", "seq", "bag", "map") or (t.body2 is not None) != (t.kind == "map") \
+                or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} comprehension")
         env = dict(env)
         heads = []
         for v, rg in t.bindings:
             q, name = self.fresh("q"), self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, t.kind == "set"))
+            # a map's later pair of a key wins: its pairs are made in the Python engine's order
+            heads.append(self.loop_head(rg, env, name, q, t.kind in ("set", "bag")))
             env[v.uid] = name
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         body = self.term(t.body, env)
         buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
+        if t.kind == "map":
+            body2 = self.term(t.body2, env)
+            add = (f"if ({n} >= (1 << 13)) fail(c, E_UNSUPPORTED, 0); "
+                   f"else {{ {buf}[2 * {n}] = {body}; {buf}[2 * {n} + 1] = {body2}; {n}++; }}")
+        else:
+            add = f"if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body};"
+        make = {"set": f"set_make(c, {buf}, {n})", "seq": f"v_intern(c, K_SEQ, {buf}, {n})",
+                "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
         return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
-                f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
-                + "}" * len(heads) +
-                (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
+                f"else if ({g}) {{ {add} }} "
+                + "}" * len(heads) + f" {make}; }})")
 
     def t_Quant(self, t, env):
         env = dict(env)
