@@ -137,6 +137,36 @@ default init s0:
 	function g = 0
 """
 
+# intervals with bounds computed in the state, toString of an integer, print of two values, and
+# the clock functions, which have no value (the Python engine's run-time error)
+RANGES = """asm Ranges
+import StandardLibrary
+signature:
+	controlled n: Integer
+	controlled s: Powerset(Integer)
+	controlled q: Seq(Integer)
+	controlled txt: String
+	controlled ok: Boolean
+	controlled printed: Integer
+definitions:
+	main rule r_main =
+		if n < 4 then
+			par
+				n := n + 1
+				s := {1 : n}
+				q := [n : 6, 2]
+				txt := concat(toString(n - 2), "!")
+				ok := (let ($d = {0 : n}) in (exists $x in $d, $y in $d with $x * $y = 6) endlet)
+				printed := print(n, txt)
+			endpar
+		else
+			printed := currTimeSecs
+		endif
+default init s0:
+	function n = 0
+	function txt = ""
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     """The JSON reports of the two engines (equal but for the engine and the times)."""
@@ -232,3 +262,14 @@ def test_what_the_native_engine_leaves_to_the_python_engine(tmp_path):
         with pytest.raises(Unsupported) as e:
             NativeExplorer(machine(tmp_path, text))
         assert str(e.value).startswith(reason)
+
+
+def test_intervals_to_string_print_and_the_clock(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, RANGES)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 5, 4, 4)
+    (v,) = out["violations"]
+    assert v["message"] == "the machine's clock (currTime*) has no value in asmcheck: use a monitored function"
+    assert [(s["state"]["q"]["seq"], s["state"]["s"]["set"], s["state"]["txt"], s["state"]["ok"])
+            for s in v["trace"][1:]] == [([0, 2, 4, 6], [], "-2!", False), ([1, 3, 5], [1], "-1!", False),
+                                         ([2, 4, 6], [1, 2], "0!", False), ([3, 5], [1, 2, 3], "1!", True)]
+    assert {s["state"]["printed"] for s in v["trace"][1:]} == {2}

@@ -494,6 +494,8 @@ class Generator:
         name = t.name
         if t.args and self.composite(t.args[0].type):
             return self.composite_call(t, env)
+        if name == "print":      # the number of its arguments, whatever their kinds
+            return self.scalar_library_call(t, [self.term(a, env) for a in t.args])
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
         for a in t.args:
@@ -538,7 +540,23 @@ class Generator:
             return f"(V)({args[0]} == UNDEF)"
         if name in ("iton", "ntoi"):
             return args[0]
+        lib = self.scalar_library_call(t, args)
+        if lib is not None:
+            return lib
         raise Unsupported(f"the library function {name}")
+
+    def scalar_library_call(self, t, args):
+        """print, toString of an integer and the clock functions (which have no value: the Python
+        engine's run-time error) on arguments that are not composite (None: none of them)."""
+        name = t.name
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){len(args)}; }})"
+        if name == "toString" and len(args) == 1 and T.root(t.args[0].type) in (T.INTEGER, T.NATURAL):
+            return f"int_to_string(c, {args[0]})"
+        if name in ("currTimeNanosecs", "currTimeMillisecs", "currTimeSecs") and not args:
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
+        return None
 
     def composite_call(self, t, env):
         import re
@@ -700,6 +718,23 @@ class Generator:
                 return args[0]
             return None
         return None
+
+    def t_Range(self, t, env):
+        """An interval ``{a : b}``, ``[a : b, step]``, ``<a : b>`` of integers."""
+        from ..semantics.analysis import is_constant
+        parts = [t.start, t.end] + ([t.step] if t.step is not None else [])
+        if not self.composite(t.type) or any(T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in parts):
+            raise Unsupported(f"an interval of type {t.type}")
+        if is_constant(t):
+            from ..semantics.machine import Ctx, Chooser
+            try:
+                v = self.m.term(t)(Ctx(self.m, {}, Chooser()))
+            except AsmError:
+                raise Unsupported("an interval the Python engine cannot build") from None
+            return self.codec.literal(v)
+        kind = {"set": "K_SET", "seq": "K_SEQ", "bag": "K_BAG"}[t.kind]
+        step = self.term(t.step, env) if t.step is not None else "(V)1"
+        return f"range_make(c, {kind}, {self.term(t.start, env)}, {self.term(t.end, env)}, {step})"
 
     def t_MapLit(self, t, env):
         if not self.composite(t.type):

@@ -597,6 +597,18 @@ static V str_split(Ctx *c, V s, V sep) {
     while (np > 1 && v_len(parts[np - 1]) == 0) np--;
     return v_intern(c, K_SEQ, parts, np);
 }
+/* the interval lo..hi by step (an undef bound or a step <= 0 is the Python engine's error) */
+static V range_make(Ctx *c, int kind, V lo, V hi, V st) {
+    if (lo == UNDEF || hi == UNDEF || st == UNDEF || st <= 0) { fail(c, E_MODEL, 0); return UNDEF; }
+    int n = 0;
+    for (V x = lo; x <= hi; ) {
+        if (n >= (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+        vscratch[n++] = x;
+        if (x > INT64_MAX - st) break;
+        x += st;
+    }
+    return v_intern(c, kind, vscratch, n);   /* ascending: already a set's or a bag's order */
+}
 static V int_to_string(Ctx *c, V x) {
     if (x == UNDEF) return UNDEF;
     char buf[32]; int n = snprintf(buf, sizeof buf, "%lld", (long long)x);
