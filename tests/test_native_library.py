@@ -167,6 +167,36 @@ default init s0:
 	function txt = ""
 """
 
+# map literals over named elements of an abstract domain (keys alone and in tuples), a map and a
+# bag of those elements in locations
+ABSTRACT_KEYS = """asm AbsMap
+import StandardLibrary
+signature:
+	abstract domain Node
+	enum domain Mode = {IDLE | BUSY}
+	static n1: Node
+	static n2: Node
+	static n3: Node
+	static next: Node -> Node
+	static modeOf: Node -> Mode
+	controlled cur: Node
+	controlled seen: Map(Node, Mode)
+	controlled hist: Bag(Node)
+definitions:
+	function next($n in Node) = at({n1 -> n2, n2 -> n3, n3 -> n1}, $n)
+	function modeOf($n in Node) = at({(n1, 1) -> IDLE, (n2, 1) -> BUSY}, ($n, 1))
+	main rule r_main =
+		par
+			cur := next(cur)
+			seen := assign(seen, cur, modeOf(cur))
+			if count(hist, cur) < 2n then hist := including(hist, cur) endif
+		endpar
+default init s0:
+	function cur = n1
+	function seen = {->}
+	function hist = <>
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     """The JSON reports of the two engines (equal but for the engine and the times)."""
@@ -273,3 +303,14 @@ def test_intervals_to_string_print_and_the_clock(tmp_path, capsys):
             for s in v["trace"][1:]] == [([0, 2, 4, 6], [], "-2!", False), ([1, 3, 5], [1], "-1!", False),
                                          ([2, 4, 6], [1, 2], "0!", False), ([3, 5], [1, 2, 3], "1!", True)]
     assert {s["state"]["printed"] for s in v["trace"][1:]} == {2}
+
+
+def test_maps_and_bags_over_abstract_elements(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, ABSTRACT_KEYS, "--deadlock")
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (0, "holds", 9, 9, 8)
+    sts = states(tmp_path, ABSTRACT_KEYS)
+    # seen and hist take cur's value before the step; modeOf(n3) is undef, kept in the map
+    assert [(st["cur"], st["seen"], st["hist"]) for st in sts[:4]] == [
+        ("n1", "{}", "<>"), ("n2", "{n1->IDLE}", "<n1>"), ("n3", "{n1->IDLE, n2->BUSY}", "<n1, n2>"),
+        ("n1", "{n1->IDLE, n2->BUSY, n3->undef}", "<n1, n2, n3>")]
+    assert (sts[-1]["cur"], sts[-1]["hist"]) == ("n3", "<n1, n1, n2, n2, n3, n3>")
