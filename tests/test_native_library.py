@@ -15,7 +15,8 @@ from asmcheck.explore.native_build import Unsupported, compiler
 from asmcheck.semantics.values import show
 from helpers import machine, write
 
-pytestmark = pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")
+pytestmark = [pytest.mark.engines("native"),
+              pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")]
 
 STRINGS = """asm Strs
 import StandardLibrary
