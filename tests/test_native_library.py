@@ -198,6 +198,51 @@ default init s0:
 	function hist = <>
 """
 
+# $v, bound by the quantifier of the guard, stays known in the rest of the rule but is bound
+# nowhere there: reading it is a run-time error
+UNBOUND = """asm Unbound
+import StandardLibrary
+signature:
+	controlled x: Integer
+	monitored go: Boolean
+definitions:
+	main rule r_main =
+		if (exists $v in {1 : 3} with $v > x) then
+			if go then x := x + 1 else x := $v endif
+		endif
+default init s0:
+	function x = 0
+"""
+
+# sum, chooseone (the least element outside the initialisation), allin, notallin and
+# symmetricDifference on sets of integers
+SET_FUNCTIONS = """asm SetFns
+import StandardLibrary
+signature:
+	controlled a: Powerset(Integer)
+	controlled b: Powerset(Integer)
+	controlled total: Integer
+	controlled least: Integer
+	controlled sub: Boolean
+	controlled nsub: Boolean
+	monitored grow: Boolean
+definitions:
+	main rule r_main =
+		if size(a) < 4 then
+			par
+				if grow then a := including(a, size(a) * 3 - 1) else a := symmetricDifference(a, {2, -1}) endif
+				total := sum(a) + sum(<1, 1>)
+				least := chooseone(a)
+				sub := allin(a, b)
+				nsub := notallin(b, a)
+			endpar
+		endif
+default init s0:
+	function a = {}
+	function b = {-1, 2, 5}
+	function total = 0
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     """The JSON reports of the two engines (equal but for the engine and the times)."""
@@ -315,3 +360,24 @@ def test_maps_and_bags_over_abstract_elements(tmp_path, capsys):
         ("n1", "{}", "<>"), ("n2", "{n1->IDLE}", "<n1>"), ("n3", "{n1->IDLE, n2->BUSY}", "<n1, n2>"),
         ("n1", "{n1->IDLE, n2->BUSY, n3->undef}", "<n1, n2, n3>")]
     assert (sts[-1]["cur"], sts[-1]["hist"]) == ("n3", "<n1, n1, n2, n2, n3, n3>")
+
+
+def test_a_variable_read_where_nothing_binds_it_is_the_run_time_error(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, UNBOUND)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 1, 0, 0)
+    (v,) = out["violations"]
+    assert (v["property"], v["message"]) == ("error", "variable $v is not bound here")
+    assert v["failing_step"]["choices"] == [{"kind": "monitored", "at": "go", "value": False}]
+
+
+def test_sum_chooseone_allin_and_symmetric_difference(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SET_FUNCTIONS)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (
+        0, "no property checked", 17, 33, 6)
+    sts = states(tmp_path, SET_FUNCTIONS)
+    assert len(sts) == 17
+    # grow false first: {} xor {2, -1}; sum({}) + sum(<1, 1>) = 2; chooseone({}) is undef
+    assert sts[1] == {"a": "{-1, 2}", "b": "{-1, 2, 5}", "total": "2", "sub": "true", "nsub": "true"}
+    assert sts[7] == {"a": "{5}", "b": "{-1, 2, 5}", "total": "8", "sub": "true", "nsub": "false", "least": "-1"}
+    assert sts[11] == {"a": "{-1, 2, 5}", "b": "{-1, 2, 5}", "total": "7", "sub": "true", "nsub": "true",
+                       "least": "5"}

@@ -356,7 +356,11 @@ class Generator:
     def t_VarRef(self, t, env):
         name = env.get(t.var.uid)
         if name is None:
-            raise Unsupported("a variable bound outside the translated code")
+            # AsmetaL keeps a variable known for the rest of its declaration once bound anywhere in
+            # it; where no enclosing binder binds it, reading it is the Python engine's run-time
+            # error ("variable ... is not bound here": a called rule or derived function sees only
+            # its parameters, as here)
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
         return name
 
     def t_Loc(self, t, env):
@@ -672,6 +676,13 @@ class Generator:
                     raise Unsupported("split on String by a regular expression other than a literal text")
                 return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
             return None
+        if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
+                kind == "Seq" or self.orderable(T.root(a0).args[0])):
+            # outside the initialisation: the first element (of a set, the least)
+            return f"seq_first({args[0]})"
+        if name == "sum" and n == 1 and kind in ("Seq", "Powerset", "Bag") and \
+                T.root(T.root(a0).args[0]) in (T.INTEGER, T.NATURAL):
+            return f"v_sum(c, {args[0]})"
         if kind == "Map":
             if name == "at" and n == 2:
                 return f"mapv_at({args[0]}, {args[1]})"
@@ -710,6 +721,10 @@ class Generator:
             return None
         if kind == "Powerset":
             elem = T.root(a0).args[0]
+            if n == 2 and name in ("allin", "notallin", "symmetricDifference") and T.root(t.args[1].type) == T.root(a0):
+                return {"allin": f"set_allin({args[0]}, {args[1]})",
+                        "notallin": f"v_not(set_allin({args[0]}, {args[1]}))",
+                        "symmetricDifference": f"set_symdiff(c, {args[0]}, {args[1]})"}[name]
             if name == "asSequence" and n == 1 and self.orderable(elem):
                 return f"v_rekind(c, {args[0]}, K_SEQ)"
             if name == "asBag" and n == 1:

@@ -609,6 +609,31 @@ static V range_make(Ctx *c, int kind, V lo, V hi, V st) {
     }
     return v_intern(c, kind, vscratch, n);   /* ascending: already a set's or a bag's order */
 }
+/* sum of the elements (undef if one is; beyond 64 bits the Python engine's integers grow: left to it) */
+static V v_sum(Ctx *c, V s) {
+    if (s == UNDEF) return UNDEF;
+    int64_t t = 0; const V *e = v_elems(s);
+    for (int i = 0; i < v_len(s); i++) {
+        if (e[i] == UNDEF) return UNDEF;
+        if (__builtin_add_overflow(t, e[i], &t)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    }
+    return t;
+}
+static V set_allin(V a, V b) {                   /* a subset of b */
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    const V *e = v_elems(a);
+    for (int i = 0; i < v_len(a); i++) if (set_contains(b, e[i]) != 1) return 0;
+    return 1;
+}
+static V set_symdiff(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b), k = 0;
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    const V *x = v_elems(a), *y = v_elems(b);
+    for (int i = 0; i < n; i++) if (set_contains(b, x[i]) != 1) vscratch[k++] = x[i];
+    for (int j = 0; j < m; j++) if (set_contains(a, y[j]) != 1) vscratch[k++] = y[j];
+    return set_make(c, vscratch, k);
+}
 static V int_to_string(Ctx *c, V x) {
     if (x == UNDEF) return UNDEF;
     char buf[32]; int n = snprintf(buf, sizeof buf, "%lld", (long long)x);
