@@ -247,6 +247,39 @@ default init s0:
 	function total = 0
 """
 
+# asSequence and chooseone of sets of strings (ordered by their characters) and of named elements
+# of an abstract domain (by name)
+ORDERED = """asm Ordered
+import StandardLibrary
+signature:
+	abstract domain Node
+	static alpha: Node
+	static beta: Node
+	static gamma: Node
+	controlled names: Powerset(String)
+	controlled nodes: Powerset(Node)
+	controlled nameSeq: Seq(String)
+	controlled nodeSeq: Seq(Node)
+	controlled firstName: String
+	controlled firstNode: Node
+	monitored pick: Boolean
+definitions:
+	main rule r_main =
+		par
+			if size(names) < 4 then
+				if pick then names := including(names, concat("b", toString(size(names)))) else names := including(names, "ab") endif
+			endif
+			if pick then nodes := including(nodes, gamma) else nodes := excluding(including(nodes, alpha), beta) endif
+			nameSeq := asSequence(names)
+			nodeSeq := asSequence(nodes)
+			firstName := chooseone(names)
+			firstNode := chooseone(nodes)
+		endpar
+default init s0:
+	function names = {"b", "", "B"}
+	function nodes = {}
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     """The JSON reports of the two engines (equal but for the engine and the times)."""
@@ -418,3 +451,28 @@ def test_sum_chooseone_allin_and_symmetric_difference(tmp_path, capsys):
     assert sts[7] == {"a": "{5}", "b": "{-1, 2, 5}", "total": "8", "sub": "true", "nsub": "false", "least": "-1"}
     assert sts[11] == {"a": "{-1, 2, 5}", "b": "{-1, 2, 5}", "total": "7", "sub": "true", "nsub": "true",
                        "least": "5"}
+
+
+def test_sets_of_strings_and_of_abstract_elements_in_the_python_engines_order(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, ORDERED)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (
+        0, "no property checked", 9, 14, 3)
+    sts = states(tmp_path, ORDERED)
+    assert len(sts) == 9
+    assert sts[3] == {"names": '{"", "B", "ab", "b"}', "nodes": "{alpha}", "nameSeq": '["", "B", "ab", "b"]',
+                      "nodeSeq": "[alpha]", "firstName": '""', "firstNode": "alpha"}
+    assert sts[5] == {"names": '{"", "B", "b", "b3"}', "nodes": "{alpha, gamma}", "nameSeq": '["", "B", "b", "b3"]',
+                      "nodeSeq": "[gamma]", "firstName": '""', "firstNode": "gamma"}
+    assert (sts[-1]["nodeSeq"], sts[-1]["firstNode"]) == ("[alpha, gamma]", "alpha")
+
+
+def test_named_elements_numbered_out_of_the_order_of_their_names_are_left_to_the_python_engine(tmp_path):
+    for first, second, accepted in (("zed", "abe", False), ("abe", "zed", True)):
+        text = (f"asm Ab\nimport StandardLibrary\nsignature:\n\tabstract domain Node\n\tstatic {first}: Node\n"
+                f"\tstatic {second}: Node\n\tcontrolled s: Seq(Node)\ndefinitions:\n"
+                f"\tmain rule r_main = s := asSequence({{zed, abe}})\n")
+        if accepted:
+            assert states(tmp_path, text) == [{}, {"s": "[abe, zed]"}]
+        else:
+            with pytest.raises(Unsupported, match=r"^asSequence on Powerset\(Node\)$"):
+                NativeExplorer(machine(tmp_path, text))

@@ -621,9 +621,24 @@ class Generator:
 
     def orderable(self, typ) -> bool:
         """Elements whose codes are in the order of the Python engine's values (:func:`vkey`):
-        integers, Booleans and the constants of one enum domain."""
+        integers, Booleans, the constants of one enum domain, and the named elements of abstract
+        domains when no domain grows and their numbers follow their names."""
         r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            from ..semantics.values import vkey
+            els = list(self.codec.abstract_ids)
+            return not any(isinstance(d, T.Domain) and d.dynamic for d in self.spec.domains) and \
+                sorted(els, key=vkey) == sorted(els, key=self.codec.to_c)
         return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
+
+    def in_value_order(self, x: str, typ) -> str | None:
+        """C code: the elements of the set or bag ``x`` (of element type ``typ``) as a sequence in
+        the Python engine's order (None: not for such elements)."""
+        if self.orderable(typ):
+            return f"v_rekind(c, {x}, K_SEQ)"
+        if T.root(typ) is T.STRING:
+            return f"str_sorted(c, {x})"
+        return None
 
     @staticmethod
     def regex_literal(p: str):
@@ -677,9 +692,11 @@ class Generator:
                 return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
             return None
         if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
-                kind == "Seq" or self.orderable(T.root(a0).args[0])):
+                kind == "Seq" or self.in_value_order(args[0], T.root(a0).args[0])):
             # outside the initialisation: the first element (of a set, the least)
-            return f"seq_first({args[0]})"
+            if kind == "Seq" or self.orderable(T.root(a0).args[0]):
+                return f"seq_first({args[0]})"
+            return f"seq_first({self.in_value_order(args[0], T.root(a0).args[0])})"
         if name == "sum" and n == 1 and kind in ("Seq", "Powerset", "Bag") and \
                 T.root(T.root(a0).args[0]) in (T.INTEGER, T.NATURAL):
             return f"v_sum(c, {args[0]})"
@@ -704,8 +721,8 @@ class Generator:
                 return f"bag_union(c, {args[0]}, {args[1]})"
             if name == "asSet" and n == 1:
                 return f"v_rekind(c, {args[0]}, K_SET)"
-            if name == "asSequence" and n == 1 and self.orderable(T.root(a0).args[0]):
-                return f"v_rekind(c, {args[0]}, K_SEQ)"
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], T.root(a0).args[0]):
+                return self.in_value_order(args[0], T.root(a0).args[0])
             raise Unsupported(f"{name} on {a0}")
         if kind == "Seq":
             if name == "insertAt" and n == 3:
@@ -725,8 +742,8 @@ class Generator:
                 return {"allin": f"set_allin({args[0]}, {args[1]})",
                         "notallin": f"v_not(set_allin({args[0]}, {args[1]}))",
                         "symmetricDifference": f"set_symdiff(c, {args[0]}, {args[1]})"}[name]
-            if name == "asSequence" and n == 1 and self.orderable(elem):
-                return f"v_rekind(c, {args[0]}, K_SEQ)"
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], elem):
+                return self.in_value_order(args[0], elem)
             if name == "asBag" and n == 1:
                 return f"v_rekind(c, {args[0]}, K_BAG)"
             if name == "asSet" and n == 1:

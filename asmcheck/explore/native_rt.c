@@ -634,6 +634,24 @@ static V set_symdiff(Ctx *c, V a, V b) {
     for (int j = 0; j < m; j++) if (set_contains(a, y[j]) != 1) vscratch[k++] = y[j];
     return set_make(c, vscratch, k);
 }
+/* strings compared by their characters' code points (a prefix first), as Python compares them */
+static int str_cmp(const void *a, const void *b) {
+    V x = *(const V *)a, y = *(const V *)b;
+    int n = v_len(x), m = v_len(y);
+    const V *e = v_elems(x), *f = v_elems(y);
+    for (int i = 0; i < n && i < m; i++) if (e[i] != f[i]) return e[i] < f[i] ? -1 : 1;
+    return n < m ? -1 : n > m;
+}
+/* the strings of a set or bag as a sequence in that order (undef, interned apart, first) */
+static V str_sorted(Ctx *c, V s) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), u = 0, k = 0;
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) if (e[i] == UNDEF) vscratch[u++] = UNDEF;
+    for (int i = 0; i < n; i++) if (e[i] != UNDEF) vscratch[u + k++] = e[i];
+    qsort(vscratch + u, k, sizeof(V), str_cmp);
+    return v_intern(c, K_SEQ, vscratch, u + k);
+}
 static V int_to_string(Ctx *c, V x) {
     if (x == UNDEF) return UNDEF;
     char buf[32]; int n = snprintf(buf, sizeof buf, "%lld", (long long)x);
