@@ -128,6 +128,9 @@ class Codec:
         else:
             pairs = sorted((code(k), code(x)) for k, x in v)
             key = (K_MAPV, tuple(x for pr in pairs for x in pr))
+        intern = getattr(self, "intern", None)
+        if intern is not None:        # the one interning of the codec, where it has one
+            return intern(key)
         i = self.comp_ids.get(key)
         if i is None:
             if self.frozen:
