@@ -280,6 +280,35 @@ default init s0:
 	function nodes = {}
 """
 
+# strings and sequences that grow for 300 steps: the value table's pool moves while a split or a
+# subsequence is made from one of its entries
+GROW = """asm Grow
+import StandardLibrary
+signature:
+	controlled s: String
+	controlled parts: Seq(String)
+	controlled tailq: Seq(Integer)
+	controlled q: Seq(Integer)
+	controlled k: Integer
+definitions:
+	main rule r_main =
+		if k < 300 then
+			par
+				k := k + 1
+				s := concat(s, concat("-", toString(k)))
+				parts := split(s, "-")
+				q := append(q, k)
+				tailq := subSequence(q, 1n, iton(length(q)))
+			endpar
+		endif
+default init s0:
+	function s = "x"
+	function parts = []
+	function q = []
+	function tailq = []
+	function k = 0
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     """The JSON reports of the two engines (equal but for the engine and the times)."""
@@ -476,3 +505,14 @@ def test_named_elements_numbered_out_of_the_order_of_their_names_are_left_to_the
         else:
             with pytest.raises(Unsupported, match=r"^asSequence on Powerset\(Node\)$"):
                 NativeExplorer(machine(tmp_path, text))
+
+
+def test_values_made_from_entries_of_a_growing_table(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, GROW)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (
+        0, "no property checked", 301, 301, 300)
+    sts = states(tmp_path, GROW)
+    last = sts[-1]
+    assert last["k"] == "300" and last["s"] == '"x-' + "-".join(str(i) for i in range(300)) + '"'
+    assert last["parts"] == "[" + ", ".join(f'"{x}"' for x in ["x"] + [str(i) for i in range(299)]) + "]"
+    assert last["tailq"] == "[" + ", ".join(str(i) for i in range(1, 299)) + "]"

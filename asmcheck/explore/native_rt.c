@@ -294,9 +294,12 @@ static V v_intern(Ctx *c, int kind, const V *e, int n) {
     if (npool + n > cap_pool) {
         int64_t nc = cap_pool ? cap_pool * 2 : 4096;
         while (nc < npool + n) nc *= 2;
+        /* the elements may be part of an entry (a subsequence): they move with the pool */
+        int64_t eoff = (vpool && e >= vpool && e < vpool + npool) ? (int64_t)(e - vpool) : -1;
         V *t = (V *)realloc(vpool, nc * sizeof(V));
         if (!t) { vt_oom = 1; if (c) fail(c, E_MEMORY, 0); return UNDEF; }
         vpool = t; cap_pool = nc;
+        if (eoff >= 0) e = vpool + eoff;
     }
     memcpy(vpool + npool, e, n * sizeof(V));
     vtab[nvals].off = npool; vtab[nvals].len = n; vtab[nvals].kind = kind;
@@ -590,6 +593,7 @@ static V str_split(Ctx *c, V s, V sep) {
         if (memcmp(a + i, b, m * sizeof(V)) == 0) {
             if (np >= (1 << 14) - 1) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
             parts[np++] = v_intern(c, K_STRING, a + start, i - start);
+            a = v_elems(s); b = v_elems(sep);      /* the pool may have moved */
             i += m; start = i;
         } else i++;
     }
