@@ -536,7 +536,7 @@ static V mapv_at(V m, V k) {
 }
 /* merge(a, b): b's pairs win; assign(m, k, v): m with k -> v */
 static V mapv_merge(Ctx *c, V a, V b) {
-    static V buf[1 << 16];
+    static _Thread_local V buf[1 << 16];
     if (a == UNDEF || b == UNDEF) return UNDEF;
     int n = v_len(a), m = v_len(b);
     if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
@@ -586,7 +586,7 @@ static V str_sub(Ctx *c, V s, V i, V j) {
 static V str_split(Ctx *c, V s, V sep) {
     if (s == UNDEF || sep == UNDEF) return UNDEF;
     int n = v_len(s), m = v_len(sep), np = 0, start = 0;
-    static V parts[1 << 14];
+    static _Thread_local V parts[1 << 14];   /* one per thread, as the scratch space */
     const V *a = v_elems(s), *b = v_elems(sep);
     if (m == 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
     for (int i = 0; i + m <= n; ) {
