@@ -5,7 +5,6 @@ import json
 from pathlib import Path
 
 from .. import api
-from ..report.trace import explore_violation_lines
 from .common import (EXIT_ERROR, EXIT_INCOMPLETE, EXIT_OK, EXIT_VIOLATED, Progress, add_explore_options,
                      check_output_path, color_on, error, explore_options, load_options, out, verdict_rows,
                      writing)
@@ -60,11 +59,9 @@ def run(args) -> int:
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
     verdict_rows([(row["property"], row["verdict"]) for row in run_.rows])
-    for v in violations:
-        if hasattr(v.raw, "holds"):
-            continue
+    for lines in run_.violation_text(color):
         out()
-        for line in explore_violation_lines(model.machine, v.raw, v.trace.raw, color):
+        for line in lines:
             out(line)
     for lines in run_.temporal_text(color):
         out()

@@ -8,7 +8,29 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from .trace import key_order, location_name, step_header, value_text  # noqa: F401
+from ..semantics.printer import location_sort_key, location_text
+from ..semantics.state import is_dom_key
+from ..semantics.values import show
+
+
+def key_order(machine, k):
+    """The sort key of a location (domains of extend-made elements last)."""
+    if is_dom_key(k):
+        return ("~", 0, k[1])
+    return location_sort_key(machine, k)
+
+
+def location_name(machine, k) -> str:
+    if is_dom_key(k):
+        return k[1]
+    return location_text(machine, k)
+
+
+def value_text(k, v) -> str:
+    if is_dom_key(k):
+        return "{" + ", ".join(e.name for e in (v or ())) + "}"
+    return show(v)
+
 
 
 @dataclass

@@ -36,9 +36,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .describe import (Choice, ChooseIndex, Location, StepRecord, display_path, failing_record, flat_choices,  # noqa: F401
-                       one_line, property_text, shown_inputs, source_text, span_location, step_header, step_inputs,
+                       one_line, property_text, shown_inputs, source_text, span_location, step_inputs,
                        step_records, term_text)
-from .trace import RENAMED, cx_summary, lasso_renamed, temporal_json, temporal_text, trace_lines  # noqa: F401
+from .trace import RENAMED, cx_summary, lasso_renamed, step_header, temporal_json, temporal_text, trace_lines  # noqa: F401
 
 PASS, FAIL, INCOMPLETE, ERROR = "pass", "fail", "incomplete", "error"
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3

@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 from ..explore.trace import (Trace, TraceStep, build_trace, display_choices, display_names,  # noqa: F401
                              state_elements, trace_steps)
-from ..semantics.printer import location_sort_key, location_text
-from ..semantics.state import is_dom_key
+from .describe import (ChooseIndex, failing_record, flat_choices as all_choices, key_order,  # noqa: F401
+                       location_name, property_text, shown_inputs, step_inputs, step_records, value_text)
 from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, RuleValue, SeqV, SetV, show
 
 
@@ -42,25 +42,6 @@ def choice_text(c) -> str:
         text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
         return f"{c.label}: {text}"
     return f"{c.label}: {c.value!r}"
-
-
-def key_order(machine, k):
-    """The sort key of a location (domains of extend-made elements last)."""
-    if is_dom_key(k):
-        return ("~", 0, k[1])
-    return location_sort_key(machine, k)
-
-
-def location_name(machine, k) -> str:
-    if is_dom_key(k):
-        return k[1]
-    return location_text(machine, k)
-
-
-def value_text(k, v) -> str:
-    if is_dom_key(k):
-        return "{" + ", ".join(e.name for e in (v or ())) + "}"
-    return show(v)
 
 
 def flat_choices(choices) -> list:
@@ -101,7 +82,6 @@ def _choice_json(c, chooses=None) -> dict:
 def _located(machine, step, locs: dict) -> dict:
     """Location key -> value (canonical names of the state before ``step``) as JSON, under the
     trace's display names, in the order of the locations."""
-    from .describe import shown_inputs
     shown = shown_inputs(step, locs)
     return {location_name(machine, k): json_value(shown[k]) for k in sorted(shown, key=lambda k: key_order(machine, k))}
 
@@ -110,7 +90,6 @@ def trace_json(machine, trace: Trace, chooses=None, inputs=None) -> list[dict]:
     """The steps of a trace as JSON (docs/trace.schema.json): per step the main rule, the
     choices (a choose rule's with the rule it is in; those made inside a choose body after it),
     the monitored values the step read, its update set, the locations it changed and the state."""
-    from .describe import ChooseIndex, flat_choices as all_choices, step_inputs
     if chooses is None:
         chooses = ChooseIndex(machine.spec)
     if inputs is None:
@@ -150,7 +129,6 @@ def describe_trace(machine, trace: Trace, *, kind: str | None = None, loop: int 
                    inputs_step: bool = False, chooses=None, root=None, inputs=None) -> TraceView:
     """A replayed trace as a :class:`TraceView`: per step the rule, its choices, the monitored
     values it read and what changed."""
-    from .describe import ChooseIndex, failing_record, step_records
     if chooses is None:
         chooses = ChooseIndex(machine.spec)
     recs = step_records(machine, trace, chooses, root, inputs)
@@ -289,7 +267,6 @@ def violation_head(name: str, kind: str, where: str = "", message: str = "") -> 
 def explore_violation_lines(machine, violation, trace: Trace, color: bool = False) -> list[str]:
     """A safety violation (an invariant, a step property, a deadlock, a step that fails) with its
     shortest trace, as ``asmcheck explore`` prints it."""
-    from .describe import property_text
     p = violation.prop
     span = getattr(p, "span", None)
     where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
@@ -304,7 +281,6 @@ RENAMED = "(up to the names of the elements made by extend)"
 def temporal_text(result, machine, color: bool = False) -> list[str]:
     """A temporal result as ``asmcheck explore`` prints it: the verdict, the formula and the
     replayed counterexample (or witness), a lasso marked where its loop starts."""
-    from .describe import property_text
     self = result
     where = ""
     span = getattr(self.prop, "span", None)
