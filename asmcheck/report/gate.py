@@ -38,7 +38,8 @@ from pathlib import Path
 from .describe import (Choice, ChooseIndex, Location, StepRecord, display_path, failing_record, flat_choices,  # noqa: F401
                        one_line, property_text, shown_inputs, source_text, span_location, step_inputs,
                        step_records, term_text)
-from .trace import RENAMED, cx_summary, lasso_renamed, step_header, temporal_json, temporal_text, trace_lines  # noqa: F401
+from .trace import (RENAMED, cx_summary, failing_note, lasso_renamed, step_header, temporal_json,  # noqa: F401
+                    temporal_text, trace_lines)
 
 PASS, FAIL, INCOMPLETE, ERROR = "pass", "fail", "incomplete", "error"
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
@@ -58,6 +59,7 @@ class Counterexample:
     failing: StepRecord | None = None   # property 'error': the step that fails after the last state
     inputs_step: bool = False       # the last step only shows the inputs of the state before it
     fairness: list = field(default_factory=list)    # the fairness constraints a temporal verdict assumed
+    failing_note: str = ""           # a temporal path that ends with a step that fails: what then
 
 
 @dataclass
@@ -73,6 +75,9 @@ class PropertyOutcome:
     text: str = ""                  # the property's term, on one line
     message: str = ""
     counterexample: Counterexample | None = None
+    # a step of the spec fails: the verdict is relative to that run-time error (its location),
+    # the property having been checked on the well-defined steps
+    relative_to: Location | None = None
 
     @property
     def tolerated(self) -> bool:
@@ -158,6 +163,8 @@ def judge(row: PropertyOutcome, declares_expectations: bool, strict: bool) -> Pr
         row.status, row.label = ERROR, "input error"
     else:
         row.status, row.label = ERROR, "cannot be checked"
+    if row.relative_to is not None and v in ("holds", "violated"):
+        row.label += f", relative to the run-time error at {row.relative_to}"
     return row
 
 
@@ -213,6 +220,9 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
     bad = {v.prop.name: v for v in result.violations}
     incomplete = result.stopped_early
     rows: list[PropertyOutcome] = []
+    # where a step fails, the other verdicts are relative to that error (the first one found)
+    err = bad.get("error")
+    relative = span_location(getattr(err.prop, "span", None), root=root) if err is not None else None
 
     def counterexample(v) -> Counterexample:
         tr = build_trace(explorer, v)
@@ -240,6 +250,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         if v is not None:
             row.message = v.message
             row.counterexample = counterexample(v)
+        elif not incomplete:
+            row.relative_to = relative
         rows.append(row)
     for v in result.violations:
         if v.prop.name in ("deadlock", "error"):
@@ -250,7 +262,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
             rows.append(row)
     if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
         rows.append(PropertyOutcome("deadlock", "deadlock", "incomplete" if incomplete else "holds",
-                                    "deadlock" in expected, expect_location=expect_loc("deadlock")))
+                                    "deadlock" in expected, expect_location=expect_loc("deadlock"),
+                                    relative_to=None if incomplete else relative))
     by_name = {getattr(p, "name", None): p for p in temporal}
     seen = {r.name for r in rows}
     for t in temporal_results:
@@ -264,6 +277,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         if verdict == "violated":
             row.counterexample = temporal_counterexample(machine, t, chooses, root, spec_path=path,
                                                          avalla_dir=avalla_dir, spec_name=spec.name)
+        if not msg and getattr(t, "relative_to", None) is not None:
+            row.relative_to = relative
         rows.append(row)
         seen.add(t.name)
     seen |= {r.name for r in rows}
@@ -336,6 +351,10 @@ def temporal_counterexample(machine, t, chooses, root=None, *, spec_path=None, a
         text = []
     cx = Counterexample("lasso" if loop is not None else "path", getattr(t, "message", "") or "", steps, js, loop,
                         text, inputs_step=inputs_step, fairness=list(getattr(t, "fairness", None) or ()))
+    if tr is not None and getattr(tr, "failing", None) is not None and steps:
+        # the path ends with a step that fails: the run halts in its last state
+        cx.failing = failing_record(machine, tr, chooses, root)
+        cx.failing_note = failing_note(tr)
     if avalla_dir is not None and tr is not None and spec_path is not None:
         from .avalla_export import scenario_file_name, trace_scenario
         prop = getattr(t, "prop", None)

@@ -55,7 +55,8 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
             if p.verdict == "violated":
                 cx = p.counterexample
                 n = len(cx.steps) - 1 if cx and cx.steps else None
-                head += violation_head(p.name, p.kind, where, p.message)
+                rel = f" at {p.relative_to}" if getattr(p, "relative_to", None) is not None else None
+                head += violation_head(p.name, p.kind, where, p.message, rel)
                 if p.expected:
                     head += " (expected)"
                 elif p.status != FAIL:

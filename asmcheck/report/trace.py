@@ -123,6 +123,7 @@ class TraceView:
     loop_start: int | None = None   # lasso: the state the last step goes back to
     failing: object = None          # property 'error': the StepRecord of the step that fails
     inputs_step: bool = False       # the last step only shows the inputs of the state before it
+    failing_note: str = ""          # a temporal path that ends with a step that fails: what then
 
 
 def describe_trace(machine, trace: Trace, *, kind: str | None = None, loop: int | None = None,
@@ -167,12 +168,10 @@ def cx_summary(cx, what: str = "counterexample") -> str:
     if cx.kind == "lasso" and cx.loop_start is not None:
         return (f"{what}, {steps}: a lasso, {_plural(cx.loop_start)} to the loop, then a loop of "
                 f"{_plural(n - cx.loop_start)} repeated for ever")
+    fails = f", then step {n + 1} fails" if getattr(cx, "failing", None) is not None else ""
     if cx.kind in ("lasso", "path"):
-        return f"{what}, {steps}"
-    tail = " (the last step breaks it)" if cx.kind == "step" else ""
-    if getattr(cx, "failing", None) is not None:
-        tail = f", then step {n + 1} fails"
-    return f"shortest {what}, {steps}" + tail
+        return f"{what}, {steps}{fails}"
+    return f"shortest {what}, {steps}" + (fails or (" (the last step breaks it)" if cx.kind == "step" else ""))
 
 
 def lasso_renamed(cx) -> bool:
@@ -237,6 +236,8 @@ def trace_lines(cx, color: bool = False) -> list[str]:
         n = last
         out.append(f"(step {n} only shows the monitored inputs and choices of state {n - 1}, "
                    f"which are part of its state for the property)")
+    if getattr(cx, "failing_note", ""):
+        out.append(cx.failing_note)
     return out
 
 
@@ -253,15 +254,27 @@ def violation_lines(head: str, cx, color: bool = False, formula: str = "", fairn
     return out
 
 
-def violation_head(name: str, kind: str, where: str = "", message: str = "") -> str:
-    """'inv_x (f.prop:3:11) is violated', 'deadlock', 'a step fails (f.asm:9:14)', with the message."""
+def violation_head(name: str, kind: str, where: str = "", message: str = "", relative: str | None = None) -> str:
+    """'inv_x (f.prop:3:11) is violated', 'deadlock', 'a step fails (f.asm:9:14)', with the message;
+    ``relative``: the verdict is relative to the run-time error there (' at f.asm:16:25')."""
     if kind == "deadlock" or name == "deadlock":
         text = "deadlock"
     elif kind == "error" or name == "error":
         text = f"a step fails{where}"
     else:
         text = f"{name}{where} is violated"
+    if relative is not None:
+        text += f", relative to the run-time error{relative}"
     return text + (f": {message}" if message else "")
+
+
+def failing_note(trace) -> str:
+    """A temporal path that ends with a step that fails: the run halts in its last state."""
+    if getattr(trace, "failing", None) is None:
+        return ""
+    n = len(trace.steps) - 1
+    return (f"(step {n + 1} fails: {trace.message}; the run stops there and stays in state {n} "
+            f"for ever)")
 
 
 def explore_violation_lines(machine, violation, trace: Trace, color: bool = False) -> list[str]:
@@ -290,13 +303,20 @@ def temporal_text(result, machine, color: bool = False) -> list[str]:
     if self.message:
         return [f"{self.name}{where} ({kind}) cannot be checked: {self.message}"]
     tr = self.trace()
-    head = f"{self.name}{where} {'holds' if self.holds else 'is violated'}"
+    err = getattr(self, "relative_to", None)
+    rel = None
+    if err is not None:
+        span = getattr(err, "span", None)
+        rel = f" at {span.short()}" if span is not None and span.line else ""
+    head = f"{self.name}{where} {'holds' if self.holds else 'is violated'}" + \
+        (f", relative to the run-time error{rel}" if rel is not None else "")
     formula = property_text(self.prop)
     if tr is None:
         return [head] + ([f"  formula: {formula}"] if formula else [])
     trace, loop, inputs_step = tr
     view = describe_trace(machine, trace, kind="lasso" if loop is not None else "path", loop=loop,
                           inputs_step=inputs_step)
+    view.failing_note = failing_note(trace)
     return violation_lines(head, view, color, formula, self.fairness, "witness" if self.holds else "counterexample")
 
 
@@ -308,6 +328,10 @@ def temporal_json(result, machine) -> dict:
         out["fairness"] = list(self.fairness)
     if self.message:
         out["message"] = self.message
+    err = getattr(self, "relative_to", None)
+    if err is not None:
+        span = getattr(err, "span", None)
+        out["relative_to"] = str(span) if span is not None and span.line else ""
     tr = self.trace()
     if tr is not None:
         trace, loop, inputs_step = tr
@@ -316,6 +340,10 @@ def temporal_json(result, machine) -> dict:
         out["witness"] = self.holds
         if inputs_step:
             out["inputs_step"] = True     # the last step only shows the inputs of the state before
+        if trace.failing is not None:
+            # the path ends with a step that fails: the run stops in the last state for ever
+            out["failing_step"] = failing_json(trace)
+            out["failing_message"] = trace.message
     else:
         out["trace"] = []
         out["loop_start"] = None
