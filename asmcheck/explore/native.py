@@ -31,6 +31,8 @@ others' tables.
 from __future__ import annotations
 
 import ctypes
+import math
+import struct
 import time
 from array import array
 from importlib import resources
@@ -55,6 +57,33 @@ def _ceil_log2(n: int) -> int:
     while (1 << b) < n:
         b += 1
     return max(b, 1)
+
+
+R_NAN = 0x7FF8000000000000
+R_NEGZ = 0x7FF8000000000001
+
+
+def real_code(x: float) -> int:
+    """The int64 code of a Real (a Java double): its bit pattern, one code for every NaN and
+    one for -0.0 (whose pattern is the undef sentinel)."""
+    if x != x:
+        return R_NAN
+    if x == 0 and math.copysign(1.0, x) < 0:
+        return R_NEGZ
+    b = struct.unpack("<q", struct.pack("<d", x))[0]
+    return b
+
+
+def real_value(b: int) -> float:
+    if b == R_NEGZ:
+        return -0.0
+    return struct.unpack("<d", struct.pack("<q", b))[0]
+
+
+def storable_real(x) -> bool:
+    """A Real the native states may hold: the Python engine's states compare floats with ``==``
+    (-0.0 equals 0.0, a NaN only itself), the native ones by code."""
+    return type(x) is float and x == x and not (x == 0 and math.copysign(1.0, x) < 0)
 
 
 class Codec:
@@ -85,6 +114,8 @@ class Codec:
             if not (-(1 << 63) < v < (1 << 63)):
                 raise Unsupported("an integer beyond 64 bits")
             return v
+        if t is float:
+            return real_code(v)
         if t is EnumValue:
             # distinct enum domains get distinct codes (a union or Any mixes them)
             base = self.enum_base.get(v.domain)
@@ -100,6 +131,8 @@ class Codec:
             if t is str:
                 codes = tuple(ord(ch) for ch in v)
             else:
+                if any(type(e) is float and not storable_real(e) for e in v):
+                    raise Unsupported("-0.0 or NaN inside a composite value")
                 codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
                 if t is SetV:
                     codes = tuple(sorted(set(codes)))
@@ -122,6 +155,8 @@ class Codec:
             return bool(x)
         if r in (T.INTEGER, T.NATURAL):
             return x
+        if r is T.REAL:
+            return real_value(x)
         if r is T.STRING:
             return "".join(chr(e) for e in self.fetch(x)[1])
         if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
@@ -201,13 +236,13 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
-        if self.composite(f.codomain):
-            return None
+        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL:
+            return None      # a Real location holds its code (an initial value may lie outside a subset)
         try:
             return self.values_of(f.codomain)
         except Unsupported:
             r = T.root(f.codomain)
-            if r in (T.INTEGER, T.NATURAL) or self.composite(f.codomain):
+            if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
             raise
 
@@ -223,6 +258,8 @@ class Generator:
             if isinstance(ra, T.Struct) or ra is T.STRING:
                 if not self.composite(a):
                     return False
+            elif ra is T.REAL and r.kind == "Prod":
+                continue     # a Real in a tuple (stored only when neither -0.0 nor NaN)
             elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
                 return False
         return True
@@ -410,6 +447,8 @@ class Generator:
     def encoder(self, f) -> str:
         """C function: value -> code for the locations of f (fails outside the codomain)."""
         base, arg_values, cod = self.fn_base[f.index]
+        if T.root(f.codomain) is T.REAL:
+            return self.real_encoder(f, cod)
         if cod is None:
             if "encW" not in self.defined_done:
                 self.defined_done.add("encW")
@@ -433,6 +472,34 @@ class Generator:
         lines.append(f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return 0;")
         lines.append("}")
         self.funcs.append("\n".join(lines))
+        return name
+
+    def real_encoder(self, f, cod) -> str:
+        """The encoder of a Real location (which holds the code itself): -0.0 and NaN are refused
+        (see ``storable_real``), and a value outside a subset codomain is an error."""
+        cd = f.codomain
+        if not (isinstance(cd, T.Domain) and cd.kind == "subset"):
+            return "encR"
+        try:
+            vals = self.values_of(cd)
+        except Unsupported:
+            return "encR"
+        codes = tuple(self.codec.to_c(v) for v in vals)
+        key = ("encR", codes)
+        name = self.enc_tables.get(key)
+        if name is not None:
+            return name
+        name = f"enc{len(self.enc_tables)}"
+        self.enc_tables[key] = name
+        tab = self.table(vals)
+        really = cd.definition is not None
+        self.funcs.append("\n".join([
+            f"static V {name}(Ctx *c, V v, int site) {{",
+            "    if (v == UNDEF) return v;",
+            "    if (v == R_NEGZ || v == R_NAN) { fail(c, E_UNSUPPORTED, site); return v; }",
+            f"    for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == v) return v;",
+            f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return v;",
+            "}"]))
         return name
 
     def defined(self, f) -> str:
@@ -466,6 +533,8 @@ class Generator:
             return self.composite_call(t, env)
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
+        if any(T.root(a.type) is T.REAL for a in t.args) or name in ("div", "itor", "ntor"):
+            return self.real_call(t, env)
         for a in t.args:
             r = T.root(a.type)
             if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
@@ -509,6 +578,47 @@ class Generator:
         if name in ("iton", "ntoi"):
             return args[0]
         raise Unsupported(f"the library function {name}")
+
+    REAL2 = {"plus": "r_add", "minus": "r_sub", "mult": "r_mul", "div": "r_div", "lt": "r_lt", "le": "r_le",
+             "gt": "r_gt", "ge": "r_ge", "min": "r_min", "max": "r_max", "pwr": "r_pow"}
+    REAL1 = {"minus": "r_neg", "abs": "r_abs", "sqrt": "r_sqrt", "floor": "r_floor"}
+
+    def real_call(self, t, env):
+        """A StandardLibrary function over Reals (Java doubles, as :mod:`..semantics.reals`)."""
+        name = t.name
+        roots = [T.root(a.type) for a in t.args]
+        ints = (T.INTEGER, T.NATURAL)
+        desc = ", ".join(str(a.type) for a in t.args)
+        args = [self.term(a, env) for a in t.args]
+        if name in ("eq", "neq") and len(args) == 2:
+            if all(r in (T.REAL, T.UNDEF) for r in roots):
+                e = f"v_eq({args[0]}, {args[1]})"
+            elif roots[0] is T.REAL and roots[1] in ints:
+                e = f"r_eq_ri({args[0]}, {args[1]})"
+            elif roots[1] is T.REAL and roots[0] in ints:
+                e = f"r_eq_ir({args[0]}, {args[1]})"
+            else:
+                raise Unsupported(f"{name} on {desc}")
+            return e if name == "eq" else f"(V)!{e}"
+        if name in ("isDef", "isUndef") and len(args) == 1:
+            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if name in ("itor", "ntor") and len(args) == 1 and roots[0] in ints:
+            return f"r_itor({args[0]})"
+        if name == "div" and len(args) == 2 and all(r in ints for r in roots):
+            return f"r_div(r_itor({args[0]}), r_itor({args[1]}))"
+        if not all(r is T.REAL for r in roots):
+            raise Unsupported(f"{name} on {desc}")
+        if len(args) == 2 and name in self.REAL2:
+            return f"{self.REAL2[name]}({args[0]}, {args[1]})"
+        if len(args) == 1 and name in self.REAL1:
+            return f"{self.REAL1[name]}({args[0]})"
+        if len(args) == 1 and name == "plus":
+            return args[0]
+        if len(args) == 1 and name in ("rtoi", "rton"):
+            return f"r_rtoi(c, {args[0]})"
+        if len(args) == 1 and name == "round":
+            return f"r_round(c, {args[0]})"
+        raise Unsupported(f"{name} on {desc}")
 
     def composite_call(self, t, env):
         import re
@@ -581,6 +691,7 @@ class Generator:
     def build(self, kind, items, env):
         arr = self.fresh("e")
         vals = [self.term(x, env) for x in items]
+        vals = [f"r_chk(c, {v})" if x.type is not None and T.root(x.type) is T.REAL else v for v, x in zip(vals, items)]
         return (f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; "
                 f"v_intern(c, {kind}, {arr}, {len(vals)}); }})")
 
@@ -1080,6 +1191,8 @@ class Generator:
                 continue
             v = st.get(key)
             if vals is None:
+                if type(v) is float and not storable_real(v):
+                    raise Unsupported("a Real location holding -0.0 or NaN")
                 x = self.codec.to_c(v)
                 words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
                 continue

@@ -1,0 +1,172 @@
+"""The native explorer's values beyond booleans, enums and integers: Reals (Java doubles, with
+the Python engine's -0.0, NaN, infinities, rtoi/floor/round and decimal intervals).  Each spec
+runs on both engines (pinned with --engine) and the JSON reports must be equal apart from the
+engine and the times; the exact counts and values are checked too."""
+import json
+
+import pytest
+
+from asmcheck.cli import main
+from asmcheck.explore.native_build import compiler
+from helpers import write
+
+REALS = """asm Reals
+import StandardLibrary
+signature:
+	domain Half subsetof Real
+	controlled x: Real
+	controlled s: Half
+	controlled i1: Integer
+	controlled i2: Integer
+	controlled i3: Integer
+	controlled i4: Integer
+	controlled i5: Integer
+	controlled i6: Integer
+	controlled i7: Integer
+	controlled i8: Integer
+	controlled b1: Boolean
+	controlled b2: Boolean
+	controlled b3: Boolean
+	controlled b4: Boolean
+	controlled b5: Boolean
+	controlled b6: Boolean
+	controlled r1: Real
+	controlled r2: Real
+	controlled r3: Real
+	controlled r4: Real
+	controlled r5: Real
+	controlled r6: Real
+	controlled r7: Real
+	controlled r8: Real
+	controlled t: Prod(Real, Integer)
+definitions:
+	domain Half = {0.5 : 2.0, 0.5}
+	invariant inv_x over x: x < 0.4
+	main rule r_main =
+		par
+			if x < 0.5 then x := x + 0.1 endif
+			if s < 2.0 then s := s + 0.5 endif
+			i1 := rtoi(1.0 / 0.0)
+			i2 := rtoi(0.0 / 0.0)
+			i3 := floor(-2.5)
+			i4 := round(-2.5)
+			i5 := round(2.5)
+			i6 := floor(1000000000000.0)
+			i7 := rtoi(-7.9)
+			i8 := rtoi(max(-0.0, 0.0) + min(1.0, 0.0 / 0.0))
+			b1 := 0.0 = -0.0
+			b2 := (0.0 / 0.0) = (0.0 / 0.0)
+			b3 := 2.0 = 2
+			b4 := 0 = -0.0
+			b5 := -0.0 = 0
+			b6 := (0.0 / 0.0) < 1.0
+			r1 := sqrt(2.0)
+			r2 := pwr(2.0, 0.5)
+			r3 := abs(-3.25)
+			r4 := itor(7) / 2.0
+			r5 := 7 / 2
+			r6 := 0.1 + 0.2
+			r7 := pwr(10.0, 400.0)
+			r8 := -(1.0 / 0.0)
+			t := (x * 2.0, rtoi(s))
+		endpar
+default init s0:
+	function x = 0.0
+	function s = 0.5
+"""
+
+# -0.0 is a state of its own for the native encoding but equals 0.0 in the Python engine's
+# states: the native search stops at the first such value and the Python engine explores
+NEG_ZERO = """asm NegZero
+import StandardLibrary
+signature:
+	controlled x: Real
+	controlled n: Integer
+definitions:
+	main rule r_main =
+		if n < 2 then
+			par
+				n := n + 1
+				x := x * -1.0
+			endpar
+		endif
+default init s0:
+	function x = 0.0
+	function n = 0
+"""
+
+# an initial value outside its Real subset domain, a Real choice over a finite subset, and an
+# update outside the subset (a run-time error)
+SUBSET = """asm RealSubset
+import StandardLibrary
+signature:
+	domain Tenth subsetof Real
+	controlled v: Tenth
+	controlled w: Real
+definitions:
+	domain Tenth = {0.6 : 0.9, 0.1}
+	main rule r_main =
+		choose $d in Tenth with $d > w do
+			par
+				w := $d
+				if $d = 0.9 and w = 0.8 then v := 1.0 else v := $d endif
+			endpar
+default init s0:
+	function v = 1.6
+	function w = 0.0
+"""
+
+
+def both(tmp_path, capsys, text, *extra):
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, text)
+    outs = []
+    for engine in ("native", "python"):
+        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
+        out = json.loads(capsys.readouterr().out)
+        assert out.pop("engine") == engine
+        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+            out.pop(key, None)
+        outs.append((code, out))
+    assert outs[0] == outs[1]
+    return outs[0]
+
+
+def test_real_arithmetic_and_java_double_edge_cases(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, REALS)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 6, 5, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_x"
+    trace = [s["state"] for s in v["trace"]]
+    assert [s["x"] for s in trace] == [0.0, 0.1, 0.2, 0.30000000000000004, 0.4]
+    assert [s["s"] for s in trace] == [0.5, 1.0, 1.5, 2.0, 2.0]
+    last = trace[-1]
+    assert {k: last[k] for k in ("i1", "i2", "i3", "i4", "i5", "i6", "i7", "i8")} == {
+        "i1": 9223372036854775807, "i2": 0, "i3": -3, "i4": -2, "i5": 3, "i6": 2147483647, "i7": -7, "i8": 1}
+    assert {k: last[k] for k in ("b1", "b2", "b3", "b4", "b5", "b6")} == {
+        "b1": False, "b2": True, "b3": True, "b4": True, "b5": False, "b6": False}
+    assert {k: last[k] for k in ("r1", "r2", "r3", "r4", "r5", "r6")} == {
+        "r1": 1.4142135623730951, "r2": 1.4142135623730951, "r3": 3.25, "r4": 3.5, "r5": 3.5,
+        "r6": 0.30000000000000004}
+    assert (last["r7"], last["r8"]) == (float("inf"), float("-inf"))
+    assert [s.get("t") for s in trace] == [None, {"tuple": [0.0, 0]}, {"tuple": [0.2, 1]}, {"tuple": [0.4, 1]},
+                                           {"tuple": [0.6000000000000001, 2]}]
+
+
+def test_negative_zero_in_a_location_falls_back_to_the_python_engine(tmp_path, capsys):
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, NEG_ZERO)
+    code = main(["explore", path, "--format", "json", "--engine", "auto"])
+    out = json.loads(capsys.readouterr().out)
+    assert (code, out["engine"], out["states"], out["transitions"]) == (0, "python", 3, 3)
+    assert out["engine_note"] == "native engine not used: a value outside the native encoding at run time"
+
+
+def test_real_subset_domain_choice_and_an_update_outside_it(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SUBSET)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 5, 10, 1)
+    (v,) = out["violations"]
+    assert (v["property"], v["message"]) == ("error", "value out of domain: 1.0 is not in Tenth (the codomain of v)")
+    assert [s["state"] for s in v["trace"]] == [{"v": 1.6, "w": 0.0}, {"v": 0.8, "w": 0.8}]
