@@ -1,5 +1,7 @@
 """The native explorer's values beyond booleans, enums and integers: Reals (Java doubles, with
-the Python engine's -0.0, NaN, infinities, rtoi/floor/round and decimal intervals).  Each spec
+the Python engine's -0.0, NaN, infinities, rtoi/floor/round and decimal intervals); monitored
+locations the initial state gives a value; INVAR constraints and invariants over monitored
+functions (every choice of the monitored values the step did not read).  Each spec
 runs on both engines (pinned with --engine) and the JSON reports must be equal apart from the
 engine and the times; the exact counts and values are checked too."""
 import json
@@ -116,6 +118,52 @@ default init s0:
 	function w = 0.0
 """
 
+# INVAR constraints over monitored functions (one reads a monitored location the step never
+# reads), an invariant over monitored functions beside them, a monitored location initialised
+INVAR_MON = """asm InvarMon
+import StandardLibrary
+signature:
+	enum domain Cmd = {GO | STOP | WAIT}
+	monitored cmd: Cmd
+	monitored urgent: Boolean
+	monitored spare: Boolean
+	controlled n: Integer
+	controlled last: Cmd
+definitions:
+	INVAR not (n >= 2 and cmd = GO)
+	INVAR urgent or last != WAIT or spare
+	invariant inv_wait over cmd, last: not (last = WAIT and cmd = STOP and n > 2)
+	main rule r_main =
+		if n < 4 then
+			par
+				last := cmd
+				if urgent then n := n + 2 else n := n + 1 endif
+			endpar
+		endif
+default init s0:
+	function n = 0
+	function last = GO
+	function spare = false
+"""
+
+# a monitored location with an initial value stays in every state; an invariant over monitored
+# functions the step does not read holds only when every value satisfies it
+MON_INIT = """asm MonInit
+import StandardLibrary
+signature:
+	domain State subsetof Natural
+	controlled ctl: State
+	monitored high: Boolean
+	monitored low: Boolean
+definitions:
+	domain State = {0n, 1n}
+	invariant inv_hl over high, low: not (high and low) or ctl = 0n
+	main rule r_main = if ctl = 0n then ctl := 1n else ctl := 0n endif
+default init s0:
+	function ctl = 0n
+	function high = false
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -170,3 +218,22 @@ def test_real_subset_domain_choice_and_an_update_outside_it(tmp_path, capsys):
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "value out of domain: 1.0 is not in Tenth (the codomain of v)")
     assert [s["state"] for s in v["trace"]] == [{"v": 1.6, "w": 0.0}, {"v": 0.8, "w": 0.8}]
+
+
+def test_invar_constraints_and_an_invariant_over_monitored_functions(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, INVAR_MON)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 14, 48, 3)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_wait"
+    assert [s["state"] for s in v["trace"]] == [
+        {"last": "GO", "n": 0, "spare": False}, {"last": "GO", "n": 1, "spare": False},
+        {"last": "WAIT", "n": 3, "spare": False}, {"last": "STOP", "n": 4, "spare": False}]
+
+
+def test_an_initialised_monitored_location_and_an_invariant_over_unread_inputs(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, MON_INIT)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 2, 2, 1)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_hl"
+    assert [s["state"] for s in v["trace"]] == [
+        {"ctl": 0, "high": False}, {"ctl": 1, "high": False}, {"ctl": 0, "high": False}]

@@ -214,6 +214,7 @@ class Generator:
         self.step_props: list = []
         self.invars: list = []
         self.rules_done: dict = {}
+        self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
         self.uid = 0
 
     # -------------------------------------------------------------- helpers
@@ -331,6 +332,7 @@ class Generator:
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
+        self.constant_slots()
         for st in self.init_states:
             for k in st:
                 if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
@@ -349,6 +351,28 @@ class Generator:
                     n *= len(vals)
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
+
+    def constant_slots(self) -> None:
+        """Locations of monitored functions given a value by the initial state: the Python engine
+        keeps that value in every state (a step reads monitored values from its inputs, never from
+        the state), so each is a slot no update touches, with the values the initial states give."""
+        for st in self.init_states:
+            for k in st:
+                if k in self.slot_of or (type(k) is tuple and k[0] in self.map_slot):
+                    continue
+                f = self.spec.functions[k if type(k) is int else k[0]]
+                if f.kind != "monitored":
+                    continue
+                vals: list = []
+                for st2 in self.init_states:
+                    v = st2.get(k)
+                    if v is not None and not any(same_value(v, x) and type(v) is type(x) for x in vals):
+                        self.codec.to_c(v)
+                        vals.append(v)
+                self.slot_of[k] = len(self.slots)
+                self.slots.append(k)
+                self.slot_values.append(vals)
+                self.slot_types.append(f.codomain)
 
     # -------------------------------------------------------------- terms
     def term(self, t: ir.Term, env: dict) -> str:
@@ -435,8 +459,10 @@ class Generator:
         body.append(f"static V {name}(Ctx *c{sig}) {{")
         body.append(f"    int s = mi{f.index}(c{''.join(', ' + p for p in params)});")
         body.append("    if (s < 0) return UNDEF;")
-        body.append("    if (c->mgen[s] == c->gen) return c->mon[s];")
-        body.append("    if (c->in_prop) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }")
+        body.append("    if ((!c->in_prop || c->mfix) && c->mgen[s] == c->gen) return c->mon[s];")
+        # in a property, a value the step did not fix is one of the property's own choices
+        body.append(f"    if (c->in_prop) {{ if (c->pgen[s] != c->pgen_cur) {{ c->pgen[s] = c->pgen_cur; "
+                    f"c->pmon[s] = {tab}[{len(cod)} > 1 ? pchoice(c, {len(cod)}) : 0]; }} return c->pmon[s]; }}")
         body.append(f"    int i = {len(cod)} > 1 ? choice(c, {len(cod)}) : 0;")
         body.append(f"    c->mgen[s] = c->gen; c->mon[s] = {tab}[i];")
         body.append("    return c->mon[s];")
@@ -1069,7 +1095,12 @@ class Generator:
         steps = []
         self.step_mode = True
         for p in self.step_props:
-            steps.append(self.term(p.prop.body, {}))
+            e = self.term(p.prop.body, {})
+            if type(p).__name__ == "MonitoredInvariant":
+                # monitored values that break an INVAR are not inputs the spec considers
+                for t in reversed(self.invars):
+                    e = f"(({self.term(t, {})}) != 1 ? (V)1 : ({e}))"
+            steps.append(e)
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
         for st in self.init_states:
@@ -1139,14 +1170,27 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
-        inv_code += ["static V check_step_prop(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
-        inv_code += ["static V check_invar(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        inv_code += ["static V check_invar1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(invar_terms):
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
+        # every choice of the unread monitored values for a step property; one for an INVAR, both
+        # before the step (with its monitored values) and after it (with none fixed)
+        inv_code += ["static V check_step_prop(Ctx *c, int k) { c->mfix = 1; V r = prop_all(c, check_step_prop1, k, 0); "
+                     "c->in_prop = 0; return r; }"]
+        if self.invar_pre:
+            inv_code += ["static V check_invar(Ctx *c, int k) {",
+                         "    V *sv = c->rd; c->rd = c->cur; c->mfix = 1;",
+                         "    V r = prop_all(c, check_invar1, k, 1); c->in_prop = 0; c->rd = sv;",
+                         "    if (c->err || r != 1) return r;",
+                         "    c->mfix = 0; r = prop_all(c, check_invar1, k, 1); c->in_prop = 0; return r;", "}"]
+        else:
+            inv_code += ["static V check_invar(Ctx *c, int k) { c->mfix = 0; V r = prop_all(c, check_invar1, k, 1); "
+                         "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
@@ -1191,8 +1235,9 @@ class Generator:
                 continue
             v = st.get(key)
             if vals is None:
-                if type(v) is float and not storable_real(v):
-                    raise Unsupported("a Real location holding -0.0 or NaN")
+                if (type(v) is float or T.root(self.slot_types[s]) is T.REAL) and v is not None and \
+                        not storable_real(v):
+                    raise Unsupported("a Real location holding -0.0, NaN or a value of another type")
                 x = self.codec.to_c(v)
                 words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
                 continue
@@ -1281,13 +1326,10 @@ class NativeExplorer:
         if len(self.step_props) > 64:
             raise Unsupported("more than 64 step properties")
         self.invars = [p.body for p in machine.spec.properties if p.kind == "invar"]
-        if any(mentions_monitored(t) for t in self.invars):
-            raise Unsupported("an INVAR constraint over monitored functions")
-        if self.invars and any(type(p).__name__ == "MonitoredInvariant" for p in self.step_props):
-            raise Unsupported("an invariant over monitored functions beside INVAR constraints")
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
+        self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll

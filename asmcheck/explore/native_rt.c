@@ -69,6 +69,15 @@ typedef struct {
     int err_site;
     int clash_slot;
     int64_t epoch;       /* which expanded state: candidates of a choose can be reused within it */
+    /* a property's own choices of the monitored values the step did not read (see prop_all) */
+    int mfix;            /* the step's monitored values hold in the property */
+    int32_t pprefix[MAXCH];
+    int32_t pplen, ppos;
+    int32_t pidx[MAXCH];
+    int32_t pcnt[MAXCH];
+    uint32_t pgen_cur;
+    uint32_t pgen[NMON > 0 ? NMON : 1];
+    V pmon[NMON > 0 ? NMON : 1];
 } Ctx;
 
 static int choice(Ctx *c, int n) {
@@ -83,6 +92,42 @@ static int choice(Ctx *c, int n) {
 
 static inline void fail(Ctx *c, int code, int site) {
     if (!c->err) { c->err = code; c->err_site = site; }
+}
+
+static int pchoice(Ctx *c, int n) {
+    if (c->ppos >= MAXCH) { fail(c, E_UNSUPPORTED, 0); return 0; }
+    int i = c->ppos < c->pplen ? c->pprefix[c->ppos] : 0;
+    if (i >= n) i = 0;
+    c->pidx[c->ppos] = i;
+    c->pcnt[c->ppos] = n;
+    c->ppos++;
+    return i;
+}
+
+/* A property over monitored functions holds for every choice of the monitored values it reads
+ * that the step did not fix (an invariant, a step property: exists = 0, the value is 1 or the
+ * first other value met) or for one of them (an INVAR constraint: exists = 1), as the Python
+ * engine's evaluate_all enumerates them.  A run-time error once a monitored value was chosen is
+ * left to the Python engine. */
+typedef V (*PropFn)(Ctx *, int);
+static V prop_all(Ctx *c, PropFn f, int k, int exists) {
+    c->pplen = 0;
+    for (;;) {
+        c->ppos = 0;
+        if (++c->pgen_cur == 0) { memset(c->pgen, 0, sizeof(c->pgen)); c->pgen_cur = 1; }
+        V v = f(c, k);
+        if (c->err) {
+            if (c->ppos > 0) { c->err = 0; fail(c, E_UNSUPPORTED, 0); }
+            return v;
+        }
+        if (exists ? v == 1 : v != 1) return v;
+        int j = c->ppos - 1;
+        while (j >= 0 && c->pidx[j] + 1 >= c->pcnt[j]) j--;
+        if (j < 0) return v;
+        for (int q = 0; q < j; q++) c->pprefix[q] = c->pidx[q];
+        c->pprefix[j] = c->pidx[j] + 1;
+        c->pplen = j + 1;
+    }
 }
 
 /* The update set of a step is one buffer.  Each entry carries the seq step that made it
