@@ -215,6 +215,9 @@ class Generator:
         self.invars: list = []
         self.rules_done: dict = {}
         self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
+        self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
+        self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
+        self._used = None
         self.uid = 0
 
     # -------------------------------------------------------------- helpers
@@ -270,7 +273,8 @@ class Generator:
         arguments and values must be scalars (integers, enums, named elements, Booleans)."""
         def scalar(t):
             r = T.root(t)
-            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN, T.STRING) or (
+                isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
@@ -305,10 +309,17 @@ class Generator:
                 continue
             if f.index in self.m.lazy:
                 raise Unsupported(f"the lazily initialised function {f.name}")
+            if T.root(f.codomain) is T.UNDEF and self.unused(f):
+                self.unlaid[f.index] = f"the function {f.name} of codomain Undef"
+                continue
             try:
                 arg_values = [self.values_of(d) for d in f.domain]
-            except Unsupported:
+            except Unsupported as e:
                 if not self.map_function(f):
+                    if self.unused(f):
+                        # never read nor updated: its locations stay undef, no slot is needed
+                        self.unlaid[f.index] = e.args[0] if e.args else str(e)
+                        continue
                     raise
                 # a function over an infinite domain: its defined locations are one map value
                 s_ = len(self.slots)
@@ -351,6 +362,55 @@ class Generator:
                     n *= len(vals)
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
+
+    def runtime_site(self, why: str) -> int:
+        self.site_reasons.append(why)
+        return 1000 + len(self.site_reasons) - 1
+
+    def unused(self, f) -> bool:
+        """Is ``f`` never mentioned and never given an initial value (all its locations undef)?"""
+        if f.index in self.used_functions():
+            return False
+        return not any(k == f.index or (type(k) is tuple and k[0] == f.index) for st in self.init_states for k in st)
+
+    def used_functions(self) -> set:
+        """The indexes of the functions the rules, the derived functions, the properties and the
+        INVAR constraints mention (read or update)."""
+        if self._used is not None:
+            return self._used
+        used: set = set()
+        seen: set = set()
+
+        def walk(x):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Function):
+                if x.index not in used:
+                    used.add(x.index)
+                    if x.body is not None:
+                        walk(x.body)
+                return
+            if isinstance(x, (ir.Term, ir.Rule)):
+                for v in vars(x).values():
+                    walk(v)
+            elif isinstance(x, (list, tuple)):
+                for v in x:
+                    walk(v)
+        for r in self.spec.rules:
+            walk(r.body)
+        for p in self.spec.properties:
+            walk(p.body)
+        for p in list(self.props) + list(self.step_props):
+            walk(p.prop.body)
+        for f in self.spec.functions:
+            if f.kind in ("static", "derived") and f.body is not None:
+                walk(f.body)
+        if self.spec.default_init is not None:
+            for _func, _params, body, _span in self.spec.default_init.functions:
+                walk(body)
+        self._used = used
+        return used
 
     def constant_slots(self) -> None:
         """Locations of monitored functions given a value by the initial state: the Python engine
@@ -709,6 +769,17 @@ class Generator:
             return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; set_make(c, {arr}, {len(vals)}); }})"
         return self.build(1, t.items, env)
 
+    def t_Range(self, t, env):
+        """An interval of integers ``{lo : hi, step}`` as a set or a sequence."""
+        if t.kind not in ("set", "seq") or not self.composite(t.type):
+            raise Unsupported(f"a {t.kind} interval of type {t.type}")
+        parts = [t.start, t.end] + ([t.step] if t.step is not None else [])
+        if any(T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in parts):
+            raise Unsupported("an interval of Reals computed in the state")
+        lo, hi = self.term(t.start, env), self.term(t.end, env)
+        st = self.term(t.step, env) if t.step is not None else "(V)1"
+        return f"range_make(c, {lo}, {hi}, {st}, {1 if t.kind == 'seq' else 0})"
+
     def t_TupleLit(self, t, env):
         if not self.composite(t.type):
             raise Unsupported(f"a tuple of type {t.type}")
@@ -799,7 +870,13 @@ class Generator:
         the state is walked in the order of its codes (the result must not depend on the order)."""
         try:
             vals = self.range_values(rg)
-        except Unsupported:
+        except Unsupported as e:
+            why = e.args[0] if e.args else ""
+            if why.startswith("the infinite domain") and isinstance(rg, ir.DomainTerm):
+                # the Python engine cannot range over it either: the search hands the spec over
+                # if it is reached (an unreachable one, as in a comprehension over [], is no reason)
+                site = self.runtime_site(why)
+                return f"fail(c, E_UNSUPPORTED, {site}); for (int {q} = 0; {q} < 0; {q}++) {{ V {name} = UNDEF;"
             r = T.root(rg.type) if rg.type is not None else None
             if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
                 raise
@@ -1416,6 +1493,9 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4:
             code = out[4]
+            site = out[6] - 1000
+            if code == 4 and 0 <= site < len(g.site_reasons):
+                raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
                               "more choices in one step than the native search follows" if code == 6 else
                               f"a run-time condition the native search does not handle (code {code})")
