@@ -205,6 +205,26 @@ default init s0:
 	function n = 0
 """
 
+# functions over String and to String, held as maps
+STRING_MAPS = """asm StringMaps
+import StandardLibrary
+signature:
+	enum domain Key = {KA | KB}
+	controlled cnt: String -> Integer
+	controlled name: Integer -> String
+	controlled k: Key
+definitions:
+	invariant inv_name over name: isUndef(name(3))
+	main rule r_main =
+		par
+			if k = KA then k := KB else k := KA endif
+			if isUndef(cnt("a")) then cnt("a") := 0 else if cnt("a") < 3 then cnt("a") := cnt("a") + 1 endif endif
+			if k = KB then name(cnt("a")) := "x" endif
+		endpar
+default init s0:
+	function k = KA
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -304,3 +324,13 @@ def test_a_quantifier_over_integer_reached_hands_the_spec_over(tmp_path, capsys)
     # bounded, both engines agree
     code, out = both(tmp_path, capsys, INFINITE_EXISTS, "--int-range", "0..5")
     assert (code, out["verdict"], out["states"], out["transitions"]) == (0, "no property checked", 4, 4)
+
+
+def test_functions_over_strings_held_as_maps(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, STRING_MAPS)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 8, 7, 7)
+    (v,) = out["violations"]
+    trace = [s["state"] for s in v["trace"]]
+    assert len(trace) == 7
+    assert trace[1] == {'cnt("a")': 0, "k": "KB"}
+    assert trace[-1] == {'cnt("a")': 3, "k": "KA", "name(0)": "x", "name(2)": "x", "name(3)": "x"}
