@@ -218,6 +218,7 @@ class Generator:
         self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
         self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
         self._used = None
+        self._loose = None
         self.uid = 0
 
     # -------------------------------------------------------------- helpers
@@ -313,6 +314,8 @@ class Generator:
                 self.unlaid[f.index] = f"the function {f.name} of codomain Undef"
                 continue
             try:
+                if f.index in self.agent_loose_functions() and self.map_function(f):
+                    raise Unsupported(f"{f.name} updated at agents outside its domain")
                 arg_values = [self.values_of(d) for d in f.domain]
             except Unsupported as e:
                 if not self.map_function(f):
@@ -366,6 +369,43 @@ class Generator:
     def runtime_site(self, why: str) -> int:
         self.site_reasons.append(why)
         return 1000 + len(self.site_reasons) - 1
+
+    def agent_loose_functions(self) -> set:
+        """Functions over agent domains updated at an argument typed by a wider domain (``self``
+        is an Agent): the Python engine keeps such a location even outside the declared domain,
+        so these functions are held as maps, which take any argument."""
+        if self._loose is not None:
+            return self._loose
+        loose: set = set()
+        seen: set = set()
+
+        def within(t, d) -> bool:
+            k = 0
+            while isinstance(t, T.Domain) and k < 50:
+                if t is d:
+                    return True
+                t = t.base if t.kind == "subset" else None
+                k += 1
+            return t is d
+
+        def walk(x):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Update) and x.func.domain:
+                for a, d in zip(x.args, x.func.domain):
+                    if T.agent_like(d) and a.type is not None and not within(a.type, d):
+                        loose.add(x.func.index)
+            if isinstance(x, (ir.Term, ir.Rule)):
+                for v in vars(x).values():
+                    walk(v)
+            elif isinstance(x, (list, tuple)):
+                for v in x:
+                    walk(v)
+        for r in self.spec.rules:
+            walk(r.body)
+        self._loose = loose
+        return loose
 
     def unused(self, f) -> bool:
         """Is ``f`` never mentioned and never given an initial value (all its locations undef)?"""
@@ -1493,6 +1533,7 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4:
             code = out[4]
+            self.failed_state = out[5]     # the state whose step or property was refused
             site = out[6] - 1000
             if code == 4 and 0 <= site < len(g.site_reasons):
                 raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
