@@ -2,7 +2,8 @@
 the Python engine's -0.0, NaN, infinities, rtoi/floor/round and decimal intervals); monitored
 locations the initial state gives a value; INVAR constraints and invariants over monitored
 functions (every choice of the monitored values the step did not read); intervals computed in
-the state; functions of codomain Undef nobody uses; a quantifier over an infinite domain.  Each spec
+the state; functions of codomain Undef nobody uses; a quantifier over an infinite domain; values
+of every kind in locations of type Any.  Each spec
 runs on both engines (pinned with --engine) and the JSON reports must be equal apart from the
 engine and the times; the exact counts and values are checked too."""
 import json
@@ -225,6 +226,42 @@ default init s0:
 	function k = KA
 """
 
+# strings, an enum value, an abstract element and an integer in locations of type Any (and a
+# subset of Any), compared and copied between them
+ANY_VALUES = """asm AnyValues
+import StandardLibrary
+signature:
+	abstract domain Film
+	enum domain Msg = {NAK | ACK}
+	domain Kind subsetof Any
+	controlled outv: Any
+	controlled prev: Any
+	controlled kind: Kind
+	controlled n: Integer
+	controlled who: Film -> Integer
+	static f1: Film
+	static f2: Film
+definitions:
+	invariant inv_out over outv: outv != "done" or prev = 3
+	main rule r_main =
+		par
+			n := (n + 1) mod 5
+			prev := outv
+			switch n
+				case 0: outv := "start"
+				case 1: outv := NAK
+				case 2: outv := f1
+				case 3: outv := n - 1
+				case 4: outv := "done"
+			endswitch
+			if outv = NAK then kind := ACK else kind := outv endif
+			who(f1) := n
+		endpar
+default init s0:
+	function n = 0
+	function outv = "init"
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -334,3 +371,12 @@ def test_functions_over_strings_held_as_maps(tmp_path, capsys):
     assert len(trace) == 7
     assert trace[1] == {'cnt("a")': 0, "k": "KB"}
     assert trace[-1] == {'cnt("a")': 3, "k": "KA", "name(0)": "x", "name(2)": "x", "name(3)": "x"}
+
+
+def test_values_of_several_kinds_in_locations_of_type_any(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, ANY_VALUES)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 7, 6, 6)
+    (v,) = out["violations"]
+    trace = [s["state"] for s in v["trace"]]
+    assert [s["outv"] for s in trace] == ["init", "start", "NAK", "f1", 2, "done"]
+    assert [s.get("kind") for s in trace] == [None, "init", "start", "ACK", "f1", 2]

@@ -49,6 +49,7 @@ from .native_build import Unsupported
 UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
+K_ANY = 16                         # a value in a location of type Any: (kind, code), interned
 MAX_CANDIDATES = 1 << 16
 
 
@@ -102,6 +103,8 @@ class Codec:
         self.comp_ids: dict = {}
         self.frozen = False
         self.dll = None
+        self.any_tags: list = []         # the kinds of value held in locations of type Any: (key, decoding type)
+        self.any_tag_ids: dict = {}
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -151,6 +154,9 @@ class Codec:
         if x == UNDEF_V:
             return None
         r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "any":
+            kind, (tag, code) = self.fetch(x)
+            return self.from_c(code, self.any_tags[tag][1])
         if r is T.BOOLEAN:
             return bool(x)
         if r in (T.INTEGER, T.NATURAL):
@@ -174,6 +180,72 @@ class Codec:
                 if self.to_c(e) == x:
                     return e
         raise Unsupported(f"a value of type {typ} that the native search cannot decode")
+
+    # -------------------------------------------------------------- values of type Any
+    def any_tag_key(self, typ):
+        """The kind of value of static type ``typ`` in a location of type Any (None: not held)."""
+        r = T.root(typ)
+        if r is T.BOOLEAN:
+            return ("bool",), T.BOOLEAN
+        if r in (T.INTEGER, T.NATURAL):
+            return ("int",), T.INTEGER
+        if r is T.REAL:
+            return ("real",), T.REAL
+        if r is T.STRING:
+            return ("str",), T.STRING
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            return ("enum", r.name), r
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            return ("abs",), r
+        return None
+
+    def any_tag(self, key, typ) -> int:
+        i = self.any_tag_ids.get(key)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a kind of value in a location of type Any met after the code was generated")
+            # True, 1 and 1.0 are one key of the Python engine's states: one numeric kind at most
+            nums = {("bool",), ("int",), ("real",)}
+            if key in nums and any(k in nums for k, _ in self.any_tags):
+                raise Unsupported("Booleans, Integers or Reals mixed in locations of type Any")
+            i = self.any_tag_ids[key] = len(self.any_tags)
+            self.any_tags.append((key, typ))
+        return i
+
+    def any_code(self, v) -> int | None:
+        """The code of a Python value in a location of type Any: an interned (kind, code) pair."""
+        if v is None:
+            return None
+        t = type(v)
+        if t is bool:
+            key, typ = ("bool",), T.BOOLEAN
+        elif t is int:
+            key, typ = ("int",), T.INTEGER
+        elif t is float:
+            if not storable_real(v):
+                raise Unsupported("-0.0 or NaN in a location of type Any")
+            key, typ = ("real",), T.REAL
+        elif t is str:
+            key, typ = ("str",), T.STRING
+        elif t is EnumValue:
+            dom = next((d for d in self.m.spec.domains if isinstance(d, T.Domain) and d.kind == "enum"
+                        and d.name == v.domain), None)
+            if dom is None:
+                raise Unsupported(f"the enum value {v.name} in a location of type Any")
+            key, typ = ("enum", v.domain), dom
+        elif t is AbstractValue:
+            key, typ = ("abs",), T.AGENT
+        else:
+            raise Unsupported(f"a value of kind {t.__name__} in a location of type Any")
+        tag = self.any_tag(key, typ)
+        pair = (K_ANY, (tag, self.to_c(v)))
+        i = self.comp_ids.get(pair)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.comp_ids[pair] = len(self.comp)
+            self.comp.append(pair)
+        return i
 
     def fetch(self, i: int):
         if i < len(self.comp):
@@ -219,6 +291,7 @@ class Generator:
         self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
         self._used = None
         self._loose = None
+        self._any_read = False           # the term being translated may be a location of type Any
         self.uid = 0
 
     # -------------------------------------------------------------- helpers
@@ -241,7 +314,7 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
-        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL:
+        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
             return None      # a Real location holds its code (an initial value may lie outside a subset)
         try:
             return self.values_of(f.codomain)
@@ -407,6 +480,30 @@ class Generator:
         self._loose = loose
         return loose
 
+    @staticmethod
+    def any_typed(typ) -> bool:
+        r = T.root(typ) if typ is not None else None
+        return isinstance(r, T.Domain) and r.kind == "any"
+
+    def any_term(self, t, env) -> str:
+        """A term's value as held in a location of type Any (a tagged, interned pair)."""
+        if isinstance(t, ir.Const) and t.value is None:
+            return UNDEF_C
+        if self.any_typed(t.type):
+            if not (isinstance(t, ir.Loc) and self.any_typed(t.func.codomain) and t.func.index in self.fn_base):
+                raise Unsupported(f"a term of type {t.type}")
+            self._any_read = True
+            return self.term(t, env)
+        tk = self.codec.any_tag_key(t.type)
+        if tk is None:
+            raise Unsupported(f"a value of type {t.type} in a location of type Any")
+        tag = self.codec.any_tag(*tk)
+        x = self.fresh("a")
+        val = self.term(t, env)
+        if tk[0] == ("real",):
+            val = f"r_chk(c, {val})"
+        return (f"({{ V {x}[2] = {{{tag}, {val}}}; {x}[1] == UNDEF ? UNDEF : v_intern(c, {K_ANY}, {x}, 2); }})")
+
     def unused(self, f) -> bool:
         """Is ``f`` never mentioned and never given an initial value (all its locations undef)?"""
         if f.index in self.used_functions():
@@ -498,6 +595,9 @@ class Generator:
                 isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
             from ..semantics.values import abstract_value
             return self.codec.literal(abstract_value(f.codomain.name, f.name))
+        if self.any_typed(f.codomain) and not self._any_read:
+            raise Unsupported(f"the value of {f.name} (of type {f.codomain}) outside an update or a comparison")
+        self._any_read = False
         args = [self.term(a, env) for a in t.args]
         if f.kind in ("static", "derived") and f.body is not None:
             name = self.defined(f)
@@ -655,6 +755,11 @@ class Generator:
 
     def t_Call(self, t, env):
         name = t.name
+        if name in ("eq", "neq", "isDef", "isUndef") and any(self.any_typed(a.type) for a in t.args):
+            args = [self.any_term(a, env) for a in t.args]
+            if name in ("isDef", "isUndef"):
+                return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+            return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if t.args and self.composite(t.args[0].type):
             return self.composite_call(t, env)
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
@@ -993,6 +1098,13 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if self.any_typed(f.codomain) and f.index in self.fn_base:
+            args = [self.term(a, env) for a in r.args]
+            v = self.fresh("v")
+            s = self.fresh("lsl")
+            self.reader(f)
+            return (f"{{ V {v} = {self.any_term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                    f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {v}, 0); }}")
         if f.index in self.map_slot:
             args = [self.term(a, env) for a in r.args]
             v = self.fresh("v")
@@ -1005,8 +1117,11 @@ class Generator:
         s = self.fresh("lsl")
         self.reader(f)
         enc = self.encoder(f)
+        # a location outside the layout (an argument outside its domain, undef) made undef leaves the
+        # state as it is in the Python engine too (unless a step property may ask whether it was updated)
+        keep = f"{v} != UNDEF" if not self.step_props else "1"
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
-                f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, 0); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def r_UpdateVar(self, r, env):
         uid = r.var.uid
@@ -1341,6 +1456,9 @@ class Generator:
                 continue
             v = st.get(key)
             if v is not None and self.slot_values[s] is None:
+                if self.any_typed(self.slot_types[s]):
+                    self.codec.any_code(v)
+                    continue
                 self.codec.to_c(v)
 
     def pack(self, st: dict) -> list[int]:
@@ -1351,6 +1469,10 @@ class Generator:
                 words[self.words[s]] = self.map_value(st, self.slot_types[s][1]) & MASK64
                 continue
             v = st.get(key)
+            if vals is None and self.any_typed(self.slot_types[s]):
+                x = self.codec.any_code(v)
+                words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
+                continue
             if vals is None:
                 if (type(v) is float or T.root(self.slot_types[s]) is T.REAL) and v is not None and \
                         not storable_real(v):
