@@ -262,6 +262,49 @@ default init s0:
 	function outv = "init"
 """
 
+# holder(undef) := undef changes nothing; holder(u1) := undef beside holder(u1) := b1 is a clash
+UNDEF_ARGUMENT = """asm UndefArgument
+import StandardLibrary
+signature:
+	abstract domain User
+	abstract domain Book
+	controlled holder: User -> Book
+	controlled who: User
+	controlled n: Integer
+	static u1: User
+	static b1: Book
+definitions:
+	main rule r_main =
+		if n < 3 then
+			par
+				n := n + 1
+				holder(who) := undef
+				if n = 1 then who := u1 endif
+				if n = 2 then holder(u1) := b1 endif
+			endpar
+		endif
+default init s0:
+	function n = 0
+"""
+
+# true and 1 are one key of the Python engine's states: refused
+MIXED_ANY = """asm MixedAny
+import StandardLibrary
+signature:
+	controlled a: Any
+	controlled n: Integer
+definitions:
+	main rule r_main =
+		if n < 2 then
+			par
+				n := n + 1
+				if n = 0 then a := true else a := 1 endif
+			endpar
+		endif
+default init s0:
+	function n = 0
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -380,3 +423,21 @@ def test_values_of_several_kinds_in_locations_of_type_any(tmp_path, capsys):
     trace = [s["state"] for s in v["trace"]]
     assert [s["outv"] for s in trace] == ["init", "start", "NAK", "f1", 2, "done"]
     assert [s.get("kind") for s in trace] == [None, "init", "start", "ACK", "f1", 2]
+
+
+def test_an_update_to_undef_at_an_undef_argument(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, UNDEF_ARGUMENT)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 3, 2, 2)
+    (v,) = out["violations"]
+    assert (v["property"], v["message"]) == ("error", "inconsistent update of holder(u1): undef and b1")
+    assert [s["state"] for s in v["trace"]] == [{"n": 0}, {"n": 1}, {"n": 2, "who": "u1"}]
+
+
+def test_booleans_and_integers_in_one_location_of_type_any_are_left_to_the_python_engine(tmp_path, capsys):
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, MIXED_ANY)
+    assert main(["explore", path, "--format", "json", "--engine", "auto"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["engine"], out["states"], out["transitions"]) == ("python", 3, 3)
+    assert out["engine_note"] == "native engine not used: Booleans, Integers or Reals mixed in locations of type Any"
