@@ -14,6 +14,8 @@ from asmcheck.cli import main
 from asmcheck.explore.native_build import compiler
 from helpers import write
 
+pytestmark = pytest.mark.engines("native")
+
 REALS = """asm Reals
 import StandardLibrary
 signature:
@@ -305,6 +307,35 @@ default init s0:
 	function n = 0
 """
 
+# a rule run by agents of two domains updates ready(self) of a function over one of them: the
+# Python engine keeps ready(r1) too (the native engine holds the function as a map); the LTL
+# check finds the states by value, maps made by the search included
+SHARED_RULE = """asm SharedRule
+import StandardLibrary
+import LTLLibrary
+signature:
+	domain Left subsetof Agent
+	domain Right subsetof Agent
+	controlled ready: Left -> Boolean
+	controlled turn: Integer
+	static l1: Left
+	static r1: Right
+definitions:
+	rule r_mark = if isUndef(ready(self)) then ready(self) := true else ready(self) := not ready(self) endif
+	LTLSPEC ltlSpec_turn: g(f(turn = 0))
+	LTLSPEC ltlSpec_r1: g(isUndef(ready(r1)))
+	main rule r_main =
+		par
+			turn := (turn + 1) mod 2
+			if turn = 0 then program(l1) else program(r1) endif
+		endpar
+default init s0:
+	function turn = 0
+	function ready($l in Left) = false
+	agent Left: r_mark[]
+	agent Right: r_mark[]
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -441,3 +472,14 @@ def test_booleans_and_integers_in_one_location_of_type_any_are_left_to_the_pytho
     out = json.loads(capsys.readouterr().out)
     assert (out["engine"], out["states"], out["transitions"]) == ("python", 3, 3)
     assert out["engine_note"] == "native engine not used: Booleans, Integers or Reals mixed in locations of type Any"
+
+
+def test_a_location_at_an_agent_outside_the_domain_and_an_ltl_trace(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SHARED_RULE)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 6, 6, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "ltlSpec_r1"
+    assert [s["state"] for s in v["trace"]][:3] == [
+        {"ready(l1)": False, "turn": 0}, {"ready(l1)": True, "turn": 1},
+        {"ready(l1)": True, "ready(r1)": True, "turn": 0}]
+    assert len(v["trace"]) == 8

@@ -139,15 +139,26 @@ class Codec:
                 codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
                 if t is SetV:
                     codes = tuple(sorted(set(codes)))
-            key = (kind, codes)
-            i = self.comp_ids.get(key)
-            if i is None:
-                if self.frozen:
-                    raise Unsupported("a composite value met after the code was generated")
-                i = self.comp_ids[key] = len(self.comp)
-                self.comp.append(key)
-            return i
+            return self.intern((kind, codes))
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def intern(self, key) -> int:
+        """The number of the composite value ``key`` (kind, element codes): a new entry while the
+        code is generated, afterwards one the search made (else the value occurs in no state)."""
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                if self.dll is not None:
+                    kind, codes = key
+                    buf = (ctypes.c_int64 * max(len(codes), 1))(*codes)
+                    i = self.dll.asm_value_find(kind, buf, len(codes))
+                    if i >= 0:
+                        self.comp_ids[key] = i
+                        return i
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
@@ -238,14 +249,8 @@ class Codec:
         else:
             raise Unsupported(f"a value of kind {t.__name__} in a location of type Any")
         tag = self.any_tag(key, typ)
-        pair = (K_ANY, (tag, self.to_c(v)))
-        i = self.comp_ids.get(pair)
-        if i is None:
-            if self.frozen:
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.comp_ids[pair] = len(self.comp)
-            self.comp.append(pair)
-        return i
+        x = self.to_c(v)
+        return self.intern((K_ANY, (tag, UNDEF_V if x is None else x)))
 
     def fetch(self, i: int):
         if i < len(self.comp):
@@ -444,13 +449,13 @@ class Generator:
         return 1000 + len(self.site_reasons) - 1
 
     def agent_loose_functions(self) -> set:
-        """Functions over agent domains updated at an argument typed by a wider domain (``self``
-        is an Agent): the Python engine keeps such a location even outside the declared domain,
-        so these functions are held as maps, which take any argument."""
+        """Functions updated at ``self`` by the program of agents outside the function's domain
+        (a rule shared by several kinds of agent): the Python engine keeps such a location even
+        outside the declared domain, so these functions are held as maps, which take any argument."""
         if self._loose is not None:
             return self._loose
         loose: set = set()
-        seen: set = set()
+        selff = self.spec.self_func
 
         def within(t, d) -> bool:
             k = 0
@@ -461,22 +466,32 @@ class Generator:
                 k += 1
             return t is d
 
-        def walk(x):
-            if id(x) in seen:
-                return
-            seen.add(id(x))
-            if isinstance(x, ir.Update) and x.func.domain:
-                for a, d in zip(x.args, x.func.domain):
-                    if T.agent_like(d) and a.type is not None and not within(a.type, d):
-                        loose.add(x.func.index)
-            if isinstance(x, (ir.Term, ir.Rule)):
-                for v in vars(x).values():
-                    walk(v)
-            elif isinstance(x, (list, tuple)):
-                for v in x:
-                    walk(v)
-        for r in self.spec.rules:
-            walk(r.body)
+        for dom, ag in self.m.agent_programs.items():
+            rules, todo = [], [ag.rule]
+            while todo:
+                rd = todo.pop()
+                if any(rd is x for x in rules):
+                    continue
+                rules.append(rd)
+                todo.extend(ir.called_rules(rd.body))
+            seen: set = set()
+
+            def walk(x):
+                if id(x) in seen:
+                    return
+                seen.add(id(x))
+                if isinstance(x, ir.Update) and x.func.domain:
+                    for a, d in zip(x.args, x.func.domain):
+                        if isinstance(a, ir.Loc) and a.func is selff and not within(dom, d):
+                            loose.add(x.func.index)
+                if isinstance(x, (ir.Term, ir.Rule)):
+                    for v in vars(x).values():
+                        walk(v)
+                elif isinstance(x, (list, tuple)):
+                    for v in x:
+                        walk(v)
+            for rd in rules:
+                walk(rd.body)
         self._loose = loose
         return loose
 
@@ -1438,14 +1453,7 @@ class Generator:
                 kc = self.codec.to_c(args[0] if len(args) == 1 else tuple(args))
                 pairs.append((kc, self.codec.to_c(v)))
         pairs.sort()
-        key = (5, tuple(x for pr in pairs for x in pr))
-        i = self.codec.comp_ids.get(key)
-        if i is None:
-            if self.codec.frozen:
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.codec.comp_ids[key] = len(self.codec.comp)
-            self.codec.comp.append(key)
-        return i
+        return self.codec.intern((5, tuple(x for pr in pairs for x in pr)))
 
     def pack_values(self, st: dict) -> None:
         """Give every composite value of ``st`` its number (before the code is generated)."""
@@ -1540,6 +1548,7 @@ _SYMBOLS = {
     "asm_value_len": (_i64, [_i64]),
     "asm_value_elems": (_i64, [_i64, _i64p]),
     "asm_values": (_i64, []),
+    "asm_value_find": (_i64, [_i64, _i64p, _i64]),
     "asm_free": (None, []),
 }
 

@@ -351,6 +351,19 @@ static V v_intern(Ctx *c, int kind, const V *e, int n) {
     return nvals++;
 }
 
+/* the number of a value already in the table, or -1 (a state asked for by Python may hold a
+ * composite value the search made) */
+int64_t asm_value_find(int64_t kind, const int64_t *e, int64_t n) {
+    if (!vhash) return -1;
+    uint64_t h = vt_hash((int)kind, e, (int)n) & vmask;
+    while (vhash[h] >= 0) {
+        VEnt *x = &vtab[vhash[h]];
+        if (x->kind == kind && x->len == n && memcmp(vpool + x->off, e, n * sizeof(V)) == 0) return vhash[h];
+        h = (h + 1) & vmask;
+    }
+    return -1;
+}
+
 static void vt_free(void) {
     free(vpool); free(vtab); free(vhash);
     vpool = 0; vtab = 0; vhash = 0; npool = cap_pool = nvals = cap_vals = 0; vmask = 0; vt_oom = 0;
