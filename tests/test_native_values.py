@@ -336,6 +336,29 @@ default init s0:
 	agent Right: r_mark[]
 """
 
+# functions over sets of tuples and to sequences, held as maps of interned values
+COMPOSITE_MAPS = """asm CompositeMaps
+import StandardLibrary
+signature:
+	domain Point subsetof Prod(Integer, Integer)
+	controlled seen: Powerset(Point) -> Integer
+	controlled path: Integer -> Seq(Integer)
+	controlled n: Integer
+definitions:
+	invariant inv_n over path: isUndef(path(3)) or length(path(3)) < 3
+	main rule r_main =
+		if n < 4 then
+			seq
+				n := n + 1
+				path(n) := if n = 1 then [0] else append(path(n - 1), n) endif
+				seen({(n, n), (0, 0)}) := n
+				if isUndef(seen({(0, 0)})) then seen({(0, 0)}) := 0 else seen({(0, 0)}) := seen({(0, 0)}) + 1 endif
+			endseq
+		endif
+default init s0:
+	function n = 0
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -483,3 +506,13 @@ def test_a_location_at_an_agent_outside_the_domain_and_an_ltl_trace(tmp_path, ca
         {"ready(l1)": False, "turn": 0}, {"ready(l1)": True, "turn": 1},
         {"ready(l1)": True, "ready(r1)": True, "turn": 0}]
     assert len(v["trace"]) == 8
+
+
+def test_functions_over_and_to_composite_values_held_as_maps(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, COMPOSITE_MAPS)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 5, 4, 4)
+    (v,) = out["violations"]
+    last = v["trace"][-1]["state"]
+    assert last == {"n": 3, "path(1)": {"seq": [0]}, "path(2)": {"seq": [0, 2]}, "path(3)": {"seq": [0, 2, 3]},
+                    "seen({(0, 0), (1, 1)})": 1, "seen({(0, 0), (2, 2)})": 2, "seen({(0, 0), (3, 3)})": 3,
+                    "seen({(0, 0)})": 2}

@@ -353,7 +353,8 @@ class Generator:
         def scalar(t):
             r = T.root(t)
             return r in (T.INTEGER, T.NATURAL, T.BOOLEAN, T.STRING) or (
-                isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+                isinstance(r, T.Domain) and r.kind in ("enum", "abstract")) or (
+                isinstance(r, T.Struct) and self.composite(t))    # interned: equal values, equal numbers
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
