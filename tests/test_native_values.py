@@ -359,6 +359,11 @@ default init s0:
 	function n = 0
 """
 
+SHARED_RULE_STEPS = """step stp_l1_by_l1: not updated(ready(l1)) or updatedBy(l1, ready(l1))
+step stp_r1_changes: not updated(ready(r1)) or changed(ready(r1))
+step stp_r1_never: not updatedBy(r1, ready(r1))
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -516,3 +521,14 @@ def test_functions_over_and_to_composite_values_held_as_maps(tmp_path, capsys):
     assert last == {"n": 3, "path(1)": {"seq": [0]}, "path(2)": {"seq": [0, 2]}, "path(3)": {"seq": [0, 2, 3]},
                     "seen({(0, 0), (1, 1)})": 1, "seen({(0, 0), (2, 2)})": 2, "seen({(0, 0), (3, 3)})": 3,
                     "seen({(0, 0)})": 2}
+
+
+def test_step_properties_over_a_function_held_as_a_map(tmp_path, capsys):
+    prop = tmp_path / "steps.prop"
+    prop.write_text(SHARED_RULE_STEPS)
+    code, out = both(tmp_path, capsys, SHARED_RULE, "--properties", str(prop))
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 6, 6, 5)
+    assert [v["property"] for v in out["violations"]] == ["stp_r1_never", "ltlSpec_r1"]
+    assert [s["state"] for s in out["violations"][0]["trace"]] == [
+        {"ready(l1)": False, "turn": 0}, {"ready(l1)": True, "turn": 1},
+        {"ready(l1)": True, "ready(r1)": True, "turn": 0}]

@@ -992,6 +992,8 @@ class Generator:
                     f"c->rd = {sv}; {r}; }})")
         loc = t.args[-1]
         f = loc.func
+        if f.index in self.map_slot and t.op in ("updated", "updatedBy", "changed"):
+            return self.map_step_op(t, env)
         if f.index not in self.fn_base or f.index in self.map_slot:
             raise Unsupported(f"{t.op} of {f.name}")
         self.reader(f)
@@ -1007,6 +1009,23 @@ class Generator:
         if t.op == "changed":
             return f"({{ {head} (V)({sl} >= 0 && c->cur[{sl}] != c->post[{sl}]); }})"
         raise Unsupported(f"the step operator {t.op}")
+
+    def map_step_op(self, t, env) -> str:
+        """updated / updatedBy / changed of a location of a function held as a map: the step's
+        update of it is the one of its virtual slot, if the step made one."""
+        loc = t.args[-1]
+        f = loc.func
+        m = self.map_slot[f.index]
+        key = self.map_key(f, [self.term(a, env) for a in loc.args])
+        k, vs = self.fresh("k"), self.fresh("vs")
+        if t.op == "changed":
+            return f"({{ V {k} = {key}; (V)(map_get(c->cur[{m}], {k}) != map_get(c->post[{m}], {k})); }})"
+        head = f"V {k} = {key}; int {vs} = vslot_find(c, {m}, {k});"
+        if t.op == "updated":
+            return f"({{ {head} (V)({vs} >= 0 && c->wgen[{vs}] == c->gen); }})"
+        ag = self.term(t.args[0], env)
+        return (f"({{ {head} V a_{vs} = {ag}; (V)({vs} >= 0 && c->wgen[{vs}] == c->gen && "
+                f"c->uagent[c->wpos[{vs}]] == a_{vs}); }})")
 
     def range_values(self, r: ir.Term) -> list:
         if isinstance(r, ir.DomainTerm):

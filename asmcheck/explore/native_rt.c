@@ -630,6 +630,12 @@ static V range_make(Ctx *c, V lo, V hi, V st, int seq) {
     return v_intern(c, seq ? K_SEQ : K_SET, vscratch, n);
 }
 
+/* the virtual slot of location k of the map in slot s, if this step made one (else -1) */
+static int vslot_find(Ctx *c, int s, V k) {
+    for (int i = 0; i < c->nvs; i++) if (c->vs_slot[i] == s && c->vs_key[i] == k) return NSLOTS + i;
+    return -1;
+}
+
 static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
 
 /* ------------------------------------------------------------------ the model (generated) */
