@@ -364,6 +364,26 @@ step stp_r1_changes: not updated(ready(r1)) or changed(ready(r1))
 step stp_r1_never: not updatedBy(r1, ready(r1))
 """
 
+# a subset of Any given by its elements is a finite codomain: a value outside it is an error
+ANY_SUBSET = """asm AnySubset
+import StandardLibrary
+signature:
+	domain Payload subsetof Any
+	enum domain Identity = {ID_C | ID_S | ID_A}
+	controlled p: Payload
+	controlled n: Integer
+definitions:
+	domain Payload = {ID_C, ID_S}
+	main rule r_main =
+		par
+			n := n + 1
+			if n = 0 then p := ID_S else p := ID_A endif
+		endpar
+default init s0:
+	function n = 0
+	function p = ID_C
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -532,3 +552,11 @@ def test_step_properties_over_a_function_held_as_a_map(tmp_path, capsys):
     assert [s["state"] for s in out["violations"][0]["trace"]] == [
         {"ready(l1)": False, "turn": 0}, {"ready(l1)": True, "turn": 1},
         {"ready(l1)": True, "ready(r1)": True, "turn": 0}]
+
+
+def test_a_subset_of_any_given_by_its_elements(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, ANY_SUBSET)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 2, 1, 1)
+    (v,) = out["violations"]
+    assert v["property"] == "error"
+    assert [s["state"] for s in v["trace"]] == [{"n": 0, "p": "ID_C"}, {"n": 1, "p": "ID_S"}]

@@ -319,8 +319,13 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
-        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
+        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL:
             return None      # a Real location holds its code (an initial value may lie outside a subset)
+        if self.any_typed(f.codomain):
+            try:
+                return self.values_of(f.codomain)   # a subset of Any given by its elements
+            except Unsupported:
+                return None      # a tagged value (see any_term)
         try:
             return self.values_of(f.codomain)
         except Unsupported:
@@ -501,12 +506,16 @@ class Generator:
         r = T.root(typ) if typ is not None else None
         return isinstance(r, T.Domain) and r.kind == "any"
 
+    def any_slot(self, f) -> bool:
+        """Are the locations of ``f`` of type Any holding tagged values (not a finite subset)?"""
+        return self.any_typed(f.codomain) and f.index in self.fn_base and self.fn_base[f.index][2] is None
+
     def any_term(self, t, env) -> str:
         """A term's value as held in a location of type Any (a tagged, interned pair)."""
         if isinstance(t, ir.Const) and t.value is None:
             return UNDEF_C
         if self.any_typed(t.type):
-            if not (isinstance(t, ir.Loc) and self.any_typed(t.func.codomain) and t.func.index in self.fn_base):
+            if not (isinstance(t, ir.Loc) and self.any_slot(t.func)):
                 raise Unsupported(f"a term of type {t.type}")
             self._any_read = True
             return self.term(t, env)
@@ -611,7 +620,7 @@ class Generator:
                 isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
             from ..semantics.values import abstract_value
             return self.codec.literal(abstract_value(f.codomain.name, f.name))
-        if self.any_typed(f.codomain) and not self._any_read:
+        if self.any_slot(f) and not self._any_read:
             raise Unsupported(f"the value of {f.name} (of type {f.codomain}) outside an update or a comparison")
         self._any_read = False
         args = [self.term(a, env) for a in t.args]
@@ -771,7 +780,8 @@ class Generator:
 
     def t_Call(self, t, env):
         name = t.name
-        if name in ("eq", "neq", "isDef", "isUndef") and any(self.any_typed(a.type) for a in t.args):
+        if name in ("eq", "neq", "isDef", "isUndef") and any(
+                isinstance(a, ir.Loc) and self.any_slot(a.func) for a in t.args):
             args = [self.any_term(a, env) for a in t.args]
             if name in ("isDef", "isUndef"):
                 return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
@@ -1133,7 +1143,7 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
-        if self.any_typed(f.codomain) and f.index in self.fn_base:
+        if self.any_slot(f):
             args = [self.term(a, env) for a in r.args]
             v = self.fresh("v")
             s = self.fresh("lsl")
