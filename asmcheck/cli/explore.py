@@ -58,7 +58,7 @@ def run(args) -> int:
         f"depth {r.depth}, {r.seconds:.2f} s, {run_.engine} engine")
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
-    verdict_rows([(row["property"], row["verdict"]) for row in run_.rows])
+    verdict_rows([(row["property"], api.verdict_text(row)) for row in run_.rows])
     for v in violations:
         if hasattr(v.raw, "holds"):
             continue
