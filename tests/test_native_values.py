@@ -13,6 +13,7 @@ import pytest
 from asmcheck.cli import main
 from asmcheck.explore.native_build import compiler
 from helpers import write
+from test_native_engine import ends_on_error
 
 pytestmark = pytest.mark.engines("native")
 
@@ -433,7 +434,7 @@ def test_negative_zero_in_a_location_falls_back_to_the_python_engine(tmp_path, c
 
 
 def test_real_subset_domain_choice_and_an_update_outside_it(tmp_path, capsys):
-    code, out = both(tmp_path, capsys, SUBSET)
+    code, out = ends_on_error(tmp_path, capsys, SUBSET)
     assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 5, 10, 1)
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "value out of domain: 1.0 is not in Tenth (the codomain of v)")
@@ -505,7 +506,7 @@ def test_values_of_several_kinds_in_locations_of_type_any(tmp_path, capsys):
 
 
 def test_an_update_to_undef_at_an_undef_argument(tmp_path, capsys):
-    code, out = both(tmp_path, capsys, UNDEF_ARGUMENT)
+    code, out = ends_on_error(tmp_path, capsys, UNDEF_ARGUMENT)
     assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 3, 2, 2)
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "inconsistent update of holder(u1): undef and b1")
@@ -555,7 +556,7 @@ def test_step_properties_over_a_function_held_as_a_map(tmp_path, capsys):
 
 
 def test_a_subset_of_any_given_by_its_elements(tmp_path, capsys):
-    code, out = both(tmp_path, capsys, ANY_SUBSET)
+    code, out = ends_on_error(tmp_path, capsys, ANY_SUBSET)
     assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 2, 1, 1)
     (v,) = out["violations"]
     assert v["property"] == "error"
