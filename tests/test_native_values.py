@@ -385,6 +385,28 @@ default init s0:
 	function p = ID_C
 """
 
+# a monitored Real over a decimal interval, an INVAR constraint over it
+MONITORED_REAL = """asm MonitoredReal
+import StandardLibrary
+signature:
+	domain Temp subsetof Real
+	monitored temp: Temp
+	controlled peak: Real
+	controlled alarm: Boolean
+definitions:
+	domain Temp = {36.5 : 38.0, 0.5}
+	INVAR temp < 38.0 or peak >= 37.0
+	invariant inv_alarm over alarm: not alarm
+	main rule r_main =
+		par
+			if temp > peak then peak := temp endif
+			alarm := temp - peak > 1.0 or peak * 2.0 > 75.5
+		endpar
+default init s0:
+	function peak = 36.0
+	function alarm = false
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -561,3 +583,12 @@ def test_a_subset_of_any_given_by_its_elements(tmp_path, capsys):
     (v,) = out["violations"]
     assert v["property"] == "error"
     assert [s["state"] for s in v["trace"]] == [{"n": 0, "p": "ID_C"}, {"n": 1, "p": "ID_S"}]
+
+
+def test_a_monitored_real_and_an_invar_over_it(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, MONITORED_REAL)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 6, 11, 2)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_alarm"
+    assert [s["state"] for s in v["trace"]] == [{"alarm": False, "peak": 36.0}, {"alarm": True, "peak": 37.5}]
+    assert v["trace"][1]["choices"] == [{"kind": "monitored", "at": "temp", "value": 37.5}]
