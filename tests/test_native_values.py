@@ -407,6 +407,36 @@ default init s0:
 	function alarm = false
 """
 
+# initial values outside their codomains (kept, as the Python engine keeps them); an update
+# outside the codomain is still an error
+INITIAL_OUTSIDE = """asm InitialOutside
+import StandardLibrary
+signature:
+	domain Unit subsetof Integer
+	enum domain Col = {RED | GREEN}
+	domain Warm subsetof Col
+	controlled pos: Unit
+	controlled col: Warm
+	controlled n: Integer
+definitions:
+	domain Unit = {1 : 3}
+	domain Warm = {RED}
+	main rule r_main =
+		if n < 4 then
+			par
+				n := n + 1
+				if n = 1 then pos := 2 endif
+				if n = 2 then pos := undef endif
+				if n = 3 then pos := 5 endif
+				if n = 0 then col := RED endif
+			endpar
+		endif
+default init s0:
+	function n = 0
+	function pos = 0
+	function col = GREEN
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -592,3 +622,13 @@ def test_a_monitored_real_and_an_invar_over_it(tmp_path, capsys):
     assert v["property"] == "inv_alarm"
     assert [s["state"] for s in v["trace"]] == [{"alarm": False, "peak": 36.0}, {"alarm": True, "peak": 37.5}]
     assert v["trace"][1]["choices"] == [{"kind": "monitored", "at": "temp", "value": 37.5}]
+
+
+def test_initial_values_outside_their_codomain(tmp_path, capsys):
+    code, out = ends_on_error(tmp_path, capsys, INITIAL_OUTSIDE)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 4, 3, 3)
+    (v,) = out["violations"]
+    assert v["message"] == "value out of domain: 5 is not in Unit (the codomain of pos)"
+    assert [s["state"] for s in v["trace"]] == [
+        {"col": "GREEN", "n": 0, "pos": 0}, {"col": "RED", "n": 1, "pos": 0}, {"col": "RED", "n": 2, "pos": 2},
+        {"col": "RED", "n": 3}]

@@ -431,6 +431,7 @@ class Generator:
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
         self.constant_slots()
+        self.initial_values_outside()
         for st in self.init_states:
             for k in st:
                 if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
@@ -573,6 +574,25 @@ class Generator:
                 walk(body)
         self._used = used
         return used
+
+    def initial_values_outside(self) -> None:
+        """An initial value outside its location's codomain (the Python engine does not check
+        initial values): the slot's codes go on after the undef code (the codomain's values,
+        undef, then such values), so the encoder of updates still sees only the codomain."""
+        self.slot_undef = [None] * len(self.slots)
+        for s, key in enumerate(self.slots):
+            vals = self.slot_values[s]
+            if vals is None or isinstance(self.slot_types[s], tuple):
+                continue
+            extra: list = []
+            for st in self.init_states:
+                v = st.get(key)
+                if v is not None and not any(same_value(x, v) and type(x) is type(v) for x in vals + extra):
+                    self.codec.to_c(v)
+                    extra.append(v)
+            if extra:
+                self.slot_undef[s] = len(vals)
+                self.slot_values[s] = list(vals) + [None] + extra
 
     def constant_slots(self) -> None:
         """Locations of monitored functions given a value by the initial state: the Python engine
@@ -1433,7 +1453,7 @@ class Generator:
             key = tuple(self.codec.to_c(v) for v in vals)
             if key not in dec_names:
                 dec_names[key] = f"DEC{len(dec_names)}"
-                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join(f'{x}LL' for x in key)}"
+                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join('UNDEF' if x is None else f'{x}LL' for x in key)}"
                             f"{', ' if key else ''}UNDEF}};")
         layout = [
             f"static const int SLOT_WORD[{max(nslots, 1)}] = {{{', '.join(map(str, words)) or '0'}}};",
@@ -1519,7 +1539,7 @@ class Generator:
                 words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
                 continue
             if v is None:
-                code = len(vals)
+                code = len(vals) if self.slot_undef[s] is None else self.slot_undef[s]
             else:
                 code = next((i for i, x in enumerate(vals) if same_value(x, v)), -1)
                 if code < 0:
@@ -1556,7 +1576,7 @@ class Generator:
                 continue
             key, w, sh, mask, vals = p
             code = (words[w] >> sh) & mask
-            if code < len(vals):
+            if code < len(vals) and vals[code] is not None:
                 st[key] = vals[code]
         return st
 
