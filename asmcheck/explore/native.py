@@ -49,7 +49,6 @@ from .native_build import Unsupported
 UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
-K_ANY = 16                         # a value in a location of type Any: (kind, code), interned
 MAX_CANDIDATES = 1 << 16
 
 
@@ -60,6 +59,7 @@ def _ceil_log2(n: int) -> int:
     return max(b, 1)
 
 
+K_ANY = 16                         # a value in a location of type Any: (kind, code), interned
 R_NAN = 0x7FF8000000000000
 R_NEGZ = 0x7FF8000000000001
 
@@ -139,26 +139,15 @@ class Codec:
                 codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
                 if t is SetV:
                     codes = tuple(sorted(set(codes)))
-            return self.intern((kind, codes))
+            key = (kind, codes)
+            i = self.comp_ids.get(key)
+            if i is None:
+                if self.frozen:
+                    return self.found(key)
+                i = self.comp_ids[key] = len(self.comp)
+                self.comp.append(key)
+            return i
         raise Unsupported(f"a value of kind {t.__name__}")
-
-    def intern(self, key) -> int:
-        """The number of the composite value ``key`` (kind, element codes): a new entry while the
-        code is generated, afterwards one the search made (else the value occurs in no state)."""
-        i = self.comp_ids.get(key)
-        if i is None:
-            if self.frozen:
-                if self.dll is not None:
-                    kind, codes = key
-                    buf = (ctypes.c_int64 * max(len(codes), 1))(*codes)
-                    i = self.dll.asm_value_find(kind, buf, len(codes))
-                    if i >= 0:
-                        self.comp_ids[key] = i
-                        return i
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.comp_ids[key] = len(self.comp)
-            self.comp.append(key)
-        return i
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
@@ -265,6 +254,29 @@ class Codec:
         x = self.to_c(v)
         return UNDEF_C if x is None else f"((V){x}LL)"
 
+    def intern(self, key) -> int:
+        """The number of the composite value ``key`` (kind, element codes): a new entry while the
+        code is generated, afterwards one the search made (see ``found``)."""
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                return self.found(key)
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
+
+    def found(self, key) -> int:
+        """The number of a composite value the search made (a state asked for by value may hold
+        one); a value in no entry occurs in no state."""
+        if self.dll is not None:
+            kind, codes = key
+            buf = (ctypes.c_int64 * max(len(codes), 1))(*codes)
+            i = self.dll.asm_value_find(kind, buf, len(codes))
+            if i >= 0:
+                self.comp_ids[key] = i
+                return i
+        raise Unsupported("a composite value met after the code was generated")
+
 
 class Generator:
     def __init__(self, machine: Machine, props):
@@ -357,9 +369,8 @@ class Generator:
         arguments and values must be scalars (integers, enums, named elements, Booleans)."""
         def scalar(t):
             r = T.root(t)
-            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN, T.STRING) or (
-                isinstance(r, T.Domain) and r.kind in ("enum", "abstract")) or (
-                isinstance(r, T.Struct) and self.composite(t))    # interned: equal values, equal numbers
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract")) \
+                or self.composite(t)     # a set, sequence, ... is the number of its entry in the value table
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
@@ -856,47 +867,6 @@ class Generator:
             return args[0]
         raise Unsupported(f"the library function {name}")
 
-    REAL2 = {"plus": "r_add", "minus": "r_sub", "mult": "r_mul", "div": "r_div", "lt": "r_lt", "le": "r_le",
-             "gt": "r_gt", "ge": "r_ge", "min": "r_min", "max": "r_max", "pwr": "r_pow"}
-    REAL1 = {"minus": "r_neg", "abs": "r_abs", "sqrt": "r_sqrt", "floor": "r_floor"}
-
-    def real_call(self, t, env):
-        """A StandardLibrary function over Reals (Java doubles, as :mod:`..semantics.reals`)."""
-        name = t.name
-        roots = [T.root(a.type) for a in t.args]
-        ints = (T.INTEGER, T.NATURAL)
-        desc = ", ".join(str(a.type) for a in t.args)
-        args = [self.term(a, env) for a in t.args]
-        if name in ("eq", "neq") and len(args) == 2:
-            if all(r in (T.REAL, T.UNDEF) for r in roots):
-                e = f"v_eq({args[0]}, {args[1]})"
-            elif roots[0] is T.REAL and roots[1] in ints:
-                e = f"r_eq_ri({args[0]}, {args[1]})"
-            elif roots[1] is T.REAL and roots[0] in ints:
-                e = f"r_eq_ir({args[0]}, {args[1]})"
-            else:
-                raise Unsupported(f"{name} on {desc}")
-            return e if name == "eq" else f"(V)!{e}"
-        if name in ("isDef", "isUndef") and len(args) == 1:
-            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
-        if name in ("itor", "ntor") and len(args) == 1 and roots[0] in ints:
-            return f"r_itor({args[0]})"
-        if name == "div" and len(args) == 2 and all(r in ints for r in roots):
-            return f"r_div(r_itor({args[0]}), r_itor({args[1]}))"
-        if not all(r is T.REAL for r in roots):
-            raise Unsupported(f"{name} on {desc}")
-        if len(args) == 2 and name in self.REAL2:
-            return f"{self.REAL2[name]}({args[0]}, {args[1]})"
-        if len(args) == 1 and name in self.REAL1:
-            return f"{self.REAL1[name]}({args[0]})"
-        if len(args) == 1 and name == "plus":
-            return args[0]
-        if len(args) == 1 and name in ("rtoi", "rton"):
-            return f"r_rtoi(c, {args[0]})"
-        if len(args) == 1 and name == "round":
-            return f"r_round(c, {args[0]})"
-        raise Unsupported(f"{name} on {desc}")
-
     def composite_call(self, t, env):
         import re
         name = t.name
@@ -1012,6 +982,47 @@ class Generator:
             decls.append(f"V {name} = {self.term(x, env)};")
             env[v.uid] = name
         return "({ " + " ".join(decls) + f" {self.term(t.body, env)}; }})"
+
+    REAL2 = {"plus": "r_add", "minus": "r_sub", "mult": "r_mul", "div": "r_div", "lt": "r_lt", "le": "r_le",
+             "gt": "r_gt", "ge": "r_ge", "min": "r_min", "max": "r_max", "pwr": "r_pow"}
+    REAL1 = {"minus": "r_neg", "abs": "r_abs", "sqrt": "r_sqrt", "floor": "r_floor"}
+
+    def real_call(self, t, env):
+        """A StandardLibrary function over Reals (Java doubles, as :mod:`..semantics.reals`)."""
+        name = t.name
+        roots = [T.root(a.type) for a in t.args]
+        ints = (T.INTEGER, T.NATURAL)
+        desc = ", ".join(str(a.type) for a in t.args)
+        args = [self.term(a, env) for a in t.args]
+        if name in ("eq", "neq") and len(args) == 2:
+            if all(r in (T.REAL, T.UNDEF) for r in roots):
+                e = f"v_eq({args[0]}, {args[1]})"
+            elif roots[0] is T.REAL and roots[1] in ints:
+                e = f"r_eq_ri({args[0]}, {args[1]})"
+            elif roots[1] is T.REAL and roots[0] in ints:
+                e = f"r_eq_ir({args[0]}, {args[1]})"
+            else:
+                raise Unsupported(f"{name} on {desc}")
+            return e if name == "eq" else f"(V)!{e}"
+        if name in ("isDef", "isUndef") and len(args) == 1:
+            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if name in ("itor", "ntor") and len(args) == 1 and roots[0] in ints:
+            return f"r_itor({args[0]})"
+        if name == "div" and len(args) == 2 and all(r in ints for r in roots):
+            return f"r_div(r_itor({args[0]}), r_itor({args[1]}))"
+        if not all(r is T.REAL for r in roots):
+            raise Unsupported(f"{name} on {desc}")
+        if len(args) == 2 and name in self.REAL2:
+            return f"{self.REAL2[name]}({args[0]}, {args[1]})"
+        if len(args) == 1 and name in self.REAL1:
+            return f"{self.REAL1[name]}({args[0]})"
+        if len(args) == 1 and name == "plus":
+            return args[0]
+        if len(args) == 1 and name in ("rtoi", "rton"):
+            return f"r_rtoi(c, {args[0]})"
+        if len(args) == 1 and name == "round":
+            return f"r_round(c, {args[0]})"
+        raise Unsupported(f"{name} on {desc}")
 
     def t_StepOp(self, t, env):
         if not self.step_mode:
