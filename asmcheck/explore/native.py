@@ -930,17 +930,6 @@ class Generator:
             return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; set_make(c, {arr}, {len(vals)}); }})"
         return self.build(1, t.items, env)
 
-    def t_Range(self, t, env):
-        """An interval of integers ``{lo : hi, step}`` as a set or a sequence."""
-        if t.kind not in ("set", "seq") or not self.composite(t.type):
-            raise Unsupported(f"a {t.kind} interval of type {t.type}")
-        parts = [t.start, t.end] + ([t.step] if t.step is not None else [])
-        if any(T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in parts):
-            raise Unsupported("an interval of Reals computed in the state")
-        lo, hi = self.term(t.start, env), self.term(t.end, env)
-        st = self.term(t.step, env) if t.step is not None else "(V)1"
-        return f"range_make(c, {lo}, {hi}, {st}, {1 if t.kind == 'seq' else 0})"
-
     def t_TupleLit(self, t, env):
         if not self.composite(t.type):
             raise Unsupported(f"a tuple of type {t.type}")

@@ -616,20 +616,6 @@ static inline V r_eq_ir(V i, V r) {
     return r_is_int(r_d(r), i);
 }
 
-/* {lo : hi, step}: a run-time error for an undef bound or a step that is not positive (the
- * Python engine's message is found by its step function) */
-static V range_make(Ctx *c, V lo, V hi, V st, int seq) {
-    if (lo == UNDEF || hi == UNDEF || st == UNDEF || st <= 0) { fail(c, E_MODEL, 0); return UNDEF; }
-    int n = 0;
-    if (hi >= lo) {
-        uint64_t span = ((uint64_t)hi - (uint64_t)lo) / (uint64_t)st;
-        if (span >= (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
-        n = (int)span + 1;
-    }
-    for (int i = 0; i < n; i++) vscratch[i] = lo + (V)i * st;
-    return v_intern(c, seq ? K_SEQ : K_SET, vscratch, n);
-}
-
 /* the virtual slot of location k of the map in slot s, if this step made one (else -1) */
 static int vslot_find(Ctx *c, int s, V k) {
     for (int i = 0; i < c->nvs; i++) if (c->vs_slot[i] == s && c->vs_key[i] == k) return NSLOTS + i;
