@@ -42,7 +42,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
+from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, SeqV, SetV
 from . import native_build
 from .native_build import Unsupported
 
@@ -50,6 +50,8 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
+K_MAPV = 11
 
 
 def _ceil_log2(n: int) -> int:
@@ -147,7 +149,31 @@ class Codec:
                 i = self.comp_ids[key] = len(self.comp)
                 self.comp.append(key)
             return i
+        if t is BagV or t is MapV:
+            return self.bag_map_code(v)
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def bag_map_code(self, v) -> int:
+        """A bag (its element codes sorted, repetitions kept) or a map value (its (key, value)
+        code pairs sorted by key code, an undef value kept) as an entry of the value table."""
+        def code(e):
+            x = self.to_c(e)
+            return UNDEF_V if x is None else x
+        if type(v) is BagV:
+            key = (K_BAG, tuple(sorted(code(e) for e in v)))
+        else:
+            pairs = sorted((code(k), code(x)) for k, x in v)
+            key = (K_MAPV, tuple(x for pr in pairs for x in pr))
+        intern = getattr(self, "intern", None)
+        if intern is not None:        # the one interning of the codec, where it has one
+            return intern(key)
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
@@ -165,6 +191,12 @@ class Codec:
             return real_value(x)
         if r is T.STRING:
             return "".join(chr(e) for e in self.fetch(x)[1])
+        if isinstance(r, T.Struct) and r.kind in ("Bag", "Map"):
+            kind, elems = self.fetch(x)
+            if r.kind == "Bag":
+                return BagV.of(self.from_c(e, r.args[0]) for e in elems)
+            return MapV.of((self.from_c(elems[i], r.args[0]), self.from_c(elems[i + 1], r.args[1]))
+                           for i in range(0, len(elems), 2))
         if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
             key = self.fetch(x)
             kind, elems = key
@@ -351,7 +383,7 @@ class Generator:
         r = T.root(typ)
         if r is T.STRING:
             return True
-        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset"):
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset", "Bag", "Map"):
             return False
         for a in r.args:
             ra = T.root(a)
@@ -640,7 +672,11 @@ class Generator:
     def t_VarRef(self, t, env):
         name = env.get(t.var.uid)
         if name is None:
-            raise Unsupported("a variable bound outside the translated code")
+            # AsmetaL keeps a variable known for the rest of its declaration once bound anywhere in
+            # it; where no enclosing binder binds it, reading it is the Python engine's run-time
+            # error ("variable ... is not bound here": a called rule or derived function sees only
+            # its parameters, as here)
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
         return name
 
     def t_Loc(self, t, env):
@@ -819,6 +855,8 @@ class Generator:
             return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if t.args and self.composite(t.args[0].type):
             return self.composite_call(t, env)
+        if name == "print":      # the number of its arguments, whatever their kinds
+            return self.scalar_library_call(t, [self.term(a, env) for a in t.args])
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
         if any(T.root(a.type) is T.REAL for a in t.args) or name in ("div", "itor", "ntor"):
@@ -865,7 +903,23 @@ class Generator:
             return f"(V)({args[0]} == UNDEF)"
         if name in ("iton", "ntoi"):
             return args[0]
+        lib = self.scalar_library_call(t, args)
+        if lib is not None:
+            return lib
         raise Unsupported(f"the library function {name}")
+
+    def scalar_library_call(self, t, args):
+        """print, toString of an integer and the clock functions (which have no value: the Python
+        engine's run-time error) on arguments that are not composite (None: none of them)."""
+        name = t.name
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){len(args)}; }})"
+        if name == "toString" and len(args) == 1 and T.root(t.args[0].type) in (T.INTEGER, T.NATURAL):
+            return f"int_to_string(c, {args[0]})"
+        if name in ("currTimeNanosecs", "currTimeMillisecs", "currTimeSecs") and not args:
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
+        return None
 
     def composite_call(self, t, env):
         import re
@@ -879,6 +933,9 @@ class Generator:
             return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if name in ("isDef", "isUndef"):
             return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        lib = self.library_call(t, args, kind)
+        if lib is not None:
+            return lib
         if kind == "String":
             raise Unsupported(f"{name} on String")
         if kind == "Powerset":
@@ -921,7 +978,185 @@ class Generator:
             return f"seq_sub(c, {args[0]}, {args[1]}, {args[2]})"
         raise Unsupported(f"{name} on {t.args[0].type}")
 
+    def orderable(self, typ) -> bool:
+        """Elements whose codes are in the order of the Python engine's values (:func:`vkey`):
+        integers, Booleans, the constants of one enum domain, and the named elements of abstract
+        domains when no domain grows and their numbers follow their names."""
+        r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            from ..semantics.values import vkey
+            els = list(self.codec.abstract_ids)
+            return not any(isinstance(d, T.Domain) and d.dynamic for d in self.spec.domains) and \
+                sorted(els, key=vkey) == sorted(els, key=self.codec.to_c)
+        return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
+
+    def in_value_order(self, x: str, typ) -> str | None:
+        """C code: the elements of the set or bag ``x`` (of element type ``typ``) as a sequence in
+        the Python engine's order (None: not for such elements)."""
+        if self.orderable(typ):
+            return f"v_rekind(c, {x}, K_SEQ)"
+        if T.root(typ) is T.STRING:
+            return f"str_sorted(c, {x})"
+        return None
+
+    @staticmethod
+    def regex_literal(p: str):
+        """The text a regular expression matches when it is a plain literal (``\\|`` is ``|``),
+        else None."""
+        out = []
+        i = 0
+        while i < len(p):
+            ch = p[i]
+            if ch == "\\":
+                if i + 1 >= len(p) or p[i + 1].isascii() and p[i + 1].isalnum():
+                    return None
+                out.append(p[i + 1])
+                i += 2
+                continue
+            if ch in ".^$*+?{}[]|()":
+                return None
+            out.append(ch)
+            i += 1
+        return "".join(out)
+
+    def library_call(self, t, args, kind):
+        """The StandardLibrary functions on strings, bags, map values and the conversions between
+        collections (None: not one of them)."""
+        name = t.name
+        n = len(args)
+        a0 = t.args[0].type
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){n}; }})"
+        if kind == "String":
+            def string(i):
+                return T.root(t.args[i].type) is T.STRING
+            if name in ("size", "length") and n == 1:
+                return f"seq_len({args[0]})"
+            if name in ("toUpper", "toLower") and n == 1:
+                return f"str_case(c, {args[0]}, {int(name == 'toUpper')})"
+            if name == "contains" and n == 2 and string(1):
+                return f"str_contains({args[0]}, {args[1]})"
+            if name in ("concat", "plus") and n == 2 and string(1):
+                return f"str_concat(c, {args[0]}, {args[1]})"
+            if name == "subString" and n == 3:
+                return f"str_sub(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "toString" and n == 1:
+                return args[0]
+            if name == "split" and n == 2 and string(1):
+                sep = t.args[1]
+                lit = self.regex_literal(sep.value) if isinstance(sep, ir.Const) and type(sep.value) is str else None
+                if not lit:
+                    raise Unsupported("split on String by a regular expression other than a literal text")
+                return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
+            return None
+        if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
+                kind == "Seq" or self.in_value_order(args[0], T.root(a0).args[0])):
+            # outside the initialisation: the first element (of a set, the least)
+            if kind == "Seq" or self.orderable(T.root(a0).args[0]):
+                return f"seq_first({args[0]})"
+            return f"seq_first({self.in_value_order(args[0], T.root(a0).args[0])})"
+        if name == "sum" and n == 1 and kind in ("Seq", "Powerset", "Bag") and \
+                T.root(T.root(a0).args[0]) in (T.INTEGER, T.NATURAL):
+            return f"v_sum(c, {args[0]})"
+        if kind == "Map":
+            if name == "at" and n == 2:
+                return f"mapv_at({args[0]}, {args[1]})"
+            if name == "merge" and n == 2:
+                return f"mapv_merge(c, {args[0]}, {args[1]})"
+            if name == "assign" and n == 3:
+                return f"mapv_assign(c, {args[0]}, {args[1]}, {args[2]})"
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Bag":
+            if name in ("contains", "count") and n == 2:
+                return f"{self.SEQ2[name]}({args[0]}, {args[1]})"
+            if name == "notin" and n == 2:
+                return f"v_not(seq_contains({args[0]}, {args[1]}))"
+            if name == "including" and n == 2:
+                return f"bag_including(c, {args[0]}, {args[1]})"
+            if name == "excluding" and n == 2:
+                return f"bag_excluding(c, {args[0]}, {args[1]})"
+            if name == "union" and n == 2 and T.root(t.args[1].type) == T.root(a0):
+                return f"bag_union(c, {args[0]}, {args[1]})"
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], T.root(a0).args[0]):
+                return self.in_value_order(args[0], T.root(a0).args[0])
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Seq":
+            if name == "insertAt" and n == 3:
+                return f"seq_insert_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "replaceAt" and n == 3:
+                return f"seq_replace_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "asSequence" and n == 1:
+                return args[0]
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            return None
+        if kind == "Powerset":
+            elem = T.root(a0).args[0]
+            if n == 2 and name in ("allin", "notallin", "symmetricDifference") and T.root(t.args[1].type) == T.root(a0):
+                return {"allin": f"set_allin({args[0]}, {args[1]})",
+                        "notallin": f"v_not(set_allin({args[0]}, {args[1]}))",
+                        "symmetricDifference": f"set_symdiff(c, {args[0]}, {args[1]})"}[name]
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], elem):
+                return self.in_value_order(args[0], elem)
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            if name == "asSet" and n == 1:
+                return args[0]
+            return None
+        return None
+
+    def t_Range(self, t, env):
+        """An interval ``{a : b}``, ``[a : b, step]``, ``<a : b>`` of integers."""
+        from ..semantics.analysis import is_constant
+        parts = [t.start, t.end] + ([t.step] if t.step is not None else [])
+        if not self.composite(t.type) or any(T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in parts):
+            raise Unsupported(f"an interval of type {t.type}")
+        if is_constant(t):
+            from ..semantics.machine import Ctx, Chooser
+            try:
+                v = self.m.term(t)(Ctx(self.m, {}, Chooser()))
+            except AsmError:
+                raise Unsupported("an interval the Python engine cannot build") from None
+            return self.codec.literal(v)
+        kind = {"set": "K_SET", "seq": "K_SEQ", "bag": "K_BAG"}[t.kind]
+        step = self.term(t.step, env) if t.step is not None else "(V)1"
+        return f"range_make(c, {kind}, {self.term(t.start, env)}, {self.term(t.end, env)}, {step})"
+
+    def t_MapLit(self, t, env):
+        if not self.composite(t.type):
+            raise Unsupported(f"a map of type {t.type}")
+        if self.literal_term(t):
+            from ..semantics.machine import Ctx, Chooser
+            return self.codec.literal(self.m.term(t)(Ctx(self.m, {}, Chooser())))
+        arr = self.fresh("e")
+        vals = [self.term(x, env) for pr in t.pairs for x in pr]
+        return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; mapv_make(c, {arr}, {len(t.pairs)}); }})"
+
+    def literal_term(self, t) -> bool:
+        """A term made of constants and the named elements of abstract domains only (its value is
+        computed once, while the code is generated)."""
+        if isinstance(t, ir.Const):
+            return True
+        if isinstance(t, ir.Loc):
+            f = t.func
+            return (f.kind == "static" and f.arity == 0 and f.body is None and isinstance(f.codomain, T.Domain)
+                    and isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract")
+        if isinstance(t, (ir.Collection, ir.TupleLit)):
+            return all(self.literal_term(x) for x in t.items)
+        if isinstance(t, ir.MapLit):
+            return all(self.literal_term(x) for pr in t.pairs for x in pr)
+        return False
+
     def t_Collection(self, t, env):
+        if t.kind == "bag" and self.composite(t.type):
+            arr = self.fresh("e")
+            vals = [self.term(x, env) for x in t.items]
+            return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; bag_make(c, {arr}, {len(vals)}); }})"
         if t.kind not in ("seq", "set") or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} literal")
         if t.kind == "set":
@@ -1106,22 +1341,31 @@ class Generator:
         return self.codec.literal(SetV(vals))
 
     def t_Compr(self, t, env):
-        if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
+        if t.kind not in ("set", "seq", "bag", "map") or (t.body2 is not None) != (t.kind == "map") \
+                or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} comprehension")
         env = dict(env)
         heads = []
         for v, rg in t.bindings:
             q, name = self.fresh("q"), self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, t.kind == "set"))
+            # a map's later pair of a key wins: its pairs are made in the Python engine's order
+            heads.append(self.loop_head(rg, env, name, q, t.kind in ("set", "bag")))
             env[v.uid] = name
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         body = self.term(t.body, env)
         buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
+        if t.kind == "map":
+            body2 = self.term(t.body2, env)
+            add = (f"if ({n} >= (1 << 13)) fail(c, E_UNSUPPORTED, 0); "
+                   f"else {{ {buf}[2 * {n}] = {body}; {buf}[2 * {n} + 1] = {body2}; {n}++; }}")
+        else:
+            add = f"if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body};"
+        make = {"set": f"set_make(c, {buf}, {n})", "seq": f"v_intern(c, K_SEQ, {buf}, {n})",
+                "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
         return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
-                f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
-                + "}" * len(heads) +
-                (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
+                f"else if ({g}) {{ {add} }} "
+                + "}" * len(heads) + f" {make}; }})")
 
     def t_Quant(self, t, env):
         env = dict(env)

@@ -624,4 +624,208 @@ static int vslot_find(Ctx *c, int s, V k) {
 
 static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
 
+/* ------------------------------------------------------------------ library functions on
+ * sequences, strings, bags and map values.  A string is K_STRING (its characters' code points),
+ * a bag K_BAG (its element codes sorted, repetitions kept), a map value K_MAPV ((key, value)
+ * pairs sorted by key code; unlike a K_MAP slot map an undef value is kept).
+ */
+#define K_BAG 10
+#define K_MAPV 11
+static V seq_insert_at(Ctx *c, V s, V i, V x) {
+    if (s == UNDEF || i == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (i < 0 || i > n) { fail(c, E_DOMAIN, 0); return UNDEF; }
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), i * sizeof(V)); vscratch[i] = x;
+    memcpy(vscratch + i + 1, v_elems(s) + i, (n - i) * sizeof(V));
+    return v_intern(c, K_SEQ, vscratch, n + 1);
+}
+static V seq_replace_at(Ctx *c, V s, V i, V x) {
+    if (s == UNDEF || i == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (i < 0 || i >= n) { fail(c, E_DOMAIN, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[i] = x;
+    return v_intern(c, K_SEQ, vscratch, n);
+}
+/* the same elements as another kind: a sequence (in the order of the codes), a set, a bag */
+static V v_rekind(Ctx *c, V s, int kind) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    memcpy(vscratch, v_elems(s), n * sizeof(V));
+    if (kind == K_SET) return set_make(c, vscratch, n);
+    if (kind == K_BAG) qsort(vscratch, n, sizeof(V), v_cmp);
+    return v_intern(c, kind, vscratch, n);
+}
+static V bag_make(Ctx *c, V *e, int n) {
+    qsort(e, n, sizeof(V), v_cmp);
+    return v_intern(c, K_BAG, e, n);
+}
+static V bag_including(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[n] = x;
+    return bag_make(c, vscratch, n + 1);
+}
+static V bag_excluding(Ctx *c, V s, V x) {     /* one occurrence removed */
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), k = 0, done = 0;
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) { if (!done && e[i] == x) { done = 1; continue; } vscratch[k++] = e[i]; }
+    return v_intern(c, K_BAG, vscratch, k);
+}
+static V bag_union(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
+    return bag_make(c, vscratch, n + m);
+}
+/* a map value from n (key, value) pairs in the order written: a later pair of the same key wins */
+static V mapv_make(Ctx *c, const V *p, int n) {
+    int w = 0;
+    if (2 * n > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    for (int i = 0; i < n; i++) {
+        V k = p[2 * i], v = p[2 * i + 1];
+        int j = 0;
+        while (j < w && vscratch[2 * j] < k) j++;
+        if (j < w && vscratch[2 * j] == k) { vscratch[2 * j + 1] = v; continue; }
+        memmove(vscratch + 2 * j + 2, vscratch + 2 * j, (size_t)(w - j) * 2 * sizeof(V));
+        vscratch[2 * j] = k; vscratch[2 * j + 1] = v; w++;
+    }
+    return v_intern(c, K_MAPV, vscratch, 2 * w);
+}
+static V mapv_at(V m, V k) {
+    if (m == UNDEF || k == UNDEF) return UNDEF;
+    return map_get(m, k);
+}
+/* merge(a, b): b's pairs win; assign(m, k, v): m with k -> v */
+static V mapv_merge(Ctx *c, V a, V b) {
+    static V buf[1 << 16];
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(buf, v_elems(a), n * sizeof(V)); memcpy(buf + n, v_elems(b), m * sizeof(V));
+    return mapv_make(c, buf, (n + m) / 2);
+}
+static V mapv_assign(Ctx *c, V a, V k, V v) {
+    V p[2] = {k, v};
+    if (a == UNDEF) return UNDEF;
+    return mapv_merge(c, a, mapv_make(c, p, 1));
+}
+static V str_concat(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
+    return v_intern(c, K_STRING, vscratch, n + m);
+}
+static V str_contains(V s, V x) {              /* x a substring of s */
+    if (s == UNDEF || x == UNDEF) return UNDEF;
+    int n = v_len(s), m = v_len(x);
+    const V *a = v_elems(s), *b = v_elems(x);
+    for (int i = 0; i + m <= n; i++) if (memcmp(a + i, b, m * sizeof(V)) == 0) return 1;
+    return 0;
+}
+/* toUpper / toLower: ASCII letters only (another character is left to the Python engine) */
+static V str_case(Ctx *c, V s, int upper) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) {
+        V ch = e[i];
+        if (ch > 127 || ch < 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+        if (upper && ch >= 'a' && ch <= 'z') ch -= 32;
+        if (!upper && ch >= 'A' && ch <= 'Z') ch += 32;
+        vscratch[i] = ch;
+    }
+    return v_intern(c, K_STRING, vscratch, n);
+}
+static V str_sub(Ctx *c, V s, V i, V j) {
+    if (s == UNDEF || i == UNDEF || j == UNDEF) return UNDEF;
+    if (!(0 <= i && i <= j && j <= v_len(s))) { fail(c, E_DOMAIN, 0); return UNDEF; }
+    return v_intern(c, K_STRING, v_elems(s) + i, (int)(j - i));
+}
+/* split at each occurrence of the non-empty literal sep; trailing empty parts dropped (but one
+ * part is always left), as Java's String.split */
+static V str_split(Ctx *c, V s, V sep) {
+    if (s == UNDEF || sep == UNDEF) return UNDEF;
+    int n = v_len(s), m = v_len(sep), np = 0, start = 0;
+    static V parts[1 << 14];
+    const V *a = v_elems(s), *b = v_elems(sep);
+    if (m == 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    for (int i = 0; i + m <= n; ) {
+        if (memcmp(a + i, b, m * sizeof(V)) == 0) {
+            if (np >= (1 << 14) - 1) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+            parts[np++] = v_intern(c, K_STRING, a + start, i - start);
+            i += m; start = i;
+        } else i++;
+    }
+    parts[np++] = v_intern(c, K_STRING, a + start, n - start);
+    while (np > 1 && v_len(parts[np - 1]) == 0) np--;
+    return v_intern(c, K_SEQ, parts, np);
+}
+/* the interval lo..hi by step (an undef bound or a step <= 0 is the Python engine's error) */
+static V range_make(Ctx *c, int kind, V lo, V hi, V st) {
+    if (lo == UNDEF || hi == UNDEF || st == UNDEF || st <= 0) { fail(c, E_MODEL, 0); return UNDEF; }
+    int n = 0;
+    for (V x = lo; x <= hi; ) {
+        if (n >= (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+        vscratch[n++] = x;
+        if (x > INT64_MAX - st) break;
+        x += st;
+    }
+    return v_intern(c, kind, vscratch, n);   /* ascending: already a set's or a bag's order */
+}
+/* sum of the elements (undef if one is; beyond 64 bits the Python engine's integers grow: left to it) */
+static V v_sum(Ctx *c, V s) {
+    if (s == UNDEF) return UNDEF;
+    int64_t t = 0; const V *e = v_elems(s);
+    for (int i = 0; i < v_len(s); i++) {
+        if (e[i] == UNDEF) return UNDEF;
+        if (__builtin_add_overflow(t, e[i], &t)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    }
+    return t;
+}
+static V set_allin(V a, V b) {                   /* a subset of b */
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    const V *e = v_elems(a);
+    for (int i = 0; i < v_len(a); i++) if (set_contains(b, e[i]) != 1) return 0;
+    return 1;
+}
+static V set_symdiff(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b), k = 0;
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    const V *x = v_elems(a), *y = v_elems(b);
+    for (int i = 0; i < n; i++) if (set_contains(b, x[i]) != 1) vscratch[k++] = x[i];
+    for (int j = 0; j < m; j++) if (set_contains(a, y[j]) != 1) vscratch[k++] = y[j];
+    return set_make(c, vscratch, k);
+}
+/* strings compared by their characters' code points (a prefix first), as Python compares them */
+static int str_cmp(const void *a, const void *b) {
+    V x = *(const V *)a, y = *(const V *)b;
+    int n = v_len(x), m = v_len(y);
+    const V *e = v_elems(x), *f = v_elems(y);
+    for (int i = 0; i < n && i < m; i++) if (e[i] != f[i]) return e[i] < f[i] ? -1 : 1;
+    return n < m ? -1 : n > m;
+}
+/* the strings of a set or bag as a sequence in that order (undef, interned apart, first) */
+static V str_sorted(Ctx *c, V s) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), u = 0, k = 0;
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) if (e[i] == UNDEF) vscratch[u++] = UNDEF;
+    for (int i = 0; i < n; i++) if (e[i] != UNDEF) vscratch[u + k++] = e[i];
+    qsort(vscratch + u, k, sizeof(V), str_cmp);
+    return v_intern(c, K_SEQ, vscratch, u + k);
+}
+static V int_to_string(Ctx *c, V x) {
+    if (x == UNDEF) return UNDEF;
+    char buf[32]; int n = snprintf(buf, sizeof buf, "%lld", (long long)x);
+    V e[32];
+    for (int i = 0; i < n; i++) e[i] = (unsigned char)buf[i];
+    return v_intern(c, K_STRING, e, n);
+}
+
 /* ------------------------------------------------------------------ the model (generated) */
