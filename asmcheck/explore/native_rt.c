@@ -11,6 +11,7 @@
 #include <time.h>
 #include <stdio.h>
 #include <signal.h>
+#include <math.h>
 
 typedef int64_t V;
 #define UNDEF INT64_MIN
@@ -68,6 +69,15 @@ typedef struct {
     int err_site;
     int clash_slot;
     int64_t epoch;       /* which expanded state: candidates of a choose can be reused within it */
+    /* a property's own choices of the monitored values the step did not read (see prop_all) */
+    int mfix;            /* the step's monitored values hold in the property */
+    int32_t pprefix[MAXCH];
+    int32_t pplen, ppos;
+    int32_t pidx[MAXCH];
+    int32_t pcnt[MAXCH];
+    uint32_t pgen_cur;
+    uint32_t pgen[NMON > 0 ? NMON : 1];
+    V pmon[NMON > 0 ? NMON : 1];
 } Ctx;
 
 static int choice(Ctx *c, int n) {
@@ -82,6 +92,42 @@ static int choice(Ctx *c, int n) {
 
 static inline void fail(Ctx *c, int code, int site) {
     if (!c->err) { c->err = code; c->err_site = site; }
+}
+
+static int pchoice(Ctx *c, int n) {
+    if (c->ppos >= MAXCH) { fail(c, E_UNSUPPORTED, 0); return 0; }
+    int i = c->ppos < c->pplen ? c->pprefix[c->ppos] : 0;
+    if (i >= n) i = 0;
+    c->pidx[c->ppos] = i;
+    c->pcnt[c->ppos] = n;
+    c->ppos++;
+    return i;
+}
+
+/* A property over monitored functions holds for every choice of the monitored values it reads
+ * that the step did not fix (an invariant, a step property: exists = 0, the value is 1 or the
+ * first other value met) or for one of them (an INVAR constraint: exists = 1), as the Python
+ * engine's evaluate_all enumerates them.  A run-time error once a monitored value was chosen is
+ * left to the Python engine. */
+typedef V (*PropFn)(Ctx *, int);
+static V prop_all(Ctx *c, PropFn f, int k, int exists) {
+    c->pplen = 0;
+    for (;;) {
+        c->ppos = 0;
+        if (++c->pgen_cur == 0) { memset(c->pgen, 0, sizeof(c->pgen)); c->pgen_cur = 1; }
+        V v = f(c, k);
+        if (c->err) {
+            if (c->ppos > 0) { c->err = 0; fail(c, E_UNSUPPORTED, 0); }
+            return v;
+        }
+        if (exists ? v == 1 : v != 1) return v;
+        int j = c->ppos - 1;
+        while (j >= 0 && c->pidx[j] + 1 >= c->pcnt[j]) j--;
+        if (j < 0) return v;
+        for (int q = 0; q < j; q++) c->pprefix[q] = c->pidx[q];
+        c->pprefix[j] = c->pidx[j] + 1;
+        c->pplen = j + 1;
+    }
 }
 
 /* The update set of a step is one buffer.  Each entry carries the seq step that made it
@@ -308,6 +354,19 @@ static V v_intern(Ctx *c, int kind, const V *e, int n) {
     return nvals++;
 }
 
+/* the number of a value already in the table, or -1 (a state asked for by Python may hold a
+ * composite value the search made) */
+int64_t asm_value_find(int64_t kind, const int64_t *e, int64_t n) {
+    if (!vhash) return -1;
+    uint64_t h = vt_hash((int)kind, e, (int)n) & vmask;
+    while (vhash[h] >= 0) {
+        VEnt *x = &vtab[vhash[h]];
+        if (x->kind == kind && x->len == n && memcmp(vpool + x->off, e, n * sizeof(V)) == 0) return vhash[h];
+        h = (h + 1) & vmask;
+    }
+    return -1;
+}
+
 static void vt_free(void) {
     free(vpool); free(vtab); free(vhash);
     vpool = 0; vtab = 0; vhash = 0; npool = cap_pool = nvals = cap_vals = 0; vmask = 0; vt_oom = 0;
@@ -455,6 +514,115 @@ static int vslot(Ctx *c, int s, V k) {
     c->vs_slot[c->nvs] = s; c->vs_key[c->nvs] = k;
     c->wgen[NSLOTS + c->nvs] = 0;
     return NSLOTS + c->nvs++;
+}
+
+/* ------------------------------------------------------------------ reals
+ * A Real is a Java double.  Its code is the 64-bit pattern of the double, except that every NaN
+ * is one code (R_NAN) and -0.0 has its own code (R_NEGZ, a NaN pattern no double is given),
+ * since -0.0's pattern is the undef sentinel.  Two Reals are equal (Double.equals, as the
+ * Python engine's update and eq compare them) exactly when their codes are equal.
+ */
+#define R_NAN ((V)0x7ff8000000000000LL)
+#define R_NEGZ ((V)0x7ff8000000000001LL)
+static inline double r_d(V v) { double d; if (v == R_NEGZ) return -0.0; memcpy(&d, &v, 8); return d; }
+static inline V r_v(double d) {
+    V v;
+    if (d != d) return R_NAN;
+    if (d == 0 && __builtin_signbit(d)) return R_NEGZ;
+    memcpy(&v, &d, 8); return v;
+}
+/* a Real stored in a location or a tuple: -0.0 and NaN are refused (the Python engine's states
+ * compare them as Python floats: -0.0 equals 0.0 there, and a NaN only itself) */
+static inline V r_chk(Ctx *c, V v) { if (v == R_NEGZ || v == R_NAN) fail(c, E_UNSUPPORTED, 0); return v; }
+static inline V encR(Ctx *c, V v, int site) { return r_chk(c, v); }
+#define RL1(name, expr) static inline V name(V a) { if (a == UNDEF) return UNDEF; double x = r_d(a); return r_v(expr); }
+#define RL2(name, expr) static inline V name(V a, V b) { if (a == UNDEF || b == UNDEF) return UNDEF; double x = r_d(a), y = r_d(b); return r_v(expr); }
+#define RLB(name, expr) static inline V name(V a, V b) { if (a == UNDEF || b == UNDEF) return UNDEF; double x = r_d(a), y = r_d(b); return (V)(expr); }
+RL2(r_add, x + y)
+RL2(r_sub, x - y)
+RL2(r_mul, x * y)
+RL2(r_div, x / y)
+RL1(r_neg, -x)
+RL1(r_abs, x > 0 ? x : -x)
+RL1(r_sqrt, (x != x || x < 0) ? (double)NAN : sqrt(x))
+RLB(r_lt, x < y)
+RLB(r_le, x <= y)
+RLB(r_gt, x > y)
+RLB(r_ge, x >= y)
+/* Double.compareTo: NaN above everything, -0.0 below 0.0 */
+static inline int r_cmp(double x, double y) {
+    int nx = x != x, ny = y != y;
+    if (nx || ny) return nx - ny;
+    if (x < y) return -1;
+    if (x > y) return 1;
+    int sx = __builtin_signbit(x) ? -1 : 1, sy = __builtin_signbit(y) ? -1 : 1;
+    return (sx > sy) - (sx < sy);
+}
+RLB(r_max_b, r_cmp(x, y) > 0)
+static inline V r_max(V a, V b) { V g = r_max_b(a, b); return g == UNDEF ? UNDEF : g ? a : b; }
+static inline V r_min(V a, V b) { if (a == UNDEF || b == UNDEF) return UNDEF; return r_cmp(r_d(a), r_d(b)) < 0 ? a : b; }
+/* Math.pow as the Python engine computes it (a pole of 0 to a negative power is NaN there) */
+static double r_pow_d(double x, double y) {
+    if (y != y) return NAN;
+    if (y == 0) return 1.0;
+    if (fabs(x) == 1.0 && __builtin_isinf(y)) return NAN;
+    if (x == 0 && y < 0 && !__builtin_isinf(y)) return NAN;
+    return pow(x, y);
+}
+RL2(r_pow, r_pow_d(x, y))
+static inline V r_itor(V a) { return a == UNDEF ? UNDEF : r_v((double)a); }
+/* Java's narrowing of a double to long: NaN is 0, out of range saturates (Long.MIN_VALUE is the
+ * undef sentinel of the encoding: refused) */
+static inline V r_rtoi(Ctx *c, V a) {
+    if (a == UNDEF) return UNDEF;
+    double x = r_d(a);
+    if (x != x) return 0;
+    if (x >= 9223372036854775807.0) return INT64_MAX;
+    if (x <= -9223372036854775808.0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    return (V)x;
+}
+/* ASMETA's floor: Math.floor narrowed to a Java int */
+static inline V r_floor(V a) {
+    if (a == UNDEF) return UNDEF;
+    double x = r_d(a);
+    if (x != x) return 0;
+    double f = floor(x);
+    if (f >= 2147483647.0) return 2147483647;
+    if (f <= -2147483648.0) return -2147483648LL;
+    return (V)f;
+}
+/* Math.round: floor(x + 0.5); the Python engine keeps that floor unbounded for finite x, so a
+ * value beyond 64 bits is refused */
+static inline V r_round(Ctx *c, V a) {
+    if (a == UNDEF) return UNDEF;
+    double x = r_d(a);
+    if (x != x) return 0;
+    if (__builtin_isinf(x)) { if (x > 0) return INT64_MAX; fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    double f = floor(x + 0.5);
+    if (!(f > -9223372036854775808.0 && f < 9223372036854775808.0)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    return (V)f;
+}
+/* same_value(real, integer) and same_value(integer, real) of the Python engine: exact numeric
+ * equality; a real -0.0 equals the integer 0 only when the integer comes first */
+static inline int r_is_int(double d, V i) {
+    if (!(d >= -9223372036854775808.0 && d < 9223372036854775808.0)) return 0;
+    if (d != (double)(int64_t)d) return 0;
+    return (int64_t)d == i;
+}
+static inline V r_eq_ri(V r, V i) {
+    if (r == UNDEF || i == UNDEF) return r == i;
+    if (r == R_NEGZ) return 0;
+    return r_is_int(r_d(r), i);
+}
+static inline V r_eq_ir(V i, V r) {
+    if (r == UNDEF || i == UNDEF) return r == i;
+    return r_is_int(r_d(r), i);
+}
+
+/* the virtual slot of location k of the map in slot s, if this step made one (else -1) */
+static int vslot_find(Ctx *c, int s, V k) {
+    for (int i = 0; i < c->nvs; i++) if (c->vs_slot[i] == s && c->vs_key[i] == k) return NSLOTS + i;
+    return -1;
 }
 
 static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
