@@ -516,3 +516,19 @@ def test_values_made_from_entries_of_a_growing_table(tmp_path, capsys):
     assert last["k"] == "300" and last["s"] == '"x-' + "-".join(str(i) for i in range(300)) + '"'
     assert last["parts"] == "[" + ", ".join(f'"{x}"' for x in ["x"] + [str(i) for i in range(299)]) + "]"
     assert last["tailq"] == "[" + ", ".join(str(i) for i in range(1, 299)) + "]"
+
+
+def test_an_ltl_trace_through_states_holding_bags_and_maps_the_search_made(tmp_path, capsys):
+    # the trace is replayed: its states, with values made during the search, are found by value
+    text = MAPS_BAGS.replace("asm MapsBags", "asm MapsBagsLtl").replace(
+        "import StandardLibrary", "import StandardLibrary\nimport LTLLibrary").replace(
+        "\tmain rule r_main =", "\tLTLSPEC g(ix < 3)\n\tmain rule r_main =")
+    code, out = both(tmp_path, capsys, text)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 47, 62, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "ltl_1"
+    # a lasso: the pick-false path up to ix = 4, then the else branch, which repeats its state
+    assert [s["state"]["ix"] for s in v["trace"]] == [0, 1, 2, 3, 4, 4, 4]
+    assert [s["state"]["b"]["bag"] for s in v["trace"][4:]] == [[1, 1], [0, 1, 1, 3, 3], [0, 1, 1, 3, 3]]
+    assert v["trace"][4]["state"]["m"] == {"map": [[1, "BLUE"], [2, "GREEN"], [3, None]]}
+    assert v["trace"][5]["state"]["m"] == {"map": [[1, "RED"], [2, "GREEN"], [3, "BLUE"]]}

@@ -164,16 +164,7 @@ class Codec:
         else:
             pairs = sorted((code(k), code(x)) for k, x in v)
             key = (K_MAPV, tuple(x for pr in pairs for x in pr))
-        intern = getattr(self, "intern", None)
-        if intern is not None:        # the one interning of the codec, where it has one
-            return intern(key)
-        i = self.comp_ids.get(key)
-        if i is None:
-            if self.frozen:
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.comp_ids[key] = len(self.comp)
-            self.comp.append(key)
-        return i
+        return self.intern(key)
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
