@@ -664,13 +664,41 @@ class Generator:
             vals = self.range_values(rg)
         except Unsupported:
             r = T.root(rg.type) if rg.type is not None else None
-            if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
+            if not ((any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct)
+                    and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
                 raise
             rv = self.fresh("rv")
             return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
         tab = self.table(vals)
         return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+
+    def runtime_order_ok(self, typ) -> bool:
+        """Does a sequence or set of type ``typ`` computed in the state list its elements, in the
+        order of their codes, as the Python engine does (a sequence in its order, a set sorted by
+        ``vkey``)?  Then a loop over it meets the elements (and makes its choices) in the Python
+        engine's order."""
+        r = T.root(typ) if typ is not None else None
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Powerset") or not self.composite(typ):
+            return False
+        if r.kind == "Seq":
+            return True
+        return self.codes_sorted_like_vkey(r.args[0])
+
+    def codes_sorted_like_vkey(self, typ) -> bool:
+        """Do the codes of the values of ``typ`` sort as ``vkey`` sorts the values?"""
+        from ..semantics.values import vkey
+        r = T.root(typ)
+        if r in (T.INTEGER, T.NATURAL, T.BOOLEAN):
+            return True
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            return True
+        if isinstance(r, T.Domain) and r.kind == "abstract" and not r.dynamic:
+            els = list(self.m.static_elements.get(r, ()))
+            if not all(e in self.codec.abstract_ids for e in els):
+                return False
+            return sorted(els, key=vkey) == sorted(els, key=lambda e: self.codec.abstract_ids[e])
+        return False
 
     def t_DomainTerm(self, t, env):
         d = t.domain
@@ -693,10 +721,13 @@ class Generator:
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         body = self.term(t.body, env)
         buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
-        return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
+        # the buffer is static: a body that reaches the same comprehension again (a recursive
+        # derived function) would overwrite it, so that is left to the Python engine
+        return ("({ " + f"static V {buf}[1 << 14]; static int busy_{buf} = 0; int {n} = 0; "
+                f"if (busy_{buf}) fail(c, E_UNSUPPORTED, 0); busy_{buf} = 1; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
                 f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
-                + "}" * len(heads) +
+                + "}" * len(heads) + f" busy_{buf} = 0;" +
                 (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
 
     def t_Quant(self, t, env):
@@ -872,6 +903,11 @@ class Generator:
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {body} }} if (c->err) return; " + "}" * len(heads) + " }")
 
     def r_Choose(self, r, env):
+        try:
+            for _, rg in r.bindings:
+                self.range_values(rg)
+        except Unsupported:
+            return self.choose_at_run_time(r, env)
         env2 = dict(env)
         heads = []
         sizes = 1
@@ -906,18 +942,56 @@ class Generator:
         # The candidates depend on the state, the variables in scope and the choices made
         # before; when the choose is reached before any choice and binds no outer variable,
         # the list is the same in every run of the step from one state: it is kept.
+        # Only the first visit in a run is that point (a rule called twice in a seq block, or a loop,
+        # reaches it again in another working state): a later visit forgets the list it overwrites.
         cacheable = not env
         pre = ""
         post = ""
         if cacheable:
             ep = self.fresh("ep")
             cn = self.fresh("cn")
-            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; int pos0 = c->pos; "
-                   f"if (pos0 == 0 && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
-            post = f" if (c->pos == pos0 && pos0 == 0) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
+            lg = self.fresh("lg")
+            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; static uint32_t {lg} = 0; int pos0 = c->pos; "
+                   f"int first_{lg} = {lg} != c->gen; {lg} = c->gen; if (!first_{lg}) {ep} = -1; "
+                   f"if (pos0 == 0 && first_{lg} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
+            post = f" if (c->pos == pos0 && pos0 == 0 && first_{lg}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
         return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
+                f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
+
+    def choose_at_run_time(self, r, env):
+        """A choose whose ranges are computed in the state (or from variables bound before): the
+        candidates are collected, in the Python engine's order, into a buffer that grows."""
+        env2 = dict(env)
+        heads = []
+        names = []
+        for v, rg in r.bindings:
+            q, name = self.fresh("q"), self.fresh("x")
+            heads.append(self.loop_head(rg, env2, name, q, False))
+            env2[v.uid] = name
+            names.append(name)
+        k = len(names)
+        cand, cap, n, g, i = self.fresh("cand"), self.fresh("cap"), self.fresh("n"), self.fresh("g"), self.fresh("i")
+        guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
+        body_env = dict(env)
+        bound = []
+        for v, _ in r.bindings:
+            nm = self.fresh("b")
+            body_env[v.uid] = nm
+            bound.append(nm)
+        body = self.rule(r.body, body_env)
+        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
+        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
+        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+                f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
+                f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
+        # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
+        # and the candidate is copied out before the body runs
+        return ("{ " + f"static V *{cand} = 0; static int {cap} = 0; int {n} = 0; " + " ".join(heads) +
+                f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
+                f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
 
     def r_CallRule(self, r, env):
