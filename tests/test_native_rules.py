@@ -130,3 +130,88 @@ def test_a_choose_reached_twice_in_one_step_sees_the_second_working_state(tmp_pa
     assert (code, *summary(out)) == (1, "violated", 2, 2, 1)
     (v,) = out["violations"]
     assert v["trace"][-1]["state"] == {"a(1)": False, "a(2)": False, "a(3)": False, "done": True}
+
+
+HANDLERS = """\
+asm Handlers
+import StandardLibrary
+signature:
+	enum domain Chan = {CA | CB}
+	controlled level: Chan -> Integer
+	controlled handler: Chan -> Rule(Chan)
+	controlled next: Rule
+	controlled calls: Integer
+definitions:
+	rule r_up($c in Chan) = level($c) := (level($c) + 1) mod 3
+	rule r_down($c in Chan) = level($c) := (level($c) + 2) mod 3
+	rule r_swap = par handler(CA) := handler(CB) handler(CB) := handler(CA) endpar
+	rule r_count = calls := (calls + 1) mod 2
+	rule r_run($r in Rule) = $r
+	invariant inv_levels over level: not (level(CA) = 2 and level(CB) = 2)
+	main rule r_main =
+		par
+			choose $c in Chan with true do
+				handler($c)[$c]
+			r_run[next]
+			if next = <<r_swap>> then next := <<r_count>> else next := <<r_swap>> endif
+		endpar
+default init s0:
+	function level($c in Chan) = 0
+	function handler($c in Chan) = if $c = CA then <<r_up(Chan)>> else <<r_down(Chan)>> endif
+	function next = <<r_count>>
+	function calls = 0
+"""
+
+BY_NAME = """\
+asm ByName
+import StandardLibrary
+signature:
+	domain Idx subsetof Integer
+	controlled cell: Idx -> Integer
+	controlled ptr: Idx
+	controlled log: Seq(Integer)
+	monitored bump: Boolean
+definitions:
+	domain Idx = {0 : 2}
+	macro rule r_inc($x in Integer) = $x := ($x + 1) mod 3
+	macro rule r_twice($x in Integer, $y in Integer) =
+		seq
+			r_inc[$x]
+			log := append(log, $y)
+			r_inc[$x]
+			log := append(log, $y)
+		endseq
+	invariant inv_log over log: length(log) < 5
+	main rule r_main =
+		if bump then
+			r_twice[cell(ptr), cell(ptr) * 10]
+		else
+			ptr := (ptr + 1) mod 3
+		endif
+default init s0:
+	function cell($i in Idx) = 0
+	function ptr = 0
+	function log = []
+"""
+
+
+def test_rule_values_in_locations_parameters_and_calls_through_terms(tmp_path, capsys):
+    # handler(c)[c] calls the rule stored in a location, $r in r_run a rule parameter, and
+    # next = <<r_swap>> compares rule values
+    code, out = both(tmp_path, capsys, HANDLERS)
+    assert (code, *summary(out)) == (1, "violated", 12, 22, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_levels"
+    assert v["trace"][-1]["state"] == {"calls": 0, "handler(CA)": {"rule": "r_up"}, "handler(CB)": {"rule": "r_down"},
+                                       "level(CA)": 2, "level(CB)": 2, "next": {"rule": "r_count"}}
+
+
+def test_a_location_argument_is_updated_through_the_parameter_and_read_by_name(tmp_path, capsys):
+    # r_inc updates cell(ptr) through $x; in r_twice's seq block $y (cell(ptr) * 10) is read
+    # after each increment: 10 and 20, then 0 (3 mod 3) and 10, 20, 0 again
+    code, out = both(tmp_path, capsys, BY_NAME)
+    assert (code, *summary(out)) == (1, "violated", 26, 28, 4)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_log"
+    assert v["trace"][-1]["state"] == {"cell(0)": 0, "cell(1)": 0, "cell(2)": 0,
+                                       "log": {"seq": [10, 20, 0, 10, 20, 0]}, "ptr": 0}

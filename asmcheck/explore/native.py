@@ -40,7 +40,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
+from ..semantics.values import AbstractValue, EnumValue, RuleValue, SeqV, SetV
 from . import native_build
 from .native_build import Unsupported
 
@@ -48,6 +48,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+RULE_BASE = 1 << 41       # the code of a rule value: RULE_BASE + its number
 
 
 def _ceil_log2(n: int) -> int:
@@ -73,6 +74,8 @@ class Codec:
         self.comp_ids: dict = {}
         self.frozen = False
         self.dll = None
+        self.rule_ids: dict = {}         # rule declaration -> number (rule values <<r>>)
+        self.rule_by_id: list = []
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -91,6 +94,17 @@ class Codec:
             if base is None:
                 base = self.enum_base[v.domain] = len(self.enum_base) << 20
             return base + v.index
+        if t is RuleValue:
+            # a rule value with no agent bound to it: a number of its own (2^41 + k)
+            if v.agent is not None or v.args:
+                raise Unsupported("a rule value bound to an agent")
+            k = self.rule_ids.get(v.rule)
+            if k is None:
+                if self.frozen:
+                    raise Unsupported("a rule value met after the code was generated")
+                k = self.rule_ids[v.rule] = len(self.rule_by_id)
+                self.rule_by_id.append(v.rule)
+            return RULE_BASE + k
         if t is AbstractValue:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
@@ -132,6 +146,10 @@ class Codec:
             if r.kind == "Powerset":
                 return SetV(self.from_c(e, r.args[0]) for e in elems)
             return tuple(self.from_c(e, a) for e, a in zip(elems, r.args))
+        if isinstance(r, T.Struct) and r.kind == "Rule":
+            if RULE_BASE <= x < RULE_BASE + len(self.rule_by_id):
+                return RuleValue(self.rule_by_id[x - RULE_BASE])
+            raise Unsupported(f"a value of type {typ} that the native search cannot decode")
         if x >= 1 << 40:
             return self.abstract_by_id[x - (1 << 40)]
         if isinstance(r, T.Domain) and r.kind == "enum":
@@ -152,6 +170,17 @@ class Codec:
     def literal(self, v) -> str:
         x = self.to_c(v)
         return UNDEF_C if x is None else f"((V){x}LL)"
+
+
+class ByName:
+    """A macro parameter passed by name: the C code of its argument (evaluated where the body
+    uses it) and, for a location argument, its function and the code of its arguments."""
+
+    __slots__ = ("expr", "loc")
+
+    def __init__(self, expr: str, loc):
+        self.expr = expr
+        self.loc = loc
 
 
 class Generator:
@@ -209,6 +238,8 @@ class Generator:
             r = T.root(f.codomain)
             if r in (T.INTEGER, T.NATURAL) or self.composite(f.codomain):
                 return None
+            if isinstance(r, T.Struct) and r.kind == "Rule":
+                return None      # a rule value: its code is stored (a wide slot)
             raise
 
     def composite(self, typ) -> bool:
@@ -323,10 +354,15 @@ class Generator:
     def t_Const(self, t, env):
         return self.codec.literal(t.value)
 
+    def t_RuleRef(self, t, env):
+        return self.codec.literal(RuleValue(t.rule))
+
     def t_VarRef(self, t, env):
         name = env.get(t.var.uid)
         if name is None:
             raise Unsupported("a variable bound outside the translated code")
+        if isinstance(name, ByName):
+            return name.expr
         return name
 
     def t_Loc(self, t, env):
@@ -466,6 +502,12 @@ class Generator:
             return self.composite_call(t, env)
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
+        if name in ("eq", "neq", "isDef", "isUndef") and all(
+                isinstance(T.root(a.type), T.Struct) and T.root(a.type).kind == "Rule" for a in t.args):
+            # rule values: equal when they are the same rule (one code per rule)
+            ra = [self.term(a, env) for a in t.args]
+            return {"eq": "v_eq({0}, {1})", "neq": "v_neq({0}, {1})", "isDef": "(V)({0} != UNDEF)",
+                    "isUndef": "(V)({0} == UNDEF)"}[name].format(*ra)
         for a in t.args:
             r = T.root(a.type)
             if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
@@ -785,12 +827,34 @@ class Generator:
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
+    def update_location(self, f, args: list, value: str) -> str:
+        """The update of the location ``f(args)`` (the arguments' and the value's C code)."""
+        if f.index in self.map_slot:
+            v = self.fresh("v")
+            return (f"{{ V {v} = {value}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+                    f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
+        if f.index not in self.fn_base:
+            raise Unsupported(f"an update of {f.name}")
+        v = self.fresh("v")
+        s = self.fresh("lsl")
+        self.reader(f)
+        enc = self.encoder(f)
+        return (f"{{ V {v} = {value}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
     def r_UpdateVar(self, r, env):
         uid = r.var.uid
-        if uid in self.param_uids:
-            # a rule parameter may stand for a location (an update of it updates that location)
-            raise Unsupported(f"an update of the rule parameter {r.var.name}")
         name = env.get(uid)
+        if isinstance(name, ByName):
+            if name.loc is None:
+                # the Python engine rebinds the parameter to the value: not followed here
+                raise Unsupported(f"an update of the rule parameter {r.var.name} passed by name")
+            # a macro parameter bound to a location: the update is one of that location, whose
+            # arguments are evaluated in the caller's scope (as the Python engine does)
+            f, args = name.loc
+            return self.update_location(f, args, self.term(r.value, env))
+        # a parameter of a translated rule was passed by value (a location argument whose rule
+        # updates the parameter is substituted in place, see r_CallRule): a local rebinding
         if name is None:
             raise Unsupported("a variable bound outside the translated code")
         v = self.fresh("uv")
@@ -853,7 +917,56 @@ class Generator:
             parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
             parts.append("if (c->err) return; }")
             return " ".join(parts)
-        raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+        return self.call_rule_value(r, env)
+
+    def referenced_rules(self) -> list:
+        """Every rule written as a value (``<<r>>``) in the spec, in a fixed order."""
+        if getattr(self, "_referenced", None) is not None:
+            return self._referenced
+        out: list = []
+        seen: set = set()
+        todo: list = [rd.body for rd in self.spec.rules]
+        todo += [f.body for f in self.spec.functions if f.body is not None]
+        for init in self.spec.inits:
+            todo += [term for _, _, term, _ in init.functions]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.RuleRef):
+                if id(x.rule) not in seen:
+                    seen.add(id(x.rule))
+                    out.append(x.rule)
+            if isinstance(x, (ir.Term, ir.Rule)):
+                todo.extend(vars(x).values())
+            elif isinstance(x, (list, tuple)):
+                todo.extend(x)
+        out.sort(key=lambda rd: (rd.qualname, rd.span.short() if rd.span else ""))
+        self._referenced = out
+        return out
+
+    def call_rule_value(self, r, env):
+        """``t[args]`` for a term ``t`` whose value is a rule: one branch per rule written as a
+        value in the spec that takes as many arguments (anything else is the Python engine's
+        run-time error); the arguments are passed by value, as the Python engine passes them."""
+        rt = T.root(r.term.type) if r.term.type is not None else None
+        if not (isinstance(rt, T.Struct) and rt.kind == "Rule"):
+            raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+        x = self.fresh("rv")
+        args = [self.term(a, env) for a in r.args]
+        avs = [self.fresh("ra") for _ in args]
+        parts = [f"{{ V {x} = {self.term(r.term, env)}; if (c->err) return;"]
+        parts += [f"V {n} = {a}; if (c->err) return;" for n, a in zip(avs, args)]
+        first = True
+        for rd in self.referenced_rules():
+            if len(rd.params) != len(args):
+                continue
+            code = self.codec.to_c(RuleValue(rd))
+            fn = self.rule_fn(rd)
+            kw = "if" if first else "else if"
+            parts.append(f"{kw} ({x} == {code}LL) {{ {fn}(c{''.join(', ' + a for a in avs)}); }}")
+            first = False
+        parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
+        parts.append("if (c->err) return; }")
+        return " ".join(parts)
 
     def check_by_name(self, rd, args):
         from ..semantics.analysis import has_sequencing as _has_sequencing, is_simple as _is_simple
@@ -995,13 +1108,95 @@ class Generator:
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
 
     def r_CallRule(self, r, env):
-        if r.turbo:
-            raise Unsupported("turbo rules")
         rd = r.rule
-        self.check_by_name(rd, r.args)
+        if not r.turbo:
+            modes = self.arg_modes(r, env)
+            if any(m == 3 and self.updates_param(rd, i) for i, m in enumerate(modes)) or (
+                    any(m in (1, 3) for m in modes) and self.seq_rule(rd)):
+                return self.call_by_name(r, env, modes)
+            self.check_by_name(rd, [a for a, m in zip(r.args, modes) if m != 3])
+        # a turbo call passes its arguments by value
         name = self.rule_fn(rd)
         args = [self.term(a, env) for a in r.args]
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+
+    def arg_modes(self, r, env) -> list:
+        """How the Python engine passes each argument of a macro call: 0 by value, 1 by name,
+        3 a location by name (an update of the parameter updates it); a variable bound to an
+        argument passed by name passes it on as it is."""
+        from ..semantics.analysis import is_simple, mentions_monitored
+        by_name = self.seq_rule(r.rule)
+        modes = []
+        for a in r.args:
+            if isinstance(a, ir.VarRef):
+                b = env.get(a.var.uid)
+                modes.append((3 if b.loc is not None else 1) if isinstance(b, ByName) else 0)
+            elif isinstance(a, ir.Loc) and a.func.is_location and a.func.kind not in ("monitored", "static"):
+                modes.append(3)
+            elif (by_name and not is_simple(a)) or mentions_monitored(a):
+                modes.append(1)
+            else:
+                modes.append(0)
+        return modes
+
+    def seq_rule(self, rd) -> bool:
+        from ..semantics.analysis import has_sequencing
+        return has_sequencing(rd)
+
+    def updates_param(self, rd, i: int, seen=None) -> bool:
+        """Does the body of ``rd`` update its i-th parameter, itself or through a macro call
+        that receives it?"""
+        seen = set() if seen is None else seen
+        if (rd, i) in seen:
+            return False
+        seen.add((rd, i))
+        uid = rd.params[i].uid
+        todo = [rd.body]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.UpdateVar) and x.var.uid == uid:
+                return True
+            if isinstance(x, ir.CallRule) and not x.turbo:
+                for j, a in enumerate(x.args):
+                    if isinstance(a, ir.VarRef) and a.var.uid == uid and self.updates_param(x.rule, j, seen):
+                        return True
+            if isinstance(x, ir.TurboReturn):
+                todo.append(x.target)
+                todo.append(x.call)
+            elif isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
+
+    def call_by_name(self, r, env, modes):
+        """A macro call whose arguments the Python engine passes by name where the body sees the
+        state change (seq blocks, loops) or updates a location argument through its parameter:
+        the body is written in place with each such parameter standing for its argument's code
+        (evaluated where the body uses it, in the caller's scope)."""
+        rd = r.rule
+        stack = self.__dict__.setdefault("_inlining", [])
+        if rd in stack:
+            raise Unsupported(f"a recursive rule {rd.name} with arguments passed by name")
+        body_env = {}
+        decls = []
+        for p, a, m in zip(rd.params, r.args, modes):
+            if m == 0:
+                x = self.fresh("pv")
+                decls.append(f"V {x} = {self.term(a, env)}; if (c->err) return;")
+                body_env[p.uid] = x
+            elif isinstance(a, ir.VarRef) and isinstance(env.get(a.var.uid), ByName):
+                body_env[p.uid] = env[a.var.uid]
+            elif m == 3:
+                body_env[p.uid] = ByName(f"({self.term(a, env)})", (a.func, [self.term(x, env) for x in a.args]))
+            else:
+                body_env[p.uid] = ByName(f"({self.term(a, env)})", None)
+        stack.append(rd)
+        try:
+            body = self.rule(rd.body, body_env)
+        finally:
+            stack.pop()
+        return "{ " + " ".join(decls) + " { " + body + " } if (c->err) return; }"
 
     def rule_fn(self, rd) -> str:
         name = self.rules_done.get(rd)
