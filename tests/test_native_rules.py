@@ -215,3 +215,55 @@ def test_a_location_argument_is_updated_through_the_parameter_and_read_by_name(t
     assert v["property"] == "inv_log"
     assert v["trace"][-1]["state"] == {"cell(0)": 0, "cell(1)": 0, "cell(2)": 0,
                                        "log": {"seq": [10, 20, 0, 10, 20, 0]}, "ptr": 0}
+
+
+TURBO = """\
+asm Turbo
+import StandardLibrary
+signature:
+	controlled n: Integer
+	controlled fact: Integer
+	controlled half: Integer
+	controlled steps: Integer
+	monitored pick: Boolean
+definitions:
+	turbo rule r_fact($k in Integer) in Integer =
+		if $k <= 1 then
+			result := 1
+		else let ($p = 0) in seq
+			$p <- r_fact($k - 1)
+			result := $k * $p
+		endseq endlet endif
+	turbo rule r_half($k in Integer) in Integer =
+		if $k mod 2 = 0 then result := idiv($k, 2) endif
+	turbo rule r_tick($k in Integer) =
+		if $k > 0 then seq
+			steps := steps + 1
+			r_tick($k - 1)
+		endseq endif
+	invariant inv_fact over fact: fact < 720
+	main rule r_main =
+		seq
+			fact <- r_fact(n)
+			half <- r_half(n)
+			steps := 0
+			r_tick(n)
+			if pick then n := n + 1 else n := n + 2 endif
+		endseq
+default init s0:
+	function n = 1
+	function fact = 0
+	function half = 0
+	function steps = 0
+"""
+
+
+def test_turbo_calls_recursion_and_return_values(tmp_path, capsys):
+    # r_fact returns through result (recursively, into a let variable), r_half gives no result
+    # for an odd n (half becomes undef), r_tick recurses without a result; result itself is a
+    # location of the state, as in the Python engine
+    code, out = both(tmp_path, capsys, TURBO)
+    assert (code, *summary(out)) == (1, "violated", 17, 24, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_fact"
+    assert [s["state"] for s in v["trace"]][-1] == {"fact": 5040, "n": 9, "result": 5040, "steps": 7}

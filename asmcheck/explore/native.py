@@ -325,6 +325,7 @@ class Generator:
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
+        self.layout_result()
         for st in self.init_states:
             for k in st:
                 if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
@@ -343,6 +344,41 @@ class Generator:
                     n *= len(vals)
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
+
+    def layout_result(self) -> None:
+        """The location ``result`` of turbo rules (type Any): a slot of the one type every
+        update of it in the spec gives it, or none when nothing updates it."""
+        rf = self.spec.result_func
+        if rf is None:
+            return
+        types = []
+        todo: list = [rd.body for rd in self.spec.rules]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Update) and x.func is rf:
+                types.append(x.value.type)
+            if isinstance(x, (ir.Rule, ir.Term)):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, ir.Term, list, tuple)))
+        if not types:
+            return
+        roots = {T.INTEGER if T.root(t) is T.NATURAL else T.root(t) for t in types}
+        if len(roots) != 1:
+            raise Unsupported("values of several types in the location result")
+        (typ,) = roots
+        if typ in (T.INTEGER, T.NATURAL) or self.composite(typ):
+            cod = None
+        elif typ is T.BOOLEAN or (isinstance(typ, T.Domain) and typ.kind == "enum"):
+            cod = self.values_of(typ)
+        else:
+            raise Unsupported(f"the location result of type {typ}")
+        base = len(self.slots)
+        self.slot_of[rf.index] = base
+        self.slots.append(rf.index)
+        self.slot_values.append(cod)
+        self.slot_types.append(typ)
+        self.fn_base[rf.index] = (base, [], cod)
 
     # -------------------------------------------------------------- terms
     def term(self, t: ir.Term, env: dict) -> str:
@@ -812,6 +848,13 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if f is self.spec.result_func and f.index in self.fn_base:
+            # a turbo return reads the value of result its call gave (see r_TurboReturn)
+            args = [self.term(a, env) for a in r.args]
+            if "res_written" not in self.defined_done:
+                self.defined_done.add("res_written")
+                self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+            return "{ " + self.update_location(f, args, self.term(r.value, env)) + " res_written = 1; }"
         if f.index in self.map_slot:
             args = [self.term(a, env) for a in r.args]
             v = self.fresh("v")
@@ -1119,6 +1162,31 @@ class Generator:
         name = self.rule_fn(rd)
         args = [self.term(a, env) for a in r.args]
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+
+    def r_TurboReturn(self, r, env):
+        """``target <- r_t(args)``: the call's updates join the step's, and the target takes the
+        value the call gave ``result`` (undef when it gave none), as in the Python engine."""
+        rf = self.spec.result_func
+        call = self.rule(r.call, env)
+        w = self.fresh("rw")
+        if "res_written" not in self.defined_done:
+            self.defined_done.add("res_written")
+            self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+        if rf.index in self.fn_base:
+            s = self.slot_of[rf.index]
+            value = (f"(res_written && c->wgen[{s}] == c->gen ? slot_decode({s}, c->upd_code[c->wpos[{s}]]) : UNDEF)")
+        else:
+            value = "UNDEF"
+        head = (f"{{ int {w} = res_written; res_written = 0; {{ {call} }} V v_{w} = {value}; "
+                f"res_written = {w} | res_written; if (c->err) return;")
+        tgt = r.target
+        if isinstance(tgt, ir.Update):
+            args = [self.term(a, env) for a in tgt.args]
+            return head + " " + self.update_location(tgt.func, args, f"v_{w}") + " }"
+        name = env.get(tgt.var.uid)
+        if name is None or isinstance(name, ByName):
+            raise Unsupported(f"a turbo return into {tgt.var.name}")
+        return head + f" {name} = v_{w}; }}"
 
     def arg_modes(self, r, env) -> list:
         """How the Python engine passes each argument of a macro call: 0 by value, 1 by name,
