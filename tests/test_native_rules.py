@@ -267,3 +267,38 @@ def test_turbo_calls_recursion_and_return_values(tmp_path, capsys):
     (v,) = out["violations"]
     assert v["property"] == "inv_fact"
     assert [s["state"] for s in v["trace"]][-1] == {"fact": 5040, "n": 9, "result": 5040, "steps": 7}
+
+
+LAZY = """\
+asm Lazy
+import StandardLibrary
+signature:
+	controlled g: Integer -> Integer
+	controlled n: Integer
+	controlled res: Integer
+	monitored skip2: Boolean
+definitions:
+	invariant inv_out over res: res < 6
+	main rule r_main =
+		if n < 4 then
+			seq
+				res := g(n)
+				if skip2 then n := n + 2 else n := n + 1 endif
+				g(n) := g(n) + 1
+			endseq
+		endif
+default init s0:
+	function g($x in Integer) = $x * 2
+	function n = 0
+	function res = 0
+"""
+
+
+def test_a_lazily_initialised_function_keeps_the_locations_it_read(tmp_path, capsys):
+    # g over the integers: a location first read keeps its initial value in the next state
+    # (g(0) = 0 is read by res := g(0) and never updated)
+    code, out = both(tmp_path, capsys, LAZY)
+    assert (code, *summary(out)) == (1, "violated", 15, 17, 4)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_out"
+    assert v["trace"][-1]["state"] == {"g(0)": 0, "g(1)": 3, "g(3)": 7, "g(4)": 9, "n": 4, "res": 7}

@@ -297,7 +297,8 @@ class Generator:
             if f is self.spec.self_func or f is self.spec.result_func:
                 continue
             if f.index in self.m.lazy:
-                raise Unsupported(f"the lazily initialised function {f.name}")
+                self.layout_lazy(f)
+                continue
             try:
                 arg_values = [self.values_of(d) for d in f.domain]
             except Unsupported:
@@ -344,6 +345,94 @@ class Generator:
                     n *= len(vals)
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
+
+    def layout_lazy(self, f) -> None:
+        """A function initialised over an infinite domain: its updated locations are one map
+        value (as for any function over an infinite domain); a location not in the map has the
+        value of the init term, which must read no location (then its first read in a step and
+        every later one agree)."""
+        params, body = self.m.lazy[f.index]
+        lazy_ok = self.map_function(f) or (bool(f.domain) and all(
+            T.root(d) in (T.INTEGER, T.NATURAL, T.BOOLEAN) for d in f.domain)
+            and isinstance(T.root(f.codomain), T.Struct) and T.root(f.codomain).kind == "Rule")
+        if not lazy_ok or not self.reads_no_location(body) or self.has_choose():
+            # a location first read keeps its initial value in the next state; the Python engine
+            # reads it also in the alternatives of a choose that it merges, and in none when it
+            # reuses a choose's outcomes: only specs without choose rules are translated
+            raise Unsupported(f"the lazily initialised function {f.name}")
+        s_ = len(self.slots)
+        self.slot_of[("map", f.index)] = s_
+        self.slots.append(("map", f.index))
+        self.slot_values.append(None)
+        self.slot_types.append(("map", f))
+        self.map_slot[f.index] = s_
+        self.__dict__.setdefault("lazy_init", {})[f.index] = (params, body)
+
+    def has_choose(self) -> bool:
+        todo: list = [rd.body for rd in self.spec.rules]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Choose):
+                return True
+            if isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
+
+    def reads_no_location(self, t) -> bool:
+        todo = [t]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Loc) and (x.func.kind != "static" or x.func.body is not None and not
+                                          self.reads_no_location(x.func.body)):
+                return False
+            if isinstance(x, (ir.StepOp,)):
+                return False
+            if isinstance(x, ir.Term):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Term, list, tuple)))
+        return True
+
+    def lazy_read(self, f, args: list) -> str:
+        """A read of a lazily initialised location: its value in the map, else the init term's."""
+        params, body = self.lazy_init[f.index]
+        name = f"lz{f.index}"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            env = {p.uid: f"q{p.uid}" for p in params}
+            sig = "".join(f", V q{p.uid}" for p in params)
+            self.funcs.append(f"static V {name}(Ctx *c{sig});")
+            self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {self.term(body, env)}; }}")
+        ks = [self.fresh("lk") for _ in args]
+        m = self.fresh("lm")
+        decl = " ".join(f"V {k} = {a};" for k, a in zip(ks, args))
+        if "lz_note" not in self.defined_done:
+            self.defined_done.add("lz_note")
+            self.funcs.append(
+                "/* lazily initialised locations read in this run: the next state keeps their value */\n"
+                "static uint32_t lz_gen = 0; static int lz_n = 0; static int lz_slot[MAXV]; static V lz_key[MAXV], lz_val[MAXV];\n"
+                "static V lz_note(Ctx *c, int s, V k, V v) {\n"
+                "    if (c->in_prop || c->rd != c->cur) return v;\n"
+                "    if (lz_gen != c->gen) { lz_gen = c->gen; lz_n = 0; }\n"
+                "    if (lz_n >= MAXV) { fail(c, E_UNSUPPORTED, 0); return v; }\n"
+                "    lz_slot[lz_n] = s; lz_key[lz_n] = k; lz_val[lz_n] = v; lz_n++;\n"
+                "    return v;\n"
+                "}\n"
+                "static void lz_flush(Ctx *c) {\n"
+                "    if (c->err || lz_gen != c->gen) return;\n"
+                "    for (int i = 0; i < lz_n; i++) {\n"
+                "        if (lz_val[i] == UNDEF) { fail(c, E_UNSUPPORTED, 0); return; }\n"
+                "        int vs = vslot(c, lz_slot[i], lz_key[i]);\n"
+                "        if (vs >= 0 && c->wgen[vs] != c->gen) upd(c, vs, lz_val[i], 0);\n"
+                "    }\n"
+                "    lz_n = 0;\n"
+                "}")
+        sl = self.map_slot[f.index]
+        key = self.fresh("lq")
+        return (f"({{ {decl} V {key} = {self.map_key(f, ks)}; V {m} = map_get(c->rd[{sl}], {key}); "
+                f"{m} == UNDEF ? lz_note(c, {sl}, {key}, {name}(c{''.join(', ' + k for k in ks)})) : {m}; }})")
 
     def layout_result(self) -> None:
         """The location ``result`` of turbo rules (type Any): a slot of the one type every
@@ -420,6 +509,8 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over an infinite domain")
             base, arg_values, cod = self.mon_base[f.index]
             return f"({self.mon_reader(f)}(c{''.join(', ' + a for a in args)}))"
+        if f.index in getattr(self, "lazy_init", ()):
+            return self.lazy_read(f, args)
         if f.index in self.map_slot:
             return f"map_get(c->rd[{self.map_slot[f.index]}], {self.map_key(f, args)})"
         if f.index not in self.fn_base:
@@ -848,6 +939,8 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if f.index in getattr(self, "lazy_init", ()):
+            return self.update_location(f, [self.term(a, env) for a in r.args], self.term(r.value, env))
         if f is self.spec.result_func and f.index in self.fn_base:
             # a turbo return reads the value of result its call gave (see r_TurboReturn)
             args = [self.term(a, env) for a in r.args]
@@ -874,6 +967,10 @@ class Generator:
         """The update of the location ``f(args)`` (the arguments' and the value's C code)."""
         if f.index in self.map_slot:
             v = self.fresh("v")
+            if f.index in getattr(self, "lazy_init", ()):
+                # undef in a lazily initialised location is kept apart from "never updated" by
+                # the Python engine; the map cannot hold it
+                value = f"({{ V lz_{v} = {value}; if (lz_{v} == UNDEF) fail(c, E_UNSUPPORTED, 0); lz_{v}; }})"
             return (f"{{ V {v} = {value}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
                     f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
         if f.index not in self.fn_base:
@@ -1374,6 +1471,8 @@ class Generator:
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
+        if "lz_note" in self.defined_done:
+            step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         return src
