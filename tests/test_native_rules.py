@@ -13,6 +13,8 @@ from asmcheck.cli import main
 from asmcheck.explore.native_build import compiler
 from helpers import write
 
+pytestmark = pytest.mark.engines("native")
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
