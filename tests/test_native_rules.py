@@ -304,3 +304,49 @@ def test_a_lazily_initialised_function_keeps_the_locations_it_read(tmp_path, cap
     (v,) = out["violations"]
     assert v["property"] == "inv_out"
     assert v["trace"][-1]["state"] == {"g(0)": 0, "g(1)": 3, "g(3)": 7, "g(4)": 9, "n": 4, "res": 7}
+
+
+PAIRS = """\
+asm Pairs
+import StandardLibrary
+signature:
+	enum domain Side = {LEFT | RIGHT}
+	controlled pairs: Powerset(Prod(Integer, Side))
+	controlled groups: Powerset(Powerset(Integer))
+	controlled names: Powerset(String)
+	controlled total: Integer
+	controlled tag: String
+definitions:
+	invariant inv_total over total: total < 12
+	main rule r_main =
+		par
+			choose $p in pairs with true do
+				par
+					pairs := excluding(pairs, $p)
+					total := total + first($p)
+				endpar
+			ifnone pairs := {(3, LEFT), (1, RIGHT), (1, LEFT)}
+			choose $g in groups, $x in $g with true do groups := excluding(groups, $g)
+			ifnone groups := {{2, 3}, {4}, {1, 5, 6}}
+			choose $n in names do par tag := $n names := excluding(names, $n) endpar
+		endpar
+default init s0:
+	function pairs = {(2, RIGHT), (10, LEFT), (2, LEFT)}
+	function groups = {{7, 1}, {2}}
+	function names = {"b", "ab", "a"}
+	function total = 0
+	function tag = ""
+"""
+
+
+def test_choose_over_sets_of_tuples_sets_and_strings_in_vkey_order(tmp_path, capsys):
+    # the elements of a set of composite values are met sorted as the Python engine sorts them:
+    # (2, LEFT) before (2, RIGHT) and (10, LEFT); {2} before {1, 7}; "a" before "ab" and "b"
+    code, out = both(tmp_path, capsys, PAIRS)
+    assert (code, *summary(out)) == (1, "violated", 39, 93, 3)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_total"
+    assert [[c["value"] for c in s["choices"]] for s in v["trace"]] == [
+        [],
+        [{"$p": {"tuple": [2, "LEFT"]}}, {"$g": {"set": [2]}, "$x": 2}, {"$n": "a"}],
+        [{"$p": {"tuple": [10, "LEFT"]}}, {"$n": "ab"}]]

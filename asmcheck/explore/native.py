@@ -833,14 +833,85 @@ class Generator:
             vals = self.range_values(rg)
         except Unsupported:
             r = T.root(rg.type) if rg.type is not None else None
-            if not ((any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct)
-                    and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
+            sorter = None
+            if not (any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct) and \
+                    r.kind == "Powerset" and self.composite(rg.type):
+                # a set of composite values: walked sorted as the Python engine sorts it (vkey)
+                sorter = self.vkey_sorter(r.args[0])
+                if sorter is None:
+                    raise
+            elif not ((any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct)
+                      and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
                 raise
             rv = self.fresh("rv")
-            return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
+            value = self.term(rg, env) if sorter is None else f"{sorter}(c, {self.term(rg, env)})"
+            return (f"V {rv} = {value}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
         tab = self.table(vals)
         return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+
+    def vkey_cmp(self, typ):
+        """The name of a C function comparing two codes of type ``typ`` as ``vkey`` compares
+        the values (-1, 0, 1), or None where that is not written."""
+        r = T.root(typ)
+        key = ("vcmp", str(typ))
+        names = self.__dict__.setdefault("_vcmp", {})
+        if key in names:
+            return names[key]
+        head = "if (a == b) return 0; if (a == UNDEF) return -1; if (b == UNDEF) return 1;"
+        if self.codes_sorted_like_vkey(typ):
+            body = head + " return a < b ? -1 : 1;"
+        elif r is T.STRING:
+            body = (head + " int n = v_len(a), m = v_len(b); for (int i = 0; i < n && i < m; i++) { "
+                    "V x = v_elems(a)[i], y = v_elems(b)[i]; if (x != y) return x < y ? -1 : 1; } "
+                    "return n < m ? -1 : n > m ? 1 : 0;")
+        elif isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset") and self.composite(typ):
+            if r.kind == "Powerset" and not self.codes_sorted_like_vkey(r.args[0]):
+                names[key] = None
+                return None
+            subs = [self.vkey_cmp(a) for a in r.args]
+            if any(x is None for x in subs):
+                names[key] = None
+                return None
+            if r.kind == "Prod":
+                parts = " ".join(f"{{ int k = {subs[i]}(v_elems(a)[{i}], v_elems(b)[{i}]); if (k) return k; }}"
+                                 for i in range(len(subs)))
+                body = head + " " + parts + " return 0;"
+            else:
+                pre = "int n = v_len(a), m = v_len(b); "
+                if r.kind == "Powerset":      # (8, len, elements sorted)
+                    pre += "if (n != m) return n < m ? -1 : 1; "
+                body = (head + " " + pre + "for (int i = 0; i < n && i < m; i++) { "
+                        f"int k = {subs[0]}(v_elems(a)[i], v_elems(b)[i]); if (k) return k; }} "
+                        "return n < m ? -1 : n > m ? 1 : 0;")
+        else:
+            names[key] = None
+            return None
+        name = f"vc{len(names)}"
+        names[key] = name
+        self.funcs.append(f"static int {name}(V a, V b) {{ {body} }}")
+        return name
+
+    def vkey_sorter(self, elem):
+        """The name of a C function: a set of ``elem`` values -> the sequence of its elements
+        sorted by ``vkey`` (interned), or None."""
+        cmp = self.vkey_cmp(elem)
+        if cmp is None:
+            return None
+        name = f"{cmp}_sorted"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            self.funcs.append(
+                f"static int {cmp}_q(const void *x, const void *y) {{ return {cmp}(*(const V *)x, *(const V *)y); }}\n"
+                f"static V {name}(Ctx *c, V s) {{\n"
+                f"    if (s == UNDEF) return UNDEF;\n"
+                f"    int n = v_len(s);\n"
+                f"    if (n > (1 << 16)) {{ fail(c, E_UNSUPPORTED, 0); return UNDEF; }}\n"
+                f"    memcpy(vscratch, v_elems(s), n * sizeof(V));\n"
+                f"    qsort(vscratch, n, sizeof(V), {cmp}_q);\n"
+                f"    return v_intern(c, K_SEQ, vscratch, n);\n"
+                f"}}")
+        return name
 
     def runtime_order_ok(self, typ) -> bool:
         """Does a sequence or set of type ``typ`` computed in the state list its elements, in the
