@@ -350,3 +350,38 @@ def test_choose_over_sets_of_tuples_sets_and_strings_in_vkey_order(tmp_path, cap
         [],
         [{"$p": {"tuple": [2, "LEFT"]}}, {"$g": {"set": [2]}, "$x": 2}, {"$n": "a"}],
         [{"$p": {"tuple": [10, "LEFT"]}}, {"$n": "ab"}]]
+
+
+RANGES = """\
+asm Ranges
+import StandardLibrary
+signature:
+	controlled hi: Integer
+	controlled picked: Integer
+	controlled evens: Seq(Integer)
+	controlled st: Integer
+definitions:
+	invariant inv_picked over picked: picked != 7
+	main rule r_main =
+		par
+			choose $i in {hi - 2 : hi} with $i mod 2 = 0 do picked := $i
+			evens := [0 : hi, st]
+			if hi < 6 then hi := hi + 1 endif
+			if hi = 5 then st := 0 endif
+		endpar
+default init s0:
+	function hi = 2
+	function picked = 0
+	function evens = []
+	function st = 2
+"""
+
+
+def test_intervals_with_bounds_and_steps_computed_in_the_state(tmp_path, capsys):
+    # {hi - 2 : hi} ranged over by a choose, [0 : hi, st] stored; a step of 0 is the Python
+    # engine's run-time error
+    code, out = both(tmp_path, capsys, RANGES)
+    assert (code, *summary(out)) == (1, "violated", 7, 8, 4)
+    (v,) = out["violations"]
+    assert (v["property"], v["message"]) == ("error", "the step of an interval must be positive, not 0")
+    assert v["trace"][-1]["state"] == {"evens": {"seq": [0, 2, 4]}, "hi": 6, "picked": 4, "st": 0}

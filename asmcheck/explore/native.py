@@ -48,7 +48,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
-RULE_BASE = 1 << 41       # the code of a rule value: RULE_BASE + its number
+RULE_BASE = 1 << 48       # the code of a rule value: RULE_BASE + its number (apart from elements, 2^40...)
 
 
 def _ceil_log2(n: int) -> int:
@@ -95,7 +95,7 @@ class Codec:
                 base = self.enum_base[v.domain] = len(self.enum_base) << 20
             return base + v.index
         if t is RuleValue:
-            # a rule value with no agent bound to it: a number of its own (2^41 + k)
+            # a rule value with no agent bound to it: a number of its own (RULE_BASE + k)
             if v.agent is not None or v.args:
                 raise Unsupported("a rule value bound to an agent")
             k = self.rule_ids.get(v.rule)
@@ -456,8 +456,9 @@ class Generator:
         if len(roots) != 1:
             raise Unsupported("values of several types in the location result")
         (typ,) = roots
-        if typ in (T.INTEGER, T.NATURAL) or self.composite(typ):
-            cod = None
+        if typ in (T.INTEGER, T.NATURAL) or self.composite(typ) or (
+                isinstance(typ, T.Domain) and typ.kind == "abstract"):
+            cod = None       # the code itself (an element of an abstract domain decodes by its number)
         elif typ is T.BOOLEAN or (isinstance(typ, T.Domain) and typ.kind == "enum"):
             cod = self.values_of(typ)
         else:
@@ -741,6 +742,26 @@ class Generator:
             vals = [self.term(x, env) for x in t.items]
             return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; set_make(c, {arr}, {len(vals)}); }})"
         return self.build(1, t.items, env)
+
+    def t_Range(self, t, env):
+        """``{a : b}`` / ``[a : b, step]`` over integers: the set or sequence built at run time."""
+        if t.kind not in ("set", "seq") or not self.composite(t.type) or any(
+                T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in (t.start, t.end, t.step) if x is not None):
+            raise Unsupported(f"the term Range at {t.span.short() if t.span else '?'}")
+        from ..semantics.analysis import is_constant
+        if is_constant(t):
+            from ..semantics.machine import Ctx, Chooser
+            return self.codec.literal(self.m.term(t)(Ctx(self.m, {}, Chooser())))
+        lo, hi, st, n = self.fresh("lo"), self.fresh("hi"), self.fresh("st"), self.fresh("n")
+        step = self.term(t.step, env) if t.step is not None else "(V)1"
+        kind = "K_SET" if t.kind == "set" else "K_SEQ"
+        # ascending integers: the set's elements are already sorted
+        return (f"({{ V {lo} = {self.term(t.start, env)}; V {hi} = {self.term(t.end, env)}; V {st} = {step}; V r_{n} = UNDEF; "
+                f"if ({lo} == UNDEF || {hi} == UNDEF || {st} == UNDEF || {st} <= 0) fail(c, E_MODEL, 0); "
+                f"else {{ uint64_t {n} = {hi} < {lo} ? 0 : ((uint64_t){hi} - (uint64_t){lo}) / (uint64_t){st} + 1; "
+                f"if ({n} > (1 << 16)) fail(c, E_UNSUPPORTED, 0); "
+                f"else {{ for (uint64_t i_{n} = 0; i_{n} < {n}; i_{n}++) vscratch[i_{n}] = (V)((uint64_t){lo} + i_{n} * (uint64_t){st}); "
+                f"r_{n} = v_intern(c, {kind}, vscratch, (int){n}); }} }} r_{n}; }})")
 
     def t_TupleLit(self, t, env):
         if not self.composite(t.type):
