@@ -385,3 +385,44 @@ def test_intervals_with_bounds_and_steps_computed_in_the_state(tmp_path, capsys)
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "the step of an interval must be positive, not 0")
     assert v["trace"][-1]["state"] == {"evens": {"seq": [0, 2, 4]}, "hi": 6, "picked": 4, "st": 0}
+
+
+SLOTS = """\
+asm Slots
+import StandardLibrary
+signature:
+	controlled prog: Integer -> Rule
+	controlled pc: Integer
+	controlled acc: Integer
+definitions:
+	rule r_add = acc := acc + 3
+	rule r_dbl = acc := acc * 2
+	rule r_halt = skip
+	invariant inv_acc over acc: pc != 4
+	main rule r_main =
+		if pc < 4 then
+			par
+				prog(pc)
+				pc := pc + 1
+				if acc > 5 then prog(pc + 1) := <<r_dbl>> endif
+			endpar
+		else
+			r_halt[]
+		endif
+default init s0:
+	function prog($i in Integer) = if $i mod 2 = 0 then <<r_add>> else <<r_halt>> endif
+	function pc = 0
+	function acc = 0
+"""
+
+
+def test_rules_stored_in_a_function_over_the_integers(tmp_path, capsys):
+    # prog: Integer -> Rule, initialised lazily; each location read keeps its rule, prog(4) is
+    # updated to <<r_dbl>> (pc + 1 when acc > 5)
+    code, out = both(tmp_path, capsys, SLOTS)
+    assert (code, *summary(out)) == (1, "violated", 5, 5, 4)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_acc"
+    assert v["trace"][-1]["state"] == {"acc": 6, "pc": 4, "prog(0)": {"rule": "r_add"}, "prog(1)": {"rule": "r_halt"},
+                                       "prog(2)": {"rule": "r_add"}, "prog(3)": {"rule": "r_halt"},
+                                       "prog(4)": {"rule": "r_dbl"}}

@@ -267,7 +267,8 @@ class Generator:
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
-        return bool(f.domain) and all(scalar(d) for d in f.domain) and scalar(cd)
+        rule_cd = isinstance(T.root(cd), T.Struct) and T.root(cd).kind == "Rule"    # a rule value is a code too
+        return bool(f.domain) and all(scalar(d) for d in f.domain) and (scalar(cd) or rule_cd)
 
     def map_key(self, f, args: list) -> str:
         if len(args) == 1:
