@@ -426,3 +426,37 @@ def test_rules_stored_in_a_function_over_the_integers(tmp_path, capsys):
     assert v["trace"][-1]["state"] == {"acc": 6, "pc": 4, "prog(0)": {"rule": "r_add"}, "prog(1)": {"rule": "r_halt"},
                                        "prog(2)": {"rule": "r_add"}, "prog(3)": {"rule": "r_halt"},
                                        "prog(4)": {"rule": "r_dbl"}}
+
+
+EACH = """\
+asm Each
+import StandardLibrary
+signature:
+	domain Cell subsetof Integer
+	controlled jobs: Powerset(Prod(Cell, Cell))
+	controlled load: Cell -> Integer
+definitions:
+	domain Cell = {0 : 2}
+	invariant inv_load over load: load(2) < 2
+	main rule r_main =
+		if size(jobs) < 2 then
+			jobs := including(jobs, if isEmpty(jobs) then (2, 1) else (0, 2) endif)
+		else
+			forall $j in jobs do
+				choose $c in {first($j), second($j)} with load($c) < 3 do load($c) := load($c) + 1
+		endif
+default init s0:
+	function jobs = {}
+	function load($c in Cell) = 0
+"""
+
+
+def test_a_forall_whose_body_chooses_meets_a_set_of_tuples_in_vkey_order(tmp_path, capsys):
+    # (2, 1) enters the value table before (0, 2); the Python engine walks (0, 2) first, so the
+    # first choice of each step is between 0 and 2 (walked in the order of the codes, it was
+    # between 2 and 1: another shortest trace)
+    code, out = both(tmp_path, capsys, EACH)
+    assert (code, *summary(out)) == (1, "violated", 29, 42, 5)
+    (v,) = out["violations"]
+    assert [[c["value"] for c in s["choices"]] for s in v["trace"]] == [
+        [], [], [], [{"$c": 0}, {"$c": 2}], [{"$c": 0}, {"$c": 2}]]

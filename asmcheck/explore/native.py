@@ -856,11 +856,12 @@ class Generator:
         except Unsupported:
             r = T.root(rg.type) if rg.type is not None else None
             sorter = None
-            if not (any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct) and \
+            if not self.runtime_order_ok(rg.type) and isinstance(r, T.Struct) and \
                     r.kind == "Powerset" and self.composite(rg.type):
-                # a set of composite values: walked sorted as the Python engine sorts it (vkey)
+                # a set of composite values: walked sorted as the Python engine sorts it (vkey),
+                # also where any order would do (a quantifier stops where the Python engine stops)
                 sorter = self.vkey_sorter(r.args[0])
-                if sorter is None:
+                if sorter is None and not any_order:
                     raise
             elif not ((any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct)
                       and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
@@ -1234,13 +1235,38 @@ class Generator:
             env[v.uid] = name
         return "{ " + " ".join(decls) + " " + self.rule(r.body, env) + " }"
 
+    def makes_choices(self, x, seen=None) -> bool:
+        """Could running the rule ``x`` make a choice (a choose, a monitored read, a rule value)?"""
+        seen = set() if seen is None else seen
+        todo = [x]
+        while todo:
+            y = todo.pop()
+            if isinstance(y, (ir.Choose, ir.TermCall)):
+                return True
+            if isinstance(y, ir.Loc) and (y.func.kind == "monitored" or (
+                    y.func.body is not None and y.func not in seen and (seen.add(y.func) or True)
+                    and self.makes_choices(y.func.body, seen))):
+                return True
+            if isinstance(y, (ir.CallRule, ir.TurboReturn)):
+                rd = y.rule if isinstance(y, ir.CallRule) else y.call.rule
+                if rd not in seen:
+                    seen.add(rd)
+                    todo.append(rd.body)
+            if isinstance(y, (ir.Rule, ir.Term)):
+                todo.extend(v for v in vars(y).values() if isinstance(v, (ir.Rule, ir.Term, list, tuple)))
+            elif isinstance(y, (list, tuple)):
+                todo.extend(z for z in y if isinstance(z, (ir.Rule, ir.Term, list, tuple)))
+        return False
+
     def r_Forall(self, r, env):
         env = dict(env)
         heads = []
+        # the body's choices follow the order of the elements: then it must be the Python engine's
+        any_order = not self.makes_choices(r.body)
         for v, rg in r.bindings:
             q = self.fresh("q")
             name = self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, True))
+            heads.append(self.loop_head(rg, env, name, q, any_order))
             env[v.uid] = name
         g = self.fresh("g")
         guard = self.term(r.guard, env) if r.guard is not None else "(V)1"
