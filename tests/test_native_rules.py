@@ -460,3 +460,41 @@ def test_a_forall_whose_body_chooses_meets_a_set_of_tuples_in_vkey_order(tmp_pat
     (v,) = out["violations"]
     assert [[c["value"] for c in s["choices"]] for s in v["trace"]] == [
         [], [], [], [{"$c": 0}, {"$c": 2}], [{"$c": 0}, {"$c": 2}]]
+
+
+MON_ARG = """\
+asm MonArg
+import StandardLibrary
+signature:
+	domain Idx subsetof Integer
+	enum domain Mode = {IDLE | BUSY}
+	controlled a: Integer
+	controlled b: Integer
+	controlled m: Mode
+	monitored inp: Idx -> Boolean
+	monitored go: Boolean
+definitions:
+	domain Idx = {0 : 3}
+	macro rule r_take($p in Boolean, $q in Boolean) =
+		choose $k in {1, 2, 3} with $k > a do
+			par
+				a := if $k = 3 then 0 else $k endif
+				if $p then b := (b + $k) mod 4 endif
+				if m = BUSY and $q then m := IDLE else m := BUSY endif
+			endpar
+	invariant inv_b over b: b != 2
+	main rule r_main = r_take[inp(a), go]
+default init s0:
+	function a = 0
+	function b = 0
+	function m = IDLE
+"""
+
+
+def test_a_monitored_argument_is_read_where_the_body_uses_it(tmp_path, capsys):
+    # inp(a) is read only when the chosen $k makes the body use $p, after the choice of $k, as
+    # in the Python engine (read at the call, it gave 20 states and 42 transitions)
+    code, out = both(tmp_path, capsys, MON_ARG)
+    assert (code, *summary(out)) == (1, "violated", 18, 30, 2)
+    (v,) = out["violations"]
+    assert [s["state"] for s in v["trace"]] == [{"a": 0, "b": 0, "m": "IDLE"}, {"a": 2, "b": 2, "m": "BUSY"}]

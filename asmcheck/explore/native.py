@@ -1369,9 +1369,14 @@ class Generator:
     def r_CallRule(self, r, env):
         rd = r.rule
         if not r.turbo:
+            from ..semantics.analysis import mentions_monitored
             modes = self.arg_modes(r, env)
+            # a monitored argument is read where the body uses it (if it does), so its choice
+            # comes where the Python engine makes it (a recursive rule keeps the call's order)
+            monitored = any(m == 1 and mentions_monitored(a) for a, m in zip(r.args, modes)) and \
+                not self.recursive(rd)
             if any(m == 3 and self.updates_param(rd, i) for i, m in enumerate(modes)) or (
-                    any(m in (1, 3) for m in modes) and self.seq_rule(rd)):
+                    any(m in (1, 3) for m in modes) and self.seq_rule(rd)) or monitored:
                 return self.call_by_name(r, env, modes)
             self.check_by_name(rd, [a for a, m in zip(r.args, modes) if m != 3])
         # a turbo call passes its arguments by value
@@ -1422,6 +1427,19 @@ class Generator:
             else:
                 modes.append(0)
         return modes
+
+    def recursive(self, rd) -> bool:
+        """Does ``rd`` call itself (through any chain of rule calls)?"""
+        seen = set()
+        todo = list(ir.called_rules(rd.body))
+        while todo:
+            x = todo.pop()
+            if x is rd:
+                return True
+            if id(x) not in seen:
+                seen.add(id(x))
+                todo.extend(ir.called_rules(x.body))
+        return False
 
     def seq_rule(self, rd) -> bool:
         from ..semantics.analysis import has_sequencing
