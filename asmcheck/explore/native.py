@@ -9,8 +9,11 @@ A state is a few 64-bit words: a location over a small finite domain (Booleans, 
 integer subdomains, the named elements of abstract domains) is a bit field; an Integer location
 holds its value (64 bits, wrapping like Java's long); a sequence, tuple, set or string is the
 number of its entry in a value table where equal values are interned once.  The rules translated:
-par, seq, if, switch, let, forall, choose, while/iterate, macro calls, agents' programs
-(``program($a)`` and ``self``).  Reads inside a seq block see the working state; update sets are
+par, seq, if, switch, let, forall, choose, while/iterate, macro calls (an argument the Python
+engine passes by name is substituted into the body written in place), turbo calls and their
+return values, rules called through rule values, agents' programs (``program($a)`` and ``self``).
+A choose or forall over a set computed in the state meets its elements in the Python engine's
+order (a generated comparison sorts them as ``vkey`` does).  Reads inside a seq block see the working state; update sets are
 composed as the Python step function composes them (a clash is a run-time error).
 
 The same enumeration of choices as the Python step function is used, so states are discovered in
@@ -1372,9 +1375,10 @@ class Generator:
             from ..semantics.analysis import mentions_monitored
             modes = self.arg_modes(r, env)
             # a monitored argument is read where the body uses it (if it does), so its choice
-            # comes where the Python engine makes it (a recursive rule keeps the call's order)
-            monitored = any(m == 1 and mentions_monitored(a) for a, m in zip(r.args, modes)) and \
-                not self.recursive(rd)
+            # comes where the Python engine makes it
+            monitored = any(m == 1 and mentions_monitored(a) for a, m in zip(r.args, modes))
+            if monitored and self.recursive(rd):
+                raise Unsupported(f"a monitored argument passed by name to the recursive rule {rd.name}")
             if any(m == 3 and self.updates_param(rd, i) for i, m in enumerate(modes)) or (
                     any(m in (1, 3) for m in modes) and self.seq_rule(rd)) or monitored:
                 return self.call_by_name(r, env, modes)
