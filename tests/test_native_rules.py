@@ -12,6 +12,7 @@ import pytest
 from asmcheck.cli import main
 from asmcheck.explore.native_build import compiler
 from helpers import write
+from test_native_engine import ends_on_error
 
 pytestmark = pytest.mark.engines("native")
 
@@ -119,7 +120,7 @@ def test_choose_over_sets_and_sequences_computed_in_the_state(tmp_path, capsys):
 
 
 def test_a_range_that_becomes_undef_is_the_python_engines_error(tmp_path, capsys):
-    code, out = both(tmp_path, capsys, UNDEF_RANGE)
+    code, out = ends_on_error(tmp_path, capsys, UNDEF_RANGE)
     assert (code, *summary(out)) == (1, "violated", 4, 3, 3)
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "the range of $x is undef")
@@ -380,7 +381,7 @@ default init s0:
 def test_intervals_with_bounds_and_steps_computed_in_the_state(tmp_path, capsys):
     # {hi - 2 : hi} ranged over by a choose, [0 : hi, st] stored; a step of 0 is the Python
     # engine's run-time error
-    code, out = both(tmp_path, capsys, RANGES)
+    code, out = ends_on_error(tmp_path, capsys, RANGES)
     assert (code, *summary(out)) == (1, "violated", 7, 8, 4)
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "the step of an interval must be positive, not 0")
