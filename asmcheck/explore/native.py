@@ -9,8 +9,11 @@ A state is a few 64-bit words: a location over a small finite domain (Booleans, 
 integer subdomains, the named elements of abstract domains) is a bit field; an Integer location
 holds its value (64 bits, wrapping like Java's long); a sequence, tuple, set or string is the
 number of its entry in a value table where equal values are interned once.  The rules translated:
-par, seq, if, switch, let, forall, choose, while/iterate, macro calls, agents' programs
-(``program($a)`` and ``self``).  Reads inside a seq block see the working state; update sets are
+par, seq, if, switch, let, forall, choose, while/iterate, macro calls (an argument the Python
+engine passes by name is substituted into the body written in place), turbo calls and their
+return values, rules called through rule values, agents' programs (``program($a)`` and ``self``).
+A choose or forall over a set computed in the state meets its elements in the Python engine's
+order (a generated comparison sorts them as ``vkey`` does).  Reads inside a seq block see the working state; update sets are
 composed as the Python step function composes them (a clash is a run-time error).
 
 The same enumeration of choices as the Python step function is used, so states are discovered in
@@ -31,6 +34,8 @@ others' tables.
 from __future__ import annotations
 
 import ctypes
+import math
+import struct
 import time
 from array import array
 from importlib import resources
@@ -40,7 +45,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV, fresh_value
+from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, RuleValue, SeqV, SetV, fresh_value
 from . import native_build
 from .native_build import Unsupported
 
@@ -50,6 +55,9 @@ MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
 CN_K = 32              # element slots per domain extended at run time (native_canon.c)
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
+RULE_BASE = 1 << 48       # the code of a rule value: RULE_BASE + its number (apart from elements, 2^40...)
+K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
+K_MAPV = 11
 
 
 def _ceil_log2(n: int) -> int:
@@ -57,6 +65,34 @@ def _ceil_log2(n: int) -> int:
     while (1 << b) < n:
         b += 1
     return max(b, 1)
+
+
+K_ANY = 16                         # a value in a location of type Any: (kind, code), interned
+R_NAN = 0x7FF8000000000000
+R_NEGZ = 0x7FF8000000000001
+
+
+def real_code(x: float) -> int:
+    """The int64 code of a Real (a Java double): its bit pattern, one code for every NaN and
+    one for -0.0 (whose pattern is the undef sentinel)."""
+    if x != x:
+        return R_NAN
+    if x == 0 and math.copysign(1.0, x) < 0:
+        return R_NEGZ
+    b = struct.unpack("<q", struct.pack("<d", x))[0]
+    return b
+
+
+def real_value(b: int) -> float:
+    if b == R_NEGZ:
+        return -0.0
+    return struct.unpack("<d", struct.pack("<q", b))[0]
+
+
+def storable_real(x) -> bool:
+    """A Real the native states may hold: the Python engine's states compare floats with ``==``
+    (-0.0 equals 0.0, a NaN only itself), the native ones by code."""
+    return type(x) is float and x == x and not (x == 0 and math.copysign(1.0, x) < 0)
 
 
 class Codec:
@@ -76,6 +112,10 @@ class Codec:
         self.frozen = False
         self.dll = None
         self.dyn: dict = {}              # dynamic domain extended by the spec -> its number
+        self.rule_ids: dict = {}         # rule declaration -> number (rule values <<r>>)
+        self.rule_by_id: list = []
+        self.any_tags: list = []         # the kinds of value held in locations of type Any: (key, decoding type)
+        self.any_tag_ids: dict = {}
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -88,12 +128,25 @@ class Codec:
             if not (-(1 << 63) < v < (1 << 63)):
                 raise Unsupported("an integer beyond 64 bits")
             return v
+        if t is float:
+            return real_code(v)
         if t is EnumValue:
             # distinct enum domains get distinct codes (a union or Any mixes them)
             base = self.enum_base.get(v.domain)
             if base is None:
                 base = self.enum_base[v.domain] = len(self.enum_base) << 20
             return base + v.index
+        if t is RuleValue:
+            # a rule value with no agent bound to it: a number of its own (RULE_BASE + k)
+            if v.agent is not None or v.args:
+                raise Unsupported("a rule value bound to an agent")
+            k = self.rule_ids.get(v.rule)
+            if k is None:
+                if self.frozen:
+                    raise Unsupported("a rule value met after the code was generated")
+                k = self.rule_ids[v.rule] = len(self.rule_by_id)
+                self.rule_by_id.append(v.rule)
+            return RULE_BASE + k
         if t is AbstractValue:
             if v.serial > 0 and v.domain in self.dyn:
                 # an element made by extend: see native_canon.c
@@ -108,6 +161,8 @@ class Codec:
             if t is str:
                 codes = tuple(ord(ch) for ch in v)
             else:
+                if any(type(e) is float and not storable_real(e) for e in v):
+                    raise Unsupported("-0.0 or NaN inside a composite value")
                 codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
                 if t is SetV:
                     codes = tuple(sorted(set(codes)))
@@ -115,23 +170,49 @@ class Codec:
             i = self.comp_ids.get(key)
             if i is None:
                 if self.frozen:
-                    raise Unsupported("a composite value met after the code was generated")
+                    return self.found(key)
                 i = self.comp_ids[key] = len(self.comp)
                 self.comp.append(key)
             return i
+        if t is BagV or t is MapV:
+            return self.bag_map_code(v)
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def bag_map_code(self, v) -> int:
+        """A bag (its element codes sorted, repetitions kept) or a map value (its (key, value)
+        code pairs sorted by key code, an undef value kept) as an entry of the value table."""
+        def code(e):
+            x = self.to_c(e)
+            return UNDEF_V if x is None else x
+        if type(v) is BagV:
+            key = (K_BAG, tuple(sorted(code(e) for e in v)))
+        else:
+            pairs = sorted((code(k), code(x)) for k, x in v)
+            key = (K_MAPV, tuple(x for pr in pairs for x in pr))
+        return self.intern(key)
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
         if x == UNDEF_V:
             return None
         r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "any":
+            kind, (tag, code) = self.fetch(x)
+            return self.from_c(code, self.any_tags[tag][1])
         if r is T.BOOLEAN:
             return bool(x)
         if r in (T.INTEGER, T.NATURAL):
             return x
+        if r is T.REAL:
+            return real_value(x)
         if r is T.STRING:
             return "".join(chr(e) for e in self.fetch(x)[1])
+        if isinstance(r, T.Struct) and r.kind in ("Bag", "Map"):
+            kind, elems = self.fetch(x)
+            if r.kind == "Bag":
+                return BagV.of(self.from_c(e, r.args[0]) for e in elems)
+            return MapV.of((self.from_c(elems[i], r.args[0]), self.from_c(elems[i + 1], r.args[1]))
+                           for i in range(0, len(elems), 2))
         if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
             key = self.fetch(x)
             kind, elems = key
@@ -143,6 +224,10 @@ class Codec:
         if CN_FRESH <= x < CN_FRESH + (len(self.dyn) << 24):
             name = sorted(self.dyn)[(x - CN_FRESH) >> 24]
             return fresh_value(name, (x - CN_FRESH) & 0xffffff)
+        if isinstance(r, T.Struct) and r.kind == "Rule":
+            if RULE_BASE <= x < RULE_BASE + len(self.rule_by_id):
+                return RuleValue(self.rule_by_id[x - RULE_BASE])
+            raise Unsupported(f"a value of type {typ} that the native search cannot decode")
         if x >= 1 << 40:
             return self.abstract_by_id[x - (1 << 40)]
         if isinstance(r, T.Domain) and r.kind == "enum":
@@ -150,6 +235,66 @@ class Codec:
                 if self.to_c(e) == x:
                     return e
         raise Unsupported(f"a value of type {typ} that the native search cannot decode")
+
+    # -------------------------------------------------------------- values of type Any
+    def any_tag_key(self, typ):
+        """The kind of value of static type ``typ`` in a location of type Any (None: not held)."""
+        r = T.root(typ)
+        if r is T.BOOLEAN:
+            return ("bool",), T.BOOLEAN
+        if r in (T.INTEGER, T.NATURAL):
+            return ("int",), T.INTEGER
+        if r is T.REAL:
+            return ("real",), T.REAL
+        if r is T.STRING:
+            return ("str",), T.STRING
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            return ("enum", r.name), r
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            return ("abs",), r
+        return None
+
+    def any_tag(self, key, typ) -> int:
+        i = self.any_tag_ids.get(key)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a kind of value in a location of type Any met after the code was generated")
+            # True, 1 and 1.0 are one key of the Python engine's states: one numeric kind at most
+            nums = {("bool",), ("int",), ("real",)}
+            if key in nums and any(k in nums for k, _ in self.any_tags):
+                raise Unsupported("Booleans, Integers or Reals mixed in locations of type Any")
+            i = self.any_tag_ids[key] = len(self.any_tags)
+            self.any_tags.append((key, typ))
+        return i
+
+    def any_code(self, v) -> int | None:
+        """The code of a Python value in a location of type Any: an interned (kind, code) pair."""
+        if v is None:
+            return None
+        t = type(v)
+        if t is bool:
+            key, typ = ("bool",), T.BOOLEAN
+        elif t is int:
+            key, typ = ("int",), T.INTEGER
+        elif t is float:
+            if not storable_real(v):
+                raise Unsupported("-0.0 or NaN in a location of type Any")
+            key, typ = ("real",), T.REAL
+        elif t is str:
+            key, typ = ("str",), T.STRING
+        elif t is EnumValue:
+            dom = next((d for d in self.m.spec.domains if isinstance(d, T.Domain) and d.kind == "enum"
+                        and d.name == v.domain), None)
+            if dom is None:
+                raise Unsupported(f"the enum value {v.name} in a location of type Any")
+            key, typ = ("enum", v.domain), dom
+        elif t is AbstractValue:
+            key, typ = ("abs",), T.AGENT
+        else:
+            raise Unsupported(f"a value of kind {t.__name__} in a location of type Any")
+        tag = self.any_tag(key, typ)
+        x = self.to_c(v)
+        return self.intern((K_ANY, (tag, UNDEF_V if x is None else x)))
 
     def fetch(self, i: int):
         if i < len(self.comp):
@@ -163,6 +308,40 @@ class Codec:
     def literal(self, v) -> str:
         x = self.to_c(v)
         return UNDEF_C if x is None else f"((V){x}LL)"
+
+    def intern(self, key) -> int:
+        """The number of the composite value ``key`` (kind, element codes): a new entry while the
+        code is generated, afterwards one the search made (see ``found``)."""
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                return self.found(key)
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
+
+    def found(self, key) -> int:
+        """The number of a composite value the search made (a state asked for by value may hold
+        one); a value in no entry occurs in no state."""
+        if self.dll is not None:
+            kind, codes = key
+            buf = (ctypes.c_int64 * max(len(codes), 1))(*codes)
+            i = self.dll.asm_value_find(kind, buf, len(codes))
+            if i >= 0:
+                self.comp_ids[key] = i
+                return i
+        raise Unsupported("a composite value met after the code was generated")
+
+
+class ByName:
+    """A macro parameter passed by name: the C code of its argument (evaluated where the body
+    uses it) and, for a location argument, its function and the code of its arguments."""
+
+    __slots__ = ("expr", "loc")
+
+    def __init__(self, expr: str, loc):
+        self.expr = expr
+        self.loc = loc
 
 
 class Generator:
@@ -190,6 +369,12 @@ class Generator:
         self.step_props: list = []
         self.invars: list = []
         self.rules_done: dict = {}
+        self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
+        self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
+        self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
+        self._used = None
+        self._loose = None
+        self._any_read = False           # the term being translated may be a location of type Any
         self.uid = 0
 
     # -------------------------------------------------------------- helpers
@@ -215,14 +400,21 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
-        if self.composite(f.codomain):
-            return None
+        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL:
+            return None      # a Real location holds its code (an initial value may lie outside a subset)
+        if self.any_typed(f.codomain):
+            try:
+                return self.values_of(f.codomain)   # a subset of Any given by its elements
+            except Unsupported:
+                return None      # a tagged value (see any_term)
         try:
             return self.values_of(f.codomain)
         except Unsupported:
             r = T.root(f.codomain)
-            if r in (T.INTEGER, T.NATURAL) or self.composite(f.codomain):
+            if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
+            if isinstance(r, T.Struct) and r.kind == "Rule":
+                return None      # a rule value: its code is stored (a wide slot)
             raise
 
     def composite(self, typ) -> bool:
@@ -230,13 +422,15 @@ class Generator:
         r = T.root(typ)
         if r is T.STRING:
             return True
-        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset"):
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset", "Bag", "Map"):
             return False
         for a in r.args:
             ra = T.root(a)
             if isinstance(ra, T.Struct) or ra is T.STRING:
                 if not self.composite(a):
                     return False
+            elif ra is T.REAL and r.kind == "Prod":
+                continue     # a Real in a tuple (stored only when neither -0.0 nor NaN)
             elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
                 return False
         return True
@@ -246,11 +440,13 @@ class Generator:
         arguments and values must be scalars (integers, enums, named elements, Booleans)."""
         def scalar(t):
             r = T.root(t)
-            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract")) \
+                or self.composite(t)     # a set, sequence, ... is the number of its entry in the value table
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
-        return bool(f.domain) and all(scalar(d) for d in f.domain) and scalar(cd)
+        rule_cd = isinstance(T.root(cd), T.Struct) and T.root(cd).kind == "Rule"    # a rule value is a code too
+        return bool(f.domain) and all(scalar(d) for d in f.domain) and (scalar(cd) or rule_cd)
 
     def map_key(self, f, args: list) -> str:
         if len(args) == 1:
@@ -281,11 +477,21 @@ class Generator:
             if f is self.spec.self_func or f is self.spec.result_func:
                 continue
             if f.index in self.m.lazy:
-                raise Unsupported(f"the lazily initialised function {f.name}")
+                self.layout_lazy(f)
+                continue
+            if T.root(f.codomain) is T.UNDEF and self.unused(f):
+                self.unlaid[f.index] = f"the function {f.name} of codomain Undef"
+                continue
             try:
+                if f.index in self.agent_loose_functions() and self.map_function(f):
+                    raise Unsupported(f"{f.name} updated at agents outside its domain")
                 arg_values = [self.values_of(d) for d in f.domain]
-            except Unsupported:
+            except Unsupported as e:
                 if not self.map_function(f):
+                    if self.unused(f):
+                        # never read nor updated: its locations stay undef, no slot is needed
+                        self.unlaid[f.index] = e.args[0] if e.args else str(e)
+                        continue
                     raise
                 # a function over an infinite domain: its defined locations are one map value
                 s_ = len(self.slots)
@@ -310,6 +516,9 @@ class Generator:
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
         self.dyn_slots()
+        self.layout_result()
+        self.constant_slots()
+        self.initial_values_outside()
         for st in self.init_states:
             for k in st:
                 if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
@@ -329,6 +538,294 @@ class Generator:
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
 
+    def layout_lazy(self, f) -> None:
+        """A function initialised over an infinite domain: its updated locations are one map
+        value (as for any function over an infinite domain); a location not in the map has the
+        value of the init term, which must read no location (then its first read in a step and
+        every later one agree)."""
+        params, body = self.m.lazy[f.index]
+        lazy_ok = self.map_function(f) or (bool(f.domain) and all(
+            T.root(d) in (T.INTEGER, T.NATURAL, T.BOOLEAN) for d in f.domain)
+            and isinstance(T.root(f.codomain), T.Struct) and T.root(f.codomain).kind == "Rule")
+        if not lazy_ok or not self.reads_no_location(body) or self.has_choose():
+            # a location first read keeps its initial value in the next state; the Python engine
+            # reads it also in the alternatives of a choose that it merges, and in none when it
+            # reuses a choose's outcomes: only specs without choose rules are translated
+            raise Unsupported(f"the lazily initialised function {f.name}")
+        s_ = len(self.slots)
+        self.slot_of[("map", f.index)] = s_
+        self.slots.append(("map", f.index))
+        self.slot_values.append(None)
+        self.slot_types.append(("map", f))
+        self.map_slot[f.index] = s_
+        self.__dict__.setdefault("lazy_init", {})[f.index] = (params, body)
+
+    def has_choose(self) -> bool:
+        todo: list = [rd.body for rd in self.spec.rules]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Choose):
+                return True
+            if isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
+
+    def reads_no_location(self, t) -> bool:
+        todo = [t]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Loc) and (x.func.kind != "static" or x.func.body is not None and not
+                                          self.reads_no_location(x.func.body)):
+                return False
+            if isinstance(x, (ir.StepOp,)):
+                return False
+            if isinstance(x, ir.Term):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Term, list, tuple)))
+        return True
+
+    def lazy_read(self, f, args: list) -> str:
+        """A read of a lazily initialised location: its value in the map, else the init term's."""
+        params, body = self.lazy_init[f.index]
+        name = f"lz{f.index}"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            env = {p.uid: f"q{p.uid}" for p in params}
+            sig = "".join(f", V q{p.uid}" for p in params)
+            self.funcs.append(f"static V {name}(Ctx *c{sig});")
+            self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {self.term(body, env)}; }}")
+        ks = [self.fresh("lk") for _ in args]
+        m = self.fresh("lm")
+        decl = " ".join(f"V {k} = {a};" for k, a in zip(ks, args))
+        if "lz_note" not in self.defined_done:
+            self.defined_done.add("lz_note")
+            self.funcs.append(
+                "/* lazily initialised locations read in this run: the next state keeps their value */\n"
+                "static uint32_t lz_gen = 0; static int lz_n = 0; static int lz_slot[MAXV]; static V lz_key[MAXV], lz_val[MAXV];\n"
+                "static V lz_note(Ctx *c, int s, V k, V v) {\n"
+                "    if (c->in_prop || c->rd != c->cur) return v;\n"
+                "    if (lz_gen != c->gen) { lz_gen = c->gen; lz_n = 0; }\n"
+                "    if (lz_n >= MAXV) { fail(c, E_UNSUPPORTED, 0); return v; }\n"
+                "    lz_slot[lz_n] = s; lz_key[lz_n] = k; lz_val[lz_n] = v; lz_n++;\n"
+                "    return v;\n"
+                "}\n"
+                "static void lz_flush(Ctx *c) {\n"
+                "    if (c->err || lz_gen != c->gen) return;\n"
+                "    for (int i = 0; i < lz_n; i++) {\n"
+                "        if (lz_val[i] == UNDEF) { fail(c, E_UNSUPPORTED, 0); return; }\n"
+                "        int vs = vslot(c, lz_slot[i], lz_key[i]);\n"
+                "        if (vs >= 0 && c->wgen[vs] != c->gen) upd(c, vs, lz_val[i], 0);\n"
+                "    }\n"
+                "    lz_n = 0;\n"
+                "}")
+        sl = self.map_slot[f.index]
+        key = self.fresh("lq")
+        return (f"({{ {decl} V {key} = {self.map_key(f, ks)}; V {m} = map_get(c->rd[{sl}], {key}); "
+                f"{m} == UNDEF ? lz_note(c, {sl}, {key}, {name}(c{''.join(', ' + k for k in ks)})) : {m}; }})")
+
+    def layout_result(self) -> None:
+        """The location ``result`` of turbo rules (type Any): a slot of the one type every
+        update of it in the spec gives it, or none when nothing updates it."""
+        rf = self.spec.result_func
+        if rf is None:
+            return
+        types = []
+        todo: list = [rd.body for rd in self.spec.rules]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Update) and x.func is rf:
+                types.append(x.value.type)
+            if isinstance(x, (ir.Rule, ir.Term)):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, ir.Term, list, tuple)))
+        if not types:
+            return
+        roots = {T.INTEGER if T.root(t) is T.NATURAL else T.root(t) for t in types}
+        if len(roots) != 1:
+            raise Unsupported("values of several types in the location result")
+        (typ,) = roots
+        if typ in (T.INTEGER, T.NATURAL) or self.composite(typ) or (
+                isinstance(typ, T.Domain) and typ.kind == "abstract"):
+            cod = None       # the code itself (an element of an abstract domain decodes by its number)
+        elif typ is T.BOOLEAN or (isinstance(typ, T.Domain) and typ.kind == "enum"):
+            cod = self.values_of(typ)
+        else:
+            raise Unsupported(f"the location result of type {typ}")
+        base = len(self.slots)
+        self.slot_of[rf.index] = base
+        self.slots.append(rf.index)
+        self.slot_values.append(cod)
+        self.slot_types.append(typ)
+        self.fn_base[rf.index] = (base, [], cod)
+    def runtime_site(self, why: str) -> int:
+        self.site_reasons.append(why)
+        return 1000 + len(self.site_reasons) - 1
+
+    def agent_loose_functions(self) -> set:
+        """Functions updated at ``self`` by the program of agents outside the function's domain
+        (a rule shared by several kinds of agent): the Python engine keeps such a location even
+        outside the declared domain, so these functions are held as maps, which take any argument."""
+        if self._loose is not None:
+            return self._loose
+        loose: set = set()
+        selff = self.spec.self_func
+
+        def within(t, d) -> bool:
+            k = 0
+            while isinstance(t, T.Domain) and k < 50:
+                if t is d:
+                    return True
+                t = t.base if t.kind == "subset" else None
+                k += 1
+            return t is d
+
+        for dom, ag in self.m.agent_programs.items():
+            rules, todo = [], [ag.rule]
+            while todo:
+                rd = todo.pop()
+                if any(rd is x for x in rules):
+                    continue
+                rules.append(rd)
+                todo.extend(ir.called_rules(rd.body))
+            seen: set = set()
+
+            def walk(x):
+                if id(x) in seen:
+                    return
+                seen.add(id(x))
+                if isinstance(x, ir.Update) and x.func.domain:
+                    for a, d in zip(x.args, x.func.domain):
+                        if isinstance(a, ir.Loc) and a.func is selff and not within(dom, d):
+                            loose.add(x.func.index)
+                if isinstance(x, (ir.Term, ir.Rule)):
+                    for v in vars(x).values():
+                        walk(v)
+                elif isinstance(x, (list, tuple)):
+                    for v in x:
+                        walk(v)
+            for rd in rules:
+                walk(rd.body)
+        self._loose = loose
+        return loose
+
+    @staticmethod
+    def any_typed(typ) -> bool:
+        r = T.root(typ) if typ is not None else None
+        return isinstance(r, T.Domain) and r.kind == "any"
+
+    def any_slot(self, f) -> bool:
+        """Are the locations of ``f`` of type Any holding tagged values (not a finite subset)?"""
+        return self.any_typed(f.codomain) and f.index in self.fn_base and self.fn_base[f.index][2] is None
+
+    def any_term(self, t, env) -> str:
+        """A term's value as held in a location of type Any (a tagged, interned pair)."""
+        if isinstance(t, ir.Const) and t.value is None:
+            return UNDEF_C
+        if self.any_typed(t.type):
+            if not (isinstance(t, ir.Loc) and self.any_slot(t.func)):
+                raise Unsupported(f"a term of type {t.type}")
+            self._any_read = True
+            return self.term(t, env)
+        tk = self.codec.any_tag_key(t.type)
+        if tk is None:
+            raise Unsupported(f"a value of type {t.type} in a location of type Any")
+        tag = self.codec.any_tag(*tk)
+        x = self.fresh("a")
+        val = self.term(t, env)
+        if tk[0] == ("real",):
+            val = f"r_chk(c, {val})"
+        return (f"({{ V {x}[2] = {{{tag}, {val}}}; {x}[1] == UNDEF ? UNDEF : v_intern(c, {K_ANY}, {x}, 2); }})")
+
+    def unused(self, f) -> bool:
+        """Is ``f`` never mentioned and never given an initial value (all its locations undef)?"""
+        if f.index in self.used_functions():
+            return False
+        return not any(k == f.index or (type(k) is tuple and k[0] == f.index) for st in self.init_states for k in st)
+
+    def used_functions(self) -> set:
+        """The indexes of the functions the rules, the derived functions, the properties and the
+        INVAR constraints mention (read or update)."""
+        if self._used is not None:
+            return self._used
+        used: set = set()
+        seen: set = set()
+
+        def walk(x):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Function):
+                if x.index not in used:
+                    used.add(x.index)
+                    if x.body is not None:
+                        walk(x.body)
+                return
+            if isinstance(x, (ir.Term, ir.Rule)):
+                for v in vars(x).values():
+                    walk(v)
+            elif isinstance(x, (list, tuple)):
+                for v in x:
+                    walk(v)
+        for r in self.spec.rules:
+            walk(r.body)
+        for p in self.spec.properties:
+            walk(p.body)
+        for p in list(self.props) + list(self.step_props):
+            walk(p.prop.body)
+        for f in self.spec.functions:
+            if f.kind in ("static", "derived") and f.body is not None:
+                walk(f.body)
+        if self.spec.default_init is not None:
+            for _func, _params, body, _span in self.spec.default_init.functions:
+                walk(body)
+        self._used = used
+        return used
+
+    def initial_values_outside(self) -> None:
+        """An initial value outside its location's codomain (the Python engine does not check
+        initial values): the slot's codes go on after the undef code (the codomain's values,
+        undef, then such values), so the encoder of updates still sees only the codomain."""
+        self.slot_undef = [None] * len(self.slots)
+        for s, key in enumerate(self.slots):
+            vals = self.slot_values[s]
+            if vals is None or isinstance(self.slot_types[s], tuple):
+                continue
+            extra: list = []
+            for st in self.init_states:
+                v = st.get(key)
+                if v is not None and not any(same_value(x, v) and type(x) is type(v) for x in vals + extra):
+                    self.codec.to_c(v)
+                    extra.append(v)
+            if extra:
+                self.slot_undef[s] = len(vals)
+                self.slot_values[s] = list(vals) + [None] + extra
+
+    def constant_slots(self) -> None:
+        """Locations of monitored functions given a value by the initial state: the Python engine
+        keeps that value in every state (a step reads monitored values from its inputs, never from
+        the state), so each is a slot no update touches, with the values the initial states give."""
+        for st in self.init_states:
+            for k in st:
+                if k in self.slot_of or (type(k) is tuple and k[0] in self.map_slot):
+                    continue
+                f = self.spec.functions[k if type(k) is int else k[0]]
+                if f.kind != "monitored":
+                    continue
+                vals: list = []
+                for st2 in self.init_states:
+                    v = st2.get(k)
+                    if v is not None and not any(same_value(v, x) and type(v) is type(x) for x in vals):
+                        self.codec.to_c(v)
+                        vals.append(v)
+                self.slot_of[k] = len(self.slots)
+                self.slots.append(k)
+                self.slot_values.append(vals)
+                self.slot_types.append(f.codomain)
+
     # -------------------------------------------------------------- terms
     def term(self, t: ir.Term, env: dict) -> str:
         meth = getattr(self, "t_" + type(t).__name__, None)
@@ -339,10 +836,19 @@ class Generator:
     def t_Const(self, t, env):
         return self.codec.literal(t.value)
 
+    def t_RuleRef(self, t, env):
+        return self.codec.literal(RuleValue(t.rule))
+
     def t_VarRef(self, t, env):
         name = env.get(t.var.uid)
         if name is None:
-            raise Unsupported("a variable bound outside the translated code")
+            # AsmetaL keeps a variable known for the rest of its declaration once bound anywhere in
+            # it; where no enclosing binder binds it, reading it is the Python engine's run-time
+            # error ("variable ... is not bound here": a called rule or derived function sees only
+            # its parameters, as here)
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
+        if isinstance(name, ByName):
+            return name.expr
         return name
 
     def t_Loc(self, t, env):
@@ -353,6 +859,9 @@ class Generator:
                 isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
             from ..semantics.values import abstract_value
             return self.codec.literal(abstract_value(f.codomain.name, f.name))
+        if self.any_slot(f) and not self._any_read:
+            raise Unsupported(f"the value of {f.name} (of type {f.codomain}) outside an update or a comparison")
+        self._any_read = False
         args = [self.term(a, env) for a in t.args]
         if f.kind in ("static", "derived") and f.body is not None:
             name = self.defined(f)
@@ -364,6 +873,8 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over an infinite domain")
             base, arg_values, cod = self.mon_base[f.index]
             return f"({self.mon_reader(f)}(c{''.join(', ' + a for a in args)}))"
+        if f.index in getattr(self, "lazy_init", ()):
+            return self.lazy_read(f, args)
         if f.index in self.map_slot:
             return f"map_get(c->rd[{self.map_slot[f.index]}], {self.map_key(f, args)})"
         if f.index not in self.fn_base:
@@ -414,8 +925,10 @@ class Generator:
         body.append(f"static V {name}(Ctx *c{sig}) {{")
         body.append(f"    int s = mi{f.index}(c{''.join(', ' + p for p in params)});")
         body.append("    if (s < 0) return UNDEF;")
-        body.append("    if (c->mgen[s] == c->gen) return c->mon[s];")
-        body.append("    if (c->in_prop) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }")
+        body.append("    if ((!c->in_prop || c->mfix) && c->mgen[s] == c->gen) return c->mon[s];")
+        # in a property, a value the step did not fix is one of the property's own choices
+        body.append(f"    if (c->in_prop) {{ if (c->pgen[s] != c->pgen_cur) {{ c->pgen[s] = c->pgen_cur; "
+                    f"c->pmon[s] = {tab}[{len(cod)} > 1 ? pchoice(c, {len(cod)}) : 0]; }} return c->pmon[s]; }}")
         body.append(f"    int i = {len(cod)} > 1 ? choice(c, {len(cod)}) : 0;")
         body.append(f"    c->mgen[s] = c->gen; c->mon[s] = {tab}[i];")
         body.append("    return c->mon[s];")
@@ -426,6 +939,8 @@ class Generator:
     def encoder(self, f) -> str:
         """C function: value -> code for the locations of f (fails outside the codomain)."""
         base, arg_values, cod = self.fn_base[f.index]
+        if T.root(f.codomain) is T.REAL:
+            return self.real_encoder(f, cod)
         if cod is None:
             if "encW" not in self.defined_done:
                 self.defined_done.add("encW")
@@ -449,6 +964,34 @@ class Generator:
         lines.append(f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return 0;")
         lines.append("}")
         self.funcs.append("\n".join(lines))
+        return name
+
+    def real_encoder(self, f, cod) -> str:
+        """The encoder of a Real location (which holds the code itself): -0.0 and NaN are refused
+        (see ``storable_real``), and a value outside a subset codomain is an error."""
+        cd = f.codomain
+        if not (isinstance(cd, T.Domain) and cd.kind == "subset"):
+            return "encR"
+        try:
+            vals = self.values_of(cd)
+        except Unsupported:
+            return "encR"
+        codes = tuple(self.codec.to_c(v) for v in vals)
+        key = ("encR", codes)
+        name = self.enc_tables.get(key)
+        if name is not None:
+            return name
+        name = f"enc{len(self.enc_tables)}"
+        self.enc_tables[key] = name
+        tab = self.table(vals)
+        really = cd.definition is not None
+        self.funcs.append("\n".join([
+            f"static V {name}(Ctx *c, V v, int site) {{",
+            "    if (v == UNDEF) return v;",
+            "    if (v == R_NEGZ || v == R_NAN) { fail(c, E_UNSUPPORTED, site); return v; }",
+            f"    for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == v) return v;",
+            f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return v;",
+            "}"]))
         return name
 
     def defined(self, f) -> str:
@@ -478,10 +1021,26 @@ class Generator:
 
     def t_Call(self, t, env):
         name = t.name
+        if name in ("eq", "neq", "isDef", "isUndef") and any(
+                isinstance(a, ir.Loc) and self.any_slot(a.func) for a in t.args):
+            args = [self.any_term(a, env) for a in t.args]
+            if name in ("isDef", "isUndef"):
+                return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+            return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if t.args and self.composite(t.args[0].type):
             return self.composite_call(t, env)
+        if name == "print":      # the number of its arguments, whatever their kinds
+            return self.scalar_library_call(t, [self.term(a, env) for a in t.args])
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
+        if name in ("eq", "neq", "isDef", "isUndef") and all(
+                isinstance(T.root(a.type), T.Struct) and T.root(a.type).kind == "Rule" for a in t.args):
+            # rule values: equal when they are the same rule (one code per rule)
+            ra = [self.term(a, env) for a in t.args]
+            return {"eq": "v_eq({0}, {1})", "neq": "v_neq({0}, {1})", "isDef": "(V)({0} != UNDEF)",
+                    "isUndef": "(V)({0} == UNDEF)"}[name].format(*ra)
+        if any(T.root(a.type) is T.REAL for a in t.args) or name in ("div", "itor", "ntor"):
+            return self.real_call(t, env)
         for a in t.args:
             r = T.root(a.type)
             if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
@@ -524,7 +1083,23 @@ class Generator:
             return f"(V)({args[0]} == UNDEF)"
         if name in ("iton", "ntoi"):
             return args[0]
+        lib = self.scalar_library_call(t, args)
+        if lib is not None:
+            return lib
         raise Unsupported(f"the library function {name}")
+
+    def scalar_library_call(self, t, args):
+        """print, toString of an integer and the clock functions (which have no value: the Python
+        engine's run-time error) on arguments that are not composite (None: none of them)."""
+        name = t.name
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){len(args)}; }})"
+        if name == "toString" and len(args) == 1 and T.root(t.args[0].type) in (T.INTEGER, T.NATURAL):
+            return f"int_to_string(c, {args[0]})"
+        if name in ("currTimeNanosecs", "currTimeMillisecs", "currTimeSecs") and not args:
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
+        return None
 
     def composite_call(self, t, env):
         import re
@@ -538,6 +1113,9 @@ class Generator:
             return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if name in ("isDef", "isUndef"):
             return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        lib = self.library_call(t, args, kind)
+        if lib is not None:
+            return lib
         if kind == "String":
             raise Unsupported(f"{name} on String")
         if kind == "Powerset":
@@ -580,7 +1158,185 @@ class Generator:
             return f"seq_sub(c, {args[0]}, {args[1]}, {args[2]})"
         raise Unsupported(f"{name} on {t.args[0].type}")
 
+    def orderable(self, typ) -> bool:
+        """Elements whose codes are in the order of the Python engine's values (:func:`vkey`):
+        integers, Booleans, the constants of one enum domain, and the named elements of abstract
+        domains when no domain grows and their numbers follow their names."""
+        r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            from ..semantics.values import vkey
+            els = list(self.codec.abstract_ids)
+            return not any(isinstance(d, T.Domain) and d.dynamic for d in self.spec.domains) and \
+                sorted(els, key=vkey) == sorted(els, key=self.codec.to_c)
+        return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
+
+    def in_value_order(self, x: str, typ) -> str | None:
+        """C code: the elements of the set or bag ``x`` (of element type ``typ``) as a sequence in
+        the Python engine's order (None: not for such elements)."""
+        if self.orderable(typ):
+            return f"v_rekind(c, {x}, K_SEQ)"
+        if T.root(typ) is T.STRING:
+            return f"str_sorted(c, {x})"
+        return None
+
+    @staticmethod
+    def regex_literal(p: str):
+        """The text a regular expression matches when it is a plain literal (``\\|`` is ``|``),
+        else None."""
+        out = []
+        i = 0
+        while i < len(p):
+            ch = p[i]
+            if ch == "\\":
+                if i + 1 >= len(p) or p[i + 1].isascii() and p[i + 1].isalnum():
+                    return None
+                out.append(p[i + 1])
+                i += 2
+                continue
+            if ch in ".^$*+?{}[]|()":
+                return None
+            out.append(ch)
+            i += 1
+        return "".join(out)
+
+    def library_call(self, t, args, kind):
+        """The StandardLibrary functions on strings, bags, map values and the conversions between
+        collections (None: not one of them)."""
+        name = t.name
+        n = len(args)
+        a0 = t.args[0].type
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){n}; }})"
+        if kind == "String":
+            def string(i):
+                return T.root(t.args[i].type) is T.STRING
+            if name in ("size", "length") and n == 1:
+                return f"seq_len({args[0]})"
+            if name in ("toUpper", "toLower") and n == 1:
+                return f"str_case(c, {args[0]}, {int(name == 'toUpper')})"
+            if name == "contains" and n == 2 and string(1):
+                return f"str_contains({args[0]}, {args[1]})"
+            if name in ("concat", "plus") and n == 2 and string(1):
+                return f"str_concat(c, {args[0]}, {args[1]})"
+            if name == "subString" and n == 3:
+                return f"str_sub(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "toString" and n == 1:
+                return args[0]
+            if name == "split" and n == 2 and string(1):
+                sep = t.args[1]
+                lit = self.regex_literal(sep.value) if isinstance(sep, ir.Const) and type(sep.value) is str else None
+                if not lit:
+                    raise Unsupported("split on String by a regular expression other than a literal text")
+                return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
+            return None
+        if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
+                kind == "Seq" or self.in_value_order(args[0], T.root(a0).args[0])):
+            # outside the initialisation: the first element (of a set, the least)
+            if kind == "Seq" or self.orderable(T.root(a0).args[0]):
+                return f"seq_first({args[0]})"
+            return f"seq_first({self.in_value_order(args[0], T.root(a0).args[0])})"
+        if name == "sum" and n == 1 and kind in ("Seq", "Powerset", "Bag") and \
+                T.root(T.root(a0).args[0]) in (T.INTEGER, T.NATURAL):
+            return f"v_sum(c, {args[0]})"
+        if kind == "Map":
+            if name == "at" and n == 2:
+                return f"mapv_at({args[0]}, {args[1]})"
+            if name == "merge" and n == 2:
+                return f"mapv_merge(c, {args[0]}, {args[1]})"
+            if name == "assign" and n == 3:
+                return f"mapv_assign(c, {args[0]}, {args[1]}, {args[2]})"
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Bag":
+            if name in ("contains", "count") and n == 2:
+                return f"{self.SEQ2[name]}({args[0]}, {args[1]})"
+            if name == "notin" and n == 2:
+                return f"v_not(seq_contains({args[0]}, {args[1]}))"
+            if name == "including" and n == 2:
+                return f"bag_including(c, {args[0]}, {args[1]})"
+            if name == "excluding" and n == 2:
+                return f"bag_excluding(c, {args[0]}, {args[1]})"
+            if name == "union" and n == 2 and T.root(t.args[1].type) == T.root(a0):
+                return f"bag_union(c, {args[0]}, {args[1]})"
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], T.root(a0).args[0]):
+                return self.in_value_order(args[0], T.root(a0).args[0])
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Seq":
+            if name == "insertAt" and n == 3:
+                return f"seq_insert_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "replaceAt" and n == 3:
+                return f"seq_replace_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "asSequence" and n == 1:
+                return args[0]
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            return None
+        if kind == "Powerset":
+            elem = T.root(a0).args[0]
+            if n == 2 and name in ("allin", "notallin", "symmetricDifference") and T.root(t.args[1].type) == T.root(a0):
+                return {"allin": f"set_allin({args[0]}, {args[1]})",
+                        "notallin": f"v_not(set_allin({args[0]}, {args[1]}))",
+                        "symmetricDifference": f"set_symdiff(c, {args[0]}, {args[1]})"}[name]
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], elem):
+                return self.in_value_order(args[0], elem)
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            if name == "asSet" and n == 1:
+                return args[0]
+            return None
+        return None
+
+    def t_Range(self, t, env):
+        """An interval ``{a : b}``, ``[a : b, step]``, ``<a : b>`` of integers."""
+        from ..semantics.analysis import is_constant
+        parts = [t.start, t.end] + ([t.step] if t.step is not None else [])
+        if not self.composite(t.type) or any(T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in parts):
+            raise Unsupported(f"an interval of type {t.type}")
+        if is_constant(t):
+            from ..semantics.machine import Ctx, Chooser
+            try:
+                v = self.m.term(t)(Ctx(self.m, {}, Chooser()))
+            except AsmError:
+                raise Unsupported("an interval the Python engine cannot build") from None
+            return self.codec.literal(v)
+        kind = {"set": "K_SET", "seq": "K_SEQ", "bag": "K_BAG"}[t.kind]
+        step = self.term(t.step, env) if t.step is not None else "(V)1"
+        return f"range_make(c, {kind}, {self.term(t.start, env)}, {self.term(t.end, env)}, {step})"
+
+    def t_MapLit(self, t, env):
+        if not self.composite(t.type):
+            raise Unsupported(f"a map of type {t.type}")
+        if self.literal_term(t):
+            from ..semantics.machine import Ctx, Chooser
+            return self.codec.literal(self.m.term(t)(Ctx(self.m, {}, Chooser())))
+        arr = self.fresh("e")
+        vals = [self.term(x, env) for pr in t.pairs for x in pr]
+        return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; mapv_make(c, {arr}, {len(t.pairs)}); }})"
+
+    def literal_term(self, t) -> bool:
+        """A term made of constants and the named elements of abstract domains only (its value is
+        computed once, while the code is generated)."""
+        if isinstance(t, ir.Const):
+            return True
+        if isinstance(t, ir.Loc):
+            f = t.func
+            return (f.kind == "static" and f.arity == 0 and f.body is None and isinstance(f.codomain, T.Domain)
+                    and isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract")
+        if isinstance(t, (ir.Collection, ir.TupleLit)):
+            return all(self.literal_term(x) for x in t.items)
+        if isinstance(t, ir.MapLit):
+            return all(self.literal_term(x) for pr in t.pairs for x in pr)
+        return False
+
     def t_Collection(self, t, env):
+        if t.kind == "bag" and self.composite(t.type):
+            arr = self.fresh("e")
+            vals = [self.term(x, env) for x in t.items]
+            return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; bag_make(c, {arr}, {len(vals)}); }})"
         if t.kind not in ("seq", "set") or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} literal")
         if t.kind == "set":
@@ -597,6 +1353,7 @@ class Generator:
     def build(self, kind, items, env):
         arr = self.fresh("e")
         vals = [self.term(x, env) for x in items]
+        vals = [f"r_chk(c, {v})" if x.type is not None and T.root(x.type) is T.REAL else v for v, x in zip(vals, items)]
         return (f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; "
                 f"v_intern(c, {kind}, {arr}, {len(vals)}); }})")
 
@@ -630,6 +1387,47 @@ class Generator:
             env[v.uid] = name
         return "({ " + " ".join(decls) + f" {self.term(t.body, env)}; }})"
 
+    REAL2 = {"plus": "r_add", "minus": "r_sub", "mult": "r_mul", "div": "r_div", "lt": "r_lt", "le": "r_le",
+             "gt": "r_gt", "ge": "r_ge", "min": "r_min", "max": "r_max", "pwr": "r_pow"}
+    REAL1 = {"minus": "r_neg", "abs": "r_abs", "sqrt": "r_sqrt", "floor": "r_floor"}
+
+    def real_call(self, t, env):
+        """A StandardLibrary function over Reals (Java doubles, as :mod:`..semantics.reals`)."""
+        name = t.name
+        roots = [T.root(a.type) for a in t.args]
+        ints = (T.INTEGER, T.NATURAL)
+        desc = ", ".join(str(a.type) for a in t.args)
+        args = [self.term(a, env) for a in t.args]
+        if name in ("eq", "neq") and len(args) == 2:
+            if all(r in (T.REAL, T.UNDEF) for r in roots):
+                e = f"v_eq({args[0]}, {args[1]})"
+            elif roots[0] is T.REAL and roots[1] in ints:
+                e = f"r_eq_ri({args[0]}, {args[1]})"
+            elif roots[1] is T.REAL and roots[0] in ints:
+                e = f"r_eq_ir({args[0]}, {args[1]})"
+            else:
+                raise Unsupported(f"{name} on {desc}")
+            return e if name == "eq" else f"(V)!{e}"
+        if name in ("isDef", "isUndef") and len(args) == 1:
+            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if name in ("itor", "ntor") and len(args) == 1 and roots[0] in ints:
+            return f"r_itor({args[0]})"
+        if name == "div" and len(args) == 2 and all(r in ints for r in roots):
+            return f"r_div(r_itor({args[0]}), r_itor({args[1]}))"
+        if not all(r is T.REAL for r in roots):
+            raise Unsupported(f"{name} on {desc}")
+        if len(args) == 2 and name in self.REAL2:
+            return f"{self.REAL2[name]}({args[0]}, {args[1]})"
+        if len(args) == 1 and name in self.REAL1:
+            return f"{self.REAL1[name]}({args[0]})"
+        if len(args) == 1 and name == "plus":
+            return args[0]
+        if len(args) == 1 and name in ("rtoi", "rton"):
+            return f"r_rtoi(c, {args[0]})"
+        if len(args) == 1 and name == "round":
+            return f"r_round(c, {args[0]})"
+        raise Unsupported(f"{name} on {desc}")
+
     def t_StepOp(self, t, env):
         if not self.step_mode:
             raise Unsupported(f"{t.op}(...) outside a step property")
@@ -639,6 +1437,8 @@ class Generator:
                     f"c->rd = {sv}; {r}; }})")
         loc = t.args[-1]
         f = loc.func
+        if f.index in self.map_slot and t.op in ("updated", "updatedBy", "changed"):
+            return self.map_step_op(t, env)
         if f.index not in self.fn_base or f.index in self.map_slot:
             raise Unsupported(f"{t.op} of {f.name}")
         self.reader(f)
@@ -654,6 +1454,23 @@ class Generator:
         if t.op == "changed":
             return f"({{ {head} (V)({sl} >= 0 && c->cur[{sl}] != c->post[{sl}]); }})"
         raise Unsupported(f"the step operator {t.op}")
+
+    def map_step_op(self, t, env) -> str:
+        """updated / updatedBy / changed of a location of a function held as a map: the step's
+        update of it is the one of its virtual slot, if the step made one."""
+        loc = t.args[-1]
+        f = loc.func
+        m = self.map_slot[f.index]
+        key = self.map_key(f, [self.term(a, env) for a in loc.args])
+        k, vs = self.fresh("k"), self.fresh("vs")
+        if t.op == "changed":
+            return f"({{ V {k} = {key}; (V)(map_get(c->cur[{m}], {k}) != map_get(c->post[{m}], {k})); }})"
+        head = f"V {k} = {key}; int {vs} = vslot_find(c, {m}, {k});"
+        if t.op == "updated":
+            return f"({{ {head} (V)({vs} >= 0 && c->wgen[{vs}] == c->gen); }})"
+        ag = self.term(t.args[0], env)
+        return (f"({{ {head} V a_{vs} = {ag}; (V)({vs} >= 0 && c->wgen[{vs}] == c->gen && "
+                f"c->uagent[c->wpos[{vs}]] == a_{vs}); }})")
 
     def range_values(self, r: ir.Term) -> list:
         if isinstance(r, ir.DomainTerm):
@@ -680,15 +1497,121 @@ class Generator:
         the state is walked in the order of its codes (the result must not depend on the order)."""
         try:
             vals = self.range_values(rg)
-        except Unsupported:
+        except Unsupported as e:
+            why = e.args[0] if e.args else ""
+            if why.startswith("the infinite domain") and isinstance(rg, ir.DomainTerm):
+                # the Python engine cannot range over it either: the search hands the spec over
+                # if it is reached (an unreachable one, as in a comprehension over [], is no reason)
+                site = self.runtime_site(why)
+                return f"fail(c, E_UNSUPPORTED, {site}); for (int {q} = 0; {q} < 0; {q}++) {{ V {name} = UNDEF;"
             r = T.root(rg.type) if rg.type is not None else None
-            if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
+            sorter = None
+            if not self.runtime_order_ok(rg.type) and isinstance(r, T.Struct) and \
+                    r.kind == "Powerset" and self.composite(rg.type):
+                # a set of composite values: walked sorted as the Python engine sorts it (vkey),
+                # also where any order would do (a quantifier stops where the Python engine stops)
+                sorter = self.vkey_sorter(r.args[0])
+                if sorter is None and not any_order:
+                    raise
+            elif not ((any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct)
+                      and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
                 raise
             rv = self.fresh("rv")
-            return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
+            value = self.term(rg, env) if sorter is None else f"{sorter}(c, {self.term(rg, env)})"
+            return (f"V {rv} = {value}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
         tab = self.table(vals)
         return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+
+    def vkey_cmp(self, typ):
+        """The name of a C function comparing two codes of type ``typ`` as ``vkey`` compares
+        the values (-1, 0, 1), or None where that is not written."""
+        r = T.root(typ)
+        key = ("vcmp", str(typ))
+        names = self.__dict__.setdefault("_vcmp", {})
+        if key in names:
+            return names[key]
+        head = "if (a == b) return 0; if (a == UNDEF) return -1; if (b == UNDEF) return 1;"
+        if self.codes_sorted_like_vkey(typ):
+            body = head + " return a < b ? -1 : 1;"
+        elif r is T.STRING:
+            body = (head + " int n = v_len(a), m = v_len(b); for (int i = 0; i < n && i < m; i++) { "
+                    "V x = v_elems(a)[i], y = v_elems(b)[i]; if (x != y) return x < y ? -1 : 1; } "
+                    "return n < m ? -1 : n > m ? 1 : 0;")
+        elif isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset") and self.composite(typ):
+            if r.kind == "Powerset" and not self.codes_sorted_like_vkey(r.args[0]):
+                names[key] = None
+                return None
+            subs = [self.vkey_cmp(a) for a in r.args]
+            if any(x is None for x in subs):
+                names[key] = None
+                return None
+            if r.kind == "Prod":
+                parts = " ".join(f"{{ int k = {subs[i]}(v_elems(a)[{i}], v_elems(b)[{i}]); if (k) return k; }}"
+                                 for i in range(len(subs)))
+                body = head + " " + parts + " return 0;"
+            else:
+                pre = "int n = v_len(a), m = v_len(b); "
+                if r.kind == "Powerset":      # (8, len, elements sorted)
+                    pre += "if (n != m) return n < m ? -1 : 1; "
+                body = (head + " " + pre + "for (int i = 0; i < n && i < m; i++) { "
+                        f"int k = {subs[0]}(v_elems(a)[i], v_elems(b)[i]); if (k) return k; }} "
+                        "return n < m ? -1 : n > m ? 1 : 0;")
+        else:
+            names[key] = None
+            return None
+        name = f"vc{len(names)}"
+        names[key] = name
+        self.funcs.append(f"static int {name}(V a, V b) {{ {body} }}")
+        return name
+
+    def vkey_sorter(self, elem):
+        """The name of a C function: a set of ``elem`` values -> the sequence of its elements
+        sorted by ``vkey`` (interned), or None."""
+        cmp = self.vkey_cmp(elem)
+        if cmp is None:
+            return None
+        name = f"{cmp}_sorted"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            self.funcs.append(
+                f"static int {cmp}_q(const void *x, const void *y) {{ return {cmp}(*(const V *)x, *(const V *)y); }}\n"
+                f"static V {name}(Ctx *c, V s) {{\n"
+                f"    if (s == UNDEF) return UNDEF;\n"
+                f"    int n = v_len(s);\n"
+                f"    if (n > (1 << 16)) {{ fail(c, E_UNSUPPORTED, 0); return UNDEF; }}\n"
+                f"    memcpy(vscratch, v_elems(s), n * sizeof(V));\n"
+                f"    qsort(vscratch, n, sizeof(V), {cmp}_q);\n"
+                f"    return v_intern(c, K_SEQ, vscratch, n);\n"
+                f"}}")
+        return name
+
+    def runtime_order_ok(self, typ) -> bool:
+        """Does a sequence or set of type ``typ`` computed in the state list its elements, in the
+        order of their codes, as the Python engine does (a sequence in its order, a set sorted by
+        ``vkey``)?  Then a loop over it meets the elements (and makes its choices) in the Python
+        engine's order."""
+        r = T.root(typ) if typ is not None else None
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Powerset") or not self.composite(typ):
+            return False
+        if r.kind == "Seq":
+            return True
+        return self.codes_sorted_like_vkey(r.args[0])
+
+    def codes_sorted_like_vkey(self, typ) -> bool:
+        """Do the codes of the values of ``typ`` sort as ``vkey`` sorts the values?"""
+        from ..semantics.values import vkey
+        r = T.root(typ)
+        if r in (T.INTEGER, T.NATURAL, T.BOOLEAN):
+            return True
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            return True
+        if isinstance(r, T.Domain) and r.kind == "abstract" and not r.dynamic:
+            els = list(self.m.static_elements.get(r, ()))
+            if not all(e in self.codec.abstract_ids for e in els):
+                return False
+            return sorted(els, key=vkey) == sorted(els, key=lambda e: self.codec.abstract_ids[e])
+        return False
 
     def t_DomainTerm(self, t, env):
         d = t.domain
@@ -707,22 +1630,34 @@ class Generator:
         return self.codec.literal(SetV(vals))
 
     def t_Compr(self, t, env):
-        if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
+        if t.kind not in ("set", "seq", "bag", "map") or (t.body2 is not None) != (t.kind == "map") \
+                or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} comprehension")
         env = dict(env)
         heads = []
         for v, rg in t.bindings:
             q, name = self.fresh("q"), self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, t.kind == "set"))
+            # a map's later pair of a key wins: its pairs are made in the Python engine's order
+            heads.append(self.loop_head(rg, env, name, q, t.kind in ("set", "bag")))
             env[v.uid] = name
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         body = self.term(t.body, env)
         buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
-        return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
+        if t.kind == "map":
+            body2 = self.term(t.body2, env)
+            add = (f"if ({n} >= (1 << 13)) fail(c, E_UNSUPPORTED, 0); "
+                   f"else {{ {buf}[2 * {n}] = {body}; {buf}[2 * {n} + 1] = {body2}; {n}++; }}")
+        else:
+            add = f"if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body};"
+        make = {"set": f"set_make(c, {buf}, {n})", "seq": f"v_intern(c, K_SEQ, {buf}, {n})",
+                "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
+        # the buffer is static: a body that reaches the same comprehension again (a recursive
+        # derived function) would overwrite it, so that is left to the Python engine
+        return ("({ " + f"static V {buf}[1 << 14]; static int busy_{buf} = 0; int {n} = 0; "
+                f"if (busy_{buf}) fail(c, E_UNSUPPORTED, 0); busy_{buf} = 1; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
-                f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
-                + "}" * len(heads) +
-                (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
+                f"else if ({g}) {{ {add} }} "
+                + "}" * len(heads) + f" busy_{buf} = 0; {make}; }})")
 
     def t_Quant(self, t, env):
         env = dict(env)
@@ -764,6 +1699,22 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if f.index in getattr(self, "lazy_init", ()):
+            return self.update_location(f, [self.term(a, env) for a in r.args], self.term(r.value, env))
+        if f is self.spec.result_func and f.index in self.fn_base:
+            # a turbo return reads the value of result its call gave (see r_TurboReturn)
+            args = [self.term(a, env) for a in r.args]
+            if "res_written" not in self.defined_done:
+                self.defined_done.add("res_written")
+                self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+            return "{ " + self.update_location(f, args, self.term(r.value, env)) + " res_written = 1; }"
+        if self.any_slot(f):
+            args = [self.term(a, env) for a in r.args]
+            v = self.fresh("v")
+            s = self.fresh("lsl")
+            self.reader(f)
+            return (f"{{ V {v} = {self.any_term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                    f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {v}, 0); }}")
         if f.index in self.map_slot:
             args = [self.term(a, env) for a in r.args]
             v = self.fresh("v")
@@ -776,15 +1727,44 @@ class Generator:
         s = self.fresh("lsl")
         self.reader(f)
         enc = self.encoder(f)
+        # a location outside the layout (an argument outside its domain, undef) made undef leaves the
+        # state as it is in the Python engine too (unless a step property may ask whether it was updated)
+        keep = f"{v} != UNDEF" if not self.step_props else "1"
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, 0); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
+    def update_location(self, f, args: list, value: str) -> str:
+        """The update of the location ``f(args)`` (the arguments' and the value's C code)."""
+        if f.index in self.map_slot:
+            v = self.fresh("v")
+            if f.index in getattr(self, "lazy_init", ()):
+                # undef in a lazily initialised location is kept apart from "never updated" by
+                # the Python engine; the map cannot hold it
+                value = f"({{ V lz_{v} = {value}; if (lz_{v} == UNDEF) fail(c, E_UNSUPPORTED, 0); lz_{v}; }})"
+            return (f"{{ V {v} = {value}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+                    f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
+        if f.index not in self.fn_base:
+            raise Unsupported(f"an update of {f.name}")
+        v = self.fresh("v")
+        s = self.fresh("lsl")
+        self.reader(f)
+        enc = self.encoder(f)
+        return (f"{{ V {v} = {value}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def r_UpdateVar(self, r, env):
         uid = r.var.uid
-        if uid in self.param_uids:
-            # a rule parameter may stand for a location (an update of it updates that location)
-            raise Unsupported(f"an update of the rule parameter {r.var.name}")
         name = env.get(uid)
+        if isinstance(name, ByName):
+            if name.loc is None:
+                # the Python engine rebinds the parameter to the value: not followed here
+                raise Unsupported(f"an update of the rule parameter {r.var.name} passed by name")
+            # a macro parameter bound to a location: the update is one of that location, whose
+            # arguments are evaluated in the caller's scope (as the Python engine does)
+            f, args = name.loc
+            return self.update_location(f, args, self.term(r.value, env))
+        # a parameter of a translated rule was passed by value (a location argument whose rule
+        # updates the parameter is substituted in place, see r_CallRule): a local rebinding
         if name is None:
             raise Unsupported("a variable bound outside the translated code")
         v = self.fresh("uv")
@@ -847,7 +1827,56 @@ class Generator:
             parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
             parts.append("if (c->err) return; }")
             return " ".join(parts)
-        raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+        return self.call_rule_value(r, env)
+
+    def referenced_rules(self) -> list:
+        """Every rule written as a value (``<<r>>``) in the spec, in a fixed order."""
+        if getattr(self, "_referenced", None) is not None:
+            return self._referenced
+        out: list = []
+        seen: set = set()
+        todo: list = [rd.body for rd in self.spec.rules]
+        todo += [f.body for f in self.spec.functions if f.body is not None]
+        for init in self.spec.inits:
+            todo += [term for _, _, term, _ in init.functions]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.RuleRef):
+                if id(x.rule) not in seen:
+                    seen.add(id(x.rule))
+                    out.append(x.rule)
+            if isinstance(x, (ir.Term, ir.Rule)):
+                todo.extend(vars(x).values())
+            elif isinstance(x, (list, tuple)):
+                todo.extend(x)
+        out.sort(key=lambda rd: (rd.qualname, rd.span.short() if rd.span else ""))
+        self._referenced = out
+        return out
+
+    def call_rule_value(self, r, env):
+        """``t[args]`` for a term ``t`` whose value is a rule: one branch per rule written as a
+        value in the spec that takes as many arguments (anything else is the Python engine's
+        run-time error); the arguments are passed by value, as the Python engine passes them."""
+        rt = T.root(r.term.type) if r.term.type is not None else None
+        if not (isinstance(rt, T.Struct) and rt.kind == "Rule"):
+            raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+        x = self.fresh("rv")
+        args = [self.term(a, env) for a in r.args]
+        avs = [self.fresh("ra") for _ in args]
+        parts = [f"{{ V {x} = {self.term(r.term, env)}; if (c->err) return;"]
+        parts += [f"V {n} = {a}; if (c->err) return;" for n, a in zip(avs, args)]
+        first = True
+        for rd in self.referenced_rules():
+            if len(rd.params) != len(args):
+                continue
+            code = self.codec.to_c(RuleValue(rd))
+            fn = self.rule_fn(rd)
+            kw = "if" if first else "else if"
+            parts.append(f"{kw} ({x} == {code}LL) {{ {fn}(c{''.join(', ' + a for a in avs)}); }}")
+            first = False
+        parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
+        parts.append("if (c->err) return; }")
+        return " ".join(parts)
 
     def check_by_name(self, rd, args):
         from ..semantics.analysis import has_sequencing as _has_sequencing, is_simple as _is_simple
@@ -882,13 +1911,38 @@ class Generator:
             env[v.uid] = name
         return "{ " + " ".join(decls) + " " + self.rule(r.body, env) + " }"
 
+    def makes_choices(self, x, seen=None) -> bool:
+        """Could running the rule ``x`` make a choice (a choose, a monitored read, a rule value)?"""
+        seen = set() if seen is None else seen
+        todo = [x]
+        while todo:
+            y = todo.pop()
+            if isinstance(y, (ir.Choose, ir.TermCall)):
+                return True
+            if isinstance(y, ir.Loc) and (y.func.kind == "monitored" or (
+                    y.func.body is not None and y.func not in seen and (seen.add(y.func) or True)
+                    and self.makes_choices(y.func.body, seen))):
+                return True
+            if isinstance(y, (ir.CallRule, ir.TurboReturn)):
+                rd = y.rule if isinstance(y, ir.CallRule) else y.call.rule
+                if rd not in seen:
+                    seen.add(rd)
+                    todo.append(rd.body)
+            if isinstance(y, (ir.Rule, ir.Term)):
+                todo.extend(v for v in vars(y).values() if isinstance(v, (ir.Rule, ir.Term, list, tuple)))
+            elif isinstance(y, (list, tuple)):
+                todo.extend(z for z in y if isinstance(z, (ir.Rule, ir.Term, list, tuple)))
+        return False
+
     def r_Forall(self, r, env):
         env = dict(env)
         heads = []
+        # the body's choices follow the order of the elements: then it must be the Python engine's
+        any_order = not self.makes_choices(r.body)
         for v, rg in r.bindings:
             q = self.fresh("q")
             name = self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, True))
+            heads.append(self.loop_head(rg, env, name, q, any_order))
             env[v.uid] = name
         g = self.fresh("g")
         guard = self.term(r.guard, env) if r.guard is not None else "(V)1"
@@ -897,6 +1951,11 @@ class Generator:
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {body} }} if (c->err) return; " + "}" * len(heads) + " }")
 
     def r_Choose(self, r, env):
+        try:
+            for _, rg in r.bindings:
+                self.range_values(rg)
+        except Unsupported:
+            return self.choose_at_run_time(r, env)
         env2 = dict(env)
         heads = []
         sizes = 1
@@ -931,28 +1990,192 @@ class Generator:
         # The candidates depend on the state, the variables in scope and the choices made
         # before; when the choose is reached before any choice and binds no outer variable,
         # the list is the same in every run of the step from one state: it is kept.
+        # Only the first visit in a run is that point (a rule called twice in a seq block, or a loop,
+        # reaches it again in another working state): a later visit forgets the list it overwrites.
         cacheable = not env
         pre = ""
         post = ""
         if cacheable:
             ep = self.fresh("ep")
             cn = self.fresh("cn")
-            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; int pos0 = c->pos; "
-                   f"if (pos0 == 0 && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
-            post = f" if (c->pos == pos0 && pos0 == 0) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
+            lg = self.fresh("lg")
+            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; static uint32_t {lg} = 0; int pos0 = c->pos; "
+                   f"int first_{lg} = {lg} != c->gen; {lg} = c->gen; if (!first_{lg}) {ep} = -1; "
+                   f"if (pos0 == 0 && first_{lg} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
+            post = f" if (c->pos == pos0 && pos0 == 0 && first_{lg}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
         return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
 
+    def choose_at_run_time(self, r, env):
+        """A choose whose ranges are computed in the state (or from variables bound before): the
+        candidates are collected, in the Python engine's order, into a buffer that grows."""
+        env2 = dict(env)
+        heads = []
+        names = []
+        for v, rg in r.bindings:
+            q, name = self.fresh("q"), self.fresh("x")
+            heads.append(self.loop_head(rg, env2, name, q, False))
+            env2[v.uid] = name
+            names.append(name)
+        k = len(names)
+        cand, cap, n, g, i = self.fresh("cand"), self.fresh("cap"), self.fresh("n"), self.fresh("g"), self.fresh("i")
+        guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
+        body_env = dict(env)
+        bound = []
+        for v, _ in r.bindings:
+            nm = self.fresh("b")
+            body_env[v.uid] = nm
+            bound.append(nm)
+        body = self.rule(r.body, body_env)
+        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
+        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
+        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+                f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
+                f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
+        # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
+        # and the candidate is copied out before the body runs
+        return ("{ " + f"static V *{cand} = 0; static int {cap} = 0; int {n} = 0; " + " ".join(heads) +
+                f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
+                f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
+                f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
+
     def r_CallRule(self, r, env):
-        if r.turbo:
-            raise Unsupported("turbo rules")
         rd = r.rule
-        self.check_by_name(rd, r.args)
+        if not r.turbo:
+            from ..semantics.analysis import mentions_monitored
+            modes = self.arg_modes(r, env)
+            # a monitored argument is read where the body uses it (if it does), so its choice
+            # comes where the Python engine makes it
+            monitored = any(m == 1 and mentions_monitored(a) for a, m in zip(r.args, modes))
+            if monitored and self.recursive(rd):
+                raise Unsupported(f"a monitored argument passed by name to the recursive rule {rd.name}")
+            if any(m == 3 and self.updates_param(rd, i) for i, m in enumerate(modes)) or (
+                    any(m in (1, 3) for m in modes) and self.seq_rule(rd)) or monitored:
+                return self.call_by_name(r, env, modes)
+            self.check_by_name(rd, [a for a, m in zip(r.args, modes) if m != 3])
+        # a turbo call passes its arguments by value
         name = self.rule_fn(rd)
         args = [self.term(a, env) for a in r.args]
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+
+    def r_TurboReturn(self, r, env):
+        """``target <- r_t(args)``: the call's updates join the step's, and the target takes the
+        value the call gave ``result`` (undef when it gave none), as in the Python engine."""
+        rf = self.spec.result_func
+        call = self.rule(r.call, env)
+        w = self.fresh("rw")
+        if "res_written" not in self.defined_done:
+            self.defined_done.add("res_written")
+            self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+        if rf.index in self.fn_base:
+            s = self.slot_of[rf.index]
+            value = (f"(res_written && c->wgen[{s}] == c->gen ? slot_decode({s}, c->upd_code[c->wpos[{s}]]) : UNDEF)")
+        else:
+            value = "UNDEF"
+        head = (f"{{ int {w} = res_written; res_written = 0; {{ {call} }} V v_{w} = {value}; "
+                f"res_written = {w} | res_written; if (c->err) return;")
+        tgt = r.target
+        if isinstance(tgt, ir.Update):
+            args = [self.term(a, env) for a in tgt.args]
+            return head + " " + self.update_location(tgt.func, args, f"v_{w}") + " }"
+        name = env.get(tgt.var.uid)
+        if name is None or isinstance(name, ByName):
+            raise Unsupported(f"a turbo return into {tgt.var.name}")
+        return head + f" {name} = v_{w}; }}"
+
+    def arg_modes(self, r, env) -> list:
+        """How the Python engine passes each argument of a macro call: 0 by value, 1 by name,
+        3 a location by name (an update of the parameter updates it); a variable bound to an
+        argument passed by name passes it on as it is."""
+        from ..semantics.analysis import is_simple, mentions_monitored
+        by_name = self.seq_rule(r.rule)
+        modes = []
+        for a in r.args:
+            if isinstance(a, ir.VarRef):
+                b = env.get(a.var.uid)
+                modes.append((3 if b.loc is not None else 1) if isinstance(b, ByName) else 0)
+            elif isinstance(a, ir.Loc) and a.func.is_location and a.func.kind not in ("monitored", "static"):
+                modes.append(3)
+            elif (by_name and not is_simple(a)) or mentions_monitored(a):
+                modes.append(1)
+            else:
+                modes.append(0)
+        return modes
+
+    def recursive(self, rd) -> bool:
+        """Does ``rd`` call itself (through any chain of rule calls)?"""
+        seen = set()
+        todo = list(ir.called_rules(rd.body))
+        while todo:
+            x = todo.pop()
+            if x is rd:
+                return True
+            if id(x) not in seen:
+                seen.add(id(x))
+                todo.extend(ir.called_rules(x.body))
+        return False
+
+    def seq_rule(self, rd) -> bool:
+        from ..semantics.analysis import has_sequencing
+        return has_sequencing(rd)
+
+    def updates_param(self, rd, i: int, seen=None) -> bool:
+        """Does the body of ``rd`` update its i-th parameter, itself or through a macro call
+        that receives it?"""
+        seen = set() if seen is None else seen
+        if (rd, i) in seen:
+            return False
+        seen.add((rd, i))
+        uid = rd.params[i].uid
+        todo = [rd.body]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.UpdateVar) and x.var.uid == uid:
+                return True
+            if isinstance(x, ir.CallRule) and not x.turbo:
+                for j, a in enumerate(x.args):
+                    if isinstance(a, ir.VarRef) and a.var.uid == uid and self.updates_param(x.rule, j, seen):
+                        return True
+            if isinstance(x, ir.TurboReturn):
+                todo.append(x.target)
+                todo.append(x.call)
+            elif isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
+
+    def call_by_name(self, r, env, modes):
+        """A macro call whose arguments the Python engine passes by name where the body sees the
+        state change (seq blocks, loops) or updates a location argument through its parameter:
+        the body is written in place with each such parameter standing for its argument's code
+        (evaluated where the body uses it, in the caller's scope)."""
+        rd = r.rule
+        stack = self.__dict__.setdefault("_inlining", [])
+        if rd in stack:
+            raise Unsupported(f"a recursive rule {rd.name} with arguments passed by name")
+        body_env = {}
+        decls = []
+        for p, a, m in zip(rd.params, r.args, modes):
+            if m == 0:
+                x = self.fresh("pv")
+                decls.append(f"V {x} = {self.term(a, env)}; if (c->err) return;")
+                body_env[p.uid] = x
+            elif isinstance(a, ir.VarRef) and isinstance(env.get(a.var.uid), ByName):
+                body_env[p.uid] = env[a.var.uid]
+            elif m == 3:
+                body_env[p.uid] = ByName(f"({self.term(a, env)})", (a.func, [self.term(x, env) for x in a.args]))
+            else:
+                body_env[p.uid] = ByName(f"({self.term(a, env)})", None)
+        stack.append(rd)
+        try:
+            body = self.rule(rd.body, body_env)
+        finally:
+            stack.pop()
+        return "{ " + " ".join(decls) + " { " + body + " } if (c->err) return; }"
 
     def rule_fn(self, rd) -> str:
         name = self.rules_done.get(rd)
@@ -983,7 +2206,12 @@ class Generator:
         steps = []
         self.step_mode = True
         for p in self.step_props:
-            steps.append(self.term(p.prop.body, {}))
+            e = self.term(p.prop.body, {})
+            if type(p).__name__ == "MonitoredInvariant":
+                # monitored values that break an INVAR are not inputs the spec considers
+                for t in reversed(self.invars):
+                    e = f"(({self.term(t, {})}) != 1 ? (V)1 : ({e}))"
+            steps.append(e)
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
         for st in self.init_states:
@@ -1039,7 +2267,7 @@ class Generator:
             key = tuple(self.codec.to_c(v) for v in vals)
             if key not in dec_names:
                 dec_names[key] = f"DEC{len(dec_names)}"
-                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join(f'{x}LL' for x in key)}"
+                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join('UNDEF' if x is None else f'{x}LL' for x in key)}"
                             f"{', ' if key else ''}UNDEF}};")
         layout = [
             f"static const int SLOT_WORD[{max(nslots, 1)}] = {{{', '.join(map(str, words)) or '0'}}};",
@@ -1053,16 +2281,31 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
-        inv_code += ["static V check_step_prop(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
-        inv_code += ["static V check_invar(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        inv_code += ["static V check_invar1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(invar_terms):
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
+        # every choice of the unread monitored values for a step property; one for an INVAR, both
+        # before the step (with its monitored values) and after it (with none fixed)
+        inv_code += ["static V check_step_prop(Ctx *c, int k) { c->mfix = 1; V r = prop_all(c, check_step_prop1, k, 0); "
+                     "c->in_prop = 0; return r; }"]
+        if self.invar_pre:
+            inv_code += ["static V check_invar(Ctx *c, int k) {",
+                         "    V *sv = c->rd; c->rd = c->cur; c->mfix = 1;",
+                         "    V r = prop_all(c, check_invar1, k, 1); c->in_prop = 0; c->rd = sv;",
+                         "    if (c->err || r != 1) return r;",
+                         "    c->mfix = 0; r = prop_all(c, check_invar1, k, 1); c->in_prop = 0; return r;", "}"]
+        else:
+            inv_code += ["static V check_invar(Ctx *c, int k) { c->mfix = 0; V r = prop_all(c, check_invar1, k, 1); "
+                         "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         head.append(f"#define CN_NDYN {len(self.dyn)}")
+        if "lz_note" in self.defined_done:
+            step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         return src
@@ -1077,14 +2320,7 @@ class Generator:
                 kc = self.codec.to_c(args[0] if len(args) == 1 else tuple(args))
                 pairs.append((kc, self.codec.to_c(v)))
         pairs.sort()
-        key = (5, tuple(x for pr in pairs for x in pr))
-        i = self.codec.comp_ids.get(key)
-        if i is None:
-            if self.codec.frozen:
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.codec.comp_ids[key] = len(self.codec.comp)
-            self.codec.comp.append(key)
-        return i
+        return self.codec.intern((5, tuple(x for pr in pairs for x in pr)))
 
     def pack_values(self, st: dict) -> None:
         """Give every composite value of ``st`` its number (before the code is generated)."""
@@ -1095,6 +2331,9 @@ class Generator:
                 continue
             v = st.get(key)
             if v is not None and self.slot_values[s] is None:
+                if self.any_typed(self.slot_types[s]):
+                    self.codec.any_code(v)
+                    continue
                 self.codec.to_c(v)
 
     def pack(self, st: dict) -> list[int]:
@@ -1106,12 +2345,19 @@ class Generator:
                 words[self.words[s]] = self.map_value(st, self.slot_types[s][1]) & MASK64
                 continue
             v = st.get(key)
+            if vals is None and self.any_typed(self.slot_types[s]):
+                x = self.codec.any_code(v)
+                words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
+                continue
             if vals is None:
+                if (type(v) is float or T.root(self.slot_types[s]) is T.REAL) and v is not None and \
+                        not storable_real(v):
+                    raise Unsupported("a Real location holding -0.0, NaN or a value of another type")
                 x = self.codec.to_c(v)
                 words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
                 continue
             if v is None:
-                code = len(vals)
+                code = len(vals) if self.slot_undef[s] is None else self.slot_undef[s]
             else:
                 code = next((i for i, x in enumerate(vals) if same_value(x, v)), -1)
                 if code < 0:
@@ -1148,7 +2394,7 @@ class Generator:
                 continue
             key, w, sh, mask, vals = p
             code = (words[w] >> sh) & mask
-            if code < len(vals):
+            if code < len(vals) and vals[code] is not None:
                 st[key] = vals[code]
         if self.dyn:
             self.dyn_elements(st)
@@ -1323,14 +2569,15 @@ class Generator:
                 continue
             fi = key if type(key) is int else key[0]
             f = self.spec.functions[fi]
+            vt = self.slot_types[s]            # the codomain, or the one type of the location result
             over = any(self.cn_may_hold(d) for d in f.domain)
-            if not over and not self.cn_may_hold(f.codomain):
+            if not over and not self.cn_may_hold(vt):
                 slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
                 continue
             if fi not in fn_ids:
                 fn_ids[fi] = len(fn_ids)
             slot_fn.append(fn_ids[fi])
-            slot_vty.append(self.cn_type(f.codomain, tys, memo))
+            slot_vty.append(self.cn_type(vt, tys, memo))
             combo = () if type(key) is int else key[1]
             slot_nargs.append(len(combo))
             slot_arg.append(len(args))
@@ -1449,6 +2696,7 @@ _SYMBOLS = {
     "asm_value_len": (_i64, [_i64]),
     "asm_value_elems": (_i64, [_i64, _i64p]),
     "asm_values": (_i64, []),
+    "asm_value_find": (_i64, [_i64, _i64p, _i64]),
     "asm_free": (None, []),
 }
 
@@ -1474,13 +2722,10 @@ class NativeExplorer:
         if len(self.step_props) > 64:
             raise Unsupported("more than 64 step properties")
         self.invars = [p.body for p in machine.spec.properties if p.kind == "invar"]
-        if any(mentions_monitored(t) for t in self.invars):
-            raise Unsupported("an INVAR constraint over monitored functions")
-        if self.invars and any(type(p).__name__ == "MonitoredInvariant" for p in self.step_props):
-            raise Unsupported("an invariant over monitored functions beside INVAR constraints")
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
+        self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
@@ -1572,6 +2817,10 @@ class NativeExplorer:
             self._canon_refusal()
         if status == 4:
             code = out[4]
+            self.failed_state = out[5]     # the state whose step or property was refused
+            site = out[6] - 1000
+            if code == 4 and 0 <= site < len(g.site_reasons):
+                raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
                               "more choices in one step than the native search follows" if code == 6 else
                               f"a run-time condition the native search does not handle (code {code})")
