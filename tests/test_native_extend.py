@@ -402,3 +402,55 @@ def test_a_domain_read_in_a_seq_block_after_its_extend_is_refused(tmp_path):
             nat.run()
     finally:
         nat.close()
+
+
+# ------------------------------------------------------------------ the RTPattern library
+# The pattern library's schedulers add their phases with extend (SchedulePhase) and every write
+# to a swinging buffer makes a DataStream element.  Counts of the Python engine, recorded in the
+# issue that asked for this (VisualServoing 15,710 / 31,420, CompleteApplication 70,867 / 141,734,
+# RtNondetVS 132,077 / 392,131); VisualServoing is also compared state by state here.
+
+def rt_spec(path: str):
+    from conftest import ASMETA, ROOT, need_asmeta
+    need_asmeta()
+    if path.startswith("tests/"):
+        # it imports the library through the import path (as `-I .../asm_examples`)
+        from asmcheck.semantics.resolve import set_import_path
+        set_import_path([ASMETA / "asm_examples"])
+        try:
+            return check_file(str(ROOT / path))
+        finally:
+            set_import_path([])
+    return check_file(str(ASMETA / "asm_examples" / "RTPatternLibrary" / path))
+
+
+@pytest.mark.slow
+def test_rtpattern_visual_servoing_state_by_state(tmp_path):
+    spec = rt_spec("Application/VisualServoing.asm")
+    py = Explorer(Machine(spec, {}))
+    r_py = py.run()
+    nat = NativeExplorer(Machine(spec, {}))
+    try:
+        r_nat = nat.run()
+        assert (r_nat.states, r_nat.transitions, r_nat.depth) == (r_py.states, r_py.transitions, r_py.depth) \
+            == (15710, 31420, 15708)
+        for i in range(0, r_py.states, 97):
+            assert py.state(i) == nat.state(i)
+        assert py.state(r_py.states - 1) == nat.state(r_nat.states - 1)
+    finally:
+        nat.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path, counts", [
+    ("Application/CompleteApplication.asm", (70867, 141734)),
+    ("tests/rtpattern/RtNondetVS.asm", (132077, 392131)),
+], ids=["complete_application", "rt_nondet_vs"])
+def test_rtpattern_counts_on_the_native_engine(path, counts):
+    spec = rt_spec(path)
+    nat = NativeExplorer(Machine(spec, {}))
+    try:
+        r = nat.run()
+        assert (r.verdict, r.states, r.transitions) == ("holds", *counts)
+    finally:
+        nat.close()
