@@ -47,6 +47,19 @@ typedef struct {
     CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
     int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
 } CnW;
+static int64_t cn_search = 0;               /* counts the searches started (asm_canon_reset) */
+
+/* a context's tables made in an earlier search hold numbers of that search's value table and
+   runs of the step (c->gen starts again): they go */
+static void cn_fresh_search(CnW *W) {
+    int64_t now = __atomic_load_n(&cn_search, __ATOMIC_SEQ_CST);
+    if (now == W->my_search) return;
+    W->my_search = now;
+    memset(W->dgen, 0, sizeof(W->dgen));
+    free(W->memo); W->memo = 0; W->mmask = 0; W->mcount = 0; W->mtext.n = 0;
+    free(W->dpool); W->dpool = 0; W->dn = W->dused = W->dcap = 0; free(W->dtab); W->dtab = 0; W->dmask = 0;
+}
+
 #define CN_MAXW 256
 static struct { Ctx *volatile c; CnW *volatile w; } cn_ws[CN_MAXW];
 
@@ -54,12 +67,12 @@ static struct { Ctx *volatile c; CnW *volatile w; } cn_ws[CN_MAXW];
 static CnW *cn_w(Ctx *c) {
     for (int i = 0; i < CN_MAXW; i++) {
         Ctx *o = cn_ws[i].c;
-        if (o == c) { CnW *w = cn_ws[i].w; if (w) return w; continue; }
+        if (o == c) { CnW *w = cn_ws[i].w; if (w) { cn_fresh_search(w); return w; } continue; }
         if (o == 0) {
             Ctx *expect = 0;
             if (!__atomic_compare_exchange_n(&cn_ws[i].c, &expect, c, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) { i--; continue; }
             CnW *w = (CnW *)calloc(1, sizeof(CnW));
-            if (w) w->my_search = -1;
+            if (w) { w->my_search = -1; cn_fresh_search(w); }
             __atomic_store_n(&cn_ws[i].w, w, __ATOMIC_SEQ_CST);
             return w;
         }
@@ -428,15 +441,6 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
     W->dn++;
 }
 
-static int64_t cn_search = 0;               /* the search the tables below were made in */
-static void cn_fresh_search(CnW *W) {
-    int64_t now = __atomic_load_n(&cn_search, __ATOMIC_SEQ_CST);
-    if (now == W->my_search) return;
-    W->my_search = now;
-    free(W->memo); W->memo = 0; W->mmask = 0; W->mcount = 0; W->mtext.n = 0;
-    free(W->dpool); W->dpool = 0; W->dn = W->dused = W->dcap = 0; free(W->dtab); W->dtab = 0; W->dmask = 0;
-}
-
 /* Canonical form of the packed successor w (in place).  0 on success, else an error code. */
 static int canon_state_(Ctx *c, uint64_t *w) {
     CnW *W = cn_w(c);
@@ -467,7 +471,6 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         }
         return 0;
     }
-    cn_fresh_search(W);
     /* the canonical form depends only on the bits of the locations that may hold elements and
        on the counts: met before?  (the kept result: the same bits, canonical) */
     V key[CN_KL];
