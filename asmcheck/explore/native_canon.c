@@ -657,4 +657,15 @@ int64_t asm_canon_reason(int64_t *out) { int r = cn_reason; out[0] = cn_reason_d
 void asm_canon_reset(void) {
     __atomic_add_fetch(&cn_search, 1, __ATOMIC_SEQ_CST);
     cn_reason = 0;
+    /* called before a search starts, when no context works: the contexts' tables go (a new
+       search may bring new contexts, and the table of contexts is bounded) */
+    for (int i = 0; i < CN_MAXW; i++) {
+        CnW *w = cn_ws[i].w;
+        if (w) {
+            free(w->memo); free(w->mtext.p); free(w->tb.p); free(w->sp); free(w->dpool); free(w->dtab);
+            free(w);
+        }
+        cn_ws[i].w = 0;
+        cn_ws[i].c = 0;
+    }
 }
