@@ -1,7 +1,8 @@
 """Elements made by ``extend`` on the native engine: fresh elements of dynamic abstract domains
-(a count per domain in the state, element slots 1..32), canonicalised in C (native_canon.c) with
-the Python canonicaliser's result (explore/canonical.py): unreferenced elements dropped, symmetric
-states merged, elements numbered by their colours.  Each spec runs on both engines (pinned with
+(a count per domain in the state; element slots 1..16, twice as many while a search needs more,
+up to 64), canonicalised in C (native_canon.c) with the Python canonicaliser's result
+(explore/canonical.py): unreferenced elements dropped, symmetric states merged, elements numbered
+by their colours.  Each spec runs on both engines (pinned with
 --engine); the JSON reports must be equal apart from the engine and the time, and the states must
 be the same, in the same order.
 
@@ -374,7 +375,7 @@ def test_more_elements_than_the_slots_is_refused_with_the_reason(tmp_path):
     spec = check_file(write(tmp_path, STACK))
     nat = NativeExplorer(Machine(spec, {}))
     try:
-        with pytest.raises(Unsupported, match="more than 32 elements of Cell made by extend in one state"):
+        with pytest.raises(Unsupported, match="more than 64 elements of Cell made by extend in one state"):
             nat.run()
     finally:
         nat.close()
@@ -454,3 +455,13 @@ def test_rtpattern_counts_on_the_native_engine(path, counts):
         assert (r.verdict, r.states, r.transitions) == ("holds", *counts)
     finally:
         nat.close()
+
+
+def test_a_search_that_needs_more_element_slots_starts_again_with_more(tmp_path):
+    # 20 cells at once: more than the first 16 slots, so the engine is made again with 32
+    text = STACK.replace("asm Stack", "asm Stack20").replace(
+        "\t\textend Cell with $c do", "\t\tif size < 20 then extend Cell with $c do").replace(
+        "\t\t\tendpar\n", "\t\t\tendpar\n\t\tendif\n").replace(
+        "\tcontrolled below: Cell -> Cell\n", "\tcontrolled below: Cell -> Cell\n\tcontrolled size: Integer\n").replace(
+        "\t\t\t\ttop := $c\n", "\t\t\t\ttop := $c\n\t\t\t\tsize := size + 1\n") + "default init s0:\n\tfunction size = 0\n"
+    assert same_states(tmp_path, text) == (21, 21, 20)

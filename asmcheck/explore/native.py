@@ -53,7 +53,8 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
-CN_K = 32              # element slots per domain extended at run time (native_canon.c)
+CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
+CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
 RULE_BASE = 1 << 48       # the code of a rule value: RULE_BASE + its number (apart from elements, 2^40...)
 K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
@@ -112,6 +113,7 @@ class Codec:
         self.frozen = False
         self.dll = None
         self.dyn: dict = {}              # dynamic domain extended by the spec -> its number
+        self.cn_k = CN_K                 # element slots per extended domain
         self.rule_ids: dict = {}         # rule declaration -> number (rule values <<r>>)
         self.rule_by_id: list = []
         self.any_tags: list = []         # the kinds of value held in locations of type Any: (key, decoding type)
@@ -150,8 +152,8 @@ class Codec:
         if t is AbstractValue:
             if v.serial > 0 and v.domain in self.dyn:
                 # an element made by extend: see native_canon.c
-                if v.serial > CN_K:
-                    raise Unsupported(f"more than {CN_K} elements of {v.domain} made by extend")
+                if v.serial > self.cn_k:
+                    raise Unsupported(f"more than {self.cn_k} elements of {v.domain} made by extend")
                 return CN_FRESH + (self.dyn[v.domain] << 24) + v.serial
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
@@ -369,6 +371,7 @@ class Generator:
         self.step_props: list = []
         self.invars: list = []
         self.rules_done: dict = {}
+        self.cn_k = CN_K                 # element slots per extended domain (native_canon.c)
         self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
         self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
         self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
@@ -2427,6 +2430,7 @@ class Generator:
         self.dyn_doms = [found[n] for n in sorted(found)]
         self.dyn = {d.name: i for i, d in enumerate(self.dyn_doms)}
         self.codec.dyn = self.dyn
+        self.codec.cn_k = self.cn_k
         self.cn_rounds = ROUNDS
         if not self.dyn:
             return
@@ -2441,7 +2445,7 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over a domain extended at run time")
 
     def dyn_values(self, dom) -> list | None:
-        """The values of an extended domain: its named elements, then element slots 1..CN_K;
+        """The values of an extended domain: its named elements, then element slots 1..cn_k;
         None for other domains (a domain holding an extended one is refused)."""
         if not self.dyn or not isinstance(dom, T.Domain):
             return None
@@ -2452,7 +2456,7 @@ class Generator:
                 raise Unsupported(f"the infinite domain {dom}")
             for v in named:
                 self.codec.to_c(v)
-            return named + [fresh_value(dom.name, k) for k in range(1, CN_K + 1)]
+            return named + [fresh_value(dom.name, k) for k in range(1, self.cn_k + 1)]
         for d in self.dyn_doms:
             if d is not dom and self._dyn_sub(d, dom):
                 raise Unsupported(f"the domain {dom}, which holds the elements extend adds to {d}")
@@ -2463,18 +2467,18 @@ class Generator:
         extended domain its named elements and the elements it has now."""
         if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain):
             d = self.dyn[rg.domain.name]
-            return f"({len(vals) - CN_K} + cn_count(c, {d}))"
+            return f"({len(vals) - self.cn_k} + cn_count(c, {d}))"
         return str(len(vals))
 
     def dyn_slots(self) -> None:
-        """One slot per extended domain: its number of elements (0..CN_K)."""
+        """One slot per extended domain: its number of elements (0..cn_k)."""
         self.dyn_count_slot = []
         for d in self.dyn_doms:
             key = ("#dom", d.name)
             self.dyn_count_slot.append(len(self.slots))
             self.slot_of[key] = len(self.slots)
             self.slots.append(key)
-            self.slot_values.append(list(range(CN_K + 1)))
+            self.slot_values.append(list(range(self.cn_k + 1)))
             self.slot_types.append(T.INTEGER)
 
     def dyn_counts(self, st: dict) -> dict:
@@ -2485,8 +2489,8 @@ class Generator:
         for d in self.dyn_doms:
             key = ("#dom", d.name)
             els = st.get(key, ())
-            if tuple(e.serial for e in els) != tuple(range(1, len(els) + 1)) or len(els) > CN_K:
-                raise Unsupported(f"the elements of {d.name} are not numbered 1..n (or more than {CN_K})")
+            if tuple(e.serial for e in els) != tuple(range(1, len(els) + 1)) or len(els) > self.cn_k:
+                raise Unsupported(f"the elements of {d.name} are not numbered 1..n (or more than {self.cn_k})")
             st[key] = len(els)
         return st
 
@@ -2616,7 +2620,7 @@ class Generator:
         def arr(ctype, name, xs):
             return f"static const {ctype} {name}[] = {{{', '.join(f'{x}' for x in xs) or '0'}}};"
         out = [
-            f"#define CN_K {CN_K}", f"#define CN_ROUNDS {self.cn_rounds}", f"#define CN_NATOM {len(codes)}",
+            f"#define CN_K {self.cn_k}", f"#define CN_ROUNDS {self.cn_rounds}", f"#define CN_NATOM {len(codes)}",
             arr("int", "CN_COUNT_SLOT", self.dyn_count_slot),
             arr("int", "CN_GC", [int(g) for g in self.dyn_gc]),
             arr("int", "CN_SLOT_FN", slot_fn), arr("int", "CN_SLOT_VTY", slot_vty),
@@ -2813,8 +2817,8 @@ class NativeExplorer:
         nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates
         self._err_code = self.dll.asm_err_code()
-        if status == 4 and g.dyn:
-            self._canon_refusal()
+        if status == 4 and g.dyn and self._canon_refusal():
+            return self._more_element_slots()
         if status == 4:
             code = out[4]
             self.failed_state = out[5]     # the state whose step or property was refused
@@ -2878,13 +2882,33 @@ class NativeExplorer:
         fn.argtypes = [_i64p]
         buf = (ctypes.c_int64 * 1)()
         why = fn(buf)
+        if why == 1 and self.gen.cn_k < CN_K_MAX:
+            return True
         if why == 1:
-            raise Unsupported(f"more than {CN_K} elements of {self.gen.dyn_doms[buf[0]].name} made by extend "
+            raise Unsupported(f"more than {self.gen.cn_k} elements of {self.gen.dyn_doms[buf[0]].name} made by extend "
                               f"in one state")
         if why == 3:
             raise Unsupported(f"{self.gen.dyn_doms[buf[0]].name} ranged over inside a seq block after an extend of it")
         if why:
             raise Unsupported("a state with elements made by extend that the native canonical form does not handle")
+
+    def _more_element_slots(self):
+        """The search again, on an engine with twice the element slots per extended domain."""
+        gen = Generator(self.m, self.state_props)
+        gen.step_props = self.gen.step_props
+        gen.invars = self.gen.invars
+        gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.cn_k = self.gen.cn_k * 2
+        src = gen.generate()
+        dll = native_build.build(src, _SYMBOLS)
+        gen.codec.dll = dll
+        self.close()
+        self.gen, self.dll = gen, dll
+        self.compile_seconds += native_build.last_compile_seconds
+        self._states = {}
+        self._parent = None
+        self._picks_cache = None
+        return self.run()
 
     def _norm(self, st: dict) -> tuple:
         """The canonical form of a successor the Python step function made, and the renaming."""
