@@ -693,7 +693,7 @@ class Generator:
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         body = self.term(t.body, env)
         buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
-        return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
+        return ("({ " + f"static _Thread_local V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
                 f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
                 + "}" * len(heads) +
@@ -912,10 +912,10 @@ class Generator:
         if cacheable:
             ep = self.fresh("ep")
             cn = self.fresh("cn")
-            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; int pos0 = c->pos; "
+            pre = (f"static _Thread_local int64_t {ep} = -1; static _Thread_local int {cn} = 0; int pos0 = c->pos; "
                    f"if (pos0 == 0 && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
             post = f" if (c->pos == pos0 && pos0 == 0) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
-        return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
+        return ("{ " + f"static _Thread_local V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -1144,6 +1144,9 @@ _SYMBOLS = {
     "asm_value_elems": (_i64, [_i64, _i64p]),
     "asm_values": (_i64, []),
     "asm_free": (None, []),
+    "asm_run_par": (_i64, [_f64, _i64p, _i64]),
+    "asm_limit_memory": (None, [_i64]),
+    "asm_memory_bytes": (_i64, []),
 }
 
 
@@ -1154,7 +1157,8 @@ class NativeExplorer:
     SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, **_ignored):
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
+                 max_memory=None, **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -1193,6 +1197,10 @@ class NativeExplorer:
         self._parent = None
         self._picks_cache = None
         self.nstates = 0
+        # threads that expand each level together (asm_run_par: the same result as one) and the
+        # bound on the search's tables in bytes (None: none)
+        self.workers = max(int(workers or 1), 1)
+        self.max_memory = max_memory
 
     def _growing(self, depth: int) -> list:
         """Integer locations that took a new least or greatest value at each of the last levels."""
@@ -1230,12 +1238,14 @@ class NativeExplorer:
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
+        self.dll.asm_limit_memory(-1 if not self.max_memory else int(self.max_memory))
         # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
         # watches for integer locations that grow level after level
         growth_depth = -1
         streak: dict = {}
         while True:
-            status = self.dll.asm_run(self.SLICE, out)
+            status = (self.dll.asm_run_par(self.SLICE, out, self.workers) if self.workers > 1
+                      else self.dll.asm_run(self.SLICE, out))
             if status != 6:
                 break
             now = time.perf_counter() - t0
@@ -1296,9 +1306,10 @@ class NativeExplorer:
                 violations.append(v)
         # the order of the Python explorer: by when they were found
         stopped = out[11] != 0
-        incomplete = status in (1, 2, 3) or stopped
+        incomplete = status in (1, 2, 3, 8) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
-                  3: f"time limit {self.max_seconds} s reached"}.get(status, "")
+                  3: f"time limit {self.max_seconds} s reached",
+                  8: f"memory limit {(self.max_memory or 0) / 2**20:,.0f} MB reached"}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
         if status == 3 and self.warnings:
@@ -1308,6 +1319,7 @@ class NativeExplorer:
                      list(self.state_props) + list(self.step_props))
         res.deadlock_checked = self.deadlock
         res.engine = "native"
+        res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         return res
 
