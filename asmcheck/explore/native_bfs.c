@@ -520,6 +520,9 @@ typedef struct {
     int64_t lo, hi;              /* the slice */
     int64_t base;                /* position of the first successor in the chunk's order */
     int64_t nfirst, firstbase;   /* first occurrences, and the number of the first one */
+    int64_t *own[MAXTHREADS];    /* the positions of the successors not found, by owning thread */
+    int64_t nown[MAXTHREADS], cap_own[MAXTHREADS];
+    double busy;                 /* seconds in the phases */
     int irregular;               /* needs asm_run */
     int timeout;
 } Worker;
@@ -527,24 +530,36 @@ typedef struct {
 static Worker W[MAXTHREADS];
 static int nworkers = 0;
 
-/* the barrier: spinning, then yielding (the phases are short) */
+/* the barrier: a short spin (the phases are short), then a futex wait (the machine may have
+   fewer free cores than threads: a waiting thread must not take the core of a working one) */
+#include <linux/futex.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 static struct {
-    volatile int64_t count, sense;
+    int count, sense, sleepers;
 } B;
-static int64_t bar_n;
+static int bar_n;
 
 static void barrier(int64_t *local_sense) {
-    int64_t s = 1 - *local_sense;
+    int s = 1 - (int)*local_sense;
     *local_sense = s;
     if (__atomic_add_fetch(&B.count, 1, __ATOMIC_ACQ_REL) == bar_n) {
         __atomic_store_n(&B.count, 0, __ATOMIC_RELAXED);
-        __atomic_store_n(&B.sense, s, __ATOMIC_RELEASE);
+        __atomic_store_n(&B.sense, s, __ATOMIC_SEQ_CST);
+        if (__atomic_load_n(&B.sleepers, __ATOMIC_SEQ_CST) > 0)
+            syscall(SYS_futex, &B.sense, FUTEX_WAKE_PRIVATE, 0x7fffffff, 0, 0, 0);
         return;
     }
-    int spins = 0;
-    while (__atomic_load_n(&B.sense, __ATOMIC_ACQUIRE) != s) {
-        if (++spins > 200) sched_yield();
+    for (int spins = 0; spins < 300; spins++) {
+        if (__atomic_load_n(&B.sense, __ATOMIC_ACQUIRE) == s) return;
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
     }
+    __atomic_add_fetch(&B.sleepers, 1, __ATOMIC_SEQ_CST);
+    while (__atomic_load_n(&B.sense, __ATOMIC_SEQ_CST) != s)
+        syscall(SYS_futex, &B.sense, FUTEX_WAIT_PRIVATE, 1 - s, 0, 0, 0);
+    __atomic_sub_fetch(&B.sleepers, 1, __ATOMIC_SEQ_CST);
 }
 
 /* what the threads do next (set by thread 0 between barriers) */
@@ -615,6 +630,7 @@ static inline int64_t lookup(const uint64_t *w, uint64_t hh) {
 static void phase_expand(Worker *w) {
     Ctx *c = w->c;
     w->ncand = 0;
+    for (int t = 0; t < nworkers; t++) w->nown[t] = 0;
     w->irregular = 0;
     w->timeout = 0;
     vt_missed = 0;
@@ -698,7 +714,7 @@ static void phase_expand(Worker *w) {
                 if (vt_missed) { w->irregular = 1; return; }
                 uint64_t hh = hash_state(nw);
                 w->ch[w->ncand] = hh;
-                w->ctid[w->ncand] = lookup(nw, hh);
+                __builtin_prefetch(&table[hh & tmask]);
                 w->ncand++;
             }
             nbuf++;
@@ -722,9 +738,32 @@ static void phase_expand(Worker *w) {
         }
         w->scount[i] = w->ncand - w->sfirst[i];
     }
+    /* the look-ups, the table's entries fetched ahead; the successors not found go to the thread
+       that owns their hash */
+    const int AHEAD = 12;
+    for (int64_t q = 0; q < w->ncand; q++) {
+        if (q + AHEAD < w->ncand) __builtin_prefetch(&table[w->ch[q + AHEAD] & tmask]);
+        uint64_t hh = w->ch[q];
+        int64_t id = lookup(w->cw + q * NWORDS, hh);
+        w->ctid[q] = id;
+        if (id < 0) {
+            int o = (int)((uint32_t)(hh >> 32) % (uint32_t)nworkers);
+            if (w->nown[o] >= w->cap_own[o]) {
+                int64_t nc = w->cap_own[o] ? 2 * w->cap_own[o] : 1024;
+                int64_t *x = (int64_t *)realloc(w->own[o], nc * sizeof(int64_t));
+                if (!x) { w->irregular = 1; return; }
+                w->own[o] = x;
+                w->cap_own[o] = nc;
+            }
+            w->own[o][w->nown[o]++] = q;
+        }
+    }
 }
 
 #define PROV 0x80000000u
+#define NOTFIRST (INT64_MIN / 2)     /* ctid of a successor met before in the chunk: NOTFIRST + its position */
+static int64_t *posnum = 0, cap_posnum = 0;     /* the number of the state first met at each position */
+static int64_t nfirst_of[MAXTHREADS][MAXTHREADS];   /* [inserting thread][slice]: first occurrences */
 
 /* the words of the successor at position q of the chunk */
 static inline const uint64_t *cand_words(int64_t q) {
@@ -733,81 +772,80 @@ static inline const uint64_t *cand_words(int64_t q) {
     return W[t].cw + (q - W[t].base) * NWORDS;
 }
 
-/* phase B: insert the successors not found; ctid becomes the table slot (negative: -1 - slot) */
-static void phase_insert(Worker *w) {
+/* phase B: thread t inserts the successors not found whose hash it owns, in the chunk's order, so
+   the first occurrence of each new state is the one inserted.  ctid becomes -1 - the table slot
+   for a first occurrence, NOTFIRST + the position of the first one for the others. */
+static void phase_insert(int t) {
     uint64_t *tab = (uint64_t *)table;
-    for (int64_t q = 0; q < w->ncand; q++) {
-        if (w->ctid[q] >= 0) continue;
-        const uint64_t *cw = w->cw + q * NWORDS;
-        uint64_t hh = w->ch[q];
-        uint32_t fp = (uint32_t)(hh >> 32);
-        uint32_t me = PROV | (uint32_t)(w->base + q);
-        uint64_t mine = ((uint64_t)fp << 32) | me;
-        uint64_t h = hh & tmask;
-        for (;;) {
-            uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
-            if ((uint32_t)e == 0xffffffffu) {
-                if (__atomic_compare_exchange_n(&tab[h], &e, mine, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) break;
-                continue;            /* taken meanwhile: look at it again */
-            }
-            uint32_t id = (uint32_t)e;
-            if ((uint32_t)(e >> 32) == fp && (id & PROV)) {
-                if (memcmp(cand_words(id & ~PROV), cw, NWORDS * sizeof(uint64_t)) == 0) {
-                    /* the same state: keep the smaller position */
-                    while (id > me) {
-                        if (__atomic_compare_exchange_n(&tab[h], &e, mine, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) break;
-                        id = (uint32_t)e;
+    for (int u = 0; u < nworkers; u++) {
+        Worker *w = &W[u];
+        int64_t nf = 0;
+        const int64_t *mine_q = w->own[t];
+        for (int64_t r = 0; r < w->nown[t]; r++) {
+            int64_t q = mine_q[r];
+            if (r + 8 < w->nown[t]) __builtin_prefetch(&table[w->ch[mine_q[r + 8]] & tmask]);
+            uint64_t hh = w->ch[q];
+            uint32_t fp = (uint32_t)(hh >> 32);
+            const uint64_t *cw = w->cw + q * NWORDS;
+            uint64_t mine = ((uint64_t)fp << 32) | (PROV | (uint32_t)(w->base + q));
+            uint64_t h = hh & tmask;
+            for (;;) {
+                uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
+                if ((uint32_t)e == 0xffffffffu) {
+                    if (__atomic_compare_exchange_n(&tab[h], &e, mine, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) {
+                        w->ctid[q] = -1 - (int64_t)h;
+                        nf++;
+                        break;
                     }
+                    continue;        /* another thread took it: look at it again */
+                }
+                uint32_t id = (uint32_t)e;
+                if ((uint32_t)(e >> 32) == fp && (id & PROV) &&
+                    memcmp(cand_words(id & ~PROV), cw, NWORDS * sizeof(uint64_t)) == 0) {
+                    w->ctid[q] = NOTFIRST + (int64_t)(id & ~PROV);
                     break;
                 }
+                h = (h + 1) & tmask;
             }
-            h = (h + 1) & tmask;
         }
-        w->ctid[q] = -1 - (int64_t)h;
+        nfirst_of[t][u] = nf;
     }
 }
 
-/* phase C: count the first occurrences, then number them and store the states */
-static void phase_count(Worker *w) {
-    int64_t n = 0;
-    for (int64_t q = 0; q < w->ncand; q++) {
-        if (w->ctid[q] >= 0) continue;
-        if (table[-1 - w->ctid[q]].id == (PROV | (uint32_t)(w->base + q))) n++;
-    }
-    w->nfirst = n;
-}
-
+/* phase C: thread u numbers the first occurrences of its slice (in order, from firstbase) and
+   stores them */
 static void phase_number(Worker *w) {
     int64_t num = w->firstbase;
     int64_t si = 0;
     for (int64_t q = 0; q < w->ncand; q++) {
-        if (w->ctid[q] >= 0) continue;
-        int64_t slot = -1 - w->ctid[q];
-        if (__atomic_load_n(&table[slot].id, __ATOMIC_RELAXED) != (PROV | (uint32_t)(w->base + q))) continue;
+        int64_t x = w->ctid[q];
+        if (x >= 0 || x < NOTFIRST / 2) continue;
+        int64_t slot = -1 - x;
         while (si + 1 < w->hi - w->lo && w->sfirst[si + 1] <= q) si++;
         memcpy(states + num * NWORDS, w->cw + q * NWORDS, NWORDS * sizeof(uint64_t));
         parents[num] = (uint32_t)(w->lo + si);
-        __atomic_store_n(&table[slot].id, (uint32_t)num, __ATOMIC_RELAXED);
+        table[slot].id = (uint32_t)num;
+        posnum[w->base + q] = num;
         w->ctid[q] = num;
         num++;
     }
 }
 
-/* phase C, after the numbering: every other successor reads its state's number in the table */
-static void phase_resolve(Worker *w) {
-    for (int64_t q = 0; q < w->ncand; q++)
-        if (w->ctid[q] < 0) w->ctid[q] = table[-1 - w->ctid[q]].id;
+static double cpu_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static void run_phase(int t, int cmd) {
     Worker *w = &W[t];
+    double t0 = cpu_seconds();
     switch (cmd) {
     case 0: phase_expand(w); break;
-    case 1: phase_insert(w); break;
-    case 2: phase_count(w); break;
+    case 1: phase_insert(t); break;
     case 3: phase_number(w); break;
-    case 4: phase_resolve(w); break;
     }
+    w->busy += cpu_seconds() - t0;
 }
 
 static void *worker_main(void *arg) {
@@ -822,12 +860,20 @@ static void *worker_main(void *arg) {
     }
 }
 
+static double ptime[8];
 static void all_do(int cmd, int64_t *sense) {
     J.cmd = cmd;
+    double t0 = now_seconds();
     barrier(sense);
+    double t1 = now_seconds();
     run_phase(0, cmd);
+    double t2 = now_seconds();
     barrier(sense);
+    double t3 = now_seconds();
+    ptime[cmd] += t2 - t1;
+    ptime[4] += (t1 - t0) + (t3 - t2);
 }
+void asm_par_stats(double *o) { for (int i = 0; i < 7; i++) o[i] = ptime[i]; o[7] = W[1].busy; o[6] = W[0].busy; }
 
 /* the table again, from the states kept (after a stop inside a chunk) */
 static void rebuild_table(void) {
@@ -881,6 +927,7 @@ static int phase_merge(int nthreads, int64_t n0) {
             int64_t q0 = w->sfirst[i], q1 = q0 + w->scount[i];
             for (int64_t q = q0; q < q1; q++) {
                 int64_t tid = w->ctid[q];
+                if (tid < 0) tid = posnum[tid - NOTFIRST];
                 if (tid == run_n) {
                     run_n++;
                     if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
@@ -944,7 +991,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     sigemptyset(&sa.sa_mask);
     interrupted = 0;
     sigaction(SIGINT, &sa, &old);
-    B.count = 0; B.sense = 0; bar_n = nt;
+    B.count = 0; B.sense = 0; B.sleepers = 0; bar_n = nt;
     J.stop = 0;
     nworkers = nt;
     pthread_t th[MAXTHREADS];
@@ -999,10 +1046,18 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
                 int oom = 0;
                 while ((tcount + miss + 1) * 4 > (int64_t)(tmask + 1) * 3) if (!grow_table()) { oom = 1; break; }
                 if (oom) { status = 5; break; }
+                if (base > cap_posnum) {
+                    int64_t *x = (int64_t *)realloc(posnum, base * sizeof(int64_t));
+                    if (!x) { status = 5; break; }
+                    posnum = x;
+                    cap_posnum = base;
+                }
                 all_do(1, &sense);
-                all_do(2, &sense);
                 int64_t nfirst = 0;
-                for (int t = 0; t < nt; t++) { W[t].firstbase = nstates + nfirst; nfirst += W[t].nfirst; }
+                for (int u = 0; u < nt; u++) {
+                    W[u].firstbase = nstates + nfirst;
+                    for (int t = 0; t < nt; t++) nfirst += nfirst_of[t][u];
+                }
                 if (nstates + nfirst > cap_states) {
                     int64_t nc = cap_states ? cap_states : 4096;
                     while (nc < nstates + nfirst) nc = nc + nc / 2;
@@ -1015,11 +1070,12 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
                     cap_states = nc;
                 }
                 all_do(3, &sense);
-                all_do(4, &sense);
                 int64_t n0 = nstates;
                 nstates += nfirst;
                 tcount += nfirst;
+                double tm = now_seconds();
                 status = phase_merge(nt, n0);
+                ptime[5] += now_seconds() - tm;
                 if (status >= 0) break;
                 S.sid = c1;
                 continue;
@@ -1028,7 +1084,9 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         if (serial) {
             if (P.serial_skip > 0) P.serial_skip--;
             P.until = c1;
+            double tm = now_seconds();
             int st = (int)asm_run(1e300, out);
+            ptime[6] += now_seconds() - tm;
             P.until = INT64_MAX;
             if (st != 9) { status = st; break; }
         }
