@@ -766,16 +766,16 @@ static int64_t *posnum = 0, cap_posnum = 0;     /* the number of the state first
 static int64_t nfirst_of[MAXTHREADS][MAXTHREADS];   /* [inserting thread][slice]: first occurrences */
 
 /* the words of the successor at position q of the chunk */
-static inline const uint64_t *cand_words(int64_t q) {
+static inline const uint64_t *cand_words(int64_t q, const int64_t *bases) {
     int t = 0;
-    while (t + 1 < nworkers && W[t + 1].base <= q) t++;
-    return W[t].cw + (q - W[t].base) * NWORDS;
+    while (t + 1 < nworkers && bases[t + 1] <= q) t++;
+    return W[t].cw + (q - bases[t]) * NWORDS;
 }
 
 /* phase B: thread t inserts the successors not found whose hash it owns, in the chunk's order, so
    the first occurrence of each new state is the one inserted.  ctid becomes -1 - the table slot
    for a first occurrence, NOTFIRST + the position of the first one for the others. */
-static void phase_insert(int t) {
+static void phase_insert(int t, const int64_t *bases) {
     uint64_t *tab = (uint64_t *)table;
     for (int u = 0; u < nworkers; u++) {
         Worker *w = &W[u];
@@ -787,7 +787,7 @@ static void phase_insert(int t) {
             uint64_t hh = w->ch[q];
             uint32_t fp = (uint32_t)(hh >> 32);
             const uint64_t *cw = w->cw + q * NWORDS;
-            uint64_t mine = ((uint64_t)fp << 32) | (PROV | (uint32_t)(w->base + q));
+            uint64_t mine = ((uint64_t)fp << 32) | (PROV | (uint32_t)(bases[u] + q));
             uint64_t h = hh & tmask;
             for (;;) {
                 uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
@@ -801,7 +801,7 @@ static void phase_insert(int t) {
                 }
                 uint32_t id = (uint32_t)e;
                 if ((uint32_t)(e >> 32) == fp && (id & PROV) &&
-                    memcmp(cand_words(id & ~PROV), cw, NWORDS * sizeof(uint64_t)) == 0) {
+                    memcmp(cand_words(id & ~PROV, bases), cw, NWORDS * sizeof(uint64_t)) == 0) {
                     w->ctid[q] = NOTFIRST + (int64_t)(id & ~PROV);
                     break;
                 }
@@ -814,8 +814,8 @@ static void phase_insert(int t) {
 
 /* phase C: thread u numbers the first occurrences of its slice (in order, from firstbase) and
    stores them */
-static void phase_number(Worker *w) {
-    int64_t num = w->firstbase;
+static void phase_number(Worker *w, int64_t base, int64_t firstbase) {
+    int64_t num = firstbase;
     int64_t si = 0;
     for (int64_t q = 0; q < w->ncand; q++) {
         int64_t x = w->ctid[q];
@@ -825,7 +825,7 @@ static void phase_number(Worker *w) {
         memcpy(states + num * NWORDS, w->cw + q * NWORDS, NWORDS * sizeof(uint64_t));
         parents[num] = (uint32_t)(w->lo + si);
         table[slot].id = (uint32_t)num;
-        posnum[w->base + q] = num;
+        posnum[base + q] = num;
         w->ctid[q] = num;
         num++;
     }
@@ -837,43 +837,97 @@ static double cpu_seconds(void) {
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static void run_phase(int t, int cmd) {
-    Worker *w = &W[t];
-    double t0 = cpu_seconds();
-    switch (cmd) {
-    case 0: phase_expand(w); break;
-    case 1: phase_insert(t); break;
-    case 3: phase_number(w); break;
+/* what thread 0 knew when the chunk began (the threads decide from it alike) */
+static struct { int64_t nstates, tcount, tcap, cap_states, cap_posnum; } K;
+static double ptime[8];
+
+/* grow the table and the position array (thread 0, the others waiting) */
+static int grow_for(int64_t miss, int64_t ncand) {
+    while ((tcount + miss + 1) * 4 > (int64_t)(tmask + 1) * 3) if (!grow_table()) return 0;
+    if (ncand > cap_posnum) {
+        int64_t *x = (int64_t *)realloc(posnum, ncand * sizeof(int64_t));
+        if (!x) return 0;
+        posnum = x;
+        cap_posnum = ncand;
     }
-    w->busy += cpu_seconds() - t0;
+    return 1;
+}
+
+static int grow_states(int64_t n) {
+    if (n <= cap_states) return 1;
+    int64_t nc = cap_states ? cap_states : 4096;
+    while (nc < n) nc = nc + nc / 2;
+    uint64_t *ns = (uint64_t *)realloc(states, nc * NWORDS * sizeof(uint64_t));
+    if (!ns) return 0;
+    states = ns;
+    uint32_t *np = (uint32_t *)realloc(parents, nc * sizeof(uint32_t));
+    if (!np) return 0;
+    parents = np;
+    cap_states = nc;
+    return 1;
+}
+
+static volatile int grow_failed = 0;
+
+/* the parallel phases of a chunk, run by every thread (t): 1 when done, 0 when the chunk must
+   be done on one thread (or the search stops: time, Ctrl-C, memory), which thread 0 does.
+   Between two barriers each thread computes the positions and numbers it needs from what all
+   wrote before the barrier; only thread 0 allocates, with a barrier either side. */
+static int chunk_par(int t, int64_t *sense, int64_t *nfirst_out) {
+    Worker *w = &W[t];
+    int nt = nworkers;
+    double c0 = cpu_seconds();
+    phase_expand(w);
+    w->busy += cpu_seconds() - c0;
+    barrier(sense);
+    for (int u = 0; u < nt; u++) if (W[u].irregular || W[u].timeout) return 0;
+    int64_t bases[MAXTHREADS + 1], miss = 0;
+    bases[0] = 0;
+    for (int u = 0; u < nt; u++) {
+        bases[u + 1] = bases[u] + W[u].ncand;
+        for (int o = 0; o < nt; o++) miss += W[u].nown[o];
+    }
+    if (bases[nt] >= (int64_t)PROV || K.nstates + miss >= (int64_t)PROV) return 0;
+    if ((K.tcount + miss + 1) * 4 > K.tcap * 3 || bases[nt] > K.cap_posnum) {
+        barrier(sense);
+        if (t == 0 && !grow_for(miss, bases[nt])) grow_failed = 1;
+        barrier(sense);
+        if (grow_failed) return 0;
+    }
+    c0 = cpu_seconds();
+    phase_insert(t, bases);
+    w->busy += cpu_seconds() - c0;
+    barrier(sense);
+    int64_t firstbase = K.nstates, nfirst = 0;
+    for (int u = 0; u < nt; u++) {
+        if (u == t) firstbase += nfirst;
+        for (int o = 0; o < nt; o++) nfirst += nfirst_of[o][u];
+    }
+    if (K.nstates + nfirst > K.cap_states) {
+        barrier(sense);
+        if (t == 0 && !grow_states(K.nstates + nfirst)) grow_failed = 1;
+        barrier(sense);
+        if (grow_failed) return 0;
+    }
+    c0 = cpu_seconds();
+    phase_number(w, bases[t], firstbase);
+    w->busy += cpu_seconds() - c0;
+    barrier(sense);
+    *nfirst_out = nfirst;
+    return 1;
 }
 
 static void *worker_main(void *arg) {
     int t = (int)(intptr_t)arg;
-    int64_t sense = 0;
+    int64_t sense = 0, nf;
     for (;;) {
         barrier(&sense);
-        int cmd = J.cmd;
-        if (cmd == 9) return 0;
-        run_phase(t, cmd);
-        barrier(&sense);
+        if (J.cmd == 9) return 0;
+        chunk_par(t, &sense, &nf);
     }
 }
 
-static double ptime[8];
-static void all_do(int cmd, int64_t *sense) {
-    J.cmd = cmd;
-    double t0 = now_seconds();
-    barrier(sense);
-    double t1 = now_seconds();
-    run_phase(0, cmd);
-    double t2 = now_seconds();
-    barrier(sense);
-    double t3 = now_seconds();
-    ptime[cmd] += t2 - t1;
-    ptime[4] += (t1 - t0) + (t3 - t2);
-}
-void asm_par_stats(double *o) { for (int i = 0; i < 7; i++) o[i] = ptime[i]; o[7] = W[1].busy; o[6] = W[0].busy; }
+void asm_par_stats(double *o) { for (int i = 0; i < 6; i++) o[i] = ptime[i]; o[6] = W[0].busy; o[7] = W[1].busy; }
 
 /* the table again, from the states kept (after a stop inside a chunk) */
 static void rebuild_table(void) {
@@ -1024,52 +1078,29 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         if (!serial) {
             J.expand_only_inv = S.max_depth >= 0 && S.depth >= S.max_depth;
             for (int t = 0; t < nt; t++) { W[t].lo = c0 + (c1 - c0) * t / nt; W[t].hi = c0 + (c1 - c0) * (t + 1) / nt; }
+            K.nstates = nstates; K.tcount = tcount; K.tcap = (int64_t)(tmask + 1);
+            K.cap_states = cap_states; K.cap_posnum = cap_posnum;
+            grow_failed = 0;
             vt_frozen = 1;
-            all_do(0, &sense);
+            J.cmd = 0;
+            int64_t nfirst = 0;
+            double tw = now_seconds();
+            barrier(&sense);
+            int done = chunk_par(0, &sense, &nfirst);
             vt_frozen = 0;
+            ptime[0] += now_seconds() - tw;
             int timeout = 0, irregular = 0;
             for (int t = 0; t < nt; t++) { timeout |= W[t].timeout; irregular |= W[t].irregular; }
             if (timeout) { status = interrupted ? 7 : 3; break; }
-            if (irregular) {
+            if (grow_failed) { status = 5; break; }
+            if (!done) {
                 serial = 1;
-                P.serial_next = P.serial_next ? (P.serial_next * 2 > 64 ? 64 : P.serial_next * 2) : 1;
-                P.serial_skip = P.serial_next;
+                if (irregular) {
+                    P.serial_next = P.serial_next ? (P.serial_next * 2 > 64 ? 64 : P.serial_next * 2) : 1;
+                    P.serial_skip = P.serial_next;
+                }
             } else {
                 P.serial_next = 0;
-                int64_t base = 0, miss = 0;
-                for (int t = 0; t < nt; t++) {
-                    W[t].base = base;
-                    base += W[t].ncand;
-                    for (int64_t q = 0; q < W[t].ncand; q++) miss += W[t].ctid[q] < 0;
-                }
-                if (base >= (int64_t)PROV || nstates + miss >= (int64_t)PROV) { status = 5; break; }
-                int oom = 0;
-                while ((tcount + miss + 1) * 4 > (int64_t)(tmask + 1) * 3) if (!grow_table()) { oom = 1; break; }
-                if (oom) { status = 5; break; }
-                if (base > cap_posnum) {
-                    int64_t *x = (int64_t *)realloc(posnum, base * sizeof(int64_t));
-                    if (!x) { status = 5; break; }
-                    posnum = x;
-                    cap_posnum = base;
-                }
-                all_do(1, &sense);
-                int64_t nfirst = 0;
-                for (int u = 0; u < nt; u++) {
-                    W[u].firstbase = nstates + nfirst;
-                    for (int t = 0; t < nt; t++) nfirst += nfirst_of[t][u];
-                }
-                if (nstates + nfirst > cap_states) {
-                    int64_t nc = cap_states ? cap_states : 4096;
-                    while (nc < nstates + nfirst) nc = nc + nc / 2;
-                    uint64_t *ns = (uint64_t *)realloc(states, nc * NWORDS * sizeof(uint64_t));
-                    if (!ns) { status = 5; break; }
-                    states = ns;
-                    uint32_t *np = (uint32_t *)realloc(parents, nc * sizeof(uint32_t));
-                    if (!np) { status = 5; break; }
-                    parents = np;
-                    cap_states = nc;
-                }
-                all_do(3, &sense);
                 int64_t n0 = nstates;
                 nstates += nfirst;
                 tcount += nfirst;
