@@ -1158,7 +1158,7 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
-                 max_memory=None, **_ignored):
+                 max_memory=None, table_memory=None, **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -1197,10 +1197,21 @@ class NativeExplorer:
         self._parent = None
         self._picks_cache = None
         self.nstates = 0
-        # threads that expand each level together (asm_run_par: the same result as one) and the
-        # bound on the search's tables in bytes (None: none)
+        # threads that expand each level together (asm_run_par: the same result as one); the
+        # bound on the process's memory in bytes (None: none), of which the search's tables get
+        # what the process does not hold when the search begins, or exactly table_memory bytes
         self.workers = max(int(workers or 1), 1)
         self.max_memory = max_memory
+        self.table_memory = table_memory
+
+    def _table_bound(self) -> int:
+        """Bytes the search's tables may take (-1: no bound)."""
+        if self.table_memory is not None:
+            return max(int(self.table_memory), 0)
+        if not self.max_memory:
+            return -1
+        from ..api import memory_in_use
+        return max(int(self.max_memory) - memory_in_use(), 0)
 
     def _growing(self, depth: int) -> list:
         """Integer locations that took a new least or greatest value at each of the last levels."""
@@ -1238,7 +1249,7 @@ class NativeExplorer:
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
-        self.dll.asm_limit_memory(-1 if not self.max_memory else int(self.max_memory))
+        self.dll.asm_limit_memory(self._table_bound())
         # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
         # watches for integer locations that grow level after level
         growth_depth = -1
@@ -1309,7 +1320,8 @@ class NativeExplorer:
         incomplete = status in (1, 2, 3, 8) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
                   3: f"time limit {self.max_seconds} s reached",
-                  8: f"memory limit {(self.max_memory or 0) / 2**20:,.0f} MB reached"}.get(status, "")
+                  8: (f"memory limit {self.max_memory / 2**20:,.0f} MB reached" if self.table_memory is None else
+                      f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
         if status == 3 and self.warnings:
