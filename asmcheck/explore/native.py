@@ -1147,6 +1147,7 @@ _SYMBOLS = {
     "asm_run_par": (_i64, [_f64, _i64p, _i64]),
     "asm_limit_memory": (None, [_i64]),
     "asm_memory_bytes": (_i64, []),
+    "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
 }
 
 
@@ -1203,6 +1204,16 @@ class NativeExplorer:
         self.workers = max(int(workers or 1), 1)
         self.max_memory = max_memory
         self.table_memory = table_memory
+
+    def thread_stats(self) -> dict:
+        """What the threaded search did since the last call (benchmarks, tests): chunks of a level
+        done on the threads, chunks sent back to one thread (a value not yet in the value table, or
+        a run-time condition), seconds in the parallel phases and in the merge, CPU seconds of
+        threads 0 and 1."""
+        o = (ctypes.c_double * 8)()
+        self.dll.asm_par_stats(o)
+        return {"parallel_chunks": int(o[2]), "serial_chunks": int(o[1]), "parallel_seconds": o[0],
+                "merge_seconds": o[5], "thread_cpu": (o[6], o[7])}
 
     def _table_bound(self) -> int:
         """Bytes the search's tables may take (-1: no bound)."""
@@ -1320,8 +1331,8 @@ class NativeExplorer:
         incomplete = status in (1, 2, 3, 8) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
                   3: f"time limit {self.max_seconds} s reached",
-                  8: (f"memory limit {self.max_memory / 2**20:,.0f} MB reached" if self.table_memory is None else
-                      f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
+                  8: (f"memory limit {(self.max_memory or 0) / 2**20:,.0f} MB reached" if self.table_memory is None
+                      else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
         if status == 3 and self.warnings:

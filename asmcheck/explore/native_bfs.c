@@ -454,6 +454,7 @@ void asm_free(void) {
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
+    P.serial_skip = P.serial_next = 0;
 }
 
 /* ------------------------------------------------------------------ the memory bound
@@ -839,6 +840,8 @@ static double cpu_seconds(void) {
 
 /* what thread 0 knew when the chunk began (the threads decide from it alike) */
 static struct { int64_t nstates, tcount, tcap, cap_states, cap_posnum; } K;
+/* for benchmarks (asm_par_stats): [0] seconds in the parallel phases, [1] chunks sent back to one
+   thread, [2] chunks done on the threads, [5] seconds merging */
 static double ptime[8];
 
 /* grow the table and the position array (thread 0, the others waiting) */
@@ -927,7 +930,12 @@ static void *worker_main(void *arg) {
     }
 }
 
-void asm_par_stats(double *o) { for (int i = 0; i < 6; i++) o[i] = ptime[i]; o[6] = W[0].busy; o[7] = W[1].busy; }
+/* the figures since the last call: [0]-[2], [5] above, [6] and [7] CPU seconds of threads 0 and 1 */
+void asm_par_stats(double *o) {
+    for (int i = 0; i < 6; i++) { o[i] = ptime[i]; ptime[i] = 0; }
+    o[6] = W[0].busy; o[7] = W[1].busy;
+    W[0].busy = W[1].busy = 0;
+}
 
 /* the table again, from the states kept (after a stop inside a chunk) */
 static void rebuild_table(void) {
@@ -1074,7 +1082,8 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         if (S.sid == S.level_end) { S.depth++; S.level_end = nstates; }
         int64_t c0 = S.sid, c1 = S.level_end;
         if (c1 - c0 > CHUNK_STATES) c1 = c0 + CHUNK_STATES;
-        int serial = c1 - c0 < 8 * nt || P.serial_skip > 0;
+        int skipped = P.serial_skip > 0;     /* a chunk of a stretch that needed one thread */
+        int serial = c1 - c0 < 8 * nt || skipped;
         if (!serial) {
             J.expand_only_inv = S.max_depth >= 0 && S.depth >= S.max_depth;
             for (int t = 0; t < nt; t++) { W[t].lo = c0 + (c1 - c0) * t / nt; W[t].hi = c0 + (c1 - c0) * (t + 1) / nt; }
@@ -1094,6 +1103,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
             if (timeout) { status = interrupted ? 7 : 3; break; }
             if (grow_failed) { status = 5; break; }
             if (!done) {
+                ptime[1] += 1;
                 serial = 1;
                 if (irregular) {
                     P.serial_next = P.serial_next ? (P.serial_next * 2 > 64 ? 64 : P.serial_next * 2) : 1;
@@ -1101,6 +1111,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
                 }
             } else {
                 P.serial_next = 0;
+                ptime[2] += 1;
                 int64_t n0 = nstates;
                 nstates += nfirst;
                 tcount += nfirst;
@@ -1113,7 +1124,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
             }
         }
         if (serial) {
-            if (P.serial_skip > 0) P.serial_skip--;
+            if (skipped) P.serial_skip--;
             P.until = c1;
             double tm = now_seconds();
             int st = (int)asm_run(1e300, out);
