@@ -22,6 +22,8 @@ from asmcheck.props.load import load_machine
 
 from conftest import need_bench
 
+pytestmark = pytest.mark.engines("native")
+
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = sorted((ROOT / "specs").glob("*.asm")) + sorted((ROOT / "specs" / "buggy").glob("*.asm")) + \
     sorted((ROOT / "specs" / "temporal").glob("*.asm"))
