@@ -1202,6 +1202,7 @@ class NativeExplorer:
         # bound on the process's memory in bytes (None: none), of which the search's tables get
         # what the process does not hold when the search begins, or exactly table_memory bytes
         self.workers = max(int(workers or 1), 1)
+        self.threaded = False        # True: the threaded search even with one worker (benchmarks)
         self.max_memory = max_memory
         self.table_memory = table_memory
 
@@ -1266,8 +1267,8 @@ class NativeExplorer:
         growth_depth = -1
         streak: dict = {}
         while True:
-            status = (self.dll.asm_run_par(self.SLICE, out, self.workers) if self.workers > 1
-                      else self.dll.asm_run(self.SLICE, out))
+            status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
+                      if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
             if status != 6:
                 break
             now = time.perf_counter() - t0

@@ -1034,8 +1034,10 @@ static void ctx_init(Ctx *c) {
 
 /* asm_run on nthreads threads (the same results); out and the status as asm_run's */
 int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
+    int force = nthreads < 0;        /* -n: the threaded search even on one thread (benchmarks) */
+    if (force) nthreads = -nthreads;
     if (nthreads > MAXTHREADS) nthreads = MAXTHREADS;
-    if (nthreads <= 1 || NINV > 64 || S.status != -1) return asm_run(slice_seconds, out);
+    if ((nthreads <= 1 && !force) || NINV > 64 || S.status != -1) return asm_run(slice_seconds, out);
     for (int t = 0; t < nthreads; t++) {
         if (W[t].c) continue;
         if (t == 0) W[t].c = &ctx_static;
