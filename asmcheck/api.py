@@ -506,6 +506,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                 "interrupted (Ctrl-C)", list(state_props))
                 result.deadlock_checked = deadlock
                 result.engine = "native"
+                result.workers = ex.workers
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
