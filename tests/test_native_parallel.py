@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from asmcheck.cli import main
-from asmcheck.explore.native import NativeExplorer
+from asmcheck.explore.native import NativeExplorer, thread_unsafe
 from asmcheck.props import spec_properties
 from asmcheck.props.load import load_machine
 
@@ -195,3 +195,29 @@ def test_workers_with_engine_native_and_what_stays_python(tmp_path):
     code, doc = report(ROOT / "specs" / "temporal" / "request_ack.asm", workers=2)
     assert doc["engine"] == "python" and doc["workers"] == 2
     assert doc["engine_note"].startswith("native engine not used: ")
+
+
+def test_code_that_keeps_state_in_shared_variables_runs_on_one_thread(tmp_path):
+    # a scratch buffer or a cache that lives as long as the library would be shared by the threads
+    assert thread_unsafe("static V buf[1 << 16]; static int n = 0; static V a[4], b[4]; static volatile int f;\n"
+                         "static V g(Ctx *c) { static uint32_t gen = 0; return 0; }") == ["a", "buf", "f", "gen", "n"]
+    assert thread_unsafe("static _Thread_local V buf[8]; static const V T[] = {1}; static inline V h(Ctx *c);\n"
+                         "static V g(Ctx *c); static uint64_t *states = 0;") == []
+    # the generated code of the twin has none: its levels are expanded on the threads
+    path = twin(tmp_path, 15, 32)
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=2)
+    assert ex.thread_unsafe == []
+    ex.thread_stats()
+    assert ex.run().states == 38403
+    stats = ex.thread_stats()
+    assert stats["serial_chunks"] == 0 and stats["parallel_chunks"] > 300
+    # with such a variable the search runs on one thread, and says so
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=2)
+    ex.thread_unsafe = ["buf"]
+    ex.thread_stats()
+    r = ex.run()
+    assert (r.states, r.workers, ex.thread_stats()["parallel_chunks"]) == (38403, 1, 0)
+    assert ex.warnings == ["the native search runs on one thread, not 2: its C code keeps state in variables the "
+                           "threads would share (buf)"]

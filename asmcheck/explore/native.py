@@ -31,6 +31,7 @@ others' tables.
 from __future__ import annotations
 
 import ctypes
+import re
 import time
 from array import array
 from importlib import resources
@@ -1151,6 +1152,26 @@ _SYMBOLS = {
 }
 
 
+# The C's variables that live as long as the library (``static``, not ``const``) and that the
+# threaded search (native_bfs.c, asm_run_par) shares knowingly: the search's tables, written by one
+# thread between the parallel phases or with atomic operations, and the value table, only read
+# while the threads expand.  Any other such variable in the generated C would be shared by the
+# threads unknowingly (a scratch buffer, a cache): it must be ``_Thread_local``, else the search
+# runs on one thread (``thread_unsafe``).
+_SHARED_STATICS = frozenset("""
+    vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
+    states nstates cap_states parents table tmask tcount ctx_static sbuf smask cap_sbuf global_epoch
+    interrupted W nworkers bar_n posnum cap_posnum nfirst_of ptime grow_failed
+""".split())
+_STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
+                         r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
+
+
+def thread_unsafe(src: str) -> list:
+    """The names of the variables of the C source ``src`` that threads would share unknowingly."""
+    return sorted({m.group(2) for m in _STATIC_VAR.finditer(src)} - _SHARED_STATICS)
+
+
 class NativeExplorer:
     """The explorer's interface (run, path_to, replay) over the native search."""
 
@@ -1181,6 +1202,7 @@ class NativeExplorer:
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
         src = self.gen.generate()
+        self.thread_unsafe = thread_unsafe(src)
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
@@ -1262,6 +1284,13 @@ class NativeExplorer:
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
         self.dll.asm_limit_memory(self._table_bound())
+        if self.workers > 1 and self.thread_unsafe:
+            msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "
+                   f"variables the threads would share ({', '.join(self.thread_unsafe)})")
+            self.workers = 1
+            self.warnings.append(msg)
+            if self.warn is not None:
+                self.warn(msg)
         # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
         # watches for integer locations that grow level after level
         growth_depth = -1
