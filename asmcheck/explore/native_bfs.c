@@ -841,7 +841,8 @@ static double cpu_seconds(void) {
 /* what thread 0 knew when the chunk began (the threads decide from it alike) */
 static struct { int64_t nstates, tcount, tcap, cap_states, cap_posnum; } K;
 /* for benchmarks (asm_par_stats): [0] seconds in the parallel phases, [1] chunks sent back to one
-   thread, [2] chunks done on the threads, [5] seconds merging */
+   thread, [2] chunks done on the threads, [3] CPU seconds of the chunks done on one thread,
+   [5] CPU seconds merging */
 static double ptime[8];
 
 /* grow the table and the position array (thread 0, the others waiting) */
@@ -1117,9 +1118,9 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
                 int64_t n0 = nstates;
                 nstates += nfirst;
                 tcount += nfirst;
-                double tm = now_seconds();
+                double tm = cpu_seconds();
                 status = phase_merge(nt, n0);
-                ptime[5] += now_seconds() - tm;
+                ptime[5] += cpu_seconds() - tm;
                 if (status >= 0) break;
                 S.sid = c1;
                 continue;
@@ -1128,9 +1129,9 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         if (serial) {
             if (skipped) P.serial_skip--;
             P.until = c1;
-            double tm = now_seconds();
+            double tm = cpu_seconds();
             int st = (int)asm_run(1e300, out);
-            ptime[6] += now_seconds() - tm;
+            ptime[3] += cpu_seconds() - tm;
             P.until = INT64_MAX;
             if (st != 9) { status = st; break; }
         }
