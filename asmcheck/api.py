@@ -512,6 +512,15 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
             ex = None
             refused = str(e)
+        if ex is not None and not interrupted and any(v.prop.name == "error" for v in result.violations):
+            # the native search stops at a state where a step fails; the Python engine keeps its
+            # well-defined successors and checks the properties relative to the error (also with
+            # engine="native": the native engine ran, and its answer would be a different one)
+            why = ("the search ended on a run-time error, and the Python engine explores the well-defined "
+                   "successors of a failing state (the verdicts are relative to the error)")
+            ex = None
+            refused = why
+            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
     if ex is None and native_threads:
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
@@ -604,6 +613,26 @@ class Trace:
                               prop=self.prop, loop=self.loop_start)
 
 
+def relative_location(result) -> str | None:
+    """The location (``FILE:LINE:COL``) of a search's run-time error, the first step found to
+    fail ("" when it has none), or None when no step failed."""
+    v = next((v for v in result.violations if v.prop.name == "error"), None)
+    if v is None:
+        return None
+    span = getattr(v.prop, "span", None)
+    return str(span) if span is not None and getattr(span, "line", 0) else ""
+
+
+def verdict_text(row: dict) -> str:
+    """A row's verdict as the text report shows it: ``holds, relative to the run-time error at
+    FILE:LINE:COL`` for a verdict relative to an error."""
+    rel = row.get("relative_to")
+    if rel is None:
+        return row["verdict"]
+    where = f" at {Path(rel.rsplit(':', 2)[0]).name}:{':'.join(rel.rsplit(':', 2)[1:])}" if rel else ""
+    return f"{row['verdict']}, relative to the run-time error{where}"
+
+
 def _violation_json(v) -> dict:
     out = {"property": v.property, "kind": v.trace.kind, "message": v.message, "trace": v.trace.json()}
     failing = failing_json(v.trace.raw)
@@ -668,27 +697,42 @@ class Exploration:
         return {"violated": EXIT_VIOLATED, "incomplete": EXIT_INCOMPLETE}.get(self.verdict, EXIT_OK)
 
     @property
+    def relative_to(self) -> str | None:
+        """Where the run-time error is (``FILE:LINE:COL`` of the first step found to fail) when a
+        step fails: the properties are then checked on the well-defined steps, and a verdict that
+        is not a violation by a well-defined trace holds *relative to the error*; None otherwise."""
+        return relative_location(self.result)
+
+    @property
     def rows(self) -> list[dict]:
-        """One row per property checked: property, kind, verdict."""
+        """One row per property checked: property, kind, verdict (and ``relative_to``, the
+        run-time error's location, on the verdicts relative to it)."""
         result = self.result
         bad = {v.prop.name for v in result.violations}
         incomplete = result.stopped_early
+        rel = self.relative_to
         rows = []
+
+        def row(name, kind, verdict, relative=False):
+            r = {"property": name, "kind": kind, "verdict": verdict}
+            if relative and rel is not None and verdict in ("holds", "violated"):
+                r["relative_to"] = rel
+            return r
         for p in result.checked:
+            # a violation of an invariant or step property has a well-defined trace: not relative
             verdict = "violated" if p.name in bad else ("incomplete" if incomplete else "holds")
-            rows.append({"property": p.name, "kind": getattr(p, "kind", "invariant"), "verdict": verdict})
+            rows.append(row(p.name, getattr(p, "kind", "invariant"), verdict, verdict == "holds"))
         for v in result.violations:
             if v.prop.name in ("deadlock", "error"):
                 rows.append({"property": v.prop.name, "kind": v.prop.kind, "verdict": "violated"})
         if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
-            rows.append({"property": "deadlock", "kind": "deadlock",
-                         "verdict": "incomplete" if incomplete else "holds"})
+            rows.append(row("deadlock", "deadlock", "incomplete" if incomplete else "holds", True))
         done = set()
         for t in self.temporal:
             verdict = getattr(t, "verdict", None) or ("holds" if t.holds else "violated")
             if verdict == "error":
                 verdict = "cannot be checked"
-            rows.append({"property": t.name, "kind": t.kind, "verdict": verdict})
+            rows.append(row(t.name, t.kind, verdict, getattr(t, "relative_to", None) is not None))
             done.add(t.name)
         for p in self.checked_temporal:
             if p.name not in done:

@@ -59,7 +59,7 @@ def run(args) -> int:
         + (f", {run_.workers} workers" if run_.workers > 1 else ""))
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
-    verdict_rows([(row["property"], row["verdict"]) for row in run_.rows])
+    verdict_rows([(row["property"], api.verdict_text(row)) for row in run_.rows])
     for v in violations:
         if hasattr(v.raw, "holds"):
             continue

@@ -55,6 +55,7 @@ class Counterexample:
     text: list | None = None        # lines of a temporal result's own text, when it has no steps
     avalla: str | None = None       # the Avalla scenario text
     avalla_path: str | None = None  # where it was written
+    failing: str = ""               # a temporal path that ends with a step that fails: that line
 
 
 @dataclass
@@ -70,6 +71,9 @@ class PropertyOutcome:
     text: str = ""                  # the property's term, on one line
     message: str = ""
     counterexample: Counterexample | None = None
+    # a step of the spec fails: the verdict is relative to that run-time error (its location),
+    # the property having been checked on the well-defined steps
+    relative_to: Location | None = None
 
     @property
     def tolerated(self) -> bool:
@@ -155,6 +159,8 @@ def judge(row: PropertyOutcome, declares_expectations: bool, strict: bool) -> Pr
         row.status, row.label = ERROR, "input error"
     else:
         row.status, row.label = ERROR, "cannot be checked"
+    if row.relative_to is not None and v in ("holds", "violated"):
+        row.label += f", relative to the run-time error at {row.relative_to}"
     return row
 
 
@@ -229,6 +235,8 @@ def trace_lines(cx: Counterexample, color: bool = False) -> list[str]:
             out.append(f"    {k} = {v}")
         if not rec.changed and rec.number > 0:
             out.append("    (no change)")
+    if cx.failing:
+        out.append((red if color else (lambda s: s))(cx.failing))
     return out
 
 
@@ -261,6 +269,9 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
     bad = {v.prop.name: v for v in result.violations}
     incomplete = result.stopped_early
     rows: list[PropertyOutcome] = []
+    # where a step fails, the other verdicts are relative to that error (the first one found)
+    err = bad.get("error")
+    relative = span_location(getattr(err.prop, "span", None), root=root) if err is not None else None
 
     def counterexample(v) -> Counterexample:
         tr = build_trace(explorer, v)
@@ -284,6 +295,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         if v is not None:
             row.message = v.message
             row.counterexample = counterexample(v)
+        elif not incomplete:
+            row.relative_to = relative
         rows.append(row)
     for v in result.violations:
         if v.prop.name in ("deadlock", "error"):
@@ -294,7 +307,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
             rows.append(row)
     if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
         rows.append(PropertyOutcome("deadlock", "deadlock", "incomplete" if incomplete else "holds",
-                                    "deadlock" in expected, expect_location=expect_loc("deadlock")))
+                                    "deadlock" in expected, expect_location=expect_loc("deadlock"),
+                                    relative_to=None if incomplete else relative))
     by_name = {getattr(p, "name", None): p for p in temporal}
     seen = {r.name for r in rows}
     for t in temporal_results:
@@ -308,6 +322,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         if verdict == "violated":
             row.counterexample = temporal_counterexample(machine, t, chooses, root, spec_path=path,
                                                          avalla_dir=avalla_dir, spec_name=spec.name)
+        if not msg and getattr(t, "relative_to", None) is not None:
+            row.relative_to = relative
         rows.append(row)
         seen.add(t.name)
     seen |= {r.name for r in rows}
@@ -378,6 +394,12 @@ def temporal_counterexample(machine, t, chooses, root=None, *, spec_path=None, a
         text = []
     cx = Counterexample("lasso" if loop is not None else "path", getattr(t, "message", "") or "", steps, js, loop,
                         text)
+    if tr is not None and getattr(tr, "failing", None) is not None and steps:
+        from .trace import choice_text, flat_choices as choices_of
+        n = steps[-1].number
+        ch = "; ".join(choice_text(c) for c in choices_of(tr.failing))
+        cx.failing = (f"step {n + 1}" + (f" [{ch}]" if ch else "") +
+                      f": fails: {tr.message}; the run stops there and stays in state {n} for ever")
     if avalla_dir is not None and tr is not None and spec_path is not None:
         from .avalla_export import scenario_file_name, trace_scenario
         prop = getattr(t, "prop", None)

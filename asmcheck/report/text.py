@@ -56,6 +56,8 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
                 n = len(cx.steps) - 1 if cx and cx.steps else None
                 what = "deadlock" if p.kind == "deadlock" else (
                     "a step fails" if p.kind == "error" else f"{p.name}{where} is violated")
+                if getattr(p, "relative_to", None) is not None:
+                    what += f", relative to the run-time error at {p.relative_to}"
                 head += what + (f": {p.message}" if p.message else "")
                 if p.expected:
                     head += " (expected)"

@@ -134,7 +134,12 @@ def temporal_text(result, machine, color: bool = False) -> list[str]:
     if self.message:
         return [f"{self.name}{where} ({kind}) cannot be checked: {self.message}"]
     tr = self.trace()
-    head = f"{self.name}{where} ({kind}) {'holds' if self.holds else 'is violated'}{fair}"
+    err = getattr(self, "relative_to", None)
+    rel = ""
+    if err is not None:
+        span = getattr(err, "span", None)
+        rel = ", relative to the run-time error" + (f" at {span.short()}" if span is not None and span.line else "")
+    head = f"{self.name}{where} ({kind}) {'holds' if self.holds else 'is violated'}{rel}{fair}"
     if tr is None:
         return [head]
     trace, loop, inputs_step = tr
@@ -164,6 +169,9 @@ def temporal_text(result, machine, color: bool = False) -> list[str]:
     if inputs_step:
         out.append(f"  (step {steps} only shows the monitored inputs and choices of state {steps - 1}, "
                    f"which are part of its state for the property)")
+    if trace.failing is not None:
+        out.append(f"  (step {steps + 1} fails: {trace.message}; the run stops there and stays in state {steps} "
+                   f"for ever)")
     return out
 
 
@@ -175,6 +183,10 @@ def temporal_json(result, machine) -> dict:
         out["fairness"] = list(self.fairness)
     if self.message:
         out["message"] = self.message
+    err = getattr(self, "relative_to", None)
+    if err is not None:
+        span = getattr(err, "span", None)
+        out["relative_to"] = str(span) if span is not None and span.line else ""
     tr = self.trace()
     if tr is not None:
         trace, loop, inputs_step = tr
@@ -183,6 +195,10 @@ def temporal_json(result, machine) -> dict:
         out["witness"] = self.holds
         if inputs_step:
             out["inputs_step"] = True     # the last step only shows the inputs of the state before
+        if trace.failing is not None:
+            # the path ends with a step that fails: the run stops in the last state for ever
+            out["failing_step"] = failing_json(trace)
+            out["failing_message"] = trace.message
     else:
         out["trace"] = []
         out["loop_start"] = None
