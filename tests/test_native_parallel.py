@@ -54,7 +54,10 @@ def text(*args, workers: int) -> tuple[int, list]:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("path", SPECS, ids=lambda p: f"{p.parent.name}/{p.name}")
-def test_the_same_json_report_for_1_2_and_4_workers(path):
+def test_the_same_json_report_for_1_2_and_4_workers(path, monkeypatch):
+    # every level on the threads, however small (by default a level of fewer than 8 states a
+    # thread runs on one)
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
     code1, one = report(path, workers=1)
     assert "workers" not in one
     native = path.name not in NOT_NATIVE
@@ -221,3 +224,57 @@ def test_code_that_keeps_state_in_shared_variables_runs_on_one_thread(tmp_path):
     assert (r.states, r.workers, ex.thread_stats()["parallel_chunks"]) == (38403, 1, 0)
     assert ex.warnings == ["the native search runs on one thread, not 2: its C code keeps state in variables the "
                            "threads would share (buf)"]
+
+
+# elements made by extend (canonical names), a monitored input and a counter
+EXTEND = """asm Rep
+import StandardLibrary
+signature:
+	dynamic abstract domain D
+	dynamic controlled cur: D
+	dynamic controlled other: D
+	dynamic controlled started: Boolean
+	dynamic controlled n: Integer
+	dynamic monitored flip: Boolean
+definitions:
+	invariant inv_n over n: n < 4
+	main rule r_main =
+		if not started then
+			extend D with $a, $b do
+				par
+					cur := $a
+					other := $b
+					started := true
+				endpar
+		else
+			par
+				if flip then
+					par
+						cur := other
+						other := cur
+					endpar
+				else
+					extend D with $c do
+						cur := $c
+				endif
+				if n < 5 then n := n + 1 endif
+			endpar
+		endif
+default init s0:
+	function started = false
+	function n = 0
+"""
+
+
+def test_extend_made_elements_give_the_same_report_for_any_number_of_workers(tmp_path, monkeypatch):
+    # whichever engine runs it (the Python engine while the native one refuses extend), the
+    # report with 2 and 3 workers is that of one
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    path = tmp_path / "Rep.asm"
+    path.write_text(EXTEND)
+    code1, one = report(path, "--deadlock", workers=1)
+    assert one["verdict"] == "violated" and one["violations"][0]["property"] == "inv_n"
+    for n in (2, 3):
+        code, doc = report(path, "--deadlock", workers=n)
+        assert doc.pop("workers") == n
+        assert (code, doc) == (code1, one)

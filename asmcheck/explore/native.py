@@ -31,6 +31,7 @@ others' tables.
 from __future__ import annotations
 
 import ctypes
+import os
 import re
 import time
 from array import array
@@ -1149,6 +1150,7 @@ _SYMBOLS = {
     "asm_limit_memory": (None, [_i64]),
     "asm_memory_bytes": (_i64, []),
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
+    "asm_par_min_chunk": (None, [_i64]),
 }
 
 
@@ -1284,6 +1286,8 @@ class NativeExplorer:
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
         self.dll.asm_limit_memory(self._table_bound())
+        # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
+        self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
         if self.workers > 1 and self.thread_unsafe:
             msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "
                    f"variables the threads would share ({', '.join(self.thread_unsafe)})")

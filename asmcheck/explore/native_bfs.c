@@ -220,7 +220,7 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
 #define OUT_VIOL 12
 
 /* the memory bound and the parallel search's state (see "parallel search" below) */
-static struct { int64_t max_bytes; int64_t until; int64_t serial_skip, serial_next; } P = { -1, INT64_MAX, 0, 0 };
+static struct { int64_t max_bytes; int64_t until; int64_t serial_skip, serial_next, min_chunk; } P = { -1, INT64_MAX, 0, 0, 8 };
 static int over_memory(int64_t n);
 static volatile sig_atomic_t interrupted = 0;
 static void on_sigint(int sig) { (void)sig; interrupted = 1; }
@@ -463,6 +463,9 @@ void asm_free(void) {
  * (not from the allocations), so the search stops at the same state whatever the number of threads.
  */
 void asm_limit_memory(int64_t max_bytes) { P.max_bytes = max_bytes; }
+
+/* chunks of fewer than n states a thread run on one thread (8; tests use 1) */
+void asm_par_min_chunk(int64_t n) { P.min_chunk = n < 1 ? 1 : n; }
 
 static int64_t table_bytes(int64_t n) {
     int64_t cap = 1024;
@@ -1086,7 +1089,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         int64_t c0 = S.sid, c1 = S.level_end;
         if (c1 - c0 > CHUNK_STATES) c1 = c0 + CHUNK_STATES;
         int skipped = P.serial_skip > 0;     /* a chunk of a stretch that needed one thread */
-        int serial = c1 - c0 < 8 * nt || skipped;
+        int serial = c1 - c0 < P.min_chunk * nt || skipped;
         if (!serial) {
             J.expand_only_inv = S.max_depth >= 0 && S.depth >= S.max_depth;
             for (int t = 0; t < nt; t++) { W[t].lo = c0 + (c1 - c0) * t / nt; W[t].hi = c0 + (c1 - c0) * (t + 1) / nt; }
