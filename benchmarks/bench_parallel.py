@@ -187,7 +187,9 @@ def native_rows(shared, t, k, repeat, say):
         f"parts (merge, chunks done on one thread): what the run takes when no thread waits for a core; "
         f"barrier waits are not in it. Best run: threads {st['thread_cpu'][0]:.3f} s and "
         f"{st['thread_cpu'][1]:.3f} s, merge {st['merge_cpu']:.3f} s, one-thread chunks "
-        f"{st['one_thread_cpu']:.3f} s, {st['parallel_chunks']} chunks on the threads.")
+        f"{st['one_thread_cpu']:.3f} s, {st['parallel_chunks']} chunks on the threads. Slices run on one "
+        f"thread because it was faster then (a busy machine), per 2-worker run: "
+        f"{', '.join(str(x['one_thread_slices']) for x in split)}.")
     say("")
     say(f"Twin T{t} K{k} --bug: the same report with 1 and 2 workers, the shortest trace of {trace_len} states.")
     say("")

@@ -1234,10 +1234,12 @@ class NativeExplorer:
         """What the threaded search did since the last call (benchmarks, tests): chunks of a level
         done on the threads, chunks sent back to one thread (a value not yet in the value table, a
         run-time condition), seconds in the parallel phases, CPU seconds of the merge, of the chunks
-        done on one thread (small or sent back), and of threads 0 and 1 in the parallel phases."""
+        done on one thread (small or sent back), and of threads 0 and 1 in the parallel phases;
+        the slices (calls) run on one thread because that was faster (a busy machine)."""
         o = (ctypes.c_double * 8)()
         self.dll.asm_par_stats(o)
         return {"parallel_chunks": int(o[2]), "serial_chunks": int(o[1]), "parallel_seconds": o[0],
+                "one_thread_slices": int(o[4]),
                 "merge_cpu": o[5], "one_thread_cpu": o[3], "thread_cpu": (o[6], o[7])}
 
     def _table_bound(self) -> int:

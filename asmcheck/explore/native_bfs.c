@@ -220,7 +220,10 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
 #define OUT_VIOL 12
 
 /* the memory bound and the parallel search's state (see "parallel search" below) */
-static struct { int64_t max_bytes; int64_t until; int64_t serial_skip, serial_next, min_chunk; } P = { -1, INT64_MAX, 0, 0, 8 };
+static struct {
+    int64_t max_bytes, until, serial_skip, serial_next, min_chunk, round;
+    double rate_many, rate_one;
+} P = { -1, INT64_MAX, 0, 0, 8, 0, 0, 0 };
 static int over_memory(int64_t n);
 static volatile sig_atomic_t interrupted = 0;
 static void on_sigint(int sig) { (void)sig; interrupted = 1; }
@@ -455,6 +458,7 @@ void asm_free(void) {
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
     P.serial_skip = P.serial_next = 0;
+    P.round = 0; P.rate_many = P.rate_one = 0;
 }
 
 /* ------------------------------------------------------------------ the memory bound
@@ -845,7 +849,7 @@ static double cpu_seconds(void) {
 static struct { int64_t nstates, tcount, tcap, cap_states, cap_posnum; } K;
 /* for benchmarks (asm_par_stats): [0] seconds in the parallel phases, [1] chunks sent back to one
    thread, [2] chunks done on the threads, [3] CPU seconds of the chunks done on one thread,
-   [5] CPU seconds merging */
+   [4] slices run on one thread (faster on a busy machine), [5] CPU seconds merging */
 static double ptime[8];
 
 /* grow the table and the position array (thread 0, the others waiting) */
@@ -1051,8 +1055,17 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
             ctx_init(W[t].c);
         }
     }
-    if (nworkers < nthreads) nworkers = (int)nthreads;
     int nt = (int)nthreads;
+    /* On a machine whose cores are busy with other work the threads wait for one another at every
+       barrier, and N threads can be slower than one.  So, in each round of 8 calls (slices), the
+       first runs on N threads and the second on one, each measuring its rate (transitions a
+       second), and the other six run the faster way.  The result is the same either way. */
+    int probe = (int)(P.round % 8);
+    int one = nt > 1 && (probe == 1 || (probe >= 2 && P.rate_one > P.rate_many));
+    if (one) { nt = 1; ptime[4] += 1; }
+    if (nthreads > 1 && probe <= 1 && slice_seconds > 0.05) slice_seconds = 0.05;   /* a short probe */
+    int64_t tr0 = S.transitions;
+    double tstart = now_seconds();
     struct sigaction sa, old;
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = on_sigint;
@@ -1142,6 +1155,12 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     J.cmd = 9;
     barrier(&sense);
     for (int t = 1; t < nt; t++) pthread_join(th[t], 0);
+    if (nthreads > 1) {
+        double rate = (double)(S.transitions - tr0) / (now_seconds() - tstart + 1e-9);
+        if (probe == 0) P.rate_many = rate;
+        else if (probe == 1) P.rate_one = rate;
+        P.round++;
+    }
     if (status != 6 && status != 9 && S.status == -1) S.status = status;
     if (S.status != -1) status = S.status;
     fill_out(out, status);
