@@ -1151,6 +1151,7 @@ _SYMBOLS = {
     "asm_memory_bytes": (_i64, []),
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
     "asm_par_min_chunk": (None, [_i64]),
+    "asm_par_adapt": (None, [_i64]),
 }
 
 
@@ -1227,6 +1228,7 @@ class NativeExplorer:
         # what the process does not hold when the search begins, or exactly table_memory bytes
         self.workers = max(int(workers or 1), 1)
         self.threaded = False        # True: the threaded search even with one worker (benchmarks)
+        self.adapt = True            # False: every slice on all the threads, even when one is faster
         self.max_memory = max_memory
         self.table_memory = table_memory
 
@@ -1290,6 +1292,7 @@ class NativeExplorer:
         self.dll.asm_limit_memory(self._table_bound())
         # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
         self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
+        self.dll.asm_par_adapt(1 if self.adapt else 0)
         if self.workers > 1 and self.thread_unsafe:
             msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "
                    f"variables the threads would share ({', '.join(self.thread_unsafe)})")

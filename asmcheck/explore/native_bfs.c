@@ -221,9 +221,9 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
 
 /* the memory bound and the parallel search's state (see "parallel search" below) */
 static struct {
-    int64_t max_bytes, until, serial_skip, serial_next, min_chunk, round;
+    int64_t max_bytes, until, serial_skip, serial_next, min_chunk, round, adapt;
     double rate_many, rate_one;
-} P = { -1, INT64_MAX, 0, 0, 8, 0, 0, 0 };
+} P = { -1, INT64_MAX, 0, 0, 8, 0, 1, 0, 0 };
 static int over_memory(int64_t n);
 static volatile sig_atomic_t interrupted = 0;
 static void on_sigint(int sig) { (void)sig; interrupted = 1; }
@@ -470,6 +470,9 @@ void asm_limit_memory(int64_t max_bytes) { P.max_bytes = max_bytes; }
 
 /* chunks of fewer than n states a thread run on one thread (8; tests use 1) */
 void asm_par_min_chunk(int64_t n) { P.min_chunk = n < 1 ? 1 : n; }
+
+/* 1: run on one thread the slices where that is faster (the default); 0: always on N (benchmarks) */
+void asm_par_adapt(int64_t on) { P.adapt = on != 0; }
 
 static int64_t table_bytes(int64_t n) {
     int64_t cap = 1024;
@@ -1061,9 +1064,9 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
        first runs on N threads and the second on one, each measuring its rate (transitions a
        second), and the other six run the faster way.  The result is the same either way. */
     int probe = (int)(P.round % 8);
-    int one = nt > 1 && (probe == 1 || (probe >= 2 && P.rate_one > P.rate_many));
+    int one = nt > 1 && P.adapt && (probe == 1 || (probe >= 2 && P.rate_one > P.rate_many));
     if (one) { nt = 1; ptime[4] += 1; }
-    if (nthreads > 1 && probe <= 1 && slice_seconds > 0.05) slice_seconds = 0.05;   /* a short probe */
+    if (nthreads > 1 && P.adapt && probe <= 1 && slice_seconds > 0.05) slice_seconds = 0.05;   /* a short probe */
     int64_t tr0 = S.transitions;
     double tstart = now_seconds();
     struct sigaction sa, old;
