@@ -599,7 +599,7 @@ class Trace:
 
     def text(self, color: bool = False) -> str:
         """The trace as ``asmcheck explore`` prints it (per step the choices, inputs and what changed)."""
-        return "\n".join(trace_text(self.model.machine, self.raw, color)) + "\n"
+        return "\n".join(trace_text(self.model.machine, self.raw, color, self.loop_start)) + "\n"
 
     def json(self) -> list:
         """The trace as JSON (docs/trace.schema.json)."""
@@ -649,6 +649,15 @@ class Violation:
     location: str
     trace: Trace | None
     raw: object = None      # the engine's record (explore.bfs.Violation or temporal.TemporalResult)
+
+    def text(self, color: bool = False) -> str:
+        """A safety violation with its shortest trace, as ``asmcheck explore`` prints it: what is
+        violated and where, the formula, then per step the rule, its choices, the inputs it read
+        and what changed."""
+        from .report.trace import explore_violation_lines
+        if self.trace is None or hasattr(self.raw, "holds"):
+            return ""
+        return "\n".join(explore_violation_lines(self.trace.model.machine, self.raw, self.trace.raw, color)) + "\n"
 
 
 class Exploration:

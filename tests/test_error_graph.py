@@ -24,6 +24,8 @@ from asmcheck.temporal import check_temporal
 from conftest import ASMETA, need_asmeta
 from helpers import write
 
+pytestmark = pytest.mark.engines("python")
+
 # n counts to 3; with go true in n = 1 the rule also sets n := 0: an inconsistent update that
 # depends on the monitored value, beside the well-defined step with go false
 HALT = """asm Halt
@@ -117,19 +119,20 @@ LTL_TEXT = """HaltLtl.asm: 4 states, 4 transitions, depth 3, X s, python engine
   ltl_1                                    violated, relative to the run-time error at HaltLtl.asm:16:25
   ltl_2                                    holds, relative to the run-time error at HaltLtl.asm:16:25
 
-error (HaltLtl.asm:16:25) is violated: inconsistent update of n: 2 and 0 -- shortest trace, 1 step:
-  state 0 (initial):
+a step fails (HaltLtl.asm:16:25): inconsistent update of n: 2 and 0 -- shortest counterexample, 1 step, then step 2 fails:
+  state 0 (initial)
       n = 0
-  step 1  [go = false]:
+  step 1: r_main; reads go = false
       n = 1
-  step 2  [go = true]: fails (the step cannot be made)
+  step 2: r_main; reads go = true  <- fails (the step cannot be made)
 
-ltl_1 (HaltLtl.asm:11:2) (LTL) is violated, relative to the run-time error at HaltLtl.asm:16:25 -- counterexample, 1 step:
-  state 0 (initial):
+ltl_1 (HaltLtl.asm:11:2) is violated, relative to the run-time error at HaltLtl.asm:16:25 -- counterexample, 1 step:
+  formula: f(n = 3)
+  state 0 (initial)
       n = 0
-  step 1  [go = false]:
+  step 1: r_main; reads go = false
       n = 1
-  step 2  [go = true]: fails (the step cannot be made)
+  step 2: r_main; reads go = true  <- fails (the step cannot be made)
   (step 2 fails: inconsistent update of n: 2 and 0; the run stops there and stays in state 1 for ever)
 verdict: violated
 """
@@ -154,8 +157,8 @@ def test_ltl_verdicts_relative_to_the_error_as_json(tmp_path, capsys, monkeypatc
     doc.pop("seconds")
     at = "HaltLtl.asm:16:25"
     step0 = {"step": 0, "choices": [], "changed": {"n": 0}, "state": {"n": 0}}
-    step1 = {"step": 1, "choices": [{"kind": "monitored", "at": "go", "value": False}], "changed": {"n": 1},
-             "state": {"n": 1}}
+    step1 = {"step": 1, "rule": "r_main", "choices": [{"kind": "monitored", "at": "go", "value": False}],
+             "reads": {"go": False}, "updates": {"n": 1}, "changed": {"n": 1}, "state": {"n": 1}}
     failing = {"step": 2, "choices": [{"kind": "monitored", "at": "go", "value": True}]}
     assert doc == {
         "spec": "HaltLtl", "verdict": "violated", "states": 4, "transitions": 4, "depth": 3, "engine": "python",
@@ -206,9 +209,10 @@ def test_the_gate_labels_say_relative_to_the_error(tmp_path):
     assert ('<failure message="ltl_1 is violated (relative to the run-time error at HaltLtl.asm:16:25)"'
             in xml)
     assert "<system-out>holds, relative to the run-time error at HaltLtl.asm:16:25\n</system-out>" in xml
-    lines = o.properties[1].counterexample
-    assert lines.failing == ("step 2 [go = true]: fails: inconsistent update of n: 2 and 0; the run stops "
-                             "there and stays in state 1 for ever")
+    from asmcheck.report.trace import trace_lines
+    assert trace_lines(o.properties[1].counterexample)[-2:] == [
+        "step 2: r_main; reads go = true  <- fails (the step cannot be made)",
+        "(step 2 fails: inconsistent update of n: 2 and 0; the run stops there and stays in state 1 for ever)"]
 
 
 def test_a_state_whose_every_step_fails_halts_and_is_no_deadlock(tmp_path):
@@ -233,6 +237,7 @@ def test_halt_and_drop_differ_on_a_path_through_the_error(tmp_path):
     assert drop == [("ltl_1", True), ("ltl_2", True), ("ctl_1", True), ("ctl_2", True)]
 
 
+@pytest.mark.engines("native")
 def test_a_native_search_that_ends_on_an_error_is_handed_to_the_python_engine(tmp_path, capsys):
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")

@@ -31,6 +31,10 @@ def _cx_text(p) -> str:
     lines = []
     if p.location:
         lines.append(f"{p.name} is declared at {p.location}")
+    if p.text:
+        lines.append(f"formula: {p.text}")
+    if cx.fairness:
+        lines.append(f"under fairness: {'; '.join(cx.fairness)}")
     if cx.steps:
         lines.append(cx_summary(cx) + ":")
     lines.extend(trace_lines(cx, False))
