@@ -521,6 +521,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             ex = None
             refused = why
             search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
+            # with several workers too: the sequential explorer's report (the partitioned search does
+            # not check LTL/CTL relative to a run-time error)
+            native_threads = False
     if ex is None and native_threads:
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,

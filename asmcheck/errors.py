@@ -49,6 +49,13 @@ class SourceRegistry:
 SOURCES = SourceRegistry()
 
 
+def _rebuild_error(cls, args, attrs):
+    e = cls.__new__(cls, *args)
+    e.args = args
+    e.__dict__.update(attrs)
+    return e
+
+
 class AsmError(Exception):
     """An error in a spec (or in an input file) at a known position."""
 
@@ -64,6 +71,11 @@ class AsmError(Exception):
         if self.span is None or self.span.line == 0:
             return self.message
         return f"{self.span}: {self.message}"
+
+    def __reduce__(self):
+        # pickled as class, args and attributes (worker processes and Ray actors send errors
+        # recorded in their results): __init__ takes (span, message), not the args
+        return _rebuild_error, (type(self), self.args, dict(self.__dict__))
 
     def render(self) -> str:
         """``file:line:col: message``, the source line and a caret (and notes).

@@ -278,3 +278,38 @@ def test_extend_made_elements_give_the_same_report_for_any_number_of_workers(tmp
         code, doc = report(path, "--deadlock", workers=n)
         assert doc.pop("workers") == n
         assert (code, doc) == (code1, one)
+
+
+CLASH = """asm Clash
+import StandardLibrary
+import CTLLibrary
+signature:
+	dynamic controlled x: Integer
+	dynamic monitored go: Boolean
+definitions:
+	CTLSPEC ag(x < 4)
+	main rule r_main =
+		par
+			if x < 4 then x := x + 1 endif
+			if go and x = 2 then x := 0 endif
+		endpar
+default init s0:
+	function x = 0
+"""
+
+
+def test_a_search_that_ends_on_a_run_time_error_gives_the_report_of_one_worker(tmp_path):
+    # the native search hands a run-time error to the Python engine; with workers too, the report
+    # is that of one worker (the error's trace, the CTL verdict relative to the error)
+    path = tmp_path / "Clash.asm"
+    path.write_text(CLASH)
+    code1, one = report(path, workers=1)
+    assert code1 == 1 and one["engine"] == "python"
+    assert [(r["property"], r["verdict"]) for r in one["properties"]] == [("error", "violated"), ("ctl_1", "violated")]
+    code2, two = report(path, workers=2)
+    two.pop("workers", None)
+    assert (code2, two) == (code1, one)
+    # the partitioned search on the Python engine sends the error, recorded in a worker process,
+    # to the coordinator (it once failed to unpickle it): the same error and trace
+    code3, three = report(path, "--engine", "python", workers=2)
+    assert code3 == 1 and three["violations"][0] == one["violations"][0]
