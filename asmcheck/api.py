@@ -33,7 +33,8 @@ from .props.files import properties_for, strip_comments
 from .props import spec_properties
 from .props.load import load_machine
 from .report import gate as _gate
-from .report.trace import build_trace, failing_json, temporal_json, temporal_text, trace_json, trace_text
+from .report.trace import build_trace, explore_violation_lines, failing_json, temporal_json, temporal_text, \
+    trace_json, trace_text
 
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
 
@@ -422,6 +423,9 @@ def _deadline(machine, seconds):
         machine.deadline = old
 
 
+ONE_WORKER_NOTE = ("a step fails: the search ran again on one worker, which explores the well-defined successors "
+                   "of a state where a step fails (the partitioned search stops there)")
+
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
 
@@ -485,6 +489,21 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                           max_memory=max_memory, deadlock=deadlock, engine=engine,
                                           keep_graph=keep_graph, progress=progress)
+        if (not (scaling or {}).get("bitstate") and not getattr(result, "interrupted", False)
+                and any(v.prop.name == "error" for v in result.violations)):
+            # the partitioned search stops at a state where a step fails; the sequential search
+            # keeps the state's well-defined successors (docs/run-time-errors.md), so it runs again
+            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
+            ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                          deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
+                          step_props=step_props, max_memory=max_memory, memory=memory_in_use)
+            with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
+                    _deadline(machine, search_seconds):
+                result = ex.run()
+            result.engine = "python"
+            result.notes = [ONE_WORKER_NOTE]
+            result.scaling_note = ONE_WORKER_NOTE
+            interrupted = getattr(result, "interrupted", False)
     elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
@@ -698,7 +717,11 @@ class Exploration:
     def scaling_json(self) -> dict:
         """What a scaling mode adds to the JSON report."""
         bits = getattr(self.result, "bitstate", None)
-        return {"bitstate": bits} if bits else {}
+        out = {"bitstate": bits} if bits else {}
+        note = getattr(self.result, "scaling_note", "")
+        if note:
+            out["scaling_note"] = note
+        return out
 
     @property
     def reason(self) -> str:
@@ -785,6 +808,12 @@ class Exploration:
     def traces(self):
         """[(engine violation, explore.trace.Trace)] of the state and step violations."""
         return [(v.raw, v.trace.raw) for v in self.violations if not hasattr(v.raw, "holds")]
+
+    def violation_text(self, color: bool = False) -> list[list[str]]:
+        """The text of each state and step violation (an invariant, a step property, a deadlock,
+        a step that fails): what is violated, its formula, and its shortest trace."""
+        return [explore_violation_lines(self.model.machine, v.raw, v.trace.raw, color)
+                for v in self.violations if not hasattr(v.raw, "holds")]
 
     def temporal_text(self, color: bool = False) -> list[list[str]]:
         """The text of each violated temporal property (with its replayed counterexample)."""

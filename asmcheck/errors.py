@@ -49,11 +49,11 @@ class SourceRegistry:
 SOURCES = SourceRegistry()
 
 
-def _rebuild_error(cls, args, attrs):
-    e = cls.__new__(cls, *args)
-    e.args = args
-    e.__dict__.update(attrs)
-    return e
+def _rebuild_error(cls, args, state):
+    err = cls.__new__(cls)
+    Exception.__init__(err, *args)
+    err.__dict__.update(state)
+    return err
 
 
 class AsmError(Exception):
@@ -73,9 +73,9 @@ class AsmError(Exception):
         return f"{self.span}: {self.message}"
 
     def __reduce__(self):
-        # pickled as class, args and attributes (worker processes and Ray actors send errors
-        # recorded in their results): __init__ takes (span, message), not the args
-        return _rebuild_error, (type(self), self.args, dict(self.__dict__))
+        # pickled whole (the parallel search sends a step's error between processes): the
+        # constructors of the subclasses differ, so the attributes travel, not the arguments
+        return (_rebuild_error, (type(self), self.args, self.__dict__))
 
     def render(self) -> str:
         """``file:line:col: message``, the source line and a caret (and notes).

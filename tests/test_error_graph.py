@@ -24,6 +24,7 @@ from asmcheck.temporal import check_temporal
 from conftest import ASMETA, need_asmeta
 from helpers import write
 
+# the Python engine's search (a test that compares the native engine names --engine native)
 pytestmark = pytest.mark.engines("python")
 
 # n counts to 3; with go true in n = 1 the rule also sets n := 0: an inconsistent update that
@@ -119,14 +120,16 @@ LTL_TEXT = """HaltLtl.asm: 4 states, 4 transitions, depth 3, X s, python engine
   ltl_1                                    violated, relative to the run-time error at HaltLtl.asm:16:25
   ltl_2                                    holds, relative to the run-time error at HaltLtl.asm:16:25
 
-a step fails (HaltLtl.asm:16:25): inconsistent update of n: 2 and 0 -- shortest counterexample, 1 step, then step 2 fails:
+a step fails (HaltLtl.asm:16:25): inconsistent update of n: 2 and 0 -- shortest counterexample, 1 step, then step 2 \
+fails:
   state 0 (initial)
       n = 0
   step 1: r_main; reads go = false
       n = 1
   step 2: r_main; reads go = true  <- fails (the step cannot be made)
 
-ltl_1 (HaltLtl.asm:11:2) is violated, relative to the run-time error at HaltLtl.asm:16:25 -- counterexample, 1 step:
+ltl_1 (HaltLtl.asm:11:2) is violated, relative to the run-time error at HaltLtl.asm:16:25 -- counterexample, 1 step, \
+then step 2 fails:
   formula: f(n = 3)
   state 0 (initial)
       n = 0

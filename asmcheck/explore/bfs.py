@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate
 from ..semantics.choice import DeadlineReached
-from ..semantics.machine import Machine, ScriptChooser, Undetermined
+from ..semantics.machine import Machine, ScriptChooser, TooManySuccessors, Undetermined
 from ..semantics.state import is_dom_key, same_value
 from .canonical import Canonicalizer, ranged_domains
 from .store import Layout
@@ -66,7 +66,23 @@ class PseudoProperty:
 DEADLOCK = PseudoProperty("deadlock", "deadlock")
 
 
+def too_many_reason(machine: Machine, err) -> str:
+    """Why a state's successors could not all be enumerated: the limit, and the choices of the
+    step with the most alternatives (a monitored function or a choose over a large range), with
+    the way to bound them."""
+    points = sorted((c for c in (getattr(err, "choices", None) or ()) if c.n > 1), key=lambda c: -c.n)[:3]
+    what = ", ".join(f"{c.label} ({c.n:,} values)" for c in points)
+    hint = ""
+    if any(c.kind == "monitored" for c in points):
+        hint = "; bound the monitored inputs with --monitored NAME=LO..HI or NAME=V1,V2"
+    elif points:
+        hint = "; bound the ranges of the chooses (a smaller domain, or --int-range)"
+    return f"{err.message}" + (f": the step chooses among {what}" if what else "") + hint
+
+
 class Explorer:
+    MAX_SUCCESSORS = 1_000_000      # the sequences of choices enumerated from one state, at most
+
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
                  deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
                  stop_at_first=False, max_memory=None, memory=None):
@@ -213,8 +229,16 @@ class Explorer:
                         succ = self.admitted_successors(st, failed)
                     except Undetermined:
                         raise
+                    except TooManySuccessors as e:
+                        # a limit, not a property of the spec: the search stops, incomplete, and
+                        # says which choices multiply (the last sequence of choices enumerated)
+                        incomplete = True
+                        reason = too_many_reason(m, e)
+                        next_frontier = []
+                        frontier = []
+                        break
                     except AsmError as e:
-                        # not one branch: the successors cannot be enumerated (too many of them)
+                        # not one branch: the successors cannot be enumerated
                         err = PseudoProperty("error", "error", e.span)
                         record(Violation(err, sid, message=e.message, error=e))
                         incomplete = True
@@ -363,7 +387,7 @@ class Explorer:
         INVAR constraints exclude are dropped, as their successors would be)."""
         out = []
         failed: list | None = [] if errors is not None else None
-        for log, ups, nxt, mon in self.m.successors(st, errors=failed):
+        for log, ups, nxt, mon in self.m.successors(st, limit=self.MAX_SUCCESSORS, errors=failed):
             if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
                 continue
             # stored under canonical names; step properties see the successor as the step made it,

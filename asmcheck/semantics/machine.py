@@ -399,7 +399,9 @@ class Machine(TermEvaluator, RuleExecutor):
                     raise
                 errors.append(e)
             if len(out) >= limit:
-                raise TooManySuccessors(None, f"more than {limit} successors of one state")
+                err = TooManySuccessors(None, f"more than {limit:,} successors of one state")
+                err.choices = list(ch.log)
+                raise err
             # next prefix: the last choice point with an untried alternative
             prefix = next_prefix(ch.log)
             if prefix is None:
