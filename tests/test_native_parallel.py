@@ -27,8 +27,8 @@ pytestmark = pytest.mark.engines("native")
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = sorted((ROOT / "specs").glob("*.asm")) + sorted((ROOT / "specs" / "buggy").glob("*.asm")) + \
     sorted((ROOT / "specs" / "temporal").glob("*.asm"))
-# a spec the native engine refuses: --workers then runs the partitioned search in Python
-NOT_NATIVE = {"request_ack.asm"}
+# specs the native engine refuses: --workers then runs the partitioned search in Python
+NOT_NATIVE: set = set()
 
 
 def cli(*args) -> tuple[int, str]:
@@ -194,10 +194,14 @@ def test_workers_with_engine_native_and_what_stays_python(tmp_path):
     code, lines = text(path, "--engine", "native", workers=2)
     assert code == 0 and lines[0] == "swing_T7_K16.asm: 5,571 states, 14,404 transitions, depth 218, native engine, " \
                                      "2 workers"
-    # a spec the native engine refuses: the partitioned search on the Python step function
-    code, doc = report(ROOT / "specs" / "temporal" / "request_ack.asm", workers=2)
-    assert doc["engine"] == "python" and doc["workers"] == 2
-    assert doc["engine_note"].startswith("native engine not used: ")
+    # what the native engine refuses (here --graph): the partitioned search on the Python step
+    # function, with the same graph as one worker
+    one_dot, two_dot = tmp_path / "one.dot", tmp_path / "two.dot"
+    code1, one = report(path, "--graph", one_dot, workers=1)
+    code, doc = report(path, "--graph", two_dot, workers=2)
+    assert doc["engine"] == "python" and doc.pop("workers") == 2
+    assert doc["engine_note"] == "native engine not used: --graph writes every step with its choices"
+    assert (code, doc) == (code1, one) and two_dot.read_text() == one_dot.read_text()
 
 
 def test_code_that_keeps_state_in_shared_variables_runs_on_one_thread(tmp_path):
