@@ -465,3 +465,19 @@ def test_a_search_that_needs_more_element_slots_starts_again_with_more(tmp_path)
         "\tcontrolled below: Cell -> Cell\n", "\tcontrolled below: Cell -> Cell\n\tcontrolled size: Integer\n").replace(
         "\t\t\t\ttop := $c\n", "\t\t\t\ttop := $c\n\t\t\t\tsize := size + 1\n") + "default init s0:\n\tfunction size = 0\n"
     assert same_states(tmp_path, text) == (21, 21, 20)
+
+
+def test_the_threads_of_a_parallel_search_canonicalise_alike(tmp_path, capsys, monkeypatch):
+    # every level on the threads, however small: each thread's search context keeps its own tables
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    path = write(tmp_path, FOREST)
+    docs = []
+    for n in (1, 2, 3):
+        code = main(["explore", path, "--format", "json", "--engine", "native", "--workers", str(n), "--deadlock"])
+        doc = json.loads(capsys.readouterr().out)
+        for key in ("seconds", "compile_seconds"):
+            doc.pop(key, None)
+        assert doc.pop("workers", 1) == n
+        docs.append((code, doc))
+    assert docs[0] == docs[1] == docs[2]
+    assert (docs[0][1]["engine"], docs[0][1]["states"], docs[0][1]["transitions"]) == ("native", 476, 1069)   # the Python engine: the same

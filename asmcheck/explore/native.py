@@ -2720,11 +2720,13 @@ _SYMBOLS = {
 # thread between the parallel phases or with atomic operations, and the value table, only read
 # while the threads expand.  Any other such variable in the generated C would be shared by the
 # threads unknowingly (a scratch buffer, a cache): it must be ``_Thread_local``, else the search
-# runs on one thread (``thread_unsafe``).
+# runs on one thread (``thread_unsafe``).  native_canon.c: the reason a search stopped on fresh
+# elements and the search counter (atomic), the table of search contexts (compare-and-swap).
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sbuf smask cap_sbuf global_epoch
     interrupted W nworkers bar_n posnum cap_posnum nfirst_of ptime grow_failed
+    cn_reason cn_reason_dom cn_search cn_ws
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")

@@ -726,6 +726,9 @@ static void phase_expand(Worker *w) {
                 uint64_t *nw = w->cw + w->ncand * NWORDS;
                 store_state(c, states + sid * NWORDS, nw);
                 if (vt_missed) { w->irregular = 1; return; }
+#if CN_NDYN > 0
+                if (canon_state(c, nw) || vt_missed) { w->irregular = 1; return; }
+#endif
                 uint64_t hh = hash_state(nw);
                 w->ch[w->ncand] = hh;
                 __builtin_prefetch(&table[hh & tmask]);

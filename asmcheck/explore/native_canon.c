@@ -86,7 +86,14 @@ static inline int cn_num(V v) { return (int)((v - CN_FRESH) & 0xffffff); }
 static inline V cn_code(int d, int k) { return CN_FRESH + ((V)d << 24) + k; }
 
 /* why the native search stopped on fresh elements (0: it did not) */
-static int cn_reason = 0, cn_reason_dom = 0;
+/* (shared by the threads of a parallel search: written atomically, the first reason stays) */
+static int cn_reason = 0;
+static int cn_reason_dom = 0;
+static void cn_why(int why, int d) {
+    int none = 0;
+    if (__atomic_compare_exchange_n(&cn_reason, &none, why, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST))
+        __atomic_store_n(&cn_reason_dom, d, __ATOMIC_SEQ_CST);
+}
 #define CN_TOO_MANY 1
 #define CN_TEXT 2
 #define CN_SEQ 3
@@ -102,7 +109,7 @@ static V fresh_elem(Ctx *c, int d) {
     }
     int k = W->dnext[d]++;
     if (k > CN_K) {
-        cn_reason = CN_TOO_MANY; cn_reason_dom = d;
+        cn_why(CN_TOO_MANY, d);
         fail(c, E_UNSUPPORTED, 0);
         return UNDEF;
     }
@@ -118,7 +125,7 @@ static int cn_count(Ctx *c, int d) {
     int extended = W->dgen[d] == c->gen;
     if (c->rd == c->post) return extended ? W->dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
     if (extended && c->seqstart >= 0) {
-        cn_reason = CN_SEQ; cn_reason_dom = d;
+        cn_why(CN_SEQ, d);
         fail(c, E_UNSUPPORTED, 0);
     }
     return (int)c->rd[CN_COUNT_SLOT[d]];
@@ -646,7 +653,9 @@ static int canon_state_(Ctx *c, uint64_t *w) {
 
 static int canon_state(Ctx *c, uint64_t *w) {
     int r = canon_state_(c, w);
-    if (r && !cn_reason) cn_reason = r;
+    /* (a value not yet in the table, in a parallel search: the state is expanded again on
+       one thread, no reason to give) */
+    if (r && !vt_missed) cn_why(r, 0);
     return r;
 }
 
