@@ -805,6 +805,17 @@ class Generator:
                     if v is not None and not any(same_value(v, x) and type(v) is type(x) for x in vals):
                         self.codec.to_c(v)
                         vals.append(v)
+                cod = None
+                if type(k) is int and not T.root(f.codomain) is T.REAL:
+                    # a 0-ary one may be updated (a turbo rule's result): its codomain's codes,
+                    # the initial values outside it after undef (initial_values_outside)
+                    try:
+                        cod = self.values_of(f.codomain)
+                    except Unsupported:
+                        cod = None
+                if cod is not None:
+                    self.fn_base[f.index] = (len(self.slots), [], cod)
+                    vals = list(cod)
                 self.slot_of[k] = len(self.slots)
                 self.slots.append(k)
                 self.slot_values.append(vals)
