@@ -961,6 +961,7 @@ class Generator:
             steps.append(self.term(p.prop.body, {}))
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
+        label_exprs = self.label_code()
         for st in self.init_states:
             self.pack_values(st)
         self.codec.frozen = True
@@ -1039,7 +1040,55 @@ class Generator:
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+        src += "\n" + self.label_entry(label_exprs)
         return src
+
+    # -------------------------------------------------------------- state atoms of temporal properties
+    def label_code(self) -> list:
+        """The C expressions of the state atoms of the temporal properties (``self.label_props``),
+        None for an atom that cannot be translated (the temporal layer evaluates it in Python)."""
+        self.labels = []
+        props = getattr(self, "label_props", None)
+        if not props or not self.init_states:
+            return []
+        from ..temporal import label_atoms
+        try:
+            self.labels = label_atoms(self.m, props, self.init_states[0])
+        except AsmError:
+            return []
+        out = []
+        for term, env in self.labels:
+            mark = (len(self.funcs), set(self.defined_done), dict(self.rules_done), dict(self.enc_tables))
+            try:
+                cenv = {uid: self.codec.literal(v) for uid, v in env.items()}
+                out.append(self.term(term, cenv))
+            except Unsupported:
+                del self.funcs[mark[0]:]
+                self.defined_done, self.rules_done, self.enc_tables = mark[1], mark[2], mark[3]
+                out.append(None)
+        return out
+
+    def label_entry(self, exprs: list) -> str:
+        """``asm_labels(k, out)``: atom k in every stored state (out[sid] = 1 where it is true);
+        returns 0, or -1 when it cannot be evaluated in some state (Python then says why)."""
+        lines = ["static V check_label(Ctx *c, int k) {", "    switch (k) {"]
+        for i, e in enumerate(exprs):
+            if e is not None:
+                lines.append(f"    case {i}: return {e};")
+        lines += ["    }", "    c->err = E_UNSUPPORTED;", "    return UNDEF;", "}",
+                  "int64_t asm_labels(int64_t k, uint8_t *out) {",
+                  "    Ctx *c = &ctx_static;",
+                  "    for (int64_t sid = 0; sid < nstates; sid++) {",
+                  "        load_state(c, states + sid * NWORDS);",
+                  "        c->rd = c->cur; c->self = UNDEF; c->epoch = ++global_epoch; c->err = 0; c->in_prop = 1;",
+                  "        V v = check_label(c, (int)k);",
+                  "        c->in_prop = 0;",
+                  "        if (c->err) { c->err = 0; return -1; }",
+                  "        out[sid] = v == 1;",
+                  "    }",
+                  "    return 0;",
+                  "}"]
+        return "\n".join(lines) + "\n"
 
     # -------------------------------------------------------------- packing
     def map_value(self, st: dict, f) -> int:
@@ -1144,6 +1193,7 @@ _SYMBOLS = {
     "asm_value_elems": (_i64, [_i64, _i64p]),
     "asm_values": (_i64, []),
     "asm_free": (None, []),
+    "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
 }
 
 
@@ -1154,7 +1204,8 @@ class NativeExplorer:
     SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, **_ignored):
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, label_props=None,
+                 **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -1175,6 +1226,7 @@ class NativeExplorer:
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
+        self.gen.label_props = list(label_props or [])
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
@@ -1380,6 +1432,30 @@ class NativeExplorer:
     def edges(self):
         return _NativeEdges(self)
 
+    def state_labels(self, items):
+        """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
+        compiled code: a list of bytearrays (1 where the atom is true, undef counts as false), or
+        None when one of them was not translated or fails somewhere (then Python evaluates them)."""
+        index = getattr(self, "_label_index", None)
+        if index is None:
+            index = self._label_index = {}
+            for k, (term, env) in enumerate(self.gen.labels):
+                index.setdefault((id(term), _env_key(env)), k)
+        ks = []
+        for a in items:
+            k = index.get((id(a.term), _env_key(a.env)))
+            if k is None:
+                return None
+            ks.append(k)
+        out = []
+        n = self.nstates
+        for k in ks:
+            buf = ctypes.create_string_buffer(max(n, 1))
+            if self.dll.asm_labels(k, buf) != 0:
+                return None
+            out.append(bytearray(buf.raw[:n]))
+        return out
+
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""
         try:
@@ -1459,6 +1535,15 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _env_key(env) -> tuple:
+    items = tuple(sorted((env or {}).items(), key=lambda kv: kv[0]))
+    try:
+        hash(items)
+        return items
+    except TypeError:
+        return repr(items)
 
 
 class _NativeEdges:

@@ -101,6 +101,34 @@ def _has_existential_top(f) -> bool:
     return f[0] in ("EX", "EU", "EG") or (f[0] == "or" and any(_has_existential_top(x) for x in f[1:]))
 
 
+def label_atoms(machine, props, state) -> list:
+    """The (term, env) of the state atoms (those reading no monitored function) that
+    :func:`check_temporal` will label the explored states with, for ``props`` (the temporal
+    properties of a run) and ``state`` (the first initial state): an engine that evaluates
+    atoms itself (the native explorer's ``state_labels``) translates them before the search.
+    An atom missing here is evaluated in Python, so this list only has to be a good guess."""
+    atoms = Atoms(machine)
+    builder = Builder(machine, atoms, state)
+    for p in props:
+        try:
+            if p.kind == "justice":
+                atoms.add(p.body, {})
+            elif p.kind == "compassion":
+                atoms.add(p.body, {})
+                atoms.add(p.body2, {})
+            elif p.kind in ("ltl", "ctl", "invariant"):
+                builder.build(p.body, "ltl" if p.kind == "ltl" else "ctl")
+        except (FormulaError, AsmError):
+            continue
+    for p in machine.spec.properties:
+        if p.kind == "invar":
+            try:
+                atoms.add(p.body, {})
+            except AsmError:
+                continue
+    return [(a.term, a.env) for a in atoms.items if not a.monitored]
+
+
 def check_temporal(explorer, props, fair=()):
     t_start = time.perf_counter()
     machine = explorer.m
