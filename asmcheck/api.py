@@ -469,10 +469,14 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         try:
             if graph:
                 raise Unsupported("--graph writes every step with its choices")
-            ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
-                                deadlock=deadlock, state_props=state_props, step_props=step_props,
-                                keep_graph=keep_graph, max_memory=max_memory, progress=progress, warn=warn,
-                                label_props=[p for p in temporal if p.kind in ("ltl", "ctl", "justice", "compassion")])
+            try:
+                ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                                    deadlock=deadlock, state_props=state_props, step_props=step_props,
+                                    keep_graph=keep_graph, max_memory=max_memory, progress=progress, warn=warn,
+                                    label_props=[p for p in temporal if p.kind in ("ltl", "ctl", "justice",
+                                                                                   "compassion")])
+            except RecursionError:
+                raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:
                 result = ex.run()
             except KeyboardInterrupt:

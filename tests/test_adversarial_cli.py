@@ -268,3 +268,30 @@ def test_memory_caps_end_well(tmp_path, limit_mb):
     clean(res.stdout + res.stderr)
     assert res.returncode == 3, res.stderr
     assert "incomplete: " in res.stdout or "out of memory" in res.stderr
+
+
+@pytest.mark.parametrize("limit_mb", [260, 300, 340])
+def test_a_small_memory_cap_leaves_room_for_a_small_search(limit_mb):
+    """The deep-call stack is sized to the room under an address-space cap: at 300 MB it once
+    took 256 MB of it, and a 267-state search ended 'out of memory' where 250 MB sufficed."""
+    res = subprocess.run([sys.executable, "-m", "asmcheck", "explore", str(ROOT / "specs" / "sb_sync_slave.asm"),
+                          "--engine", "python", "--format", "json"], capture_output=True, text=True, env=ENV,
+                         timeout=300, preexec_fn=capped(limit_mb))
+    clean(res.stdout + res.stderr)
+    assert res.returncode == 0, res.stderr
+    import json
+    assert json.loads(res.stdout)["states"] == 267
+
+
+def test_deep_nesting_under_a_memory_cap(tmp_path):
+    """800 nested ifs resolve under a 300 MB cap (a smaller stack, a recursion limit to match)."""
+    body = "x := 0"
+    for i in range(800):
+        body = f"if x = {i % 7} then {body} endif"
+    path = write(tmp_path, "asm Ifs\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+                           f"\tmain rule r_main = {body}\ndefault init s0:\n\tfunction x = 0\n")
+    res = subprocess.run([sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python"],
+                         capture_output=True, text=True, env=ENV, timeout=300, preexec_fn=capped(300))
+    clean(res.stdout + res.stderr)
+    assert res.returncode == 0, res.stderr
+    assert "2 states" in res.stdout or "1 state" in res.stdout, res.stdout

@@ -124,3 +124,16 @@ def props(spec, m, path):
     sp, stp = spec_properties(m)
     es, est, temporal = properties_for(spec, m, str(path), None, use_default=True)
     return sp + es, stp + est, temporal
+
+
+@pytest.mark.slow
+def test_a_local_cluster_run_keeps_stderr_clean():
+    """`explore --cluster local` in a child process: the report on stdout, nothing on stderr (Ray's
+    native code announced its token authentication there)."""
+    pytest.importorskip("ray", reason="Ray is not installed (pip install 'asmcheck[cluster]')")
+    r = subprocess.run([sys.executable, "-m", "asmcheck", "explore", "specs/sb_async_master.asm", "--cluster", "local",
+                        "--workers", "2"], cwd=ROOT, capture_output=True, text=True, timeout=600,
+                       env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert r.returncode == 0, r.stderr
+    assert r.stderr == ""
+    assert "219 states, 512 transitions" in r.stdout

@@ -158,3 +158,18 @@ def test_recursive_rules_on_a_long_chain(tmp_path, closed):
     spec = check_file(str(p))
     got = recursive_rules(spec.rules)
     assert len(got) == (n + 1 if closed else 0)
+
+
+def test_eight_hundred_nested_ifs_explore(tmp_path):
+    """The machine compiles and runs a rule nested 800 deep (on a deep stack when this one is too
+    shallow); the C generator declines it and says why, and the Python engine explores it.
+    Engines: auto (python after the native engine's refusal)."""
+    import asmcheck
+    body = "x := (x + 1) mod 3"
+    for i in range(800):
+        body = f"if x >= {-1 - i} then {body} endif"
+    p = tmp_path / "Ifs.asm"
+    p.write_text(_spec("Ifs", "\tcontrolled x: Integer", body))
+    res = asmcheck.load(str(p)).explore()
+    assert (res.states, res.transitions, res.engine) == (3, 3, "python")
+    assert res.engine_note == "the spec nests more deeply than the C generator follows"

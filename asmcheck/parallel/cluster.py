@@ -10,8 +10,11 @@ Ray is an optional extra: ``pip install 'asmcheck[cluster]'``.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import pathlib
+import sys
+import tempfile
 
 from ..errors import UsageError
 from .partition import Partition
@@ -59,6 +62,36 @@ class _Owner:
         return self.p.receive(list(batches))
 
 
+# Ray's native code announces on the process's stderr that a local instance uses token
+# authentication; asmcheck starts that instance itself, so the line says nothing to its user
+RAY_NOTICES = ("Token authentication is enabled for this Ray cluster",)
+
+
+@contextlib.contextmanager
+def _ray_notices_filtered():
+    """File descriptor 2 goes to a file while Ray starts; its lines but Ray's notices are then
+    written to stderr."""
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):     # no real stderr (an embedding, a test's capture)
+        yield
+        return
+    with tempfile.TemporaryFile(mode="w+b") as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            text = tmp.read().decode("utf-8", "replace")
+            kept = [ln for ln in text.splitlines(keepends=True) if not ln.startswith(RAY_NOTICES)]
+            if kept:
+                sys.stderr.write("".join(kept))
+                sys.stderr.flush()
+
+
 def connect(cluster: str, workers: int):
     """Join (or start) the Ray instance named by ``cluster``: 'local' starts one on this machine
     (as many CPUs as workers, a small object store), 'auto' joins the running cluster found by
@@ -69,15 +102,20 @@ def connect(cluster: str, workers: int):
     here = str(pathlib.Path(__file__).resolve().parents[2])
     env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
     try:
-        if cluster == "local":
-            ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
-                     include_dashboard=False, log_to_driver=False, runtime_env=env,
-                     configure_logging=False)
-        else:
-            ray.init(address=cluster, log_to_driver=False, runtime_env=env, configure_logging=False)
+        with _ray_notices_filtered():
+            _init(ray, cluster, workers, env)
     except (ConnectionError, RuntimeError, ValueError) as e:
         raise UsageError(f"--cluster {cluster}: cannot connect to Ray ({e})") from None
     return ray, True
+
+
+def _init(ray, cluster: str, workers: int, env: dict) -> None:
+    if cluster == "local":
+        ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
+                 include_dashboard=False, log_to_driver=False, runtime_env=env,
+                 configure_logging=False)
+    else:
+        ray.init(address=cluster, log_to_driver=False, runtime_env=env, configure_logging=False)
 
 
 class RayBackend:

@@ -24,6 +24,7 @@ from .analysis import infinite_ranges, is_subdomain, mentions_monitored, reads_f
 from .choice import (Choice, Chooser, DeadlineReached, DrawingChooser, Enumerator, InputChooser, NO_VALUE, NoAlternative, Prune, RandomChooser,
                      Sampler, ScriptChooser, TooManySuccessors, next_prefix)
 from .rules import MAX_LOOP, RuleExecutor
+from .resolve import deep_active, deep_call
 from .terms import LONG_MAX, LONG_MIN, Ctx, TermEvaluator, Thunk, Undetermined
 
 
@@ -77,11 +78,21 @@ class Machine(TermEvaluator, RuleExecutor):
                     self.init_terms[func.index] = (params, body)
         self.keep_undef = frozenset(self.lazy)
         self._lazy_fns: dict = {}
-        self.main = self.rule_fn(spec.main) if spec.main is not None else None
+        self.main = self._deep(self.rule_fn, spec.main) if spec.main is not None else None
         self.invariants = []
         for p in spec.properties:
             if p.kind == "invariant":
-                self.invariants.append((p, self.term(p.body), mentions_monitored(p.body)))
+                self.invariants.append((p, self._deep(self.term, p.body), mentions_monitored(p.body)))
+
+    @staticmethod
+    def _deep(fn, *args):
+        """``fn(*args)``, again on a thread with a deep stack when the spec nests too deeply for this one."""
+        try:
+            return fn(*args)
+        except RecursionError:
+            if deep_active():
+                raise
+            return deep_call(fn, *args)
 
     def unbounded_properties(self, props=None) -> list:
         """The errors a property over an infinite domain would raise when evaluated, found before
@@ -321,13 +332,25 @@ class Machine(TermEvaluator, RuleExecutor):
             if prefix is None:
                 return out
 
-    def step(self, state: dict, chooser: Chooser, prune=None) -> tuple[UpdateSet, dict, Ctx]:
-        """One step from ``state``: the update set, the next state and the context (monitored values)."""
+    def _run_main(self, state: dict, chooser: Chooser, prune):
         ctx = Ctx(self, state, chooser)
         ctx.prune = prune
         ups = UpdateSet()
         if self.main is not None:
             self.main(ctx, ups)
+        return ups, ctx
+
+    def step(self, state: dict, chooser: Chooser, prune=None) -> tuple[UpdateSet, dict, Ctx]:
+        """One step from ``state``: the update set, the next state and the context (monitored values)."""
+        log = list(chooser.log)
+        try:
+            ups, ctx = self._run_main(state, chooser, prune)
+        except RecursionError:
+            if deep_active():
+                raise
+            # a deeply nested rule: the step again, from scratch, on a thread with a deep stack
+            chooser.log[:] = log
+            ups, ctx = deep_call(self._run_main, state, chooser, prune)
         nxt = apply_updates(state, ups, self.keep_undef)
         if ctx.lazy:
             for k, v in ctx.lazy.items():

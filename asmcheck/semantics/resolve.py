@@ -391,14 +391,40 @@ def resolve_type(t: A.TypeExpr, scope) -> T.Type:
 MAX_NESTING = 3000
 _DEEP_RECURSION = 40_000
 _DEEP_STACK = 256 * 1024 * 1024
+_MIN_DEEP_STACK = 16 * 1024 * 1024
 _deep_state = threading.local()
 _deep_lock = threading.Lock()
+
+
+def _deep_stack_size() -> int:
+    """The stack for a deep call: :data:`_DEEP_STACK`, or under an address-space limit
+    (``ulimit -v``, a CI memory cap) a quarter of the room left below it, so the stack never
+    takes the memory the search needs; 0 when not even :data:`_MIN_DEEP_STACK` fits."""
+    try:
+        import resource
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    except (ImportError, OSError, ValueError):
+        return _DEEP_STACK
+    if soft == resource.RLIM_INFINITY:
+        return _DEEP_STACK
+    try:
+        with open("/proc/self/statm") as f:
+            used = int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        used = 0
+    size = min(_DEEP_STACK, max(soft - used, 0) // 4) & ~(1024 * 1024 - 1)
+    return size if size >= _MIN_DEEP_STACK else 0
 
 
 def _too_deep(span: Span, what: str, stack: bool = False) -> AsmError:
     how = "deeper than the stack allows" if stack else f"more than {MAX_NESTING} terms and rules deep"
     return AsmTypeError(span, f"the spec nests too deeply: this {what} is {how} (group a long sum or conjunction "
                               f"with parentheses, or split the rule)")
+
+
+def deep_active() -> bool:
+    """Whether this thread already runs inside :func:`deep_call`."""
+    return bool(getattr(_deep_state, "active", False))
 
 
 def deep_call(fn, *args, **kwargs):
@@ -419,13 +445,15 @@ def deep_call(fn, *args, **kwargs):
 
     worker = None
     with _deep_lock:
+        size = _deep_stack_size()
         try:
-            old_stack = threading.stack_size(_DEEP_STACK)
+            old_stack = threading.stack_size(size) if size else None
         except (ValueError, RuntimeError):
             old_stack = None
         if old_stack is not None:
             old_limit = sys.getrecursionlimit()
-            sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION))
+            # the frames a stack of this size holds, at the rate measured for the full stack
+            sys.setrecursionlimit(max(old_limit, _DEEP_RECURSION * size // _DEEP_STACK))
             try:
                 try:
                     worker = threading.Thread(target=run, name="asmcheck-deep", daemon=True)

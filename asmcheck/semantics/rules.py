@@ -25,7 +25,12 @@ class RuleExecutor:
         if fn is None:
             holder = {}
             self._rule_cache[rd] = lambda ctx, ups: holder["f"](ctx, ups)
-            compiled = self.rule(rd.body)
+            try:
+                compiled = self.rule(rd.body)
+            except BaseException:
+                # (a body too deep for this thread's stack is compiled again on a deeper one)
+                del self._rule_cache[rd]
+                raise
             name = rd.name
 
             def run(ctx, ups):
