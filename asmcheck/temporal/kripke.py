@@ -251,6 +251,21 @@ class EdgePicks:
             return False
 
 
+class _PicksOfEdges:
+    """Node -> the choices of its step (``explorer.edges[i][2]`` of the node's edge), read only
+    for the few steps a trace prints."""
+
+    def __init__(self, explorer, eix):
+        self.explorer = explorer
+        self.eix = eix
+
+    def __len__(self):
+        return len(self.eix)
+
+    def __getitem__(self, v):
+        return self.explorer.edges[self.eix[v]][2]
+
+
 def _hkey(v):
     try:
         hash(v)
@@ -326,7 +341,27 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         sid, tgt, picks_l, vecs = [], [], [], []
         by_sid: list[list[int]] = [[] for _ in range(S)]
         cur_src, cur_state = -1, None
-        for src, dst, picks in explorer.edges:
+        if not mon_items:
+            # no atom reads a monitored function: one node per distinct explored transition,
+            # read from the edge arrays; the choices of a node's step are looked up only for
+            # the steps a trace prints
+            src_a, dst_a = explorer.edge_arrays()
+            seen: set = set()
+            eix = []
+            for i, (src, dst) in enumerate(zip(src_a, dst_a)):
+                if not ok_state[src]:
+                    continue
+                key = src * S + dst
+                if key in seen:
+                    continue
+                seen.add(key)
+                by_sid[src].append(len(sid))
+                sid.append(src)
+                tgt.append(dst)
+                eix.append(i)
+            picks_l = _PicksOfEdges(explorer, eix)
+            vecs = [()] * len(sid)
+        for src, dst, picks in (explorer.edges if mon_items else ()):
             if not ok_state[src]:
                 continue
             if mon_items:
