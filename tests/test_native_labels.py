@@ -139,3 +139,40 @@ def test_verdicts_and_traces_equal_python_engine(spec):
     assert runs["native"]["states"] == 82
     assert json.dumps(runs["native"], sort_keys=True, default=str) == \
         json.dumps(runs["python"], sort_keys=True, default=str)
+
+
+MONEDGE = """asm monedge
+
+import StandardLibrary
+import CTLLibrary
+
+signature:
+	dynamic monitored b: Boolean
+	dynamic controlled x: Boolean
+
+definitions:
+	CTLSPEC ctlSpec_always_b: ag(b)
+	CTLSPEC ctlSpec_never_b: ag(not b)
+
+	main rule r_main =
+		if b then x := not x else x := not x endif
+
+default init s0:
+	function x = false
+"""
+
+
+def test_steps_with_other_inputs_to_the_same_state(tmp_path):
+    """Both values of b lead from each state to the same successor: the native explorer records
+    the pair once, but the CTL structure (a NuSMV state holds the inputs its step reads) needs
+    both steps, so neither ag(b) nor ag(not b) holds, on either engine."""
+    p = tmp_path / "monedge.asm"
+    p.write_text(MONEDGE)
+    got = {}
+    for engine in ("native", "python"):
+        run = api.load(str(p)).explore(engine=engine)
+        assert (run.states, run.transitions) == (2, 2)
+        got[engine] = [(r.name, r.holds, list(r.nodes), r.stats.get("kripke_nodes")) for r in run.temporal]
+    assert got["native"] == got["python"]
+    assert [(name, holds, kn) for name, holds, _, kn in got["native"]] == [
+        ("ctlSpec_always_b", False, 4), ("ctlSpec_never_b", False, 4)]

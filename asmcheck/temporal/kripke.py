@@ -251,6 +251,30 @@ class EdgePicks:
             return False
 
 
+def _every_step(explorer, ok_state):
+    """(src, dst, choices, monitored values or None) for every enumerated step between explored
+    states, in the explorer's order.  An explorer whose edges hold every enumerated step (the
+    Python explorer's, duplicates included) gives them; one that records each (src, dst) pair
+    once (the native explorer) would hide the other steps from src to dst, whose monitored
+    values may differ: there the Python step function enumerates the steps of each state."""
+    if getattr(explorer, "engine", "") != "native":
+        for src, dst, picks in explorer.edges:
+            yield src, dst, picks, None
+        return
+    m = explorer.m
+    for src in range(explorer.n_states):
+        if not ok_state[src]:
+            continue
+        try:
+            steps = m.successors(explorer.state(src))
+        except AsmError as e:
+            raise AtomError(None, f"the step from state {src} cannot be computed: {e.message}") from None
+        for log, _ups, nxt, mon in steps:
+            dst = _find(explorer, nxt)
+            if dst is not None:
+                yield src, dst, tuple(c.pick for c in log), mon
+
+
 class _PicksOfEdges:
     """Node -> the choices of its step (``explorer.edges[i][2]`` of the node's edge), read only
     for the few steps a trace prints."""
@@ -361,18 +385,20 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 eix.append(i)
             picks_l = _PicksOfEdges(explorer, eix)
             vecs = [()] * len(sid)
-        for src, dst, picks in (explorer.edges if mon_items else ()):
+        for src, dst, picks, mon in (_every_step(explorer, ok_state) if mon_items else ()):
             if not ok_state[src]:
                 continue
             if mon_items:
                 if src != cur_src:
                     cur_src, cur_state = src, explorer.state(src)
-                try:
-                    ch = ScriptChooser(picks)
-                    _, _, ctx = m.step(cur_state, ch)
-                except AsmError as e:
-                    raise AtomError(None, f"the step from state {src} cannot be replayed: {e.message}") from None
-                vs = joint_values(m, mon_items, cur_state, ctx.mon)
+                if mon is None:
+                    try:
+                        ch = ScriptChooser(picks)
+                        _, _, ctx = m.step(cur_state, ch)
+                    except AsmError as e:
+                        raise AtomError(None, f"the step from state {src} cannot be replayed: {e.message}") from None
+                    mon = ctx.mon
+                vs = joint_values(m, mon_items, cur_state, mon)
             else:
                 vs = [()]
             for vec in vs:
