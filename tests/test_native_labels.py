@@ -176,3 +176,22 @@ def test_steps_with_other_inputs_to_the_same_state(tmp_path):
     assert got["native"] == got["python"]
     assert [(name, holds, kn) for name, holds, _, kn in got["native"]] == [
         ("ctlSpec_always_b", False, 4), ("ctlSpec_never_b", False, 4)]
+
+
+def test_step_atoms_pairs(tmp_path):
+    """asm_step_atoms: per stored state, the (target, atom values) pairs of its steps, once each."""
+    from asmcheck.explore.native import NativeExplorer
+    p = tmp_path / "monedge.asm"
+    p.write_text(MONEDGE)
+    model = api.load(str(p))
+    ex = NativeExplorer(model.machine, keep_graph=True, label_props=list(model.temporal))
+    ex.run()
+    atoms = Atoms(model.machine)
+    builder = Builder(model.machine, atoms, ex.state(0))
+    for prop in model.temporal:
+        builder.build(prop.body, "ctl")
+    mon = [a for a in atoms.items if a.monitored]
+    assert [a.text for a in mon] == ["b"]
+    assert ex.step_atoms(mon, bytearray(b"\x01\x01")) == [(0, 1, (True,)), (0, 1, (False,)),
+                                                          (1, 0, (True,)), (1, 0, (False,))]
+    assert ex.step_atoms(mon, bytearray(b"\x00\x01")) == [(1, 0, (True,)), (1, 0, (False,))]

@@ -1048,6 +1048,7 @@ class Generator:
         """The C expressions of the state atoms of the temporal properties (``self.label_props``),
         None for an atom that cannot be translated (the temporal layer evaluates it in Python)."""
         self.labels = []
+        self.label_exprs = []
         props = getattr(self, "label_props", None)
         if not props or not self.init_states:
             return []
@@ -1066,6 +1067,7 @@ class Generator:
                 del self.funcs[mark[0]:]
                 self.defined_done, self.rules_done, self.enc_tables = mark[1], mark[2], mark[3]
                 out.append(None)
+        self.label_exprs = out
         return out
 
     def label_entry(self, exprs: list) -> str:
@@ -1088,7 +1090,7 @@ class Generator:
                   "    }",
                   "    return 0;",
                   "}"]
-        return "\n".join(lines) + "\n"
+        return "\n".join(lines) + "\n" + _STEP_ATOMS_C
 
     # -------------------------------------------------------------- packing
     def map_value(self, st: dict, f) -> int:
@@ -1194,7 +1196,94 @@ _SYMBOLS = {
     "asm_values": (_i64, []),
     "asm_free": (None, []),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
+    "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
 }
+
+
+# asm_step_atoms(src, ks, nk, out, cap): for every step from the stored state src (every sequence of
+# choices, INVAR-filtered as the search does) that leads to a stored state dst, the distinct vectors
+# of the atoms ks (bit k: atom ks[k] is true) evaluated in src with the monitored values the step
+# read, the monitored locations it did not read taking every value (a nested enumeration after
+# the step's own choices); pairs (dst, vector) in the order met, each once.  Returns their number,
+# -1 when an atom or the step cannot be evaluated, -2 when more than cap pairs.
+_STEP_ATOMS_C = """
+int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out, int64_t cap) {
+    Ctx *c = &ctx_static;
+    uint64_t nw[NWORDS > 0 ? NWORDS : 1];
+    static V smon[NMON > 0 ? NMON : 1];
+    static uint32_t smgen[NMON > 0 ? NMON : 1];
+    int64_t nrec = 0;
+    load_state(c, states + src * NWORDS);
+    c->rd = c->cur;
+    c->epoch = ++global_epoch;
+    c->plen = 0;
+    c->in_prop = 0;
+    for (;;) {
+        c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+        c->gen++;
+        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+        c->err = 0;
+        step_main(c);
+        if (c->err) return -1;
+        int ok = 1;
+#if NSTEP > 0 || NINVAR > 0
+        if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+#endif
+#if NINVAR > 0
+        c->rd = c->post;
+        for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+        c->rd = c->cur;
+        if (c->err == E_UNSUPPORTED) return -1;
+        c->err = 0;
+        c->in_prop = 0;
+#endif
+        if (ok) {
+            store_state(c, states + src * NWORDS, nw);
+            int64_t dst = asm_find(nw);
+            if (dst >= 0) {
+                int32_t P = c->pos;
+                memcpy(smon, c->mon, sizeof(smon));
+                memcpy(smgen, c->mgen, sizeof(smgen));
+                c->plen = P;
+                for (;;) {
+                    c->pos = P;
+                    memcpy(c->mon, smon, sizeof(smon));
+                    memcpy(c->mgen, smgen, sizeof(smgen));
+                    c->err = 0;
+                    int64_t vec = 0;
+                    for (int64_t k = 0; k < nk; k++) {
+                        V v = check_label(c, (int)ks[k]);
+                        if (c->err) return -1;
+                        if (v == 1) vec |= (int64_t)1 << k;
+                    }
+                    int dup = 0;
+                    for (int64_t r = 0; r < nrec; r++) if (out[2 * r] == dst && out[2 * r + 1] == vec) { dup = 1; break; }
+                    if (!dup) {
+                        if (nrec >= cap) return -2;
+                        out[2 * nrec] = dst; out[2 * nrec + 1] = vec; nrec++;
+                    }
+                    int j = c->pos - 1;
+                    while (j >= P && c->idx[j] + 1 >= c->cnt[j]) j--;
+                    if (j < P) break;
+                    for (int q = P; q < j; q++) c->prefix[q] = c->idx[q];
+                    c->prefix[j] = c->idx[j] + 1;
+                    c->plen = j + 1;
+                }
+                c->pos = P;
+                memcpy(c->mon, smon, sizeof(smon));
+                memcpy(c->mgen, smgen, sizeof(smgen));
+            }
+        }
+        int j = c->pos - 1;
+        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
+        if (j < 0) break;
+        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
+        c->prefix[j] = c->idx[j] + 1;
+        c->plen = j + 1;
+    }
+    return nrec;
+}
+"""
 
 
 class NativeExplorer:
@@ -1455,6 +1544,45 @@ class NativeExplorer:
                 return None
             out.append(bytearray(buf.raw[:n]))
         return out
+
+    def step_atoms(self, items, ok_state):
+        """For the CTL structure whose nodes are steps: (src, dst, vector of the atoms ``items``)
+        for every step between stored states, each triple once, in the order of the Python step
+        function's enumeration -- the atoms (which read monitored functions) evaluated in src with
+        the values the step read, the others taking every value.  None when the compiled code
+        cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        index = getattr(self, "_label_index", None)
+        if index is None:
+            self.state_labels([])
+            index = self._label_index
+        ks = []
+        for a in items:
+            k = index.get((id(a.term), _env_key(a.env)))
+            if k is None or self.gen.label_exprs[k] is None:
+                return None
+            ks.append(k)
+        if not ks or len(ks) > 64:
+            return None
+        karr = (ctypes.c_int64 * len(ks))(*ks)
+        out_recs = []
+        cap = 1024
+        buf = (ctypes.c_int64 * (2 * cap))()
+        nk = len(ks)
+        for src in range(self.nstates):
+            if not ok_state[src]:
+                continue
+            while True:
+                n = self.dll.asm_step_atoms(src, karr, nk, buf, cap)
+                if n != -2:
+                    break
+                cap *= 4
+                buf = (ctypes.c_int64 * (2 * cap))()
+            if n < 0:
+                return None
+            for r in range(n):
+                vec = buf[2 * r + 1]
+                out_recs.append((src, buf[2 * r], tuple(bool(vec >> k & 1) for k in range(nk))))
+        return out_recs
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""

@@ -102,8 +102,8 @@ def _has_existential_top(f) -> bool:
 
 
 def label_atoms(machine, props, state) -> list:
-    """The (term, env) of the state atoms (those reading no monitored function) that
-    :func:`check_temporal` will label the explored states with, for ``props`` (the temporal
+    """The (term, env) of the atoms that :func:`check_temporal` will evaluate in the explored
+    states (those reading monitored functions in the steps' sources), for ``props`` (the temporal
     properties of a run) and ``state`` (the first initial state): an engine that evaluates
     atoms itself (the native explorer's ``state_labels``) translates them before the search.
     An atom missing here is evaluated in Python, so this list only has to be a good guess."""
@@ -126,7 +126,7 @@ def label_atoms(machine, props, state) -> list:
                 atoms.add(p.body, {})
             except AsmError:
                 continue
-    return [(a.term, a.env) for a in atoms.items if not a.monitored]
+    return [(a.term, a.env) for a in atoms.items]
 
 
 def check_temporal(explorer, props, fair=()):

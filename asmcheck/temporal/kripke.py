@@ -275,6 +275,28 @@ def _every_step(explorer, ok_state):
                 yield src, dst, tuple(c.pick for c in log), mon
 
 
+class _PicksOfSteps:
+    """Node -> the choices of the first step (of the Python step function) from the node's
+    source to its target whose monitored values give the node's atom values; found only for the
+    steps a trace prints."""
+
+    def __init__(self, explorer, items, sid, tgt, vecs):
+        self.explorer, self.items = explorer, items
+        self.sid, self.tgt, self.vecs = sid, tgt, vecs
+
+    def __len__(self):
+        return len(self.sid)
+
+    def __getitem__(self, v):
+        ex = self.explorer
+        m = ex.m
+        st = ex.state(self.sid[v])
+        for log, _ups, nxt, mon in m.successors(st):
+            if _find(ex, nxt) == self.tgt[v] and self.vecs[v] in joint_values(m, self.items, st, mon):
+                return tuple(c.pick for c in log)
+        raise AtomError(None, f"no step from state {self.sid[v]} to state {self.tgt[v]} gives the atoms' values")
+
+
 class _PicksOfEdges:
     """Node -> the choices of its step (``explorer.edges[i][2]`` of the node's edge), read only
     for the few steps a trace prints."""
@@ -385,7 +407,19 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 eix.append(i)
             picks_l = _PicksOfEdges(explorer, eix)
             vecs = [()] * len(sid)
-        for src, dst, picks, mon in (_every_step(explorer, ok_state) if mon_items else ()):
+        fast = getattr(explorer, "step_atoms", None) if mon_items else None
+        recs = fast(mon_items, ok_state) if fast is not None else None
+        if recs is not None:
+            # the compiled code gave (src, dst, atom values) for every step, each once
+            for src, dst, vec in recs:
+                if any(not vec[k] for k in mon_inv):
+                    continue
+                by_sid[src].append(len(sid))
+                sid.append(src)
+                tgt.append(dst)
+                vecs.append(vec)
+            picks_l = _PicksOfSteps(explorer, mon_items, sid, tgt, vecs)
+        for src, dst, picks, mon in (_every_step(explorer, ok_state) if mon_items and recs is None else ()):
             if not ok_state[src]:
                 continue
             if mon_items:
