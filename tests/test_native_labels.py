@@ -191,7 +191,9 @@ def test_step_atoms_pairs(tmp_path):
     for prop in model.temporal:
         builder.build(prop.body, "ctl")
     mon = [a for a in atoms.items if a.monitored]
-    assert [a.text for a in mon] == ["b"]
-    assert ex.step_atoms(mon, bytearray(b"\x01\x01")) == [(0, 1, (True,)), (0, 1, (False,)),
-                                                          (1, 0, (True,)), (1, 0, (False,))]
-    assert ex.step_atoms(mon, bytearray(b"\x00\x01")) == [(1, 0, (True,)), (1, 0, (False,))]
+    assert [a.text for a in mon] == ["b", "not b"]
+    tf, ft = (True, False), (False, True)
+    assert ex.step_atoms(mon, bytearray(b"\x01\x01")) == [(0, 1, ft), (0, 1, tf), (1, 0, ft), (1, 0, tf)]
+    assert ex.step_atoms(mon, bytearray(b"\x00\x01")) == [(1, 0, ft), (1, 0, tf)]
+    # b is read by the step (False first, as the monitored values are enumerated)
+    assert ex.step_atoms(mon[:1], bytearray(b"\x01\x00")) == [(0, 1, (False,)), (0, 1, (True,))]
