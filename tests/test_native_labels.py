@@ -197,3 +197,51 @@ def test_step_atoms_pairs(tmp_path):
     assert ex.step_atoms(mon, bytearray(b"\x00\x01")) == [(1, 0, ft), (1, 0, tf)]
     # b is read by the step (False first, as the monitored values are enumerated)
     assert ex.step_atoms(mon[:1], bytearray(b"\x01\x00")) == [(0, 1, (False,)), (0, 1, (True,))]
+
+
+MONUNREAD = """asm monunread
+
+import StandardLibrary
+import CTLLibrary
+
+signature:
+	enum domain Mode = {AA | BB | CC}
+	dynamic monitored b: Boolean
+	dynamic monitored md: Mode
+	dynamic controlled x: Boolean
+	dynamic controlled cnt: Mode
+
+definitions:
+	CTLSPEC ctlSpec_1: ag(b implies ef(md = CC))
+	CTLSPEC ctlSpec_2: ag(md = AA or x)
+	CTLSPEC ctlSpec_3: ef(b and not x and md = BB)
+	CTLSPEC ctlSpec_4: ag(ex(cnt = BB and md = CC))
+
+	main rule r_main =
+		if b then par x := not x cnt := md endpar else x := true endif
+
+default init s0:
+	function x = false
+	function cnt = AA
+"""
+
+
+def test_inputs_the_step_does_not_read(tmp_path):
+    """md is read by the step only when b holds; the CTL atoms over md take every value of it
+    where the step does not read it: the same report (verdicts, traces) on both engines."""
+    p = tmp_path / "monunread.asm"
+    p.write_text(MONUNREAD)
+    out = {}
+    for engine in ("native", "python"):
+        r = subprocess.run([sys.executable, "-m", "asmcheck", "explore", str(p), "--engine", engine],
+                           capture_output=True, text=True, cwd=ROOT)
+        assert r.returncode == 1, r.stderr
+        lines = r.stdout.splitlines()
+        assert lines[0].startswith("monunread.asm: 6 states, 21 transitions, depth 2,")
+        assert lines[0].endswith(f"{engine} engine")
+        out[engine] = lines[1:]
+    assert out["native"] == out["python"]
+    assert out["native"][:4] == ["  ctlSpec_1                                holds",
+                                 "  ctlSpec_2                                violated",
+                                 "  ctlSpec_3                                holds",
+                                 "  ctlSpec_4                                violated"]
