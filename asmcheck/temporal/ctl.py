@@ -91,8 +91,11 @@ class CTL:
         key = bytes(s)
         r = self._fair_sccs_cache.get(key)
         if r is None:
-            r = self._fair_sccs_cache[key] = fair_sccs(self.n, self.K.succ, members(s), s, self.justice,
-                                                       self.compassion)
+            from . import kernel
+            r = kernel.fair_sccs(self.K, s, self.justice, self.compassion)
+            if r is None:
+                r = fair_sccs(self.n, self.K.succ, members(s), s, self.justice, self.compassion)
+            self._fair_sccs_cache[key] = r
         return r
 
     def _eg(self, s: bytearray) -> bytearray:

@@ -121,14 +121,35 @@ void kn_map(int64_t by_q, const uint8_t *bytes, uint8_t *out) {
     for (int64_t i = 0; i < P_n; i++) out[i] = bytes[w[i]];
 }
 
+#define CL(v) (cls ? cls[v] : (v))
+
 /* ------------------------------------------------------------------ fair components
  * The components of the product (its own arrays) reachable from the initial nodes in which
  * a path can stay for ever meeting each of the nj justice sets (just: nj rows of P_n bytes)
  * and, for each of the nc compassion pairs (p, q: rows of P_n bytes), q if p.  comp[v] gets
  * the number of v's fair component (-1: in none).  Returns the number of fair components,
  * -1 when out of memory. */
+static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+                         int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
+                         int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
+                         int32_t *comp);
+
 int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
-    int64_t N = P_n;
+    return fair_core(P_n, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
+}
+
+/* the same on a graph given by the caller: the successors of node v are the list of its class
+ * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts */
+int64_t kn_fair_graph(int64_t N, const int32_t *cls, const int32_t *off, const int32_t *adj, int64_t nroots,
+                      const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just, int64_t nc,
+                      const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
+    return fair_core(N, cls, off, adj, nroots, roots, mask, nj, just, nc, cp, cq, comp);
+}
+
+static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+                         int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
+                         int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
+                         int32_t *comp) {
     int32_t *index = (int32_t *)malloc((N + 1) * sizeof(int32_t));
     int32_t *low = (int32_t *)malloc((N + 1) * sizeof(int32_t));
     int32_t *region = (int32_t *)malloc((N + 1) * sizeof(int32_t));
@@ -141,7 +162,7 @@ int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, 
     int64_t ctodo = 0, ntodo = 0, croots = 0;
     int64_t nfair = 0, counter = 0, nregions = 1;
     if (!index || !low || !region || !stack || !work || !wpos || !onstack || !badj) goto oom;
-    for (int64_t v = 0; v < N; v++) { index[v] = -1; region[v] = 0; comp[v] = -1; }
+    for (int64_t v = 0; v < N; v++) { index[v] = -1; region[v] = (mask && !mask[v]) ? -1 : 0; comp[v] = -1; }
     /* todo: pairs (region, first root position in roots, number of roots) */
     for (int64_t i = 0; i < P_ninit; i++) if (!push32(&roots, &croots, i, P_init[i])) goto oom;
     if (!push32(&todo, &ctodo, ntodo++, 0) || !push32(&todo, &ctodo, ntodo++, 0) ||
@@ -156,17 +177,17 @@ int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, 
             int64_t sp = 0, wp = 0;
             index[r] = low[r] = (int32_t)counter++;
             stack[sp++] = r; onstack[r] = 1;
-            work[wp] = r; wpos[wp] = P_off[r]; wp++;
+            work[wp] = r; wpos[wp] = P_off[CL(r)]; wp++;
             while (wp > 0) {
                 int32_t v = work[wp - 1];
                 int pushed = 0;
-                while (wpos[wp - 1] < P_off[v + 1]) {
+                while (wpos[wp - 1] < P_off[CL(v) + 1]) {
                     int32_t w = P_adj[wpos[wp - 1]++];
                     if (region[w] != reg) continue;
                     if (index[w] == -1) {
                         index[w] = low[w] = (int32_t)counter++;
                         stack[sp++] = w; onstack[w] = 1;
-                        work[wp] = w; wpos[wp] = P_off[w]; wp++;
+                        work[wp] = w; wpos[wp] = P_off[CL(w)]; wp++;
                         pushed = 1;
                         break;
                     }
@@ -184,7 +205,7 @@ int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, 
                 int ok = 1;
                 if (size == 1) {
                     ok = 0;
-                    for (int32_t e = P_off[v]; e < P_off[v + 1]; e++) if (P_adj[e] == v) { ok = 1; break; }
+                    for (int32_t e = P_off[CL(v)]; e < P_off[CL(v) + 1]; e++) if (P_adj[e] == v) { ok = 1; break; }
                 }
                 for (int64_t j = 0; ok && j < nj; j++) {
                     const uint8_t *J = just + j * N;

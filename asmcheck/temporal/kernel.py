@@ -26,6 +26,7 @@ _SYMBOLS = {
     "kn_map": (None, [_i64, _p, _p]),
     "kn_fair": (_i64, [_i64, _p, _i64, _p, _p, _p]),
     "kn_free": (None, []),
+    "kn_fair_graph": (_i64, [_i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -142,3 +143,44 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         dll.kn_free()
         return N, 0, None
     return N, nfair, build
+
+
+def _csr(K):
+    """(cls, off, adj) of the Kripke structure's successor classes, made once per structure."""
+    got = getattr(K, "_kernel_csr", None)
+    if got is None:
+        cls = _arr("i", K.cls)
+        off = array("i", [0])
+        off.extend(accumulate(len(x) for x in K.cls_succ))
+        adj = _arr("i", chain.from_iterable(K.cls_succ))
+        got = K._kernel_csr = (cls, off, adj)
+    return got
+
+
+def fair_sccs(K, s: bytearray, justice, compassion):
+    """:func:`asmcheck.temporal.graph.fair_sccs` on the Kripke structure restricted to the nodes
+    of ``s`` (roots: those nodes), by compiled code; None when it is not available."""
+    dll = library()
+    if dll is None:
+        return None
+    n = K.n
+    cls, off, adj = _csr(K)
+    roots = _arr("i", (i for i in range(n) if s[i]))
+    nroots = s.count(1)
+    mask = bytearray(s) if len(s) else bytearray(1)
+    just = bytearray().join(justice) or bytearray(1)
+    cp = bytearray().join(p for p, _ in compassion) or bytearray(1)
+    cq = bytearray().join(q for _, q in compassion) or bytearray(1)
+    comp = array("i", bytes(4 * max(n, 1)))
+    nfair = dll.kn_fair_graph(n, _addr(cls), _addr(off), _addr(adj), nroots, _addr(roots), _addr(mask),
+                              len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
+    if nfair < 0:
+        return None
+    if nfair == 0:
+        return []
+    groups: dict = {}
+    for v in range(n):
+        c = comp[v]
+        if c >= 0:
+            groups.setdefault(c, []).append(v)
+    return sorted(groups.values())
