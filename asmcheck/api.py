@@ -355,7 +355,19 @@ def choose_engine(model: Model, engine: str, *, keep_graph: bool, step_props, ha
     that decides."""
     if engine not in ("auto", "python", "native"):
         raise UsageError(f"unknown engine {engine!r} (auto, python or native)")
+    if engine == "auto":
+        engine = auto_engine()
     return "python" if engine == "python" else "native"
+
+
+def auto_engine() -> str:
+    """What ``engine='auto'`` means: the environment variable ASMCHECK_ENGINE (``python`` pins
+    the Python engine, ``native`` insists on the native one; the test suite runs engine-neutral
+    tests under both), else ``auto``."""
+    value = os.environ.get("ASMCHECK_ENGINE", "auto").strip().lower() or "auto"
+    if value not in ("auto", "python", "native"):
+        raise UsageError(f"ASMCHECK_ENGINE={value!r}: expected auto, python or native")
+    return value
 
 
 def memory_in_use() -> int:
@@ -372,16 +384,19 @@ def memory_in_use() -> int:
 
 
 @contextmanager
-def _watchdog(seconds):
+def _watchdog(seconds, explorer=None):
     """Raise :class:`TimeUp` in the main thread ``seconds`` from now (a safety net for a step
     that runs long inside the step function; the searches check their time limit
-    themselves)."""
+    themselves).  Not once ``explorer`` has left its search loop (``finishing``): what it
+    found is then a result, and the report of it is not cut short."""
     if (seconds is None or threading.current_thread() is not threading.main_thread()
             or not hasattr(signal, "setitimer")):
         yield
         return
 
     def fire(signum, frame):
+        if explorer is not None and getattr(explorer, "finishing", False):
+            return
         raise TimeUp()
     old = signal.signal(signal.SIGALRM, fire)
     signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
@@ -451,6 +466,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         max_memory = None
     keep_graph = bool(graph) or any(p.kind in ("ltl", "ctl") for p in temporal)
     has_invar = any(p.kind == "invar" for p in spec.properties)
+    if engine == "auto":
+        engine = auto_engine()
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
     # the searches get the time left of the whole run
     search_seconds = None if max_seconds is None else max(max_seconds - (t0 - begin), 0.0)
@@ -494,7 +511,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
                       step_props=step_props, max_memory=max_memory, memory=memory_in_use)
-        with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE), \
+        with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
                 _deadline(machine, search_seconds):
             result = ex.run()
         result.engine = "python"

@@ -38,3 +38,52 @@ def write_spec(tmp_path):
         p.write_text(text, encoding="utf-8")
         return str(p)
     return _write
+
+
+# ----------------------------------------------------------------- engines
+# Every test says which exploration engine it pins, with a marker on the module (pytestmark) or
+# the test:
+#   engines("python")  the Python engine: ASMCHECK_ENGINE=python makes engine='auto' mean it
+#   engines("native")  the native engine (the test names --engine native, or compares the two)
+#   engines("both")    engine-neutral: the test runs twice, [auto] (native wherever it can run)
+#                      and [python] (ASMCHECK_ENGINE=python)
+#   engines("none")    explores nothing (front end, simulator, editors, ...)
+ENGINE_KINDS = ("python", "native", "both", "none")
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "engines(kind): the exploration engine a test pins: " + ", ".join(ENGINE_KINDS))
+
+
+def _engine_kind(node):
+    m = node.get_closest_marker("engines")
+    if m is None:
+        return None
+    kind = m.args[0] if m.args else None
+    if kind not in ENGINE_KINDS:
+        raise pytest.UsageError(f"{node.nodeid}: engines({kind!r}): expected one of {', '.join(ENGINE_KINDS)}")
+    return kind
+
+
+def pytest_generate_tests(metafunc):
+    if _engine_kind(metafunc.definition) == "both":
+        metafunc.parametrize("asmcheck_engine", ["auto", "python"], indirect=True)
+
+
+def pytest_collection_modifyitems(config, items):
+    missing = sorted({item.nodeid.split("::")[0] for item in items if _engine_kind(item) is None})
+    if missing:
+        raise pytest.UsageError("tests that do not say which engine they pin (add pytestmark = "
+                                "pytest.mark.engines(...) ; see tests/conftest.py): " + ", ".join(missing))
+
+
+@pytest.fixture(autouse=True)
+def asmcheck_engine(request, monkeypatch):
+    """The engine this test runs on (see ENGINE_KINDS): sets ASMCHECK_ENGINE for it and its children."""
+    kind = _engine_kind(request.node)
+    value = getattr(request, "param", None) or ("python" if kind == "python" else "auto")
+    if value == "python":
+        monkeypatch.setenv("ASMCHECK_ENGINE", "python")
+    else:
+        monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    return value

@@ -10,6 +10,8 @@ from asmcheck.cli import main as cli_main
 from asmcheck.review.advise import CHECKS, advise, advise_text
 from conftest import ROOT, need_asmeta
 
+pytestmark = pytest.mark.engines("python")
+
 DEMO = str(ROOT / "tests" / "data" / "review" / "advisor_demo.asm")
 
 

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.engines("none")
+
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "asmcheck"
 

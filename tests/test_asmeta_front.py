@@ -18,6 +18,8 @@ from asmcheck.errors import AsmError
 from asmcheck.semantics import ir
 from asmcheck.semantics.resolve import check_file
 
+pytestmark = pytest.mark.engines("none")
+
 STD = "import StandardLibrary\n"
 
 

@@ -8,6 +8,8 @@ from asmcheck.avalla.runner import run_scenario
 from asmcheck.cli import main
 from asmcheck.errors import AsmError
 
+pytestmark = pytest.mark.engines("none")
+
 # A job scheduler in the style of ASMETA's tutorial: a choose rule, a monitored function,
 # an out function, a derived function, an invariant, a dynamic abstract domain.
 SCHED = """\

@@ -35,7 +35,7 @@ from asmcheck.errors import AsmError
 
 from conftest import ASMETA, need_asmeta
 
-pytestmark = pytest.mark.corpus
+pytestmark = [pytest.mark.corpus, pytest.mark.engines("none")]
 
 EXPECTED = {
     "asm_examples/PillBox/Level0/pillbox_0_scenario1.avalla": ("pass", 12, 0, 4),

@@ -4,6 +4,8 @@ import pytest
 from asmcheck.errors import AsmError
 from asmcheck.semantics.resolve import check_file
 
+pytestmark = pytest.mark.engines("none")
+
 HEAD = "asm T\nimport StandardLibrary\nsignature:\n"
 
 # (label, spec text, line, column, a piece of the message)

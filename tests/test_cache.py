@@ -9,6 +9,8 @@ import pytest
 from asmcheck import cache
 from asmcheck.syntax import parser
 
+pytestmark = pytest.mark.engines("none")
+
 ROOT = os.geteuid() == 0 if hasattr(os, "geteuid") else False
 
 

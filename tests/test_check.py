@@ -14,6 +14,8 @@ import pytest
 from asmcheck import __version__, api
 from asmcheck.cli import main
 
+pytestmark = pytest.mark.engines("both")
+
 DATA = Path(__file__).resolve().parent / "data"
 CHECK = DATA / "check"
 GOLDEN = DATA / "golden"

@@ -16,6 +16,8 @@ from asmcheck.report.avalla_export import explore_avalla, trace_scenario
 from asmcheck.report.gate import expect_lines, property_text, temporal_trace
 from asmcheck.report.trace import build_trace
 
+pytestmark = pytest.mark.engines("both")
+
 ROOT = Path(__file__).resolve().parent.parent
 BUGGY = sorted((ROOT / "specs" / "buggy").glob("*.asm"))
 

@@ -8,6 +8,8 @@ import pytest
 
 from asmcheck.cli import main
 
+pytestmark = pytest.mark.engines("both")
+
 LOOP = """asm Lp
 import StandardLibrary
 signature:

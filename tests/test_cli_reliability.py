@@ -17,6 +17,8 @@ from asmcheck.cli import main
 
 from helpers import write
 
+pytestmark = pytest.mark.engines("both")
+
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
 ENV.pop("ASMCHECK_DEBUG", None)

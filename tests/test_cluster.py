@@ -14,6 +14,8 @@ from asmcheck.parallel import Recipe, WorkerLost, explore_partitioned
 from conftest import need_bench
 from test_parallel import SPECS, load, sequential, summary
 
+pytestmark = pytest.mark.engines("python")
+
 ROOT = Path(__file__).resolve().parent.parent
 
 

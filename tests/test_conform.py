@@ -12,6 +12,8 @@ from asmcheck.semantics.resolve import load_spec
 from conftest import need_asmeta
 from helpers import spec, write
 
+pytestmark = pytest.mark.engines("none")
+
 # Transcripts asmcheck does not follow, and why (see the issue notes):
 KNOWN = {
     # the spec reads Java's wall clock (currTimeNanosecs): no value in a model checker

@@ -5,6 +5,9 @@ from asmcheck.cli import main
 from asmcheck.conform import conform, read_transcript, real_text
 
 from helpers import machine, spec, write
+import pytest
+
+pytestmark = pytest.mark.engines("none")
 
 SPEC = spec("\tenum domain C = {AA | BB}\n\tmonitored m: C\n\tcontrolled x: C", "\tmain rule r_main = x := m")
 

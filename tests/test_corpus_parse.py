@@ -12,6 +12,8 @@ from asmcheck.semantics.resolve import check_file
 
 from conftest import need_asmeta
 
+pytestmark = pytest.mark.engines("none")
+
 
 def _manifest(root):
     rows = []

@@ -84,6 +84,8 @@ SPECS = {
 
 import pytest  # noqa: E402
 
+pytestmark = pytest.mark.engines("python")
+
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "visual_servoing.asm" else n
                                   for n in sorted(SPECS)])

@@ -8,6 +8,8 @@ from asmcheck.semantics import ir, resolve
 from asmcheck.semantics.resolve import MAX_NESTING, check_file
 from asmcheck.syntax.parser import parse_file
 
+pytestmark = pytest.mark.engines("both")
+
 
 def _nested_ifs(n):
     body = "x := 0"
@@ -160,6 +162,7 @@ def test_recursive_rules_on_a_long_chain(tmp_path, closed):
     assert len(got) == (n + 1 if closed else 0)
 
 
+@pytest.mark.engines("native")
 def test_eight_hundred_nested_ifs_explore(tmp_path):
     """The machine compiles and runs a rule nested 800 deep (on a deep stack when this one is too
     shallow); the C generator declines it and says why, and the Python engine explores it.

@@ -9,6 +9,8 @@ import pytest
 from asmcheck.cli import main
 from asmcheck.explore import native_build
 
+pytestmark = pytest.mark.engines("native")
+
 SPEC = str(Path(__file__).resolve().parents[1] / "specs" / "sb_async_master.asm")
 needs_cc = pytest.mark.skipif(native_build.compiler() is None, reason="no C compiler for the native engine")
 

@@ -13,6 +13,8 @@ from asmcheck.report.trace import build_trace
 from conftest import need_bench
 from helpers import machine, spec, write
 
+pytestmark = pytest.mark.engines("both")
+
 
 def twin(tmp_path, t, k, bug=False):
     bench = need_bench()

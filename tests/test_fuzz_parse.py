@@ -16,6 +16,8 @@ from asmcheck.semantics.resolve import check_file
 
 from conftest import ASMETA, ROOT
 
+pytestmark = pytest.mark.engines("none")
+
 TOKEN = re.compile(r'/[^\s"(]+|"[^"\n]*"|\$?[A-Za-z_][A-Za-z0-9_]*|\d+(?:\.\d+)?n?|:=|<-|->|<=|>=|!=|<<|>>|\S')
 EXTRA = ["(", ")", "[", "]", "{", "}", ",", ":", ":=", "=", "if", "then", "endif", "par", "endpar", "seq",
          "endseq", "choose", "forall", "do", "with", "in", "undef", "$x", "r_x", "AA", "Dom", "f", "1", "2n",

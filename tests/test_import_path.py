@@ -1,5 +1,8 @@
 """Imports found through -I / ASMCHECK_PATH, and the agent check of updatedBy."""
 from asmcheck.cli import main
+import pytest
+
+pytestmark = pytest.mark.engines("both")
 
 MOD = """module M
 import StandardLibrary

@@ -10,6 +10,8 @@ import pytest
 from asmcheck.errors import AsmError, QUOTE_WIDTH, located_recursion_error
 from asmcheck.semantics.resolve import check_file
 
+pytestmark = pytest.mark.engines("both")
+
 sys.path.insert(0, str(Path(__file__).parent))
 
 

@@ -9,6 +9,8 @@ from asmcheck.review.testgen import testgen_itf as itf_of_tests
 from asmcheck.semantics.values import SetV, SeqV
 from conftest import ROOT
 
+pytestmark = pytest.mark.engines("python")
+
 itf_py = pytest.importorskip("itf_py", reason="itf-py is not installed (pip install itf-py; the test extra has it)")
 
 GOLDEN = ROOT / "tests" / "data" / "golden" / "producer_consumer_reader_takes_writer_array.inv_no_concurrent_rw.itf.json"

@@ -22,6 +22,8 @@ from asmcheck.syntax.parser import decode_source  # noqa: E402
 from conftest import ASMETA, ROOT  # noqa: E402
 from test_bad_inputs import CASES  # noqa: E402
 
+pytestmark = pytest.mark.engines("python")
+
 SERVER = [sys.executable, "-m", "asmcheck", "lsp"]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
 RTP = ASMETA / "asm_examples" / "RTPatternLibrary"

@@ -13,6 +13,8 @@ from asmcheck.syntax.parser import parse_text
 
 from conftest import ROOT
 
+pytestmark = pytest.mark.engines("none")
+
 SPECS = ["specs/sb_async_master.asm", "specs/producer_consumer.asm", "specs/visual_servoing.asm",
          "specs/buggy/sb_sync_slave_clears_lock.asm"]
 

@@ -12,6 +12,8 @@ from asmcheck.explore.native import NativeExplorer, Unsupported
 
 from helpers import machine, spec, write
 
+pytestmark = pytest.mark.engines("native")
+
 COUNTER = spec("\tenum domain Phase = {PH0 | PH1 | PH2 | PH3 | PH4 | PH5}\n\tcontrolled x: Phase",
                "\tmain rule r_main = switch x\n\t\tcase PH0: x := PH1\n\t\tcase PH1: x := PH2\n\t\t"
                "case PH2: x := PH3\n\t\tcase PH3: x := PH4\n\t\tcase PH4: x := PH5\n\t\totherwise skip\n\tendswitch",

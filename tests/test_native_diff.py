@@ -22,7 +22,7 @@ from asmcheck.cli import main
 
 from conftest import ASMETA, ROOT
 
-pytestmark = [pytest.mark.slow, pytest.mark.corpus]
+pytestmark = [pytest.mark.slow, pytest.mark.corpus, pytest.mark.engines("native")]
 
 MAX_STATES = 3000         # a spec that needs more is outside the comparison
 MAX_SECONDS = 2           # the Python explorer's time bound per spec (a hard stop 3 s later)

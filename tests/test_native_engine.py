@@ -10,6 +10,8 @@ from asmcheck.cli import main
 from asmcheck.explore.native_build import compiler
 from helpers import write
 
+pytestmark = pytest.mark.engines("native")
+
 SEQS = """asm Seqs
 import StandardLibrary
 signature:

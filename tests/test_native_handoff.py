@@ -16,6 +16,8 @@ from asmcheck.semantics.machine import Chooser, Ctx
 from asmcheck.report.trace import temporal_json
 from asmcheck.temporal import check_temporal
 
+pytestmark = pytest.mark.engines("native")
+
 ROOT = Path(__file__).resolve().parent.parent
 TEMPORAL = ROOT / "specs" / "temporal"
 

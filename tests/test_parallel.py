@@ -24,6 +24,8 @@ from asmcheck.semantics.values import SeqV, SetV
 
 from conftest import need_bench
 
+pytestmark = pytest.mark.engines("python")
+
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = ROOT / "specs"
 SMALL = ["sb_async_master.asm", "sb_sync_slave.asm", "buggy/sb_async_master_no_release.asm",

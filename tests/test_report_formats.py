@@ -15,6 +15,8 @@ from referencing import Registry, Resource
 
 from asmcheck.cli import main
 
+pytestmark = pytest.mark.engines("both")
+
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).resolve().parent / "data"
 CHECK = DATA / "check"

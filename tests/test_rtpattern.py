@@ -12,6 +12,8 @@ import pytest
 from rtpattern.rtlib import (PROPS_COVERAGE, PROPS_NONDET, PROPS_SB, PROPS_SEM, ROOT, app, explore_json,
                              need_library, nondet_spec, trace_steps, verdicts, violated)
 
+pytestmark = pytest.mark.engines("both")
+
 SB_PROPS = {"inv_no_concurrent_rw", "inv_no_concurrent_rw_data", "stp_indexes_stable_during_access",
             "stp_exit_releases_semaphore", "stp_slave_never_moves_indexes", "stp_swap_publishes_latest",
             "inv_indexes_below_dimension", "inv_indexes_distinct", "inv_sem_mutex", "inv_sem_count_matches_holder",

@@ -7,7 +7,7 @@ import pytest
 
 from rtpattern.rtlib import PROPS_NONDET, explore_json, need_library, nondet_spec, trace_steps, violated
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.engines("both")]
 
 MUTANTS = {
     # the lock is never released: r_SwingingBuffer_releaseLock does not post the semaphore

@@ -5,7 +5,7 @@ import pytest
 
 from rtpattern.rtlib import PROPS_NONDET, explore_json, nondet_spec, trace_steps, verdicts, violated
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.engines("both")]
 
 
 def test_nondet_visual_servoing_to_completion(capsys):

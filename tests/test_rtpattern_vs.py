@@ -4,7 +4,7 @@ import pytest
 
 from rtpattern.rtlib import PROPS_SB, app, explore_json, verdicts
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.engines("both")]
 
 
 def test_visual_servoing_passed_free_holds(capsys):

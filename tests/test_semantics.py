@@ -6,6 +6,8 @@ from asmcheck.semantics.machine import RandomChooser
 
 from helpers import machine, run, spec, successor_views, view
 
+pytestmark = pytest.mark.engines("none")
+
 
 def test_par_collects_updates_and_same_value_is_fine(tmp_path):
     m = machine(tmp_path, spec("\tcontrolled x: Integer\n\tcontrolled y: Integer",

@@ -8,6 +8,8 @@ from asmcheck.cli import main
 from conftest import need_asmeta
 from helpers import spec, write
 
+pytestmark = pytest.mark.engines("none")
+
 SCHED = spec("\tenum domain Job = {JA | JB}\n\tenum domain Status = {RDY | RUN | FIN}\n"
              "\tcontrolled st: Job -> Status\n\tmonitored fin: Job -> Boolean",
              "\tinvariant inv_not_both over st: not (st(JA) = FIN and st(JB) = FIN)\n"

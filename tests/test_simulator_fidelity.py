@@ -7,6 +7,8 @@ from asmcheck.semantics.machine import RandomChooser
 
 from helpers import machine, run, spec, view
 
+pytestmark = pytest.mark.engines("both")
+
 
 REALS = ("\tcontrolled a: Real\n\tcontrolled b: Real\n\tcontrolled c: Real\n\tcontrolled ia: Integer\n"
          "\tcontrolled ib: Integer\n\tcontrolled ic: Integer\n\tcontrolled id: Integer\n\tcontrolled fl: Integer\n"

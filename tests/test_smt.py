@@ -11,6 +11,8 @@ from asmcheck.smt.differential import agree, explicit_depths
 
 from conftest import ROOT, need_bench
 
+pytestmark = pytest.mark.engines("both")
+
 SB_ASYNC_MASTER = str(ROOT / "specs" / "sb_async_master.asm")
 
 # the invariants that make inv_exclusive of the correct twins 1-inductive

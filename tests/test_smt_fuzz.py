@@ -11,6 +11,8 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
 from asmcheck.smt.differential import agree, explicit_depths, z3_depths
 
+pytestmark = pytest.mark.engines("both")
+
 DEPTH = 4
 ENUM = ["AA", "BB", "CC"]
 

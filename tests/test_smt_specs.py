@@ -7,6 +7,8 @@ import pytest
 
 from asmcheck.smt.differential import agree, explicit_depths, z3_depths
 
+pytestmark = pytest.mark.engines("none")
+
 ROOT = Path(__file__).resolve().parent.parent
 BUGGY = sorted((ROOT / "specs" / "buggy").glob("*.asm"))
 CORRECT = sorted((ROOT / "specs").glob("*.asm"))

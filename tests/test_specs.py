@@ -16,6 +16,8 @@ import pytest
 
 from asmcheck.cli import main
 
+pytestmark = pytest.mark.engines("both")
+
 ROOT = Path(__file__).resolve().parent.parent
 
 # the properties of properties/swinging_buffer.prop: each applies to every spec pinned here

@@ -20,6 +20,8 @@ from asmcheck.report.trace import build_trace
 
 from conftest import need_bench
 
+pytestmark = pytest.mark.engines("python")
+
 ROOT = Path(__file__).resolve().parent.parent
 BUGGY = sorted((ROOT / "specs" / "buggy").glob("*.asm"))
 

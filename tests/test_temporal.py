@@ -19,6 +19,8 @@ from asmcheck.temporal.formula import AF, AG, AU, AX, EF, EG, EU, EX, And, Impli
 from asmcheck.temporal.kripke import Kripke, _finish_classes
 from asmcheck.temporal.ltl import check_ltl
 
+pytestmark = pytest.mark.engines("both")
+
 ROOT = Path(__file__).resolve().parent.parent
 TEMPORAL = ROOT / "specs" / "temporal"
 SPECS = ROOT / "specs"

@@ -29,7 +29,7 @@ import pytest
 
 from conftest import ASMETA, need_asmeta
 
-pytestmark = [pytest.mark.corpus, pytest.mark.slow]
+pytestmark = [pytest.mark.corpus, pytest.mark.slow, pytest.mark.engines("both")]
 
 MAX_STATES = 200_000
 MAX_SECONDS = float(os.environ.get("ASMCHECK_VERDICT_SECONDS", "10"))

@@ -6,6 +6,8 @@ from asmcheck.avalla.runner import run_scenario
 from asmcheck.review.testgen import testgen as generate_tests
 from conftest import ROOT, need_asmeta
 
+pytestmark = pytest.mark.engines("none")
+
 DEMO = str(ROOT / "tests" / "data" / "review" / "advisor_demo.asm")
 
 

@@ -22,6 +22,9 @@ from asmcheck.semantics.machine import ScriptChooser
 from asmcheck.semantics.state import is_dom_key
 from asmcheck.semantics.values import fresh_value
 from asmcheck.simulate import simulate
+import pytest
+
+pytestmark = pytest.mark.engines("both")
 
 ROOT = Path(__file__).resolve().parent.parent
 

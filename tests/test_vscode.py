@@ -16,6 +16,8 @@ from asmcheck.syntax.parser import RESERVED, decode_source, parse_text
 
 from conftest import ROOT
 
+pytestmark = pytest.mark.engines("none")
+
 EXT = ROOT / "editors" / "vscode"
 SPECS = sorted((ROOT / "specs").glob("*.asm")) + sorted((ROOT / "specs" / "buggy").glob("*.asm"))
 OPERATOR_WORDS = {"and", "or", "not", "xor", "implies", "iff", "mod"}

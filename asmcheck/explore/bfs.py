@@ -286,6 +286,7 @@ class Explorer:
         except MemoryError:
             incomplete = True
             reason = "out of memory"
+        self.finishing = True       # the search is over: what follows makes its result
         secs = time.perf_counter() - t0
         if violations:
             verdict = "violated"
