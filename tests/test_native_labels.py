@@ -19,7 +19,8 @@ from asmcheck.temporal.formula import Atoms, Builder
 
 ROOT = Path(__file__).resolve().parent.parent
 
-pytestmark = pytest.mark.skipif(compiler() is None, reason="no C compiler: the native engine is not built")
+pytestmark = [pytest.mark.engines("native"),
+              pytest.mark.skipif(compiler() is None, reason="no C compiler: the native engine is not built")]
 
 SPEC = """asm labels
 

@@ -15,7 +15,8 @@ from asmcheck.temporal import kernel
 ROOT = Path(__file__).resolve().parent.parent
 TEMPORAL = ROOT / "specs" / "temporal"
 
-pytestmark = pytest.mark.skipif(compiler() is None, reason="no C compiler: the kernel is not built")
+pytestmark = [pytest.mark.engines("native"),
+              pytest.mark.skipif(compiler() is None, reason="no C compiler: the kernel is not built")]
 
 CASES = [
     ("counter.asm", None, ()),
