@@ -426,6 +426,19 @@ def _deadline(machine, seconds):
 WATCHDOG_GRACE = 1.0
 
 
+def _label_atoms(machine, temporal):
+    """For the native explorer: the first initial state -> the atoms of the temporal properties
+    (None without LTL/CTL properties)."""
+    props = [p for p in temporal if p.kind in ("ltl", "ctl", "justice", "compassion")]
+    if not any(p.kind in ("ltl", "ctl") for p in props):
+        return None
+
+    def atoms(state):
+        from .temporal import label_atoms
+        return label_atoms(machine, props, state)
+    return atoms
+
+
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
              deadlock, fair, graph, progress, started=None, warn=None, scaling=None) -> "Exploration":
     from .options import unbounded_monitored
@@ -490,8 +503,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                 ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                     deadlock=deadlock, state_props=state_props, step_props=step_props,
                                     keep_graph=keep_graph, max_memory=max_memory, progress=progress, warn=warn,
-                                    label_props=[p for p in temporal if p.kind in ("ltl", "ctl", "justice",
-                                                                                   "compassion")])
+                                    label_atoms=_label_atoms(machine, temporal))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:

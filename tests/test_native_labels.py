@@ -68,7 +68,7 @@ def spec(tmp_path):
 def _explored(path):
     from asmcheck.explore.native import NativeExplorer
     model = api.load(str(path))
-    ex = NativeExplorer(model.machine, keep_graph=True, label_props=list(model.temporal))
+    ex = NativeExplorer(model.machine, keep_graph=True, label_atoms=lambda st: label_atoms(model.machine, list(model.temporal), st))
     res = ex.run()
     return model, ex, res
 
@@ -185,7 +185,7 @@ def test_step_atoms_pairs(tmp_path):
     p = tmp_path / "monedge.asm"
     p.write_text(MONEDGE)
     model = api.load(str(p))
-    ex = NativeExplorer(model.machine, keep_graph=True, label_props=list(model.temporal))
+    ex = NativeExplorer(model.machine, keep_graph=True, label_atoms=lambda st: label_atoms(model.machine, list(model.temporal), st))
     ex.run()
     atoms = Atoms(model.machine)
     builder = Builder(model.machine, atoms, ex.state(0))

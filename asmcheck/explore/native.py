@@ -1045,16 +1045,16 @@ class Generator:
 
     # -------------------------------------------------------------- state atoms of temporal properties
     def label_code(self) -> list:
-        """The C expressions of the state atoms of the temporal properties (``self.label_props``),
-        None for an atom that cannot be translated (the temporal layer evaluates it in Python)."""
+        """The C expressions of the atoms of the temporal properties (``self.label_atoms``: the
+        first initial state -> (term, env) pairs), None for an atom that cannot be translated (the
+        temporal layer evaluates it in Python)."""
         self.labels = []
         self.label_exprs = []
-        props = getattr(self, "label_props", None)
-        if not props or not self.init_states:
+        atoms_of = getattr(self, "label_atoms", None)
+        if atoms_of is None or not self.init_states:
             return []
-        from ..temporal import label_atoms
         try:
-            self.labels = label_atoms(self.m, props, self.init_states[0])
+            self.labels = list(atoms_of(self.init_states[0]))
         except AsmError:
             return []
         out = []
@@ -1293,7 +1293,7 @@ class NativeExplorer:
     SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, label_props=None,
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, label_atoms=None,
                  **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
@@ -1315,7 +1315,7 @@ class NativeExplorer:
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
-        self.gen.label_props = list(label_props or [])
+        self.gen.label_atoms = label_atoms
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
