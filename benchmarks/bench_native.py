@@ -209,7 +209,7 @@ def markdown(rows, meta) -> str:
         ratio = f"{r['ratio']:.3f}" if timed else "-"
         bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
         comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
-        verdict = r["verdict"] + (f" ({r['reason']})" if r.get("reason") else "")
+        verdict = (r.get("verdict") or "-") + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states']:,} | {r['transitions']:,} | "
                      f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {rate(r['states_per_s'])} | "
                      f"{rate(r['transitions_per_s'])} | {ratio} | {r['peak_mb']:.0f} | {bps} |")
@@ -312,14 +312,15 @@ def main(argv=None):
             "mode": "quick" if args.quick else "full", "engine": args.engine,
             "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
             "twin_tps": twin_tps, "baseline_mb": base["rss"] / 2 ** 20, "max_seconds": max_seconds}
-    md = markdown(rows, meta)
-    print(md)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     stem = f"bench_native-{time.strftime('%Y%m%d-%H%M', time.gmtime())}{'-quick' if args.quick else ''}"
     for r in rows:
         r.pop("rss", None)
+    # the measurements first: a rendering problem must not lose them
     (out / f"{stem}.json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1) + "\n")
+    md = markdown(rows, meta)
+    print(md)
     (out / f"{stem}.md").write_text(md)
     print(f"wrote {out / stem}.json and .md", file=sys.stderr)
     import shutil
