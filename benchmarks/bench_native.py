@@ -210,8 +210,8 @@ def markdown(rows, meta) -> str:
         bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
         comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = (r.get("verdict") or "-") + (f" ({r['reason']})" if r.get("reason") else "")
-        lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states']:,} | {r['transitions']:,} | "
-                     f"{r['wall']:.2f} | {r['search']:.2f} | {comp} | {rate(r['states_per_s'])} | "
+        lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states'] or 0:,} | {r['transitions'] or 0:,} | "
+                     f"{r['wall']:.2f} | {r['search'] or 0:.2f} | {comp} | {rate(r['states_per_s'])} | "
                      f"{rate(r['transitions_per_s'])} | {ratio} | {r['peak_mb']:.0f} | {bps} |")
     return "\n".join(lines) + "\n"
 
