@@ -146,15 +146,21 @@ def models(shared: Path, work: Path, quick: bool):
 
 
 def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None) -> dict:
-    """One model.  With ``cache`` (a fresh folder) the first run compiles (cold); when it ran native
-    it is run again on the filled cache, and that warm run is the row, with the compile time
-    (the JSON's ``compile_seconds`` when the report gives it, else cold wall - warm wall)."""
+    """One model.  With ``cache`` (a fresh folder) the first run compiles (cold); it is run again on
+    the filled cache (a Python-engine run too, when the first ended within the limit: the cold run
+    built the parser's grammar table), and that warm run is the row, with the compile time of a
+    native run (the JSON's ``compile_seconds`` when the report gives it, else cold wall - warm wall)."""
     cmd = [sys.executable, "-m", "asmcheck", "explore", str(path), "--format", "json", "--engine", engine,
            "--max-seconds", str(max_seconds), *extra]
     env = {"ASMCHECK_CACHE": str(cache)} if cache is not None else {}
     r = measure(cmd, timeout=max_seconds + 30, env=env)
     row = _row(name, path, extra, r)
-    if cache is not None and row.get("engine") == "native":
+    if cache is not None and row.get("engine") == "python" and row.get("wall", 0) < max_seconds:
+        # the cold run also built the parser's grammar table in the fresh cache folder
+        warm = _row(name, path, extra, measure(cmd, timeout=max_seconds + 30, env=env))
+        warm["cold_wall"] = row["wall"]
+        row = warm
+    elif cache is not None and row.get("engine") == "native":
         warm = _row(name, path, extra, measure(cmd, timeout=max_seconds + 30, env=env))
         if warm.get("compile_seconds") is None and row.get("compile_seconds") is None:
             warm["compile_seconds"] = round(max(row["wall"] - warm["wall"], 0.0), 3)
