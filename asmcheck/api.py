@@ -422,6 +422,9 @@ def _deadline(machine, seconds):
         machine.deadline = old
 
 
+ONE_WORKER_NOTE = ("a step fails: the search ran again on one worker, which explores the well-defined successors "
+                   "of a state where a step fails (the partitioned search stops there)")
+
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
 
@@ -494,6 +497,21 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                           max_memory=max_memory, deadlock=deadlock, engine=engine,
                                           keep_graph=keep_graph, progress=progress)
+        if (not (scaling or {}).get("bitstate") and not getattr(result, "interrupted", False)
+                and any(v.prop.name == "error" for v in result.violations)):
+            # the partitioned search stops at a state where a step fails; the sequential search
+            # keeps the state's well-defined successors (docs/run-time-errors.md), so it runs again
+            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
+            ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                          deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
+                          step_props=step_props, max_memory=max_memory, memory=memory_in_use)
+            with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
+                    _deadline(machine, search_seconds):
+                result = ex.run()
+            result.engine = "python"
+            result.notes = [ONE_WORKER_NOTE]
+            result.scaling_note = ONE_WORKER_NOTE
+            interrupted = getattr(result, "interrupted", False)
     elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
@@ -519,6 +537,15 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
             ex = None
             refused = str(e)
+        if ex is not None and not interrupted and any(v.prop.name == "error" for v in result.violations):
+            # the native search stops at a state where a step fails; the Python engine keeps its
+            # well-defined successors and checks the properties relative to the error (also with
+            # engine="native": the native engine ran, and its answer would be a different one)
+            why = ("the search ended on a run-time error, and the Python engine explores the well-defined "
+                   "successors of a failing state (the verdicts are relative to the error)")
+            ex = None
+            refused = why
+            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
     if ex is None:
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
@@ -590,7 +617,7 @@ class Trace:
 
     def text(self, color: bool = False) -> str:
         """The trace as ``asmcheck explore`` prints it (per step the choices, inputs and what changed)."""
-        return "\n".join(trace_text(self.model.machine, self.raw, color)) + "\n"
+        return "\n".join(trace_text(self.model.machine, self.raw, color, self.loop_start)) + "\n"
 
     def json(self) -> list:
         """The trace as JSON (docs/trace.schema.json)."""
@@ -602,6 +629,26 @@ class Trace:
         from .report.avalla_export import trace_scenario
         return trace_scenario(self.model.machine, self.raw, spec_path=self.model.path, out_path=out_path,
                               prop=self.prop, loop=self.loop_start)
+
+
+def relative_location(result) -> str | None:
+    """The location (``FILE:LINE:COL``) of a search's run-time error, the first step found to
+    fail ("" when it has none), or None when no step failed."""
+    v = next((v for v in result.violations if v.prop.name == "error"), None)
+    if v is None:
+        return None
+    span = getattr(v.prop, "span", None)
+    return str(span) if span is not None and getattr(span, "line", 0) else ""
+
+
+def verdict_text(row: dict) -> str:
+    """A row's verdict as the text report shows it: ``holds, relative to the run-time error at
+    FILE:LINE:COL`` for a verdict relative to an error."""
+    rel = row.get("relative_to")
+    if rel is None:
+        return row["verdict"]
+    where = f" at {Path(rel.rsplit(':', 2)[0]).name}:{':'.join(rel.rsplit(':', 2)[1:])}" if rel else ""
+    return f"{row['verdict']}, relative to the run-time error{where}"
 
 
 def _violation_json(v) -> dict:
@@ -620,6 +667,15 @@ class Violation:
     location: str
     trace: Trace | None
     raw: object = None      # the engine's record (explore.bfs.Violation or temporal.TemporalResult)
+
+    def text(self, color: bool = False) -> str:
+        """A safety violation with its shortest trace, as ``asmcheck explore`` prints it: what is
+        violated and where, the formula, then per step the rule, its choices, the inputs it read
+        and what changed."""
+        from .report.trace import explore_violation_lines
+        if self.trace is None or hasattr(self.raw, "holds"):
+            return ""
+        return "\n".join(explore_violation_lines(self.trace.model.machine, self.raw, self.trace.raw, color)) + "\n"
 
 
 class Exploration:
@@ -655,7 +711,11 @@ class Exploration:
     def scaling_json(self) -> dict:
         """What a scaling mode adds to the JSON report."""
         bits = getattr(self.result, "bitstate", None)
-        return {"bitstate": bits} if bits else {}
+        out = {"bitstate": bits} if bits else {}
+        note = getattr(self.result, "scaling_note", "")
+        if note:
+            out["scaling_note"] = note
+        return out
 
     @property
     def reason(self) -> str:
@@ -666,27 +726,42 @@ class Exploration:
         return {"violated": EXIT_VIOLATED, "incomplete": EXIT_INCOMPLETE}.get(self.verdict, EXIT_OK)
 
     @property
+    def relative_to(self) -> str | None:
+        """Where the run-time error is (``FILE:LINE:COL`` of the first step found to fail) when a
+        step fails: the properties are then checked on the well-defined steps, and a verdict that
+        is not a violation by a well-defined trace holds *relative to the error*; None otherwise."""
+        return relative_location(self.result)
+
+    @property
     def rows(self) -> list[dict]:
-        """One row per property checked: property, kind, verdict."""
+        """One row per property checked: property, kind, verdict (and ``relative_to``, the
+        run-time error's location, on the verdicts relative to it)."""
         result = self.result
         bad = {v.prop.name for v in result.violations}
         incomplete = result.stopped_early
+        rel = self.relative_to
         rows = []
+
+        def row(name, kind, verdict, relative=False):
+            r = {"property": name, "kind": kind, "verdict": verdict}
+            if relative and rel is not None and verdict in ("holds", "violated"):
+                r["relative_to"] = rel
+            return r
         for p in result.checked:
+            # a violation of an invariant or step property has a well-defined trace: not relative
             verdict = "violated" if p.name in bad else ("incomplete" if incomplete else "holds")
-            rows.append({"property": p.name, "kind": getattr(p, "kind", "invariant"), "verdict": verdict})
+            rows.append(row(p.name, getattr(p, "kind", "invariant"), verdict, verdict == "holds"))
         for v in result.violations:
             if v.prop.name in ("deadlock", "error"):
                 rows.append({"property": v.prop.name, "kind": v.prop.kind, "verdict": "violated"})
         if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
-            rows.append({"property": "deadlock", "kind": "deadlock",
-                         "verdict": "incomplete" if incomplete else "holds"})
+            rows.append(row("deadlock", "deadlock", "incomplete" if incomplete else "holds", True))
         done = set()
         for t in self.temporal:
             verdict = getattr(t, "verdict", None) or ("holds" if t.holds else "violated")
             if verdict == "error":
                 verdict = "cannot be checked"
-            rows.append({"property": t.name, "kind": t.kind, "verdict": verdict})
+            rows.append(row(t.name, t.kind, verdict, getattr(t, "relative_to", None) is not None))
             done.add(t.name)
         for p in self.checked_temporal:
             if p.name not in done:

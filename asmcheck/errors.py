@@ -49,6 +49,13 @@ class SourceRegistry:
 SOURCES = SourceRegistry()
 
 
+def _rebuild_error(cls, args, state):
+    err = cls.__new__(cls)
+    Exception.__init__(err, *args)
+    err.__dict__.update(state)
+    return err
+
+
 class AsmError(Exception):
     """An error in a spec (or in an input file) at a known position."""
 
@@ -64,6 +71,11 @@ class AsmError(Exception):
         if self.span is None or self.span.line == 0:
             return self.message
         return f"{self.span}: {self.message}"
+
+    def __reduce__(self):
+        # pickled whole (the parallel search sends a step's error between processes): the
+        # constructors of the subclasses differ, so the attributes travel, not the arguments
+        return (_rebuild_error, (type(self), self.args, self.__dict__))
 
     def render(self) -> str:
         """``file:line:col: message``, the source line and a caret (and notes).

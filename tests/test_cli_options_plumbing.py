@@ -71,7 +71,7 @@ def test_max_loop_raises_the_while_bound(capsys, write_spec, engine):
     if engine == "native" and "cannot run" in out:
         pytest.skip("no native engine here")
     assert code == 1
-    assert "error (Lp.asm:7:21) is violated: the while at Lp.asm:7:21 did not end after 10000 iterations in one " \
+    assert "a step fails (Lp.asm:7:21): the while at Lp.asm:7:21 did not end after 10000 iterations in one " \
            "step (raise the bound with --max-loop)" in out
     code, out, _ = run(capsys, "explore", path, "--engine", engine, "--max-loop", "20001")
     assert code == 0, out
@@ -103,9 +103,10 @@ def test_a_failing_step_shows_its_inputs(capsys, write_spec, engine):
         pytest.skip("no native engine here")
     assert code == 1
     lines = out.splitlines()
-    i = lines.index("error (Cl.asm:9:14) is violated: inconsistent update of x: 1 and 2 -- shortest trace, 0 steps:")
-    assert lines[i + 1:i + 4] == ["  state 0 (initial):", "      x = 0",
-                                  "  step 1  [go = true]: fails (the step cannot be made)"]
+    i = lines.index("a step fails (Cl.asm:9:14): inconsistent update of x: 1 and 2 -- shortest counterexample, "
+                    "0 steps, then step 1 fails:")
+    assert lines[i + 1:i + 4] == ["  state 0 (initial)", "      x = 0",
+                                  "  step 1: r_main; reads go = true  <- fails (the step cannot be made)"]
     code, out, _ = run(capsys, "explore", path, "--engine", engine, "--format", "json")
     v = json.loads(out)["violations"][0]
     assert v["property"] == "error"

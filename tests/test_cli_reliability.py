@@ -281,7 +281,7 @@ def test_ctrl_c_after_a_violation_exits_1_with_its_trace(tmp_path):
     code, out, err, _ = interrupt(["explore", path, "--engine", "python", "--html", str(html)])
     clean(out + err)
     assert code == 1
-    assert "inv_small (Counter.asm:7:" in out and "shortest trace, 30 steps" in out
+    assert "inv_small (Counter.asm:7:" in out and "shortest counterexample, 30 steps" in out
     assert "incomplete: interrupted (Ctrl-C)" in out and out.endswith("verdict: violated\n")
     assert html.exists() and "inv_small" in html.read_text()
 

@@ -67,7 +67,7 @@ def test_text_trace_shows_choices_and_only_changed_locations(tmp_path, capsys):
     assert main(["explore", path]) == 1
     out = capsys.readouterr().out.splitlines()
     i = out.index(next(l for l in out if l.startswith("inv_exclusive")))
-    assert "shortest trace, 13 steps" in out[i]
+    assert "shortest counterexample, 13 steps" in out[i]
     step13 = out.index(next(l for l in out if "step 13" in l))
     assert out[step13 + 1:step13 + 4] == ["      rb1 = true", "      rc = 0", "      rpc = 1"]
     assert out[-1] == "verdict: violated"

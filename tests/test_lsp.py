@@ -362,8 +362,8 @@ async def test_explore_lens_and_counterexample_document(client: LanguageClient):
     res = await client.protocol.send_request_async("asmcheck/textDocumentContent", {"uri": doc_uri})
     text = res["text"] if isinstance(res, dict) else res.text
     assert text == _cli_trace(spec, "stp_lock_release_on_exit")
-    assert text.startswith("stp_lock_release_on_exit (swinging_buffer.prop:37:6) is violated -- shortest trace, "
-                           "4 steps (the last step breaks it):\n  state 0 (initial):\n")
+    assert text.startswith("stp_lock_release_on_exit (swinging_buffer.prop:37:6) is violated -- shortest "
+                           "counterexample, 4 steps (the last step breaks it):\n  formula: ")
 
 
 @pytest.mark.asyncio

@@ -138,6 +138,38 @@ def both(tmp_path, capsys, text, *extra):
     return outs[0]
 
 
+def ends_on_error(tmp_path, capsys, text):
+    """A spec whose search meets a failing step: the native search finds the same first error
+    (message and trace) as the Python engine, which then answers (it keeps the well-defined
+    successors of a failing state), also when the run asks for the native engine."""
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.explore.trace import build_trace
+    from asmcheck.props.load import load_machine
+    from asmcheck.report.trace import trace_json
+    path = write(tmp_path, text)
+    code_n = main(["explore", path, "--format", "json", "--engine", "native"])
+    handed = json.loads(capsys.readouterr().out)
+    assert (handed.pop("engine"), handed.pop("engine_note")) == (
+        "python", "native engine not used: the search ended on a run-time error, and the Python engine explores "
+                  "the well-defined successors of a failing state (the verdicts are relative to the error)")
+    code = main(["explore", path, "--format", "json", "--engine", "python"])
+    out = json.loads(capsys.readouterr().out)
+    for doc in (handed, out):
+        doc.pop("seconds")
+    assert (code_n, handed) == (code, {k: x for k, x in out.items() if k != "engine"})
+    _, m = load_machine(path)
+    nat = NativeExplorer(m)
+    (v,) = [v for v in nat.run().violations if v.prop.name == "error"]
+    (py,) = [x for x in out["violations"] if x["property"] == "error"]
+    assert v.message == py["message"]
+    assert trace_json(m, build_trace(nat, v)) == py["trace"]
+    for key in ("compile_seconds", "engine"):
+        out.pop(key, None)
+    return code, out
+
+
 def test_integers_seq_blocks_loops_and_sequences(tmp_path, capsys):
     code, out = both(tmp_path, capsys, SEQS)
     assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (0, "holds", 23, 30, 4)
@@ -156,7 +188,7 @@ def test_agents_and_a_step_property_with_updated_by(tmp_path, capsys):
 
 
 def test_a_clash_between_a_seq_block_and_its_sibling_is_a_violation_with_its_trace(tmp_path, capsys):
-    code, out = both(tmp_path, capsys, CLASH)
+    code, out = ends_on_error(tmp_path, capsys, CLASH)
     assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 4, 5, 2)
     (v,) = out["violations"]
     assert (v["property"], v["message"]) == ("error", "inconsistent update of x: 2 and 7")
@@ -165,8 +197,11 @@ def test_a_clash_between_a_seq_block_and_its_sibling_is_a_violation_with_its_tra
 
 def test_a_function_over_the_integers_is_held_as_a_map(tmp_path, capsys):
     # f(n) and f(n + 1) in a seq block, f(0) beside it, and a clash of f(4) := 9 with f(4) := 8
-    code, out = both(tmp_path, capsys, TABLE)
-    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 11, 13, 4)
+    code, out = ends_on_error(tmp_path, capsys, TABLE)
+    # the failing state's well-defined successors (b false) are explored too
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 15, 21, 5)
+    assert out["properties"][0] == {"property": "inv_small", "kind": "invariant", "verdict": "holds",
+                                    "relative_to": f"{tmp_path / 'Table.asm'}:22:15"}
     (v,) = out["violations"]
     assert (v["property"], v["message"], len(v["trace"])) == ("error", "inconsistent update of f(4): 9 and 8", 5)
     assert v["trace"][-1]["state"] == {"f(0)": 0, "f(1)": 2, "f(2)": 4, "f(3)": 6, "f(4)": 7, "n": 4}

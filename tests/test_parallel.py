@@ -294,3 +294,47 @@ def test_a_time_limit_stops_at_a_level_boundary(tmp_path):
     assert r.states == Explorer(m, state_props=sp, step_props=stp, max_depth=r.depth).run().states
     out = run_cli("explore", str(path), "--workers", "2", "--max-seconds", "0.5")
     assert out.returncode == 3 and "incomplete: time limit 0.5 s reached" in out.stdout
+
+
+CLASH_ON_INPUT = """asm ClashOnInput
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	monitored go: Boolean
+definitions:
+	domain Small = {0 : 3}
+	invariant inv_small over n: n < 3
+	main rule r_main =
+		par
+			if n < 3 then n := n + 1 endif
+			if go and n = 1 then n := 0 endif
+		endpar
+default init s0:
+	function n = 0
+"""
+
+
+@pytest.mark.parametrize("workers", [1, 2, 3])
+def test_a_failing_step_gives_the_sequential_report_whatever_the_workers(write_spec, workers):
+    """A step fails from n = 1 when go is true: every worker count gives the sequential report (the
+    well-defined successor of n = 1 kept, the invariant broken beyond the error); with more than
+    one worker the search runs again on one, and the report says so.  (Pickling the step's error
+    between processes once crashed the run.)"""
+    import asmcheck
+    from asmcheck.api import ONE_WORKER_NOTE
+    run = asmcheck.load(write_spec(CLASH_ON_INPUT)).explore(workers=workers, engine="python")
+    assert (run.states, run.transitions, run.verdict) == (4, 4, "violated")
+    assert [v.property for v in run.violations] == ["error", "inv_small"]
+    assert [len(v.trace.raw.steps) - 1 for v in run.violations] == [1, 3]
+    assert run.scaling_lines() == ([] if workers == 1 else [ONE_WORKER_NOTE])
+
+
+def test_a_step_error_survives_pickling():
+    import pickle
+    from asmcheck.errors import InconsistentUpdate, AsmRuntimeError, Span
+    for err in (AsmRuntimeError(Span("a.asm", 3, 4), "boom"), InconsistentUpdate(Span("a.asm", 1, 2), "clash")):
+        err.choices = [1, 2]
+        back = pickle.loads(pickle.dumps(err))
+        assert (type(back), back.span, back.message, str(back), back.choices) == \
+            (type(err), err.span, err.message, str(err), [1, 2])

@@ -23,9 +23,9 @@ def test_text_output_shows_choices_and_changes(tmp_path, capsys):
     path = write(tmp_path, SCHED)
     assert main(["simulate", path, "-n", "2"]) == 0
     assert capsys.readouterr().out.splitlines() == [
-        "initial state:", "  st(JA) = RDY", "  st(JB) = RDY",
-        "step 1  [choose at S.asm:11:3: $j = JA]:", "  st(JA) = RUN",
-        "step 2  [fin(JA) = false]:", "  st(JB) = RUN",
+        "state 0 (initial)", "    st(JA) = RDY", "    st(JB) = RDY",
+        "step 1: r_main chooses $j = JA", "    st(JA) = RUN",
+        "step 2: r_main; reads fin(JA) = false", "    st(JB) = RUN",
     ]
 
 
@@ -36,7 +36,7 @@ def test_inputs_file_and_invariant_violation(tmp_path, capsys):
     assert main(["simulate", path, "-n", "5", "--input", str(inputs)]) == 1
     out = capsys.readouterr().out.splitlines()
     assert out[-1].endswith("invariant inv_not_both is violated after step 3")
-    assert "step 2  [fin(JA) = true]:" in out
+    assert "step 2: r_main; reads fin(JA) = true" in out
 
 
 def test_asmeta_format(tmp_path, capsys):
@@ -84,10 +84,10 @@ def test_structured_input_values_are_values_of_the_codomain(tmp_path, capsys):
                       'nm = "a b"\n')
     assert main(["simulate", path, "-n", "1", "--input", str(inputs)]) == 0
     assert capsys.readouterr().out.splitlines() == [
-        "initial state:",
-        'step 1  [f3 = [1, 2, 4567]; ps = {AA, BB}; pr = (7, true); mp = {AA->3, BB->4}; bg = <1, 1, 2>; '
-        'nm = "a b"]:',
-        "  b = 2", "  k = 3", "  n = 3", "  ok = true", "  t = 7", '  w = "a b"']
+        "state 0 (initial)",
+        'step 1: r_main; reads bg = <1, 1, 2>, f3 = [1, 2, 4567], mp = {AA->3, BB->4}, nm = "a b", '
+        'pr = (7, true), ps = {AA, BB}',
+        "    b = 2", "    k = 3", "    n = 3", "    ok = true", "    t = 7", '    w = "a b"']
 
 
 @pytest.mark.parametrize("line, where, message", [

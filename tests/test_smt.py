@@ -139,7 +139,7 @@ def test_text_output(tmp_path, capsys):
     assert code == 1
     assert "inv_exclusive                            violated at depth 13" in out
     assert "shortest trace, 13 steps, replayed:" in out
-    assert "step 13  [choose at" in out and "verdict: violated" in out
+    assert "  step 13: r_main chooses $a = " in out and "verdict: violated" in out
 
 
 # ----------------------------------------------------------------- specs of the project

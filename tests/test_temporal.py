@@ -119,8 +119,9 @@ def test_ltl_refuted_only_by_a_lasso():
     assert all(s["c"] != 0 for s in states[loop:])
     assert [s["c"] for s in states] == [0, 1, 2, 1, 2]
     text = "\n".join(temporal_text(r, m))
-    assert "<- the loop starts here (state 2)" in text and "-> back to state 2" in text
-    assert "a lasso: 2 steps to the loop, then a loop of 2 steps" in text
+    assert "  step 2: r_main chooses $v = 2  <- the loop starts here (state 2)" in text
+    assert "  step 4: r_main chooses $v = 2  <- back to state 2" in text
+    assert "counterexample, 4 steps: a lasso, 2 steps to the loop, then a loop of 2 steps repeated for ever:" in text
 
 
 def test_ctl_af_counterexample_is_a_lasso_and_ef_witness_a_path():
@@ -218,8 +219,8 @@ def test_explore_json_and_text_report_the_lasso(capsys):
     assert v["trace"][-1]["state"] == v["trace"][v["loop_start"]]["state"]
     assert main(["explore", path, "--no-default-properties"]) == 1
     text = capsys.readouterr().out
-    assert "ltlSpec_master_leaves (sb_sync_master_no_watchdog.asm:354:2) (LTL) is violated" in text
-    assert "<- the loop starts here" in text and "-> back to state" in text
+    assert "ltlSpec_master_leaves (sb_sync_master_no_watchdog.asm:354:2) is violated" in text
+    assert "<- the loop starts here (state 4)" in text and "<- back to state 4" in text
 
 
 def test_output_is_deterministic(capsys):

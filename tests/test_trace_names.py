@@ -213,26 +213,27 @@ def test_swapped_elements_keep_their_names_in_the_text_trace(tmp_path, capsys):
     out = explore_text(path, capsys)
     assert "  stp_mark                                 holds" in out
     assert trace_lines(out, "inv_n") == [
-        "inv_n (Rep.prop:3:11) is violated -- shortest trace, 4 steps:",
-        "  state 0 (initial):",
+        "inv_n (Rep.prop:3:11) is violated -- shortest counterexample, 4 steps:",
+        "  formula: n < 3",
+        "  state 0 (initial)",
         "      n = 0",
         "      started = false",
-        "  step 1:",
+        "  step 1: r_main",
         "      cur = D!1",
         "      mark(D!1) = true",
         "      mark(D!2) = false",
         "      other = D!2",
         "      started = true",
         "      D = {D!1, D!2}",
-        "  step 2:",
+        "  step 2: r_main",
         "      cur = D!2",
         "      n = 1",
         "      other = D!1",
-        "  step 3:",
+        "  step 3: r_main",
         "      cur = D!1",
         "      n = 2",
         "      other = D!2",
-        "  step 4:",
+        "  step 4: r_main  <- violates the property",
         "      cur = D!2",
         "      n = 3",
         "      other = D!1",
@@ -252,13 +253,17 @@ def test_swapped_elements_keep_their_names_in_the_json_trace(tmp_path, capsys):
     assert v["property"] == "inv_n"
     assert v["trace"] == [
         {"step": 0, "choices": [], "changed": {"n": 0, "started": False}, "state": {"n": 0, "started": False}},
-        {"step": 1, "choices": [],
+        {"step": 1, "rule": "r_main", "choices": [], "reads": {},
+         "updates": {"cur": "D!1", "mark(D!1)": True, "mark(D!2)": False, "other": "D!2", "started": True},
          "changed": {"cur": "D!1", "mark(D!1)": True, "mark(D!2)": False, "other": "D!2", "started": True,
                      "D": dom},
          "state": state("D!1", "D!2", 0)},
-        {"step": 2, "choices": [], "changed": {"cur": "D!2", "n": 1, "other": "D!1"}, "state": state("D!2", "D!1", 1)},
-        {"step": 3, "choices": [], "changed": {"cur": "D!1", "n": 2, "other": "D!2"}, "state": state("D!1", "D!2", 2)},
-        {"step": 4, "choices": [], "changed": {"cur": "D!2", "n": 3, "other": "D!1"}, "state": state("D!2", "D!1", 3)},
+        {"step": 2, "rule": "r_main", "choices": [], "reads": {}, "updates": {"cur": "D!2", "n": 1, "other": "D!1"},
+         "changed": {"cur": "D!2", "n": 1, "other": "D!1"}, "state": state("D!2", "D!1", 1)},
+        {"step": 3, "rule": "r_main", "choices": [], "reads": {}, "updates": {"cur": "D!1", "n": 2, "other": "D!2"},
+         "changed": {"cur": "D!1", "n": 2, "other": "D!2"}, "state": state("D!1", "D!2", 2)},
+        {"step": 4, "rule": "r_main", "choices": [], "reads": {}, "updates": {"cur": "D!2", "n": 3, "other": "D!1"},
+         "changed": {"cur": "D!2", "n": 3, "other": "D!1"}, "state": state("D!2", "D!1", 3)},
     ]
 
 
@@ -286,23 +291,24 @@ def test_new_elements_are_numbered_after_all_earlier_ones(tmp_path, capsys):
     path = write_spec(tmp_path, DROP, DROP_PROPS)
     out = explore_text(path, capsys)
     assert trace_lines(out, "inv_t") == [
-        "inv_t (Drop.prop:2:11) is violated -- shortest trace, 4 steps:",
-        "  state 0 (initial):",
+        "inv_t (Drop.prop:2:11) is violated -- shortest counterexample, 4 steps:",
+        "  formula: t < 4",
+        "  state 0 (initial)",
         "      t = 0",
-        "  step 1:",
+        "  step 1: r_main",
         "      cur = D!1",
         "      t = 1",
         "      D = {D!1}",
-        "  step 2:",
+        "  step 2: r_main",
         "      cur = D!2",
         "      t = 2",
         "      D = {D!2}",
-        "  step 3:",
+        "  step 3: r_main",
         "      cur = D!3",
         "      keep = D!2",
         "      t = 3",
         "      D = {D!2, D!3}",
-        "  step 4:",
+        "  step 4: r_main  <- violates the property",
         "      cur = D!4",
         "      t = 4",
         "      D = {D!2, D!4}",
@@ -328,21 +334,22 @@ def test_choices_are_shown_under_display_names(tmp_path, capsys):
     out = explore_text(path, capsys)
     # $a (marked) is D!1 as in a simulation; canonically the unmarked element comes first
     assert trace_lines(out, "inv_t") == [
-        "inv_t (Pick.prop:2:11) is violated -- shortest trace, 4 steps:",
-        "  state 0 (initial):",
+        "inv_t (Pick.prop:2:11) is violated -- shortest counterexample, 4 steps:",
+        "  formula: t < 3",
+        "  state 0 (initial)",
         "      started = false",
         "      t = 0",
-        "  step 1:",
+        "  step 1: r_main",
         "      mark(D!1) = true",
         "      mark(D!2) = false",
         "      started = true",
         "      D = {D!1, D!2}",
-        "  step 2  [choose at Pick.asm:19:4: $x = D!2]:",
+        "  step 2: r_main chooses $x = D!2",
         "      last = D!2",
         "      t = 1",
-        "  step 3  [choose at Pick.asm:19:4: $x = D!2]:",
+        "  step 3: r_main chooses $x = D!2",
         "      t = 2",
-        "  step 4  [choose at Pick.asm:19:4: $x = D!2]:",
+        "  step 4: r_main chooses $x = D!2  <- violates the property",
         "      t = 3",
     ]
     m, ex, tr = explore_trace(path, "inv_t")
@@ -359,7 +366,8 @@ def test_monitored_inputs_are_shown_under_display_names(tmp_path, capsys):
     path = write_spec(tmp_path, SENSE, SENSE_PROPS)
     out = explore_text(path, capsys)
     assert [ln for ln in trace_lines(out, "inv_h") if ln.startswith("  step")] == [
-        "  step 1:", "  step 2  [sense(D!2) = true]:", "  step 3  [sense(D!1) = true]:"]
+        "  step 1: r_main", "  step 2: r_main; reads sense(D!2) = true",
+        "  step 3: r_main; reads sense(D!1) = true  <- violates the property"]
     main(["check", path])
     out = capsys.readouterr().out.splitlines()
     assert [ln.split("  <-")[0] for ln in out if ln.startswith("  step")] == [
@@ -370,24 +378,25 @@ def test_a_temporal_lasso_keeps_the_names(tmp_path, capsys):
     path = write_spec(tmp_path, GEN)
     out = explore_text(path, capsys)
     assert trace_lines(out, "ltlSpec_two") == [
-        "ltlSpec_two (Gen.asm:10:2) (LTL) is violated -- counterexample, a lasso: 3 steps to the loop, then a "
-        "loop of 1 step repeated for ever:",
-        "  state 0 (initial):",
+        "ltlSpec_two (Gen.asm:10:2) is violated -- counterexample, 4 steps: a lasso, 3 steps to the loop, then"
+        " a loop of 1 step repeated for ever:",
+        "  formula: g(k < 2)",
+        "  state 0 (initial)",
         "      k = 0",
-        "  step 1:",
+        "  step 1: r_main",
         "      cur = D!1",
         "      k = 1",
         "      D = {D!1}",
-        "  step 2:",
+        "  step 2: r_main",
         "      cur = D!2",
         "      k = 2",
         "      prev = D!1",
         "      D = {D!1, D!2}",
-        "  step 3:   <- the loop starts here (state 3)",
+        "  step 3: r_main  <- the loop starts here (state 3)",
         "      cur = D!3",
         "      prev = D!2",
         "      D = {D!2, D!3}",
-        "  step 4:   -> back to state 3 (up to the names of the elements made by extend)",
+        "  step 4: r_main  <- back to state 3 (up to the names of the elements made by extend)",
         "      cur = D!4",
         "      prev = D!3",
         "      D = {D!3, D!4}",
@@ -408,7 +417,7 @@ def test_gate_reports_use_the_display_names(tmp_path, capsys):
     main(["check", path, "--html", str(html), "--traces", "all"])
     out = capsys.readouterr().out
     assert "  step 4: r_main  <- back to state 3 (up to the names of the elements made by extend)" in out
-    assert "state 4 is state 3 again (up to the names of the elements made by extend): the cycle repeats" \
+    assert "state 4 is state 3 again (up to the names of the elements made by extend): the loop repeats" \
         in html.read_text()
     path = write_spec(tmp_path, REP, REP_PROPS)
     main(["check", path, "--json", "-"])
@@ -425,8 +434,8 @@ def test_a_loop_back_to_the_same_names_has_no_note(tmp_path, capsys):
                       "applies to Rep\nLTLSPEC ltlSpec_small: g(n < 4)\n")
     out = explore_text(path, capsys)
     marks = [ln for ln in out if "(state 6)" in ln or "back to" in ln]
-    assert marks == ["  step 6:   <- the loop starts here (state 6)", "  step 8:   -> back to state 6"]
-    assert out[out.index("  step 8:   -> back to state 6") + 1:][:2] == ["      cur = D!2", "      other = D!1"]
+    assert marks == ["  step 6: r_main  <- the loop starts here (state 6)", "  step 8: r_main  <- back to state 6"]
+    assert out[out.index("  step 8: r_main  <- back to state 6") + 1:][:2] == ["      cur = D!2", "      other = D!1"]
 
 
 def run_scenario(path: Path, capsys) -> dict:
@@ -494,7 +503,7 @@ def test_a_spec_without_extend_shows_its_states_as_they_are(tmp_path):
                                 "default init s0:\n\tfunction x = 0\n", "applies to Plain\ninvariant inv_x: x < 2\n")
     m, _, tr = explore_trace(path, "inv_x")
     assert all(st.display is st.state and st.names == {} for st in tr.steps)
-    assert trace_text(m, tr)[-2:] == ["step 2:", "    x = 2"]
+    assert trace_text(m, tr)[-2:] == ["step 2: r_main  <- violates the property", "    x = 2"]
 
 
 def test_the_names_do_not_depend_on_the_run(tmp_path):

@@ -58,23 +58,13 @@ def run(args) -> int:
         f"depth {r.depth}, {r.seconds:.2f} s, {run_.engine} engine")
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
-    verdict_rows([(row["property"], row["verdict"]) for row in run_.rows])
+    verdict_rows([(row["property"], api.verdict_text(row)) for row in run_.rows])
     for v in violations:
         if hasattr(v.raw, "holds"):
             continue
-        tr = v.trace.raw
-        p = v.raw.prop
-        print_header = ""
-        where = f" ({p.span.short()})" if getattr(p, "span", None) is not None and p.span.line else ""
-        what = "deadlock" if p.name == "deadlock" else f"{p.name}{where} is violated"
-        steps = len(tr.steps) - 1
-        print_header = (f"{what}" + (f": {v.message}" if v.message else "") +
-                        f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
-                        (" (the last step breaks it)" if tr.kind == "step" else "") + ":")
         out()
-        out(print_header)
-        for line in v.trace.text(color).rstrip("\n").split("\n"):
-            out("  " + line)
+        for line in v.text(color).splitlines():
+            out(line)
     for lines in run_.temporal_text(color):
         out()
         for line in lines:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate
 from ..semantics.choice import DeadlineReached
-from ..semantics.machine import Machine, ScriptChooser, Undetermined
+from ..semantics.machine import Machine, ScriptChooser, TooManySuccessors, Undetermined
 from ..semantics.state import is_dom_key, same_value
 from .canonical import Canonicalizer, ranged_domains
 from .store import Layout
@@ -66,7 +66,23 @@ class PseudoProperty:
 DEADLOCK = PseudoProperty("deadlock", "deadlock")
 
 
+def too_many_reason(machine: Machine, err) -> str:
+    """Why a state's successors could not all be enumerated: the limit, and the choices of the
+    step with the most alternatives (a monitored function or a choose over a large range), with
+    the way to bound them."""
+    points = sorted((c for c in (getattr(err, "choices", None) or ()) if c.n > 1), key=lambda c: -c.n)[:3]
+    what = ", ".join(f"{c.label} ({c.n:,} values)" for c in points)
+    hint = ""
+    if any(c.kind == "monitored" for c in points):
+        hint = "; bound the monitored inputs with --monitored NAME=LO..HI or NAME=V1,V2"
+    elif points:
+        hint = "; bound the ranges of the chooses (a smaller domain, or --int-range)"
+    return f"{err.message}" + (f": the step chooses among {what}" if what else "") + hint
+
+
 class Explorer:
+    MAX_SUCCESSORS = 1_000_000      # the sequences of choices enumerated from one state, at most
+
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
                  deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
                  stop_at_first=False, max_memory=None, memory=None):
@@ -84,6 +100,10 @@ class Explorer:
         self.progress = progress
         self.keep_graph = keep_graph
         self.edges: list = []
+        # the branches whose step fails (keep_graph): (state id, choices, the AsmError), in the
+        # order found; the temporal checker gives each one a transition to a halt (see
+        # asmcheck.temporal), the state graph itself holds the well-defined transitions only
+        self.error_edges: list = []
         self.stop_at_first = stop_at_first
         # properties: the spec's invariants plus what the caller adds
         self.state_props = list(state_props or [])
@@ -202,17 +222,35 @@ class Explorer:
                         incomplete = True
                         reason = f"depth limit {self.max_depth} reached"
                         continue
-                    # successors
+                    # successors: the well-defined ones; each branch whose step fails is an
+                    # error (the first one found is the 'error' violation, with its trace)
+                    failed: list = []
                     try:
-                        succ = self.admitted_successors(st)
+                        succ = self.admitted_successors(st, failed)
                     except Undetermined:
                         raise
+                    except TooManySuccessors as e:
+                        # a limit, not a property of the spec: the search stops, incomplete, and
+                        # says which choices multiply (the last sequence of choices enumerated)
+                        incomplete = True
+                        reason = too_many_reason(m, e)
+                        next_frontier = []
+                        frontier = []
+                        break
                     except AsmError as e:
+                        # not one branch: the successors cannot be enumerated
                         err = PseudoProperty("error", "error", e.span)
                         record(Violation(err, sid, message=e.message, error=e))
                         incomplete = True
                         reason = reason or "a step could not be computed"
                         continue
+                    for e in failed:
+                        if "error" not in violated:
+                            err = PseudoProperty("error", "error", e.span)
+                            record(Violation(err, sid, message=e.message, error=e))
+                        if self.keep_graph:
+                            e.__traceback__ = None      # its frames would hold on to the step's data
+                            self.error_edges.append((sid, tuple(c.pick for c in (e.choices or ())), e))
                     targets = []
                     for picks, ups, raw, nxt, mon in succ:
                         tid, new = self._add(nxt, sid, picks, depth + 1)
@@ -234,7 +272,8 @@ class Explorer:
                             next_frontier.append(tid)
                     # a transition is a pair (state, successor): choices with the same effect count once
                     transitions += len(set(targets))
-                    if self.deadlock and "deadlock" not in violated and all(t == sid for t in targets):
+                    # a state where a step fails is not a deadlock: the error is reported
+                    if self.deadlock and "deadlock" not in violated and not failed and all(t == sid for t in targets):
                         record(Violation(DEADLOCK, sid, message="no successor" if not targets else
                                          "the only successor is the state itself"))
                     if self.max_states is not None and len(self.frozen) >= self.max_states:
@@ -267,7 +306,7 @@ class Explorer:
                         next_frontier = []
                         frontier = []
                         break
-                    if total_props and len(violated) >= total_props and not self.keep_graph:
+                    if total_props and len(violated - {"error"}) >= total_props and not self.keep_graph:
                         # every property is already violated: nothing more to learn
                         next_frontier = []
                         frontier = []
@@ -339,17 +378,25 @@ class Explorer:
             cur = nxt
         return out
 
-    def admitted_successors(self, st: dict) -> list:
+    def admitted_successors(self, st: dict, errors: list | None = None) -> list:
         """The successors of ``st`` that the INVAR constraints admit, in the step function's
         order: (choices, update set, the successor as the step made it, the same under canonical
-        names, monitored values).  An AsmError of the step is raised here, before any successor."""
+        names, monitored values).  Without ``errors``, an AsmError of the step is raised here,
+        before any successor; with it (a list), the well-defined successors are returned and the
+        error of each branch whose step fails is appended (those whose monitored values the
+        INVAR constraints exclude are dropped, as their successors would be)."""
         out = []
-        for log, ups, nxt, mon in self.m.successors(st):
+        failed: list | None = [] if errors is not None else None
+        for log, ups, nxt, mon in self.m.successors(st, limit=self.MAX_SUCCESSORS, errors=failed):
             if self.invars and not (self._invar_ok(st, mon) and self._invar_ok(nxt)):
                 continue
             # stored under canonical names; step properties see the successor as the step made it,
             # so an extend-made element keeps its identity across the step
             out.append((tuple(c.pick for c in log), ups, nxt, self._norm(nxt), mon))
+        if failed:
+            for e in failed:
+                if not self.invars or self._invar_ok(st, getattr(e, "mon", None)):
+                    errors.append(e)
         return out
 
     def is_stored(self, st: dict, sid: int) -> bool:

@@ -88,15 +88,8 @@ def explore(path: str, settings: Settings, progress=None, cancelled=None) -> Exp
     for v in run.violations:
         if hasattr(v.raw, "holds") or v.trace is None:
             continue
-        p, tr = v.raw.prop, v.trace.raw
-        where = f" ({p.span.short()})" if getattr(p, "span", None) is not None and p.span.line else ""
-        what = "deadlock" if p.name == "deadlock" else f"{p.name}{where} is violated"
-        steps = len(tr.steps) - 1
-        head = (f"{what}" + (f": {v.message}" if v.message else "") +
-                f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
-                (" (the last step breaks it)" if tr.kind == "step" else "") + ":")
-        body = ["  " + line for line in v.trace.text().rstrip("\n").split("\n")]
-        traces.setdefault(v.property, "\n".join([head] + body))
+        from ..report.trace import explore_violation_lines
+        traces.setdefault(v.property, "\n".join(explore_violation_lines(model.machine, v.raw, v.trace.raw)))
     failed = [t for t in run.temporal if not t.holds]
     for t, lines in zip(failed, run.temporal_text()):
         traces.setdefault(t.name, "\n".join(lines))

@@ -8,7 +8,9 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from .trace import key_order, location_name, value_text
+from ..semantics.printer import location_sort_key, location_text
+from ..semantics.state import is_dom_key
+from ..semantics.values import show
 
 
 @dataclass
@@ -213,27 +215,37 @@ def shown_inputs(step, mon: dict) -> dict:
     return {(k if type(k) is not tuple else (k[0], step.show(k[1]))): step.show(v) for k, v in mon.items()}
 
 
-def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -> list[StepRecord]:
+def choose_records(log, chooses: ChooseIndex, root=None) -> list[Choice]:
+    """The choose rules' choices of a step's log (nested ones after theirs), each with the rule it is in."""
+    from ..semantics.values import show
+    out = []
+    for c in flat_choices(log):
+        if c.kind != "choose":
+            continue
+        if isinstance(c.value, dict):
+            text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
+        else:
+            text = show(c.value)
+        out.append(Choice("choose", text, chooses.rule(c.label), span_location(chooses.span(c.label), root=root)))
+    return out
+
+
+def read_records(machine, mon: dict) -> list[Choice]:
+    """The monitored values a step read (location key -> value), in the order of the locations."""
     from ..semantics.printer import location_text
     from ..semantics.values import show
+    return [Choice("monitored", f"{location_text(machine, k)} = {show(mon[k])}")
+            for k in sorted(mon, key=lambda k: key_order(machine, k))]
+
+
+def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -> list[StepRecord]:
     if inputs is None:
         inputs = step_inputs(machine, trace)
     recs = []
     for st, mon in zip(trace.steps, inputs):
         choices = []
         if st.number > 0:
-            for c in flat_choices(st.shown_choices()):
-                if c.kind != "choose":
-                    continue
-                if isinstance(c.value, dict):
-                    text = ", ".join(f"{k} = {show(v)}" for k, v in c.value.items())
-                else:
-                    text = show(c.value)
-                choices.append(Choice("choose", text, chooses.rule(c.label),
-                                      span_location(chooses.span(c.label), root=root)))
-            mon = shown_inputs(st, mon)
-            for k in sorted(mon, key=lambda k: key_order(machine, k)):
-                choices.append(Choice("monitored", f"{location_text(machine, k)} = {show(mon[k])}"))
+            choices = choose_records(st.shown_choices(), chooses, root) + read_records(machine, shown_inputs(st, mon))
         keys = sorted(st.changed, key=lambda k: key_order(machine, k))
         recs.append(StepRecord(st.number, chooses.main, choices,
                                {location_name(machine, k): value_text(k, st.changed[k]) for k in keys},
@@ -242,23 +254,20 @@ def step_records(machine, trace, chooses: ChooseIndex, root=None, inputs=None) -
     return recs
 
 
-def step_header(rec: StepRecord) -> str:
-    """``step 3: r_main chooses $t = master; reads timeUp(master) = true``"""
-    if rec.number == 0:
-        return "state 0 (initial)"
-    parts = []
-    rules: dict = {}
-    for c in rec.choices:
-        if c.kind == "choose":
-            rules.setdefault(c.rule or "choose", []).append(c.text)
-    for r, items in rules.items():
-        parts.append(f"{r} chooses " + ", ".join(items))
-    if not parts:
-        parts.append(rec.rule)
-    reads = [c.text for c in rec.choices if c.kind == "monitored"]
-    if reads:
-        parts.append("reads " + ", ".join(reads))
-    return f"step {rec.number}: " + "; ".join(p for p in parts if p)
+def failing_record(machine, trace, chooses: ChooseIndex, root=None) -> StepRecord | None:
+    """The step that fails at the end of an 'error' trace, as a StepRecord: the choices and
+    monitored values it had taken when it failed (it changes nothing)."""
+    from ..semantics.values import show
+    failing = getattr(trace, "failing", None)
+    if failing is None:
+        return None
+    choices = choose_records(failing, chooses, root)
+    reads = [Choice("monitored", f"{c.label} = {show(c.value)}") for c in flat_choices(failing)
+             if c.kind == "monitored"]
+    last = trace.steps[-1] if trace.steps else None
+    return StepRecord(len(trace.steps), chooses.main, choices + reads, {},
+                      {} if last is None else {location_name(machine, k): value_text(k, last.display[k])
+                                               for k in sorted(last.display, key=lambda k: key_order(machine, k))})
 
 
 def property_text(prop) -> str:
@@ -283,3 +292,41 @@ def property_text(prop) -> str:
     if j < 0:
         return term_text(end)
     return clean[j + 1:].strip()
+
+
+def key_order(machine, k):
+    """The sort key of a location (domains of extend-made elements last)."""
+    if is_dom_key(k):
+        return ("~", 0, k[1])
+    return location_sort_key(machine, k)
+
+
+def location_name(machine, k) -> str:
+    if is_dom_key(k):
+        return k[1]
+    return location_text(machine, k)
+
+
+def value_text(k, v) -> str:
+    if is_dom_key(k):
+        return "{" + ", ".join(e.name for e in (v or ())) + "}"
+    return show(v)
+
+
+def step_header(rec) -> str:
+    """``step 3: r_main chooses $t = master; reads timeUp(master) = true``"""
+    if rec.number == 0:
+        return "state 0 (initial)"
+    parts = []
+    rules: dict = {}
+    for c in rec.choices:
+        if c.kind == "choose":
+            rules.setdefault(c.rule or "choose", []).append(c.text)
+    for r, items in rules.items():
+        parts.append(f"{r} chooses " + ", ".join(items))
+    if not parts:
+        parts.append(rec.rule)
+    reads = [c.text for c in rec.choices if c.kind == "monitored"]
+    if reads:
+        parts.append("reads " + ", ".join(reads))
+    return f"step {rec.number}: " + "; ".join(p for p in parts if p)

@@ -35,10 +35,10 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .describe import (Choice, ChooseIndex, Location, StepRecord, display_path, flat_choices,  # noqa: F401
+from .describe import (Choice, ChooseIndex, Location, StepRecord, display_path, failing_record, flat_choices,  # noqa: F401
                        one_line, property_text, shown_inputs, source_text, span_location, step_header, step_inputs,
                        step_records, term_text)
-from .trace import RENAMED, temporal_json, temporal_text
+from .trace import RENAMED, cx_summary, lasso_renamed, temporal_json, temporal_text, trace_lines  # noqa: F401
 
 PASS, FAIL, INCOMPLETE, ERROR = "pass", "fail", "incomplete", "error"
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
@@ -55,6 +55,10 @@ class Counterexample:
     text: list | None = None        # lines of a temporal result's own text, when it has no steps
     avalla: str | None = None       # the Avalla scenario text
     avalla_path: str | None = None  # where it was written
+    failing: StepRecord | None = None   # property 'error': the step that fails after the last state
+    inputs_step: bool = False       # the last step only shows the inputs of the state before it
+    fairness: list = field(default_factory=list)    # the fairness constraints a temporal verdict assumed
+    failing_message: str = ""       # a temporal path that halts at a failing step: the error's message
 
 
 @dataclass
@@ -67,6 +71,9 @@ class PropertyOutcome:
     label: str = ""
     location: Location | None = None      # the property's declaration
     expect_location: Location | None = None   # the '// asmcheck: expect violated' line
+    # a step of the spec fails: the verdict is relative to that run-time error (its location),
+    # the property having been checked on the well-defined steps
+    relative_to: Location | None = None
     text: str = ""                  # the property's term, on one line
     message: str = ""
     counterexample: Counterexample | None = None
@@ -155,6 +162,8 @@ def judge(row: PropertyOutcome, declares_expectations: bool, strict: bool) -> Pr
         row.status, row.label = ERROR, "input error"
     else:
         row.status, row.label = ERROR, "cannot be checked"
+    if row.relative_to is not None and v in ("holds", "violated"):
+        row.label += f", relative to the run-time error at {row.relative_to}"
     return row
 
 
@@ -181,63 +190,12 @@ def expect_lines(spec_path: str) -> dict:
     return out
 
 
-def cx_summary(cx: Counterexample) -> str:
-    """'shortest counterexample, 3 steps (the last step breaks it)' and the like."""
-    n = len(cx.steps) - 1
-    steps = f"{n} step{'s' if n != 1 else ''}"
-    if cx.kind == "lasso":
-        return f"counterexample, {steps}: a lasso, back to state {cx.loop_start} for ever"
-    if cx.kind == "path":
-        return f"counterexample, {steps}"
-    return f"shortest counterexample, {steps}" + (" (the last step breaks it)" if cx.kind == "step" else "")
-
-
-
-
-def lasso_renamed(cx: Counterexample) -> bool:
-    """A lasso whose last state is its loop's first state (as the explorer stores states)
-    but shows the elements made by extend under other names (as a simulation names them)."""
-    if cx.kind != "lasso" or cx.loop_start is None or not cx.steps:
-        return False
-    first = next((r for r in cx.steps if r.number == cx.loop_start), None)
-    return first is not None and first is not cx.steps[-1] and first.state != cx.steps[-1].state
-
-
-def trace_lines(cx: Counterexample, color: bool = False) -> list[str]:
-    """Per step the rule, its choices and inputs, then only the locations that changed."""
-    if not cx.steps:
-        return list(cx.text or [])
-    bold = (lambda s: f"\x1b[1m{s}\x1b[0m") if color else (lambda s: s)
-    red = (lambda s: f"\x1b[1;31m{s}\x1b[0m") if color else (lambda s: s)
-    yellow = (lambda s: f"\x1b[33m{s}\x1b[0m") if color else (lambda s: s)
-    out = []
-    last = cx.steps[-1].number
-    for rec in cx.steps:
-        head = step_header(rec)
-        mark = ""
-        if rec.number == last:
-            mark = "  <- breaks the property" if cx.kind == "step" else "  <- violates the property"
-            if cx.kind == "lasso":
-                mark = f"  <- back to state {cx.loop_start}" if cx.loop_start is not None else ""
-                if mark and lasso_renamed(cx):
-                    mark += " " + RENAMED
-        if cx.kind == "lasso" and cx.loop_start is not None and rec.number == cx.loop_start and rec.number != last:
-            mark = "  <- the cycle starts here"
-        out.append((red if rec.number == last and mark and cx.kind != "lasso" else bold)(head) +
-                   (yellow(mark) if mark else ""))
-        for k, v in rec.changed.items():
-            out.append(f"    {k} = {v}")
-        if not rec.changed and rec.number > 0:
-            out.append("    (no change)")
-    return out
-
-
 def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_results=(), *,
                   seconds=None, strict=False, root=None, avalla_dir=None, temporal_error: str = "",
                   expectations: bool = True) -> SpecOutcome:
     """A :class:`SpecOutcome` from one exploration (``run_exploration``'s results) and the
     temporal results; every counterexample is rebuilt, replayed and described."""
-    from .trace import build_trace, trace_json
+    from .trace import build_trace, failing_json, trace_json
 
     # explore judges no expectation (its exit code is the search's); the gate does
     exp_lines = expect_lines(path) if expectations else {}
@@ -259,14 +217,21 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         return None
 
     bad = {v.prop.name: v for v in result.violations}
+    # where a step fails, the other verdicts are relative to that error (the first one found)
+    err = bad.get("error")
+    relative = span_location(getattr(err.prop, "span", None), root=root) if err is not None else None
     incomplete = result.stopped_early
     rows: list[PropertyOutcome] = []
 
     def counterexample(v) -> Counterexample:
         tr = build_trace(explorer, v)
-        cx = Counterexample(tr.kind, v.message, step_records(machine, tr, chooses, root),
-                            {"property": v.prop.name, "kind": tr.kind, "message": v.message,
-                             "trace": trace_json(machine, tr)})
+        inputs = step_inputs(machine, tr)
+        js = {"property": v.prop.name, "kind": tr.kind, "message": v.message,
+              "trace": trace_json(machine, tr, chooses, inputs)}
+        if failing_json(tr) is not None:
+            js["failing_step"] = failing_json(tr)
+        cx = Counterexample(tr.kind, v.message, step_records(machine, tr, chooses, root, inputs), js,
+                            failing=failing_record(machine, tr, chooses, root))
         if avalla_dir is not None:
             from .avalla_export import scenario_file_name, trace_scenario
             target = os.path.join(avalla_dir, scenario_file_name(spec.name, v.prop.name))
@@ -284,6 +249,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         if v is not None:
             row.message = v.message
             row.counterexample = counterexample(v)
+        elif not incomplete:
+            row.relative_to = relative
         rows.append(row)
     for v in result.violations:
         if v.prop.name in ("deadlock", "error"):
@@ -294,7 +261,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
             rows.append(row)
     if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
         rows.append(PropertyOutcome("deadlock", "deadlock", "incomplete" if incomplete else "holds",
-                                    "deadlock" in expected, expect_location=expect_loc("deadlock")))
+                                    "deadlock" in expected, expect_location=expect_loc("deadlock"),
+                                    relative_to=None if incomplete else relative))
     by_name = {getattr(p, "name", None): p for p in temporal}
     seen = {r.name for r in rows}
     for t in temporal_results:
@@ -308,6 +276,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         if verdict == "violated":
             row.counterexample = temporal_counterexample(machine, t, chooses, root, spec_path=path,
                                                          avalla_dir=avalla_dir, spec_name=spec.name)
+        if not msg and getattr(t, "relative_to", None) is not None:
+            row.relative_to = relative
         rows.append(row)
         seen.add(t.name)
     seen |= {r.name for r in rows}
@@ -367,6 +337,8 @@ def temporal_counterexample(machine, t, chooses, root=None, *, spec_path=None, a
     """A temporal result's counterexample: its JSON and text, and its steps (a lasso when the
     path ends with a cycle back to an earlier state)."""
     tr, loop = temporal_trace(t)
+    got = t.trace() if callable(getattr(t, "trace", None)) else None
+    inputs_step = bool(got[2]) if got and len(got) > 2 else False
     steps = step_records(machine, tr, chooses, root) if tr is not None else []
     try:
         js = temporal_json(t, machine)
@@ -377,7 +349,11 @@ def temporal_counterexample(machine, t, chooses, root=None, *, spec_path=None, a
     except Exception:       # pragma: no cover
         text = []
     cx = Counterexample("lasso" if loop is not None else "path", getattr(t, "message", "") or "", steps, js, loop,
-                        text)
+                        text, inputs_step=inputs_step, fairness=list(getattr(t, "fairness", None) or ()))
+    if tr is not None and getattr(tr, "failing", None) is not None and steps:
+        # the path ends where a step fails: the run halts there (docs/run-time-errors.md)
+        cx.failing = failing_record(machine, tr, chooses, root)
+        cx.failing_message = getattr(tr, "message", "") or ""
     if avalla_dir is not None and tr is not None and spec_path is not None:
         from .avalla_export import scenario_file_name, trace_scenario
         prop = getattr(t, "prop", None)

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..version import __version__
 from .gate import RENAMED, counts, cx_summary, lasso_renamed, step_header
+from .trace import no_change_text, step_mark
 
 LAST_STATES = 4          # states drawn in the picture
 MAX_LINES = 24           # locations per box
@@ -27,7 +28,7 @@ tr.incomplete td.verdict { color: #9a6700; }
 .gate-pass { color: #1a7f37; } .gate-fail, .gate-error { color: #cf222e; } .gate-incomplete { color: #9a6700; }
 .chg { background: #fff3b0; font-weight: bold; }
 .trace tr.last td { border-top: 2px solid #cf222e; }
-.note { color: #555; } .scroll { overflow-x: auto; }
+.note { color: #555; } .mark { color: #9a6700; } .scroll { overflow-x: auto; }
 pre { background: #f6f8fa; padding: 0.8em; overflow-x: auto; }
 """
 
@@ -65,7 +66,7 @@ def _svg(cx) -> str:
     caption = ""
     if cx.kind == "lasso" and cx.loop_start is not None:
         again = f"again {RENAMED}" if lasso_renamed(cx) else "again"
-        caption = f"state {last} is state {cx.loop_start} {again}: the cycle repeats for ever"
+        caption = f"state {last} is state {cx.loop_start} {again}: the loop repeats for ever"
     elif cx.kind == "state":
         caption = f"state {last} violates the property"
     text_w = int(max([len(x) for x in labels] + [len(caption) - 5], default=0) * CHAR_W)
@@ -118,20 +119,35 @@ def _svg(cx) -> str:
 
 
 def _trace_table(cx) -> str:
+    """The trace as a table: per step the same text as the text reports (the rule, its choices
+    and the inputs it read, the violation or the lasso's marks), the locations it changed and the
+    whole state."""
     rows = ['<table class="trace"><tr><th>step</th><th>rule and choices</th><th>changed locations</th>'
             '<th>state</th></tr>']
     last = cx.steps[-1].number if cx.steps else -1
     for rec in cx.steps:
         head = step_header(rec)
         head = head.split(": ", 1)[1] if ": " in head else ("initial state" if rec.number == 0 else head)
+        mark = step_mark(cx, rec)
         changed = "<br>".join(f'<span class="chg">{escape(k)}</span> = {escape(v)}' for k, v in rec.changed.items())
         if not changed:
-            changed = '<span class="note">(no change)</span>'
+            changed = f'<span class="note">{escape(no_change_text(cx, rec) if rec.number else "")}</span>'
         state = "<br>".join(f"{escape(k)} = {escape(v)}" for k, v in rec.state.items())
         cls = ' class="last"' if rec.number == last else ""
-        rows.append(f'<tr{cls}><td class="num">{rec.number}</td><td>{escape(head)}</td><td>{changed}</td>'
+        rows.append(f'<tr{cls}><td class="num">{rec.number}</td><td>{escape(head)}'
+                    + (f' <span class="mark">{escape(mark)}</span>' if mark else "")
+                    + f'</td><td>{changed}</td>'
                     f'<td><details><summary>{len(rec.state)} locations</summary>{state}</details></td></tr>')
+    failing = getattr(cx, "failing", None)
+    if failing is not None:
+        head = step_header(failing).split(": ", 1)[-1]
+        rows.append(f'<tr class="last"><td class="num">{failing.number}</td><td>{escape(head)} '
+                    f'<span class="mark">&lt;- fails (the step cannot be made)</span></td>'
+                    f'<td><span class="note">(the step cannot be made)</span></td><td></td></tr>')
     rows.append("</table>")
+    if getattr(cx, "inputs_step", False) and len(cx.steps) > 1:
+        rows.append(f'<p class="note">(step {last} only shows the monitored inputs and choices of state '
+                    f'{last - 1}, which are part of its state for the property)</p>')
     return "\n".join(rows)
 
 
@@ -147,6 +163,8 @@ def _section(o, p, anchor: str) -> str:
            + ".</p>"]
     if p.text:
         out.append(f"<pre>{escape(p.text)}</pre>")
+    if cx.fairness:
+        out.append(f"<p>Under fairness: <code>{escape('; '.join(cx.fairness))}</code>.</p>")
     if p.message:
         out.append(f"<p>{escape(p.message)}</p>")
     if cx.steps:

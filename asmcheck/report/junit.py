@@ -31,6 +31,10 @@ def _cx_text(p) -> str:
     lines = []
     if p.location:
         lines.append(f"{p.name} is declared at {p.location}")
+    if p.text:
+        lines.append(f"formula: {p.text}")
+    if cx.fairness:
+        lines.append(f"under fairness: {'; '.join(cx.fairness)}")
     if cx.steps:
         lines.append(cx_summary(cx) + ":")
     lines.extend(trace_lines(cx, False))
@@ -63,6 +67,8 @@ def junit_xml(outcomes, timings: bool = True) -> str:
                 n["failures"] += 1
                 if p.verdict == "violated":
                     msg = f"{p.name} is violated" + (f": {p.message}" if p.message else "")
+                    if getattr(p, "relative_to", None) is not None:
+                        msg += f" (relative to the run-time error at {p.relative_to})"
                     typ = "violated"
                 else:
                     msg = f"{p.name} holds, but the spec expects it to be violated"
@@ -83,6 +89,9 @@ def junit_xml(outcomes, timings: bool = True) -> str:
                 note = "violated, as the spec expects" if p.expected else \
                     "violated; tolerated: the spec declares other expected violations"
                 out.text = note + "\n" + _cx_text(p)
+            elif getattr(p, "relative_to", None) is not None:
+                # the property holds on the well-defined steps: say so beside the passing case
+                ET.SubElement(case, "system-out").text = p.label + "\n"
         for k in tot:
             suite.set(k, str(n[k]))
             tot[k] += n[k]

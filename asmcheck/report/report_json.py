@@ -26,6 +26,7 @@ def _row(p) -> dict:
         "message": p.message,
         "counterexample": cx.json if cx is not None else None,
         "avalla": cx.avalla_path if cx is not None else None,
+        **({"relative_to": p.relative_to.json()} if getattr(p, "relative_to", None) is not None else {}),
     }
 
 

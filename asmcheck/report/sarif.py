@@ -91,6 +91,8 @@ def _result_for(o, p, rule_index: dict) -> dict | None:
             text = f"{o.path} ({o.name}) has a deadlock" + (f": {p.message}" if p.message else "")
         else:
             text = f"{p.name} is violated by {o.name} ({o.path})" + (f": {p.message}" if p.message else "")
+            if getattr(p, "relative_to", None) is not None:
+                text += f" (relative to the run-time error at {p.relative_to})"
         cx = p.counterexample
         if cx is not None and cx.steps:
             text += f"; {cx_summary(cx)}"

@@ -6,7 +6,8 @@ from ..semantics.printer import asmeta_state_lines, location_sort_key, location_
     show_asmeta
 from ..semantics.state import is_dom_key
 from ..semantics.values import show
-from .trace import choice_text, json_value, key_order
+from .describe import Choice
+from .trace import json_value, key_order, step_header
 
 
 def _problems(st, out: list) -> bool:
@@ -22,20 +23,28 @@ def _problems(st, out: list) -> bool:
 
 
 def simulation_text(machine, steps) -> tuple[list[str], bool]:
-    """(lines, whether an error or a violated invariant ended the run)."""
+    """(lines, whether an error or a violated invariant ended the run).  Each step as a trace
+    shows it (:func:`.trace.step_header`): the rule that chose what, the monitored values it
+    read, then the locations it changed."""
+    from .describe import ChooseIndex, StepRecord, choose_records, flat_choices, read_records
+    chooses = ChooseIndex(machine.spec)
     out = []
     bad = False
     for st in steps:
-        head = "initial state" if st.number == 0 else f"step {st.number}"
-        ch = "; ".join(choice_text(c) for c in st.choices)
-        out.append(head + (f"  [{ch}]" if ch else "") + ":")
+        choices = []
+        if st.number > 0:
+            reads = read_records(machine, st.monitored) if st.monitored else [
+                Choice("monitored", f"{c.label} = {show(c.value)}") for c in flat_choices(st.choices)
+                if c.kind == "monitored"]
+            choices = choose_records(st.choices, chooses) + reads
+        out.append(step_header(StepRecord(st.number, chooses.main, choices, {}, {})))
         for k, v in sorted(st.changed.items(), key=lambda kv: key_order(machine, kv[0])):
             if is_dom_key(k):
-                out.append(f"  {k[1]} = {{{', '.join(e.name for e in (v or ()))}}}")
+                out.append(f"    {k[1]} = {{{', '.join(e.name for e in (v or ()))}}}")
             else:
-                out.append(f"  {location_text(machine, k)} = {show(v)}")
+                out.append(f"    {location_text(machine, k)} = {show(v)}")
         if not st.changed and st.number > 0 and st.error is None and not st.violated:
-            out.append("  (no change)")
+            out.append("    (no change)")
         bad = _problems(st, out) or bad
     return out, bad
 

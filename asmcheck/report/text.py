@@ -2,7 +2,8 @@
 wrong (with counterexamples) and the summary line."""
 from __future__ import annotations
 
-from .gate import ERROR, FAIL, INCOMPLETE, counts, cx_summary, trace_lines
+from .gate import ERROR, FAIL, INCOMPLETE, counts
+from .trace import trace_lines, violation_head, violation_lines
 
 
 def summary_table(outcomes, color: bool = False, timings: bool = True) -> list[str]:
@@ -54,19 +55,23 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
             if p.verdict == "violated":
                 cx = p.counterexample
                 n = len(cx.steps) - 1 if cx and cx.steps else None
-                what = "deadlock" if p.kind == "deadlock" else (
-                    "a step fails" if p.kind == "error" else f"{p.name}{where} is violated")
-                head += what + (f": {p.message}" if p.message else "")
+                rel = ""
+                if getattr(p, "relative_to", None) is not None:
+                    rel = f", relative to the run-time error at {p.relative_to}"
+                head += violation_head(p.name, p.kind, where) + rel + (f": {p.message}" if p.message else "")
                 if p.expected:
                     head += " (expected)"
                 elif p.status != FAIL:
                     head += " (tolerated: the spec declares other expected violations)"
-                if n is not None and show_trace:
-                    head += f" -- {cx_summary(cx)}:"
                 out.append("")
-                out.append(head)
-                if show_trace:
+                if show_trace and n is not None:
+                    out.extend(violation_lines(head, cx, color, p.text, cx.fairness))
+                elif show_trace:
+                    out.append(head)
                     out.extend("  " + ln for ln in trace_lines(cx, color))
+                else:
+                    out.append(head)
+                if show_trace:
                     if cx.avalla_path:
                         out.append(f"  Avalla scenario: {cx.avalla_path}")
             elif p.verdict == "holds" and p.expected:

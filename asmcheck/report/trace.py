@@ -2,13 +2,12 @@
 (``docs/trace.schema.json``).  The traces themselves are :mod:`asmcheck.explore.trace`."""
 from __future__ import annotations
 
-import re
+from dataclasses import dataclass
 
 from ..explore.trace import (Trace, TraceStep, build_trace, display_choices, display_names,  # noqa: F401
                              state_elements, trace_steps)
-from ..semantics.printer import location_sort_key, location_text
-from ..semantics.state import is_dom_key
 from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, RuleValue, SeqV, SetV, show
+from .describe import key_order, location_name, step_header, value_text  # noqa: F401
 
 
 def json_value(v):
@@ -44,25 +43,6 @@ def choice_text(c) -> str:
     return f"{c.label}: {c.value!r}"
 
 
-def key_order(machine, k):
-    """The sort key of a location (domains of extend-made elements last)."""
-    if is_dom_key(k):
-        return ("~", 0, k[1])
-    return location_sort_key(machine, k)
-
-
-def location_name(machine, k) -> str:
-    if is_dom_key(k):
-        return k[1]
-    return location_text(machine, k)
-
-
-def value_text(k, v) -> str:
-    if is_dom_key(k):
-        return "{" + ", ".join(e.name for e in (v or ())) + "}"
-    return show(v)
-
-
 def flat_choices(choices) -> list:
     """The choices of a step, with the monitored values read inside choose bodies."""
     out = []
@@ -73,27 +53,12 @@ def flat_choices(choices) -> list:
     return out
 
 
-def trace_text(machine, trace: Trace, color: bool = False) -> list[str]:
-    """Per step: the choices and inputs taken, then only the locations that changed."""
-    bold = (lambda s: f"\x1b[1m{s}\x1b[0m") if color else (lambda s: s)
-    dim = (lambda s: f"\x1b[2m{s}\x1b[0m") if color else (lambda s: s)
-    out = []
-    for st in trace.steps:
-        if st.number == 0:
-            out.append(bold("state 0 (initial)") + ":")
-        else:
-            ch = "; ".join(choice_text(c) for c in flat_choices(st.shown_choices()))
-            out.append(bold(f"step {st.number}") + (dim(f"  [{ch}]") if ch else "") + ":")
-        keys = sorted(st.changed, key=lambda k: key_order(machine, k))
-        for k in keys:
-            out.append(f"    {location_name(machine, k)} = {value_text(k, st.changed[k])}")
-        if not keys and st.number > 0:
-            out.append("    (no change)")
-    if trace.failing is not None:
-        ch = "; ".join(choice_text(c) for c in flat_choices(trace.failing))
-        out.append(bold(f"step {len(trace.steps)}") + (dim(f"  [{ch}]") if ch else "") +
-                   ": fails (the step cannot be made)")
-    return out
+def trace_text(machine, trace: Trace, color: bool = False, loop: int | None = None,
+               inputs_step: bool = False) -> list[str]:
+    """The steps of a replayed trace as every text report shows them (:func:`trace_lines`):
+    per step the rule, its choices and the monitored values it read, then the locations that
+    changed (``loop``: a lasso's loop start)."""
+    return trace_lines(describe_trace(machine, trace, loop=loop, inputs_step=inputs_step), color)
 
 
 def failing_json(trace: Trace) -> dict | None:
@@ -104,67 +69,233 @@ def failing_json(trace: Trace) -> dict | None:
             "choices": [{"kind": c.kind, "at": c.label, "value": json_value(c.value)} for c in trace.failing]}
 
 
-def trace_json(machine, trace: Trace) -> list[dict]:
+def _choice_json(c, chooses=None) -> dict:
+    out = {"kind": c.kind, "at": c.label, "value": json_value(c.value)}
+    if c.kind == "choose" and chooses is not None:
+        rule = chooses.rule(c.label)
+        if rule:
+            out["rule"] = rule          # the rule the choose rule is in
+    return out
+
+
+def _located(machine, step, locs: dict) -> dict:
+    """Location key -> value (canonical names of the state before ``step``) as JSON, under the
+    trace's display names, in the order of the locations."""
+    from .describe import shown_inputs
+    shown = shown_inputs(step, locs)
+    return {location_name(machine, k): json_value(shown[k]) for k in sorted(shown, key=lambda k: key_order(machine, k))}
+
+
+def trace_json(machine, trace: Trace, chooses=None, inputs=None) -> list[dict]:
+    """The steps of a trace as JSON (docs/trace.schema.json): per step the main rule, the
+    choices (a choose rule's with the rule it is in; those made inside a choose body after it),
+    the monitored values the step read, its update set, the locations it changed and the state."""
+    from .describe import ChooseIndex, flat_choices as all_choices, step_inputs
+    if chooses is None:
+        chooses = ChooseIndex(machine.spec)
+    if inputs is None:
+        inputs = step_inputs(machine, trace)
     entries = []
-    for st in trace.steps:
-        entries.append({
-            "step": st.number,
-            "choices": [{"kind": c.kind, "at": c.label, "value": json_value(c.value)} for c in st.shown_choices()],
-            "changed": {location_name(machine, k): json_value(st.changed[k])
-                        for k in sorted(st.changed, key=lambda k: key_order(machine, k))},
-            "state": {location_name(machine, k): json_value(st.display[k])
-                      for k in sorted(st.display, key=lambda k: key_order(machine, k))},
-        })
+    for st, mon in zip(trace.steps, inputs):
+        entry = {"step": st.number}
+        if st.number > 0:
+            entry["rule"] = chooses.main
+        entry["choices"] = [_choice_json(c, chooses) for c in all_choices(st.shown_choices())]
+        if st.number > 0:
+            entry["reads"] = _located(machine, st, mon or {})
+            ups = getattr(st.updates, "locs", None)
+            if ups is not None:
+                entry["updates"] = _located(machine, st, {k: u.value for k, u in ups.items()})
+        entry["changed"] = {location_name(machine, k): json_value(st.changed[k])
+                            for k in sorted(st.changed, key=lambda k: key_order(machine, k))}
+        entry["state"] = {location_name(machine, k): json_value(st.display[k])
+                          for k in sorted(st.display, key=lambda k: key_order(machine, k))}
+        entries.append(entry)
     return entries
+
+
+# ----------------------------------------------------------------- one renderer of a replayed trace
+@dataclass
+class TraceView:
+    """A replayed trace described for people (what :func:`trace_lines` renders): the gate's
+    Counterexample has the same fields."""
+    kind: str                       # state: the last state violates; step: the last step; lasso; path
+    steps: list                     # [describe.StepRecord]
+    loop_start: int | None = None   # lasso: the state the last step goes back to
+    failing: object = None          # property 'error': the StepRecord of the step that fails
+    failing_message: str = ""       # a temporal path that halts at a failing step: the error's message
+    inputs_step: bool = False       # the last step only shows the inputs of the state before it
+
+
+def describe_trace(machine, trace: Trace, *, kind: str | None = None, loop: int | None = None,
+                   inputs_step: bool = False, chooses=None, root=None, inputs=None) -> TraceView:
+    """A replayed trace as a :class:`TraceView`: per step the rule, its choices, the monitored
+    values it read and what changed."""
+    from .describe import ChooseIndex, failing_record, step_records
+    if chooses is None:
+        chooses = ChooseIndex(machine.spec)
+    recs = step_records(machine, trace, chooses, root, inputs)
+    if kind is None:
+        kind = "lasso" if loop is not None else trace.kind
+    return TraceView(kind, recs, loop, failing_record(machine, trace, chooses, root), inputs_step)
+
+
+def _plural(n: int, word: str = "step") -> str:
+    return f"{n} {word}{'s' if n != 1 else ''}"
+
+
+def cx_summary(cx, what: str = "counterexample") -> str:
+    """'shortest counterexample, 3 steps (the last step breaks it)' and the like."""
+    n = len(cx.steps) - 1
+    steps = _plural(n)
+    if cx.kind == "lasso" and cx.loop_start is not None:
+        return (f"{what}, {steps}: a lasso, {_plural(cx.loop_start)} to the loop, then a loop of "
+                f"{_plural(n - cx.loop_start)} repeated for ever")
+    if cx.kind in ("lasso", "path"):
+        return f"{what}, {steps}"
+    tail = " (the last step breaks it)" if cx.kind == "step" else ""
+    if getattr(cx, "failing", None) is not None:
+        tail = f", then step {n + 1} fails"
+    return f"shortest {what}, {steps}" + tail
+
+
+def lasso_renamed(cx) -> bool:
+    """A lasso whose last state is its loop's first state (as the explorer stores states)
+    but shows the elements made by extend under other names (as a simulation names them)."""
+    if cx.kind != "lasso" or cx.loop_start is None or not cx.steps:
+        return False
+    first = next((r for r in cx.steps if r.number == cx.loop_start), None)
+    return first is not None and first is not cx.steps[-1] and first.state != cx.steps[-1].state
+
+
+def step_mark(cx, rec) -> str:
+    """What a step is in its trace: the violation, where a lasso's loop starts, where it goes back."""
+    last = cx.steps[-1].number
+    lasso = cx.kind == "lasso" and cx.loop_start is not None
+    if lasso and rec.number == last:
+        return f"<- back to state {cx.loop_start}" + (" " + RENAMED if lasso_renamed(cx) else "")
+    if lasso and rec.number == cx.loop_start:
+        return f"<- the loop starts here (state {cx.loop_start})"
+    if rec.number == last and getattr(cx, "failing", None) is None:
+        if cx.kind == "step":
+            return "<- breaks the property"
+        if cx.kind == "state":
+            return "<- violates the property"
+    return ""
+
+
+def no_change_text(cx, rec) -> str:
+    """The line of a step that changed no location: in a lasso the state repeats, and the
+    trace says so."""
+    if cx.kind != "lasso" or cx.loop_start is None:
+        return "(no change)"
+    if rec.number == cx.steps[-1].number and cx.loop_start == rec.number - 1:
+        return "(no change: the state repeats for ever)"
+    return f"(no change: the state repeats, state {rec.number} = state {rec.number - 1})"
+
+
+def trace_lines(cx, color: bool = False) -> list[str]:
+    """Per step the rule, its choices and the inputs it read, then only the locations that
+    changed; the violation, a lasso's loop start and its way back are marked.  The text of
+    ``asmcheck explore``, ``asmcheck check`` and the JUnit report; the HTML report shows the same
+    step text (:func:`step_header`, :func:`step_mark`, :func:`no_change_text`)."""
+    if not cx.steps:
+        return list(getattr(cx, "text", None) or [])
+    bold = (lambda s: f"\x1b[1m{s}\x1b[0m") if color else (lambda s: s)
+    red = (lambda s: f"\x1b[1;31m{s}\x1b[0m") if color else (lambda s: s)
+    yellow = (lambda s: f"\x1b[33m{s}\x1b[0m") if color else (lambda s: s)
+    out = []
+    last = cx.steps[-1].number
+    for rec in cx.steps:
+        mark = step_mark(cx, rec)
+        bad = rec.number == last and mark and cx.kind in ("state", "step")
+        out.append((red if bad else bold)(step_header(rec)) + (yellow("  " + mark) if mark else ""))
+        for k, v in rec.changed.items():
+            out.append(f"    {k} = {v}")
+        if not rec.changed and rec.number > 0:
+            out.append("    " + no_change_text(cx, rec))
+    failing = getattr(cx, "failing", None)
+    if failing is not None:
+        out.append(red(step_header(failing)) + yellow("  <- fails (the step cannot be made)"))
+        if cx.kind in ("lasso", "path"):
+            # a temporal path that reaches a failing step halts there (docs/run-time-errors.md)
+            message = getattr(cx, "failing_message", "")
+            out.append(f"(step {failing.number} fails" + (f": {message}" if message else "") +
+                       f"; the run stops there and stays in state {failing.number - 1} for ever)")
+    if getattr(cx, "inputs_step", False) and len(cx.steps) > 1:
+        n = last
+        out.append(f"(step {n} only shows the monitored inputs and choices of state {n - 1}, "
+                   f"which are part of its state for the property)")
+    return out
+
+
+def violation_lines(head: str, cx, color: bool = False, formula: str = "", fairness=(),
+                    what: str = "counterexample") -> list[str]:
+    """A violated property with its counterexample: ``head`` (what is violated, where), the
+    summary, the formula, the fairness assumed, then the trace indented."""
+    out = [f"{head} -- {cx_summary(cx, what)}:" if cx.steps else head]
+    if formula:
+        out.append(f"  formula: {formula}")
+    if fairness:
+        out.append(f"  under fairness: {'; '.join(fairness)}")
+    out += ["  " + ln for ln in trace_lines(cx, color)]
+    return out
+
+
+def violation_head(name: str, kind: str, where: str = "", message: str = "") -> str:
+    """'inv_x (f.prop:3:11) is violated', 'deadlock', 'a step fails (f.asm:9:14)', with the message."""
+    if kind == "deadlock" or name == "deadlock":
+        text = "deadlock"
+    elif kind == "error" or name == "error":
+        text = f"a step fails{where}"
+    else:
+        text = f"{name}{where} is violated"
+    return text + (f": {message}" if message else "")
+
+
+def explore_violation_lines(machine, violation, trace: Trace, color: bool = False) -> list[str]:
+    """A safety violation (an invariant, a step property, a deadlock, a step that fails) with its
+    shortest trace, as ``asmcheck explore`` prints it."""
+    from .describe import property_text
+    p = violation.prop
+    span = getattr(p, "span", None)
+    where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
+    head = violation_head(p.name, getattr(p, "kind", ""), where, violation.message)
+    formula = property_text(p) if p.name not in ("deadlock", "error") else ""
+    return violation_lines(head, describe_trace(machine, trace), color, formula)
 
 
 RENAMED = "(up to the names of the elements made by extend)"
 
 
 def temporal_text(result, machine, color: bool = False) -> list[str]:
-    """A temporal result as ``asmcheck explore`` prints it: the verdict, and the replayed
-    counterexample (or witness), a lasso marked where its loop starts."""
+    """A temporal result as ``asmcheck explore`` prints it: the verdict, the formula and the
+    replayed counterexample (or witness), a lasso marked where its loop starts."""
+    from .describe import property_text
     self = result
     where = ""
     span = getattr(self.prop, "span", None)
     if span is not None and getattr(span, "line", 0):
         where = f" ({span.short()})"
-    fair = f", under fairness: {'; '.join(self.fairness)}" if self.fairness else ""
     kind = {"ltl": "LTL", "ctl": "CTL", "invariant": "invariant"}.get(self.kind, self.kind)
     if self.message:
         return [f"{self.name}{where} ({kind}) cannot be checked: {self.message}"]
     tr = self.trace()
-    head = f"{self.name}{where} ({kind}) {'holds' if self.holds else 'is violated'}{fair}"
+    err = getattr(self, "relative_to", None)
+    rel = ""
+    if err is not None:
+        span = getattr(err, "span", None)
+        rel = ", relative to the run-time error" + (f" at {span.short()}" if span is not None and span.line else "")
+    head = f"{self.name}{where} {'holds' if self.holds else 'is violated'}{rel}"
+    formula = property_text(self.prop)
     if tr is None:
-        return [head]
+        return [head] + ([f"  formula: {formula}"] if formula else [])
     trace, loop, inputs_step = tr
-    steps = len(trace.steps) - 1
-    what = "witness" if self.holds else "counterexample"
-    if loop is not None:
-        cyc = steps - loop
-        desc = (f" -- {what}, a lasso: {loop} step{'s' if loop != 1 else ''} to the loop, then a loop of "
-                f"{cyc} step{'s' if cyc != 1 else ''} repeated for ever:")
-    else:
-        desc = f" -- {what}, {steps} step{'s' if steps != 1 else ''}:"
-    out = [head + desc]
-    lines = trace_text(machine, trace, color)
-    # mark the loop: the state after step `loop` is where the cycle starts
-    back = f"   -> back to state {loop}"
-    if loop is not None and trace.steps[-1].display != trace.steps[loop].display:
-        # the same stored state, but the elements made by extend carry other display names
-        back += " " + RENAMED
-    marked = []
-    for ln in lines:
-        if loop is not None and (ln.startswith("state 0") and loop == 0 or _is_step(ln, loop)):
-            ln = ln + f"   <- the loop starts here (state {loop})"
-        if loop is not None and _is_step(ln, steps):
-            ln = ln + back
-        marked.append(ln)
-    out += ["  " + ln for ln in marked]
-    if inputs_step:
-        out.append(f"  (step {steps} only shows the monitored inputs and choices of state {steps - 1}, "
-                   f"which are part of its state for the property)")
-    return out
+    view = describe_trace(machine, trace, kind="lasso" if loop is not None else "path", loop=loop,
+                          inputs_step=inputs_step)
+    if trace.failing is not None:
+        view.failing_message = trace.message
+    return violation_lines(head, view, color, formula, self.fairness, "witness" if self.holds else "counterexample")
 
 
 def temporal_json(result, machine) -> dict:
@@ -175,6 +306,10 @@ def temporal_json(result, machine) -> dict:
         out["fairness"] = list(self.fairness)
     if self.message:
         out["message"] = self.message
+    err = getattr(self, "relative_to", None)
+    if err is not None:
+        span = getattr(err, "span", None)
+        out["relative_to"] = str(span) if span is not None and span.line else ""
     tr = self.trace()
     if tr is not None:
         trace, loop, inputs_step = tr
@@ -183,12 +318,11 @@ def temporal_json(result, machine) -> dict:
         out["witness"] = self.holds
         if inputs_step:
             out["inputs_step"] = True     # the last step only shows the inputs of the state before
+        if trace.failing is not None:
+            # the path ends with a step that fails: the run stops in the last state for ever
+            out["failing_step"] = failing_json(trace)
+            out["failing_message"] = trace.message
     else:
         out["trace"] = []
         out["loop_start"] = None
     return out
-
-
-def _is_step(line: str, n: int) -> bool:
-    plain = re.sub(r"\x1b\[[0-9;]*m", "", line)
-    return plain.startswith(f"step {n}") and (len(plain) == len(f"step {n}") or plain[len(f"step {n}")] in " :")

@@ -337,7 +337,14 @@ class Machine(TermEvaluator, RuleExecutor):
         ctx.prune = prune
         ups = UpdateSet()
         if self.main is not None:
-            self.main(ctx, ups)
+            try:
+                self.main(ctx, ups)
+            except AsmError as e:
+                # the monitored values the failing step had read (a temporal property reads
+                # them in the step that fails, as in every other step)
+                if getattr(e, "mon", None) is None:
+                    e.mon = dict(ctx.mon)
+                raise
         return ups, ctx
 
     def step(self, state: dict, chooser: Chooser, prune=None) -> tuple[UpdateSet, dict, Ctx]:
@@ -351,7 +358,12 @@ class Machine(TermEvaluator, RuleExecutor):
             # a deeply nested rule: the step again, from scratch, on a thread with a deep stack
             chooser.log[:] = log
             ups, ctx = deep_call(self._run_main, state, chooser, prune)
-        nxt = apply_updates(state, ups, self.keep_undef)
+        try:
+            nxt = apply_updates(state, ups, self.keep_undef)
+        except AsmError as e:
+            if getattr(e, "mon", None) is None:
+                e.mon = dict(ctx.mon)
+            raise
         if ctx.lazy:
             for k, v in ctx.lazy.items():
                 if k not in nxt and k not in ups.locs:
@@ -365,7 +377,8 @@ class Machine(TermEvaluator, RuleExecutor):
         the sequences of choices that cannot lead to a wanted successor.  With ``errors`` (a
         list), a sequence of choices whose step fails is skipped and its error appended there
         (following a transcript, a branch that fails is not the step the simulator made);
-        without it the error ends the enumeration."""
+        without it the error ends the enumeration.  Each appended error carries ``choices``
+        (the choices log of its step) and ``mon`` (the monitored values it had read)."""
         prefix: list[int] = []
         out = []
         memo: dict = {}
@@ -382,11 +395,13 @@ class Machine(TermEvaluator, RuleExecutor):
                 # the inputs and choices of the failing step, for its trace
                 if getattr(e, "choices", None) is None:
                     e.choices = list(ch.log)
-                if errors is None or isinstance(e, Undetermined):
+                if errors is None or isinstance(e, (Undetermined, TooManySuccessors)):
                     raise
                 errors.append(e)
             if len(out) >= limit:
-                raise TooManySuccessors(None, f"more than {limit} successors of one state")
+                err = TooManySuccessors(None, f"more than {limit:,} successors of one state")
+                err.choices = list(ch.log)
+                raise err
             # next prefix: the last choice point with an untried alternative
             prefix = next_prefix(ch.log)
             if prefix is None:

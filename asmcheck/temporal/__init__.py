@@ -17,6 +17,18 @@ LTL / CTL / invariant property, in the order given.
 
 Counterexamples (and witnesses of existential CTL properties) are replayed through the
 step function; :func:`asmcheck.report.trace.temporal_text` and ``temporal_json`` render them.
+
+Run-time errors.  Where a step fails (an inconsistent update, a value out of its domain) the
+explorer keeps the well-defined successors of the state and records each failing branch
+(``explorer.error_edges``).  The properties are then checked on the well-defined part of the
+state graph, and a failing branch is a transition to a *halt*: a node that holds the state
+where the step failed and loops on itself, as the simulator stops there and the run stays in
+its last well-defined state (``on_error="halt"``).  A path through the error is still a path, so
+``af p`` is violated by a run that fails before ``p``, and ``ef p`` is not satisfied by the
+failing step.  Every verdict then holds *relative to the run-time error*
+(:attr:`TemporalResult.relative_to`).  ``on_error="drop"`` removes the failing branches instead
+(only a state left without any successor halts); docs/run-time-errors.md compares both with
+ASMETA's model checker.
 """
 from __future__ import annotations
 
@@ -45,6 +57,9 @@ class TemporalResult:
         self.seconds = seconds
         self.stats = stats or {}
         self.witness = witness           # the path shows why the property holds
+        # the run-time error the verdict is relative to (an AsmError: the first step found to
+        # fail), None when every step of the explored graph is well defined
+        self.relative_to = None
         self._trace = None
 
     @property
@@ -67,6 +82,13 @@ def _replay(explorer, K, nodes, loop):
     against the explored graph.  Returns (Trace, loop index, inputs_step)."""
     from ..explore.trace import Trace, trace_steps
 
+    failing = None
+    cut = next((i for i, v in enumerate(nodes) if v in K.halt), None)
+    if cut is not None:
+        # the path ends where a step fails: the run stops there (the halt loops on itself)
+        _, _, ix = K.halt[nodes[cut]]
+        failing = explorer.error_edges[ix][2]
+        nodes, loop = (nodes[:cut] if K.mode == "state" else nodes[:cut + 1]), None
     if K.mode == "state":
         sids = list(nodes)
         steps = [(K.edge_picks[(a, b)], b) for a, b in zip(sids, sids[1:])]
@@ -79,13 +101,17 @@ def _replay(explorer, K, nodes, loop):
         last = nodes[-1]
         # a node is a state with the inputs of its step: a lasso closes with the last
         # node's step; a finite path shows it too when atoms read monitored values
-        inputs_step = loop is None and bool(K.mon_atoms)
+        inputs_step = loop is None and bool(K.mon_atoms) and failing is None
         if loop is not None or inputs_step:
             steps.append((K.picks[last], K.tgt[last]))
     replayed = [(st, log, ups, raw, mapping)
                 for st, log, ups, _, raw, mapping in explorer.replay_steps(sids[0], steps)]
     tsteps = trace_steps(replayed)
-    return Trace(None, tsteps, "temporal"), loop, inputs_step
+    tr = Trace(None, tsteps, "temporal")
+    if failing is not None:
+        tr.failing = list(getattr(failing, "choices", None) or ())
+        tr.message = failing.message
+    return tr, loop, inputs_step
 
 
 # ----------------------------------------------------------------- the entry point
@@ -129,7 +155,9 @@ def label_atoms(machine, props, state) -> list:
     return [(a.term, a.env) for a in atoms.items]
 
 
-def check_temporal(explorer, props, fair=()):
+def check_temporal(explorer, props, fair=(), on_error: str = "halt"):
+    """``on_error``: what a step that fails is on the paths, ``halt`` (a transition to a node that
+    stays in the state for ever) or ``drop`` (no transition; a state left without any halts)."""
     t_start = time.perf_counter()
     machine = explorer.m
     spec = machine.spec
@@ -175,6 +203,14 @@ def check_temporal(explorer, props, fair=()):
     has_out = bytearray(explorer.n_states)
     for src in explorer.edge_arrays()[0]:
         has_out[src] = 1
+    error_edges = list(getattr(explorer, "error_edges", None) or ())
+    halts = []
+    for ix, (src, picks, e) in enumerate(error_edges):
+        if on_error == "halt" or not has_out[src]:
+            halts.append((src, picks, getattr(e, "mon", None) or {}, ix))
+    for src, _, _, _ in halts:
+        has_out[src] = 1
+    relative_to = error_edges[0][2] if error_edges else None
     stuck = has_out.find(0)
     if stuck >= 0:
         errors.append(f"the state graph is incomplete: the step from state {stuck} could not be computed "
@@ -188,7 +224,7 @@ def check_temporal(explorer, props, fair=()):
     def kripke(step: bool):
         if step not in structures:
             structures[step] = build_kripke(explorer, atoms, used, invars, justice, compassion, fair, step=step,
-                                            cache=cache)
+                                            cache=cache, halts=halts)
         return structures[step]
     try:
         if any(kind != "ltl" and f is not None for _, kind, f, _ in checks):
@@ -235,4 +271,6 @@ def check_temporal(explorer, props, fair=()):
                                       stats={"kripke_nodes": K.n}, witness=witness))
     for r in results:
         r.stats["total_seconds"] = time.perf_counter() - t_start
+        if not r.message:
+            r.relative_to = relative_to
     return results

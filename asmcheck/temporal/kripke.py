@@ -58,6 +58,9 @@ class Kripke:
         self.edge_picks: dict = {}         # state mode: (src, dst) -> choices of one such step
         self.mon_atoms: list[int] = []
         self.agent_info = None
+        # halt nodes (a step fails there, see asmcheck.temporal): node -> (the state it stays in,
+        # the choices of the failing step, the index of its error in the explorer's error_edges)
+        self.halt: dict[int, tuple] = {}
 
     def succ(self, v: int) -> list[int]:
         return self.cls_succ[self.cls[v]]
@@ -211,6 +214,27 @@ def _find(explorer, st: dict):
     return explorer.index.get(explorer.layout.freeze(explorer._norm(st)))
 
 
+def _state_halts(K: Kripke, halts: list, ok_state, S: int) -> None:
+    """State mode: one halt node per state where a step fails, labelled as that state, with a
+    transition from the state and a loop on itself."""
+    node_of: dict = {}
+    sids = list(range(S))
+    for src, picks, _mon, ix in halts:
+        if not ok_state[src] or src in node_of:
+            continue
+        v = node_of[src] = len(sids)
+        sids.append(src)
+        K.halt[v] = (src, picks, ix)
+        K.cls_succ[src] = K.cls_succ[src] + [v]
+        K.cls.append(v)
+        K.cls_succ.append([v])
+    K.n = len(sids)
+    K.sid = sids
+    extra = sids[S:]
+    for i, lab in list(K.label.items()):
+        K.label[i] = bytearray(lab) + bytearray(lab[s] for s in extra)
+
+
 class EdgePicks:
     """(src, dst) -> the choices of the first explored step from src to dst, looked up in the
     edge arrays (sources ascend, as the search expanded them) and taken from
@@ -283,11 +307,18 @@ class _PicksOfSteps:
     def __init__(self, explorer, items, sid, tgt, vecs):
         self.explorer, self.items = explorer, items
         self.sid, self.tgt, self.vecs = sid, tgt, vecs
+        self.n = len(sid)
+        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
 
     def __len__(self):
-        return len(self.sid)
+        return self.n + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
 
     def __getitem__(self, v):
+        if v >= self.n:
+            return self.extra[v - self.n]
         ex = self.explorer
         m = ex.m
         st = ex.state(self.sid[v])
@@ -304,11 +335,17 @@ class _PicksOfEdges:
     def __init__(self, explorer, eix):
         self.explorer = explorer
         self.eix = eix
+        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
 
     def __len__(self):
-        return len(self.eix)
+        return len(self.eix) + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
 
     def __getitem__(self, v):
+        if v >= len(self.eix):
+            return self.extra[v - len(self.eix)]
         return self.explorer.edges[self.eix[v]][2]
 
 
@@ -323,13 +360,19 @@ def _hkey(v):
 # ----------------------------------------------------------------- the structure
 def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], justice: list[tuple[str, int]],
                  compassion: list[tuple[str, int, int]], fair: list[str], step: bool = True,
-                 cache: dict | None = None) -> Kripke:
+                 cache: dict | None = None, halts: list | None = None) -> Kripke:
     """``used``: the atoms the formulas read; ``invars``: atoms that every node must satisfy;
     ``justice``: (text, atom); ``compassion``: (text, atom p, atom q); ``fair``: --fair
     domains.  ``step=False`` asks for the state graph itself when it is enough (no
     monitored atom, no agent fairness): LTL needs only the paths, which are the same in
     both; CTL needs ``step=True``, since a NuSMV state holds the choices of its step, so
-    that ``ef(p)`` in an initial state must hold for *every* first step."""
+    that ``ef(p)`` in an initial state must hold for *every* first step.
+
+    ``halts``: the steps that fail, [(state id, choices, monitored values it read, index)];
+    each is a transition from its state to a *halt node* that carries the same state (and,
+    in step mode, the monitored values the failing step read) and loops on itself: the run
+    stops at the error and stays in its last well-defined state for ever (the Kripke
+    structure keeps every path infinite).  Halts with the same node contents are one node."""
     m = explorer.m
     K = Kripke()
     all_atoms = sorted(set(used) | set(invars) | {a for _, a in justice} |
@@ -378,6 +421,8 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         K.init = [s for s in init_sids if ok_state[s]]
         for i, lab in slab.items():
             K.label[i] = lab
+        if halts:
+            _state_halts(K, halts, ok_state, S)
     else:
         # ---- step mode: one node per (transition, values of the monitored atoms)
         K.mode = "step"
@@ -447,11 +492,35 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 picks_l.append(picks)
                 vecs.append(vec)
                 by_sid[src].append(v)
+        # the halt nodes: (state, values of the monitored atoms in the failing step), each its
+        # own successor class (it loops on itself)
+        halt_cls: list[int] = []
+        for src, picks, mon, ix in (halts or ()):
+            if not ok_state[src]:
+                continue
+            vs = joint_values(m, mon_items, explorer.state(src), mon) if mon_items else [()]
+            for vec in vs:
+                if any(not vec[k] for k in mon_inv):
+                    continue
+                key = (src, None, vec)
+                if key in key_ix:
+                    continue
+                v = key_ix[key] = len(sid)
+                sid.append(src)
+                tgt.append(-1)
+                picks_l.append(picks)
+                vecs.append(vec)
+                by_sid[src].append(v)
+                K.halt[v] = (src, picks, ix)
+                halt_cls.append(v)
         K.n = n = len(sid)
         K.sid, K.tgt, K.picks, K.vec = sid, tgt, picks_l, vecs
-        # successor classes: one per explored state (the nodes leaving it)
-        K.cls = tgt
-        K.cls_succ = by_sid
+        # successor classes: one per explored state (the nodes leaving it), one per halt node
+        K.cls = list(tgt)
+        K.cls_succ = list(by_sid)
+        for v in halt_cls:
+            K.cls[v] = len(K.cls_succ)
+            K.cls_succ.append([v])
         K.init = [v for s in init_sids for v in by_sid[s]]
         for i, lab in slab.items():
             K.label[i] = bytearray(lab[s] for s in sid)
@@ -467,7 +536,8 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
             lab = bytearray(K.n)
             for v in range(K.n):
                 s = K.sid[v]
-                if ai not in enabled[s] or ai in moves[s].get(K.tgt[v], ()):
+                # a halted run makes no move: no agent is enabled in it
+                if v in K.halt or ai not in enabled[s] or ai in moves[s].get(K.tgt[v], ()):
                     lab[v] = 1
             K.justice.append((f"weak fairness of {text}", lab))
     return K
