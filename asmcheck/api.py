@@ -33,7 +33,8 @@ from .props.files import properties_for, strip_comments
 from .props import spec_properties
 from .props.load import load_machine
 from .report import gate as _gate
-from .report.trace import build_trace, failing_json, temporal_json, temporal_text, trace_json, trace_text
+from .report.trace import build_trace, explore_violation_lines, failing_json, temporal_json, temporal_text, \
+    trace_json, trace_text
 
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
 
@@ -802,6 +803,12 @@ class Exploration:
     def traces(self):
         """[(engine violation, explore.trace.Trace)] of the state and step violations."""
         return [(v.raw, v.trace.raw) for v in self.violations if not hasattr(v.raw, "holds")]
+
+    def violation_text(self, color: bool = False) -> list[list[str]]:
+        """The text of each state and step violation (an invariant, a step property, a deadlock,
+        a step that fails): what is violated, its formula, and its shortest trace."""
+        return [explore_violation_lines(self.model.machine, v.raw, v.trace.raw, color)
+                for v in self.violations if not hasattr(v.raw, "holds")]
 
     def temporal_text(self, color: bool = False) -> list[list[str]]:
         """The text of each violated temporal property (with its replayed counterexample)."""

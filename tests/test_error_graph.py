@@ -24,6 +24,7 @@ from asmcheck.temporal import check_temporal
 from conftest import ASMETA, need_asmeta
 from helpers import write
 
+# the Python engine's search (a test that compares the native engine names --engine native)
 pytestmark = pytest.mark.engines("python")
 
 # n counts to 3; with go true in n = 1 the rule also sets n := 0: an inconsistent update that
@@ -119,14 +120,16 @@ LTL_TEXT = """HaltLtl.asm: 4 states, 4 transitions, depth 3, X s, python engine
   ltl_1                                    violated, relative to the run-time error at HaltLtl.asm:16:25
   ltl_2                                    holds, relative to the run-time error at HaltLtl.asm:16:25
 
-a step fails (HaltLtl.asm:16:25): inconsistent update of n: 2 and 0 -- shortest counterexample, 1 step, then step 2 fails:
+a step fails (HaltLtl.asm:16:25): inconsistent update of n: 2 and 0 -- shortest counterexample, 1 step, then step 2 \
+fails:
   state 0 (initial)
       n = 0
   step 1: r_main; reads go = false
       n = 1
   step 2: r_main; reads go = true  <- fails (the step cannot be made)
 
-ltl_1 (HaltLtl.asm:11:2) is violated, relative to the run-time error at HaltLtl.asm:16:25 -- counterexample, 1 step:
+ltl_1 (HaltLtl.asm:11:2) is violated, relative to the run-time error at HaltLtl.asm:16:25 -- counterexample, 1 step, \
+then step 2 fails:
   formula: f(n = 3)
   state 0 (initial)
       n = 0
@@ -305,21 +308,3 @@ def test_agreement_with_nusmv_on_the_specs_whose_steps_fail(mode):
     # 11 verdicts in 3 specs: 10 agree in both designs, each with one known difference
     assert (len(rows), len(rows) - len(differ)) == (11, 10)
     assert differ == set(DIFFERS[mode])
-
-
-def test_a_halt_holds_the_monitored_values_of_the_failing_step(tmp_path):
-    # g(not (go and n = 1)) reads the monitored go: nodes are steps, and the halt after the
-    # failing step from n = 1 holds go = true, which breaks it; without the failing branch
-    # (drop) no node has go true in n = 1
-    text = HALT.replace("\tLTLSPEC f(n = 3)\n", "\tLTLSPEC g(not (go and n = 1))\n")
-    m, ex, _ = explore(tmp_path, text)
-    props = [p for p in m.spec.properties if p.kind == "ltl"]
-    (halt, _), (drop, _) = (check_temporal(ex, props, on_error=mode) for mode in ("halt", "drop"))
-    assert (halt.name, halt.holds, drop.holds) == ("ltl_1", False, True)
-    assert halt.K.mode == "step" and len(halt.K.halt) == 1
-    tr, loop, inputs_step = halt.trace()
-    n = next(f for f in m.spec.functions if f.name == "n").index
-    assert ([s.changed for s in tr.steps], [c.value for c in tr.steps[1].choices], loop, inputs_step) == (
-        [{n: 0}, {n: 1}], [False], None, False)
-    assert ([(c.label, c.value) for c in tr.failing], tr.message) == (
-        [("go", True)], "inconsistent update of n: 2 and 0")

@@ -184,7 +184,9 @@ def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
     from asmcheck.explore.native_build import compiler
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
-    text = spec("\tcontrolled s: Real", "\tmain rule r_main = s := s + 1.5", "\tfunction s = 0.0")
+    # a Real location holding -0.0 (equal to 0.0 in the Python engine's states, not in the native ones)
+    text = spec("\tcontrolled s: Real\n\tcontrolled z: Real", "\tmain rule r_main = par s := s + 1.5 z := -s endpar",
+                "\tfunction s = 0.0")
     path = write(tmp_path, text)
     assert main(["explore", path, "--engine", "native", "--max-states", "3"]) == 2
     assert "the native explorer cannot run S.asm" in capsys.readouterr().err

@@ -226,6 +226,6 @@ def test_html_marks_the_violation(reports):
     text = (out / "r" / "check.html").read_text()
     sec = text[text.index("<h2>stp_no_reentry"):]
     sec = sec[:sec.index("</section>")]
-    assert "(breaks the property)" in sec and 'stroke="#cf222e"' in sec
+    assert "r_main chooses $p = PA; reads want(PA) = true  &lt;- breaks the property" in sec and 'stroke="#cf222e"' in sec
     sec = text[text.index("<h2>inv_below_3"):]
     assert "state 3 violates the property" in sec[:sec.index("</section>")]

@@ -59,11 +59,9 @@ def run(args) -> int:
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
     verdict_rows([(row["property"], api.verdict_text(row)) for row in run_.rows])
-    for v in violations:
-        if hasattr(v.raw, "holds"):
-            continue
+    for lines in run_.violation_text(color):
         out()
-        for line in v.text(color).splitlines():
+        for line in lines:
             out(line)
     for lines in run_.temporal_text(color):
         out()

@@ -31,6 +31,8 @@ others' tables.
 from __future__ import annotations
 
 import ctypes
+import math
+import struct
 import time
 from array import array
 from importlib import resources
@@ -40,7 +42,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, EnumValue, SeqV, SetV
+from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, SeqV, SetV
 from . import native_build
 from .native_build import Unsupported
 
@@ -48,6 +50,8 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
+K_MAPV = 11
 
 
 def _ceil_log2(n: int) -> int:
@@ -55,6 +59,34 @@ def _ceil_log2(n: int) -> int:
     while (1 << b) < n:
         b += 1
     return max(b, 1)
+
+
+K_ANY = 16                         # a value in a location of type Any: (kind, code), interned
+R_NAN = 0x7FF8000000000000
+R_NEGZ = 0x7FF8000000000001
+
+
+def real_code(x: float) -> int:
+    """The int64 code of a Real (a Java double): its bit pattern, one code for every NaN and
+    one for -0.0 (whose pattern is the undef sentinel)."""
+    if x != x:
+        return R_NAN
+    if x == 0 and math.copysign(1.0, x) < 0:
+        return R_NEGZ
+    b = struct.unpack("<q", struct.pack("<d", x))[0]
+    return b
+
+
+def real_value(b: int) -> float:
+    if b == R_NEGZ:
+        return -0.0
+    return struct.unpack("<d", struct.pack("<q", b))[0]
+
+
+def storable_real(x) -> bool:
+    """A Real the native states may hold: the Python engine's states compare floats with ``==``
+    (-0.0 equals 0.0, a NaN only itself), the native ones by code."""
+    return type(x) is float and x == x and not (x == 0 and math.copysign(1.0, x) < 0)
 
 
 class Codec:
@@ -73,6 +105,8 @@ class Codec:
         self.comp_ids: dict = {}
         self.frozen = False
         self.dll = None
+        self.any_tags: list = []         # the kinds of value held in locations of type Any: (key, decoding type)
+        self.any_tag_ids: dict = {}
 
     def to_c(self, v) -> int | None:
         """The int64 for a value (None for undef)."""
@@ -85,6 +119,8 @@ class Codec:
             if not (-(1 << 63) < v < (1 << 63)):
                 raise Unsupported("an integer beyond 64 bits")
             return v
+        if t is float:
+            return real_code(v)
         if t is EnumValue:
             # distinct enum domains get distinct codes (a union or Any mixes them)
             base = self.enum_base.get(v.domain)
@@ -100,6 +136,8 @@ class Codec:
             if t is str:
                 codes = tuple(ord(ch) for ch in v)
             else:
+                if any(type(e) is float and not storable_real(e) for e in v):
+                    raise Unsupported("-0.0 or NaN inside a composite value")
                 codes = tuple(UNDEF_V if x is None else x for x in (self.to_c(e) for e in v))
                 if t is SetV:
                     codes = tuple(sorted(set(codes)))
@@ -107,23 +145,58 @@ class Codec:
             i = self.comp_ids.get(key)
             if i is None:
                 if self.frozen:
-                    raise Unsupported("a composite value met after the code was generated")
+                    return self.found(key)
                 i = self.comp_ids[key] = len(self.comp)
                 self.comp.append(key)
             return i
+        if t is BagV or t is MapV:
+            return self.bag_map_code(v)
         raise Unsupported(f"a value of kind {t.__name__}")
+
+    def bag_map_code(self, v) -> int:
+        """A bag (its element codes sorted, repetitions kept) or a map value (its (key, value)
+        code pairs sorted by key code, an undef value kept) as an entry of the value table."""
+        def code(e):
+            x = self.to_c(e)
+            return UNDEF_V if x is None else x
+        if type(v) is BagV:
+            key = (K_BAG, tuple(sorted(code(e) for e in v)))
+        else:
+            pairs = sorted((code(k), code(x)) for k, x in v)
+            key = (K_MAPV, tuple(x for pr in pairs for x in pr))
+        intern = getattr(self, "intern", None)
+        if intern is not None:        # the one interning of the codec, where it has one
+            return intern(key)
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a composite value met after the code was generated")
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
         if x == UNDEF_V:
             return None
         r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "any":
+            kind, (tag, code) = self.fetch(x)
+            return self.from_c(code, self.any_tags[tag][1])
         if r is T.BOOLEAN:
             return bool(x)
         if r in (T.INTEGER, T.NATURAL):
             return x
+        if r is T.REAL:
+            return real_value(x)
         if r is T.STRING:
             return "".join(chr(e) for e in self.fetch(x)[1])
+        if isinstance(r, T.Struct) and r.kind in ("Bag", "Map"):
+            kind, elems = self.fetch(x)
+            if r.kind == "Bag":
+                return BagV.of(self.from_c(e, r.args[0]) for e in elems)
+            return MapV.of((self.from_c(elems[i], r.args[0]), self.from_c(elems[i + 1], r.args[1]))
+                           for i in range(0, len(elems), 2))
         if isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset"):
             key = self.fetch(x)
             kind, elems = key
@@ -140,6 +213,66 @@ class Codec:
                     return e
         raise Unsupported(f"a value of type {typ} that the native search cannot decode")
 
+    # -------------------------------------------------------------- values of type Any
+    def any_tag_key(self, typ):
+        """The kind of value of static type ``typ`` in a location of type Any (None: not held)."""
+        r = T.root(typ)
+        if r is T.BOOLEAN:
+            return ("bool",), T.BOOLEAN
+        if r in (T.INTEGER, T.NATURAL):
+            return ("int",), T.INTEGER
+        if r is T.REAL:
+            return ("real",), T.REAL
+        if r is T.STRING:
+            return ("str",), T.STRING
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            return ("enum", r.name), r
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            return ("abs",), r
+        return None
+
+    def any_tag(self, key, typ) -> int:
+        i = self.any_tag_ids.get(key)
+        if i is None:
+            if self.frozen:
+                raise Unsupported("a kind of value in a location of type Any met after the code was generated")
+            # True, 1 and 1.0 are one key of the Python engine's states: one numeric kind at most
+            nums = {("bool",), ("int",), ("real",)}
+            if key in nums and any(k in nums for k, _ in self.any_tags):
+                raise Unsupported("Booleans, Integers or Reals mixed in locations of type Any")
+            i = self.any_tag_ids[key] = len(self.any_tags)
+            self.any_tags.append((key, typ))
+        return i
+
+    def any_code(self, v) -> int | None:
+        """The code of a Python value in a location of type Any: an interned (kind, code) pair."""
+        if v is None:
+            return None
+        t = type(v)
+        if t is bool:
+            key, typ = ("bool",), T.BOOLEAN
+        elif t is int:
+            key, typ = ("int",), T.INTEGER
+        elif t is float:
+            if not storable_real(v):
+                raise Unsupported("-0.0 or NaN in a location of type Any")
+            key, typ = ("real",), T.REAL
+        elif t is str:
+            key, typ = ("str",), T.STRING
+        elif t is EnumValue:
+            dom = next((d for d in self.m.spec.domains if isinstance(d, T.Domain) and d.kind == "enum"
+                        and d.name == v.domain), None)
+            if dom is None:
+                raise Unsupported(f"the enum value {v.name} in a location of type Any")
+            key, typ = ("enum", v.domain), dom
+        elif t is AbstractValue:
+            key, typ = ("abs",), T.AGENT
+        else:
+            raise Unsupported(f"a value of kind {t.__name__} in a location of type Any")
+        tag = self.any_tag(key, typ)
+        x = self.to_c(v)
+        return self.intern((K_ANY, (tag, UNDEF_V if x is None else x)))
+
     def fetch(self, i: int):
         if i < len(self.comp):
             return self.comp[i]
@@ -152,6 +285,29 @@ class Codec:
     def literal(self, v) -> str:
         x = self.to_c(v)
         return UNDEF_C if x is None else f"((V){x}LL)"
+
+    def intern(self, key) -> int:
+        """The number of the composite value ``key`` (kind, element codes): a new entry while the
+        code is generated, afterwards one the search made (see ``found``)."""
+        i = self.comp_ids.get(key)
+        if i is None:
+            if self.frozen:
+                return self.found(key)
+            i = self.comp_ids[key] = len(self.comp)
+            self.comp.append(key)
+        return i
+
+    def found(self, key) -> int:
+        """The number of a composite value the search made (a state asked for by value may hold
+        one); a value in no entry occurs in no state."""
+        if self.dll is not None:
+            kind, codes = key
+            buf = (ctypes.c_int64 * max(len(codes), 1))(*codes)
+            i = self.dll.asm_value_find(kind, buf, len(codes))
+            if i >= 0:
+                self.comp_ids[key] = i
+                return i
+        raise Unsupported("a composite value met after the code was generated")
 
 
 class Generator:
@@ -179,6 +335,12 @@ class Generator:
         self.step_props: list = []
         self.invars: list = []
         self.rules_done: dict = {}
+        self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
+        self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
+        self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
+        self._used = None
+        self._loose = None
+        self._any_read = False           # the term being translated may be a location of type Any
         self.uid = 0
 
     # -------------------------------------------------------------- helpers
@@ -201,13 +363,18 @@ class Generator:
     def codomain_values(self, f):
         """The values a controlled function's locations hold, or None for an integer codomain
         (a wide slot: the value itself, 64 bits, is stored)."""
-        if self.composite(f.codomain):
-            return None
+        if self.composite(f.codomain) or T.root(f.codomain) is T.REAL:
+            return None      # a Real location holds its code (an initial value may lie outside a subset)
+        if self.any_typed(f.codomain):
+            try:
+                return self.values_of(f.codomain)   # a subset of Any given by its elements
+            except Unsupported:
+                return None      # a tagged value (see any_term)
         try:
             return self.values_of(f.codomain)
         except Unsupported:
             r = T.root(f.codomain)
-            if r in (T.INTEGER, T.NATURAL) or self.composite(f.codomain):
+            if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
             raise
 
@@ -216,13 +383,15 @@ class Generator:
         r = T.root(typ)
         if r is T.STRING:
             return True
-        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset"):
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Prod", "Powerset", "Bag", "Map"):
             return False
         for a in r.args:
             ra = T.root(a)
             if isinstance(ra, T.Struct) or ra is T.STRING:
                 if not self.composite(a):
                     return False
+            elif ra is T.REAL and r.kind == "Prod":
+                continue     # a Real in a tuple (stored only when neither -0.0 nor NaN)
             elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
                 return False
         return True
@@ -232,7 +401,8 @@ class Generator:
         arguments and values must be scalars (integers, enums, named elements, Booleans)."""
         def scalar(t):
             r = T.root(t)
-            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract"))
+            return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind in ("enum", "abstract")) \
+                or self.composite(t)     # a set, sequence, ... is the number of its entry in the value table
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
@@ -267,10 +437,19 @@ class Generator:
                 continue
             if f.index in self.m.lazy:
                 raise Unsupported(f"the lazily initialised function {f.name}")
+            if T.root(f.codomain) is T.UNDEF and self.unused(f):
+                self.unlaid[f.index] = f"the function {f.name} of codomain Undef"
+                continue
             try:
+                if f.index in self.agent_loose_functions() and self.map_function(f):
+                    raise Unsupported(f"{f.name} updated at agents outside its domain")
                 arg_values = [self.values_of(d) for d in f.domain]
-            except Unsupported:
+            except Unsupported as e:
                 if not self.map_function(f):
+                    if self.unused(f):
+                        # never read nor updated: its locations stay undef, no slot is needed
+                        self.unlaid[f.index] = e.args[0] if e.args else str(e)
+                        continue
                     raise
                 # a function over an infinite domain: its defined locations are one map value
                 s_ = len(self.slots)
@@ -294,6 +473,8 @@ class Generator:
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
+        self.constant_slots()
+        self.initial_values_outside()
         for st in self.init_states:
             for k in st:
                 if k not in self.slot_of and not (type(k) is tuple and k[0] in self.map_slot):
@@ -313,6 +494,171 @@ class Generator:
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
 
+    def runtime_site(self, why: str) -> int:
+        self.site_reasons.append(why)
+        return 1000 + len(self.site_reasons) - 1
+
+    def agent_loose_functions(self) -> set:
+        """Functions updated at ``self`` by the program of agents outside the function's domain
+        (a rule shared by several kinds of agent): the Python engine keeps such a location even
+        outside the declared domain, so these functions are held as maps, which take any argument."""
+        if self._loose is not None:
+            return self._loose
+        loose: set = set()
+        selff = self.spec.self_func
+
+        def within(t, d) -> bool:
+            k = 0
+            while isinstance(t, T.Domain) and k < 50:
+                if t is d:
+                    return True
+                t = t.base if t.kind == "subset" else None
+                k += 1
+            return t is d
+
+        for dom, ag in self.m.agent_programs.items():
+            rules, todo = [], [ag.rule]
+            while todo:
+                rd = todo.pop()
+                if any(rd is x for x in rules):
+                    continue
+                rules.append(rd)
+                todo.extend(ir.called_rules(rd.body))
+            seen: set = set()
+
+            def walk(x):
+                if id(x) in seen:
+                    return
+                seen.add(id(x))
+                if isinstance(x, ir.Update) and x.func.domain:
+                    for a, d in zip(x.args, x.func.domain):
+                        if isinstance(a, ir.Loc) and a.func is selff and not within(dom, d):
+                            loose.add(x.func.index)
+                if isinstance(x, (ir.Term, ir.Rule)):
+                    for v in vars(x).values():
+                        walk(v)
+                elif isinstance(x, (list, tuple)):
+                    for v in x:
+                        walk(v)
+            for rd in rules:
+                walk(rd.body)
+        self._loose = loose
+        return loose
+
+    @staticmethod
+    def any_typed(typ) -> bool:
+        r = T.root(typ) if typ is not None else None
+        return isinstance(r, T.Domain) and r.kind == "any"
+
+    def any_slot(self, f) -> bool:
+        """Are the locations of ``f`` of type Any holding tagged values (not a finite subset)?"""
+        return self.any_typed(f.codomain) and f.index in self.fn_base and self.fn_base[f.index][2] is None
+
+    def any_term(self, t, env) -> str:
+        """A term's value as held in a location of type Any (a tagged, interned pair)."""
+        if isinstance(t, ir.Const) and t.value is None:
+            return UNDEF_C
+        if self.any_typed(t.type):
+            if not (isinstance(t, ir.Loc) and self.any_slot(t.func)):
+                raise Unsupported(f"a term of type {t.type}")
+            self._any_read = True
+            return self.term(t, env)
+        tk = self.codec.any_tag_key(t.type)
+        if tk is None:
+            raise Unsupported(f"a value of type {t.type} in a location of type Any")
+        tag = self.codec.any_tag(*tk)
+        x = self.fresh("a")
+        val = self.term(t, env)
+        if tk[0] == ("real",):
+            val = f"r_chk(c, {val})"
+        return (f"({{ V {x}[2] = {{{tag}, {val}}}; {x}[1] == UNDEF ? UNDEF : v_intern(c, {K_ANY}, {x}, 2); }})")
+
+    def unused(self, f) -> bool:
+        """Is ``f`` never mentioned and never given an initial value (all its locations undef)?"""
+        if f.index in self.used_functions():
+            return False
+        return not any(k == f.index or (type(k) is tuple and k[0] == f.index) for st in self.init_states for k in st)
+
+    def used_functions(self) -> set:
+        """The indexes of the functions the rules, the derived functions, the properties and the
+        INVAR constraints mention (read or update)."""
+        if self._used is not None:
+            return self._used
+        used: set = set()
+        seen: set = set()
+
+        def walk(x):
+            if id(x) in seen:
+                return
+            seen.add(id(x))
+            if isinstance(x, ir.Function):
+                if x.index not in used:
+                    used.add(x.index)
+                    if x.body is not None:
+                        walk(x.body)
+                return
+            if isinstance(x, (ir.Term, ir.Rule)):
+                for v in vars(x).values():
+                    walk(v)
+            elif isinstance(x, (list, tuple)):
+                for v in x:
+                    walk(v)
+        for r in self.spec.rules:
+            walk(r.body)
+        for p in self.spec.properties:
+            walk(p.body)
+        for p in list(self.props) + list(self.step_props):
+            walk(p.prop.body)
+        for f in self.spec.functions:
+            if f.kind in ("static", "derived") and f.body is not None:
+                walk(f.body)
+        if self.spec.default_init is not None:
+            for _func, _params, body, _span in self.spec.default_init.functions:
+                walk(body)
+        self._used = used
+        return used
+
+    def initial_values_outside(self) -> None:
+        """An initial value outside its location's codomain (the Python engine does not check
+        initial values): the slot's codes go on after the undef code (the codomain's values,
+        undef, then such values), so the encoder of updates still sees only the codomain."""
+        self.slot_undef = [None] * len(self.slots)
+        for s, key in enumerate(self.slots):
+            vals = self.slot_values[s]
+            if vals is None or isinstance(self.slot_types[s], tuple):
+                continue
+            extra: list = []
+            for st in self.init_states:
+                v = st.get(key)
+                if v is not None and not any(same_value(x, v) and type(x) is type(v) for x in vals + extra):
+                    self.codec.to_c(v)
+                    extra.append(v)
+            if extra:
+                self.slot_undef[s] = len(vals)
+                self.slot_values[s] = list(vals) + [None] + extra
+
+    def constant_slots(self) -> None:
+        """Locations of monitored functions given a value by the initial state: the Python engine
+        keeps that value in every state (a step reads monitored values from its inputs, never from
+        the state), so each is a slot no update touches, with the values the initial states give."""
+        for st in self.init_states:
+            for k in st:
+                if k in self.slot_of or (type(k) is tuple and k[0] in self.map_slot):
+                    continue
+                f = self.spec.functions[k if type(k) is int else k[0]]
+                if f.kind != "monitored":
+                    continue
+                vals: list = []
+                for st2 in self.init_states:
+                    v = st2.get(k)
+                    if v is not None and not any(same_value(v, x) and type(v) is type(x) for x in vals):
+                        self.codec.to_c(v)
+                        vals.append(v)
+                self.slot_of[k] = len(self.slots)
+                self.slots.append(k)
+                self.slot_values.append(vals)
+                self.slot_types.append(f.codomain)
+
     # -------------------------------------------------------------- terms
     def term(self, t: ir.Term, env: dict) -> str:
         meth = getattr(self, "t_" + type(t).__name__, None)
@@ -326,7 +672,11 @@ class Generator:
     def t_VarRef(self, t, env):
         name = env.get(t.var.uid)
         if name is None:
-            raise Unsupported("a variable bound outside the translated code")
+            # AsmetaL keeps a variable known for the rest of its declaration once bound anywhere in
+            # it; where no enclosing binder binds it, reading it is the Python engine's run-time
+            # error ("variable ... is not bound here": a called rule or derived function sees only
+            # its parameters, as here)
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
         return name
 
     def t_Loc(self, t, env):
@@ -337,6 +687,9 @@ class Generator:
                 isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract":
             from ..semantics.values import abstract_value
             return self.codec.literal(abstract_value(f.codomain.name, f.name))
+        if self.any_slot(f) and not self._any_read:
+            raise Unsupported(f"the value of {f.name} (of type {f.codomain}) outside an update or a comparison")
+        self._any_read = False
         args = [self.term(a, env) for a in t.args]
         if f.kind in ("static", "derived") and f.body is not None:
             name = self.defined(f)
@@ -398,8 +751,10 @@ class Generator:
         body.append(f"static V {name}(Ctx *c{sig}) {{")
         body.append(f"    int s = mi{f.index}(c{''.join(', ' + p for p in params)});")
         body.append("    if (s < 0) return UNDEF;")
-        body.append("    if (c->mgen[s] == c->gen) return c->mon[s];")
-        body.append("    if (c->in_prop) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }")
+        body.append("    if ((!c->in_prop || c->mfix) && c->mgen[s] == c->gen) return c->mon[s];")
+        # in a property, a value the step did not fix is one of the property's own choices
+        body.append(f"    if (c->in_prop) {{ if (c->pgen[s] != c->pgen_cur) {{ c->pgen[s] = c->pgen_cur; "
+                    f"c->pmon[s] = {tab}[{len(cod)} > 1 ? pchoice(c, {len(cod)}) : 0]; }} return c->pmon[s]; }}")
         body.append(f"    int i = {len(cod)} > 1 ? choice(c, {len(cod)}) : 0;")
         body.append(f"    c->mgen[s] = c->gen; c->mon[s] = {tab}[i];")
         body.append("    return c->mon[s];")
@@ -410,6 +765,8 @@ class Generator:
     def encoder(self, f) -> str:
         """C function: value -> code for the locations of f (fails outside the codomain)."""
         base, arg_values, cod = self.fn_base[f.index]
+        if T.root(f.codomain) is T.REAL:
+            return self.real_encoder(f, cod)
         if cod is None:
             if "encW" not in self.defined_done:
                 self.defined_done.add("encW")
@@ -433,6 +790,34 @@ class Generator:
         lines.append(f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return 0;")
         lines.append("}")
         self.funcs.append("\n".join(lines))
+        return name
+
+    def real_encoder(self, f, cod) -> str:
+        """The encoder of a Real location (which holds the code itself): -0.0 and NaN are refused
+        (see ``storable_real``), and a value outside a subset codomain is an error."""
+        cd = f.codomain
+        if not (isinstance(cd, T.Domain) and cd.kind == "subset"):
+            return "encR"
+        try:
+            vals = self.values_of(cd)
+        except Unsupported:
+            return "encR"
+        codes = tuple(self.codec.to_c(v) for v in vals)
+        key = ("encR", codes)
+        name = self.enc_tables.get(key)
+        if name is not None:
+            return name
+        name = f"enc{len(self.enc_tables)}"
+        self.enc_tables[key] = name
+        tab = self.table(vals)
+        really = cd.definition is not None
+        self.funcs.append("\n".join([
+            f"static V {name}(Ctx *c, V v, int site) {{",
+            "    if (v == UNDEF) return v;",
+            "    if (v == R_NEGZ || v == R_NAN) { fail(c, E_UNSUPPORTED, site); return v; }",
+            f"    for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == v) return v;",
+            f"    fail(c, {'E_DOMAIN' if really else 'E_UNSUPPORTED'}, site); return v;",
+            "}"]))
         return name
 
     def defined(self, f) -> str:
@@ -462,10 +847,20 @@ class Generator:
 
     def t_Call(self, t, env):
         name = t.name
+        if name in ("eq", "neq", "isDef", "isUndef") and any(
+                isinstance(a, ir.Loc) and self.any_slot(a.func) for a in t.args):
+            args = [self.any_term(a, env) for a in t.args]
+            if name in ("isDef", "isUndef"):
+                return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+            return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if t.args and self.composite(t.args[0].type):
             return self.composite_call(t, env)
+        if name == "print":      # the number of its arguments, whatever their kinds
+            return self.scalar_library_call(t, [self.term(a, env) for a in t.args])
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
+        if any(T.root(a.type) is T.REAL for a in t.args) or name in ("div", "itor", "ntor"):
+            return self.real_call(t, env)
         for a in t.args:
             r = T.root(a.type)
             if r in (T.REAL, T.STRING, T.CHAR, T.COMPLEX) or isinstance(r, T.Struct):
@@ -508,7 +903,23 @@ class Generator:
             return f"(V)({args[0]} == UNDEF)"
         if name in ("iton", "ntoi"):
             return args[0]
+        lib = self.scalar_library_call(t, args)
+        if lib is not None:
+            return lib
         raise Unsupported(f"the library function {name}")
+
+    def scalar_library_call(self, t, args):
+        """print, toString of an integer and the clock functions (which have no value: the Python
+        engine's run-time error) on arguments that are not composite (None: none of them)."""
+        name = t.name
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){len(args)}; }})"
+        if name == "toString" and len(args) == 1 and T.root(t.args[0].type) in (T.INTEGER, T.NATURAL):
+            return f"int_to_string(c, {args[0]})"
+        if name in ("currTimeNanosecs", "currTimeMillisecs", "currTimeSecs") and not args:
+            return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
+        return None
 
     def composite_call(self, t, env):
         import re
@@ -522,6 +933,9 @@ class Generator:
             return f"{'v_eq' if name == 'eq' else 'v_neq'}({args[0]}, {args[1]})"
         if name in ("isDef", "isUndef"):
             return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        lib = self.library_call(t, args, kind)
+        if lib is not None:
+            return lib
         if kind == "String":
             raise Unsupported(f"{name} on String")
         if kind == "Powerset":
@@ -564,7 +978,185 @@ class Generator:
             return f"seq_sub(c, {args[0]}, {args[1]}, {args[2]})"
         raise Unsupported(f"{name} on {t.args[0].type}")
 
+    def orderable(self, typ) -> bool:
+        """Elements whose codes are in the order of the Python engine's values (:func:`vkey`):
+        integers, Booleans, the constants of one enum domain, and the named elements of abstract
+        domains when no domain grows and their numbers follow their names."""
+        r = T.root(typ)
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            from ..semantics.values import vkey
+            els = list(self.codec.abstract_ids)
+            return not any(isinstance(d, T.Domain) and d.dynamic for d in self.spec.domains) and \
+                sorted(els, key=vkey) == sorted(els, key=self.codec.to_c)
+        return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
+
+    def in_value_order(self, x: str, typ) -> str | None:
+        """C code: the elements of the set or bag ``x`` (of element type ``typ``) as a sequence in
+        the Python engine's order (None: not for such elements)."""
+        if self.orderable(typ):
+            return f"v_rekind(c, {x}, K_SEQ)"
+        if T.root(typ) is T.STRING:
+            return f"str_sorted(c, {x})"
+        return None
+
+    @staticmethod
+    def regex_literal(p: str):
+        """The text a regular expression matches when it is a plain literal (``\\|`` is ``|``),
+        else None."""
+        out = []
+        i = 0
+        while i < len(p):
+            ch = p[i]
+            if ch == "\\":
+                if i + 1 >= len(p) or p[i + 1].isascii() and p[i + 1].isalnum():
+                    return None
+                out.append(p[i + 1])
+                i += 2
+                continue
+            if ch in ".^$*+?{}[]|()":
+                return None
+            out.append(ch)
+            i += 1
+        return "".join(out)
+
+    def library_call(self, t, args, kind):
+        """The StandardLibrary functions on strings, bags, map values and the conversions between
+        collections (None: not one of them)."""
+        name = t.name
+        n = len(args)
+        a0 = t.args[0].type
+        if name == "print":
+            x = self.fresh("pr")
+            return "({ " + " ".join(f"V {x}_{i} = {a}; (void){x}_{i};" for i, a in enumerate(args)) + f" (V){n}; }})"
+        if kind == "String":
+            def string(i):
+                return T.root(t.args[i].type) is T.STRING
+            if name in ("size", "length") and n == 1:
+                return f"seq_len({args[0]})"
+            if name in ("toUpper", "toLower") and n == 1:
+                return f"str_case(c, {args[0]}, {int(name == 'toUpper')})"
+            if name == "contains" and n == 2 and string(1):
+                return f"str_contains({args[0]}, {args[1]})"
+            if name in ("concat", "plus") and n == 2 and string(1):
+                return f"str_concat(c, {args[0]}, {args[1]})"
+            if name == "subString" and n == 3:
+                return f"str_sub(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "toString" and n == 1:
+                return args[0]
+            if name == "split" and n == 2 and string(1):
+                sep = t.args[1]
+                lit = self.regex_literal(sep.value) if isinstance(sep, ir.Const) and type(sep.value) is str else None
+                if not lit:
+                    raise Unsupported("split on String by a regular expression other than a literal text")
+                return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
+            return None
+        if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
+                kind == "Seq" or self.in_value_order(args[0], T.root(a0).args[0])):
+            # outside the initialisation: the first element (of a set, the least)
+            if kind == "Seq" or self.orderable(T.root(a0).args[0]):
+                return f"seq_first({args[0]})"
+            return f"seq_first({self.in_value_order(args[0], T.root(a0).args[0])})"
+        if name == "sum" and n == 1 and kind in ("Seq", "Powerset", "Bag") and \
+                T.root(T.root(a0).args[0]) in (T.INTEGER, T.NATURAL):
+            return f"v_sum(c, {args[0]})"
+        if kind == "Map":
+            if name == "at" and n == 2:
+                return f"mapv_at({args[0]}, {args[1]})"
+            if name == "merge" and n == 2:
+                return f"mapv_merge(c, {args[0]}, {args[1]})"
+            if name == "assign" and n == 3:
+                return f"mapv_assign(c, {args[0]}, {args[1]}, {args[2]})"
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Bag":
+            if name in ("contains", "count") and n == 2:
+                return f"{self.SEQ2[name]}({args[0]}, {args[1]})"
+            if name == "notin" and n == 2:
+                return f"v_not(seq_contains({args[0]}, {args[1]}))"
+            if name == "including" and n == 2:
+                return f"bag_including(c, {args[0]}, {args[1]})"
+            if name == "excluding" and n == 2:
+                return f"bag_excluding(c, {args[0]}, {args[1]})"
+            if name == "union" and n == 2 and T.root(t.args[1].type) == T.root(a0):
+                return f"bag_union(c, {args[0]}, {args[1]})"
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], T.root(a0).args[0]):
+                return self.in_value_order(args[0], T.root(a0).args[0])
+            raise Unsupported(f"{name} on {a0}")
+        if kind == "Seq":
+            if name == "insertAt" and n == 3:
+                return f"seq_insert_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "replaceAt" and n == 3:
+                return f"seq_replace_at(c, {args[0]}, {args[1]}, {args[2]})"
+            if name == "asSequence" and n == 1:
+                return args[0]
+            if name == "asSet" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_SET)"
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            return None
+        if kind == "Powerset":
+            elem = T.root(a0).args[0]
+            if n == 2 and name in ("allin", "notallin", "symmetricDifference") and T.root(t.args[1].type) == T.root(a0):
+                return {"allin": f"set_allin({args[0]}, {args[1]})",
+                        "notallin": f"v_not(set_allin({args[0]}, {args[1]}))",
+                        "symmetricDifference": f"set_symdiff(c, {args[0]}, {args[1]})"}[name]
+            if name == "asSequence" and n == 1 and self.in_value_order(args[0], elem):
+                return self.in_value_order(args[0], elem)
+            if name == "asBag" and n == 1:
+                return f"v_rekind(c, {args[0]}, K_BAG)"
+            if name == "asSet" and n == 1:
+                return args[0]
+            return None
+        return None
+
+    def t_Range(self, t, env):
+        """An interval ``{a : b}``, ``[a : b, step]``, ``<a : b>`` of integers."""
+        from ..semantics.analysis import is_constant
+        parts = [t.start, t.end] + ([t.step] if t.step is not None else [])
+        if not self.composite(t.type) or any(T.root(x.type) not in (T.INTEGER, T.NATURAL) for x in parts):
+            raise Unsupported(f"an interval of type {t.type}")
+        if is_constant(t):
+            from ..semantics.machine import Ctx, Chooser
+            try:
+                v = self.m.term(t)(Ctx(self.m, {}, Chooser()))
+            except AsmError:
+                raise Unsupported("an interval the Python engine cannot build") from None
+            return self.codec.literal(v)
+        kind = {"set": "K_SET", "seq": "K_SEQ", "bag": "K_BAG"}[t.kind]
+        step = self.term(t.step, env) if t.step is not None else "(V)1"
+        return f"range_make(c, {kind}, {self.term(t.start, env)}, {self.term(t.end, env)}, {step})"
+
+    def t_MapLit(self, t, env):
+        if not self.composite(t.type):
+            raise Unsupported(f"a map of type {t.type}")
+        if self.literal_term(t):
+            from ..semantics.machine import Ctx, Chooser
+            return self.codec.literal(self.m.term(t)(Ctx(self.m, {}, Chooser())))
+        arr = self.fresh("e")
+        vals = [self.term(x, env) for pr in t.pairs for x in pr]
+        return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; mapv_make(c, {arr}, {len(t.pairs)}); }})"
+
+    def literal_term(self, t) -> bool:
+        """A term made of constants and the named elements of abstract domains only (its value is
+        computed once, while the code is generated)."""
+        if isinstance(t, ir.Const):
+            return True
+        if isinstance(t, ir.Loc):
+            f = t.func
+            return (f.kind == "static" and f.arity == 0 and f.body is None and isinstance(f.codomain, T.Domain)
+                    and isinstance(T.root(f.codomain), T.Domain) and T.root(f.codomain).kind == "abstract")
+        if isinstance(t, (ir.Collection, ir.TupleLit)):
+            return all(self.literal_term(x) for x in t.items)
+        if isinstance(t, ir.MapLit):
+            return all(self.literal_term(x) for pr in t.pairs for x in pr)
+        return False
+
     def t_Collection(self, t, env):
+        if t.kind == "bag" and self.composite(t.type):
+            arr = self.fresh("e")
+            vals = [self.term(x, env) for x in t.items]
+            return f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; bag_make(c, {arr}, {len(vals)}); }})"
         if t.kind not in ("seq", "set") or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} literal")
         if t.kind == "set":
@@ -581,6 +1173,7 @@ class Generator:
     def build(self, kind, items, env):
         arr = self.fresh("e")
         vals = [self.term(x, env) for x in items]
+        vals = [f"r_chk(c, {v})" if x.type is not None and T.root(x.type) is T.REAL else v for v, x in zip(vals, items)]
         return (f"({{ V {arr}[{max(len(vals), 1)}] = {{{', '.join(vals) or '0'}}}; "
                 f"v_intern(c, {kind}, {arr}, {len(vals)}); }})")
 
@@ -614,6 +1207,47 @@ class Generator:
             env[v.uid] = name
         return "({ " + " ".join(decls) + f" {self.term(t.body, env)}; }})"
 
+    REAL2 = {"plus": "r_add", "minus": "r_sub", "mult": "r_mul", "div": "r_div", "lt": "r_lt", "le": "r_le",
+             "gt": "r_gt", "ge": "r_ge", "min": "r_min", "max": "r_max", "pwr": "r_pow"}
+    REAL1 = {"minus": "r_neg", "abs": "r_abs", "sqrt": "r_sqrt", "floor": "r_floor"}
+
+    def real_call(self, t, env):
+        """A StandardLibrary function over Reals (Java doubles, as :mod:`..semantics.reals`)."""
+        name = t.name
+        roots = [T.root(a.type) for a in t.args]
+        ints = (T.INTEGER, T.NATURAL)
+        desc = ", ".join(str(a.type) for a in t.args)
+        args = [self.term(a, env) for a in t.args]
+        if name in ("eq", "neq") and len(args) == 2:
+            if all(r in (T.REAL, T.UNDEF) for r in roots):
+                e = f"v_eq({args[0]}, {args[1]})"
+            elif roots[0] is T.REAL and roots[1] in ints:
+                e = f"r_eq_ri({args[0]}, {args[1]})"
+            elif roots[1] is T.REAL and roots[0] in ints:
+                e = f"r_eq_ir({args[0]}, {args[1]})"
+            else:
+                raise Unsupported(f"{name} on {desc}")
+            return e if name == "eq" else f"(V)!{e}"
+        if name in ("isDef", "isUndef") and len(args) == 1:
+            return f"(V)({args[0]} {'!=' if name == 'isDef' else '=='} UNDEF)"
+        if name in ("itor", "ntor") and len(args) == 1 and roots[0] in ints:
+            return f"r_itor({args[0]})"
+        if name == "div" and len(args) == 2 and all(r in ints for r in roots):
+            return f"r_div(r_itor({args[0]}), r_itor({args[1]}))"
+        if not all(r is T.REAL for r in roots):
+            raise Unsupported(f"{name} on {desc}")
+        if len(args) == 2 and name in self.REAL2:
+            return f"{self.REAL2[name]}({args[0]}, {args[1]})"
+        if len(args) == 1 and name in self.REAL1:
+            return f"{self.REAL1[name]}({args[0]})"
+        if len(args) == 1 and name == "plus":
+            return args[0]
+        if len(args) == 1 and name in ("rtoi", "rton"):
+            return f"r_rtoi(c, {args[0]})"
+        if len(args) == 1 and name == "round":
+            return f"r_round(c, {args[0]})"
+        raise Unsupported(f"{name} on {desc}")
+
     def t_StepOp(self, t, env):
         if not self.step_mode:
             raise Unsupported(f"{t.op}(...) outside a step property")
@@ -623,6 +1257,8 @@ class Generator:
                     f"c->rd = {sv}; {r}; }})")
         loc = t.args[-1]
         f = loc.func
+        if f.index in self.map_slot and t.op in ("updated", "updatedBy", "changed"):
+            return self.map_step_op(t, env)
         if f.index not in self.fn_base or f.index in self.map_slot:
             raise Unsupported(f"{t.op} of {f.name}")
         self.reader(f)
@@ -638,6 +1274,23 @@ class Generator:
         if t.op == "changed":
             return f"({{ {head} (V)({sl} >= 0 && c->cur[{sl}] != c->post[{sl}]); }})"
         raise Unsupported(f"the step operator {t.op}")
+
+    def map_step_op(self, t, env) -> str:
+        """updated / updatedBy / changed of a location of a function held as a map: the step's
+        update of it is the one of its virtual slot, if the step made one."""
+        loc = t.args[-1]
+        f = loc.func
+        m = self.map_slot[f.index]
+        key = self.map_key(f, [self.term(a, env) for a in loc.args])
+        k, vs = self.fresh("k"), self.fresh("vs")
+        if t.op == "changed":
+            return f"({{ V {k} = {key}; (V)(map_get(c->cur[{m}], {k}) != map_get(c->post[{m}], {k})); }})"
+        head = f"V {k} = {key}; int {vs} = vslot_find(c, {m}, {k});"
+        if t.op == "updated":
+            return f"({{ {head} (V)({vs} >= 0 && c->wgen[{vs}] == c->gen); }})"
+        ag = self.term(t.args[0], env)
+        return (f"({{ {head} V a_{vs} = {ag}; (V)({vs} >= 0 && c->wgen[{vs}] == c->gen && "
+                f"c->uagent[c->wpos[{vs}]] == a_{vs}); }})")
 
     def range_values(self, r: ir.Term) -> list:
         if isinstance(r, ir.DomainTerm):
@@ -662,7 +1315,13 @@ class Generator:
         the state is walked in the order of its codes (the result must not depend on the order)."""
         try:
             vals = self.range_values(rg)
-        except Unsupported:
+        except Unsupported as e:
+            why = e.args[0] if e.args else ""
+            if why.startswith("the infinite domain") and isinstance(rg, ir.DomainTerm):
+                # the Python engine cannot range over it either: the search hands the spec over
+                # if it is reached (an unreachable one, as in a comprehension over [], is no reason)
+                site = self.runtime_site(why)
+                return f"fail(c, E_UNSUPPORTED, {site}); for (int {q} = 0; {q} < 0; {q}++) {{ V {name} = UNDEF;"
             r = T.root(rg.type) if rg.type is not None else None
             if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
                 raise
@@ -682,22 +1341,31 @@ class Generator:
         return self.codec.literal(SetV(vals))
 
     def t_Compr(self, t, env):
-        if t.kind not in ("set", "seq") or t.body2 is not None or not self.composite(t.type):
+        if t.kind not in ("set", "seq", "bag", "map") or (t.body2 is not None) != (t.kind == "map") \
+                or not self.composite(t.type):
             raise Unsupported(f"a {t.kind} comprehension")
         env = dict(env)
         heads = []
         for v, rg in t.bindings:
             q, name = self.fresh("q"), self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, t.kind == "set"))
+            # a map's later pair of a key wins: its pairs are made in the Python engine's order
+            heads.append(self.loop_head(rg, env, name, q, t.kind in ("set", "bag")))
             env[v.uid] = name
         guard = self.term(t.guard, env) if t.guard is not None else "(V)1"
         body = self.term(t.body, env)
         buf, n, g = self.fresh("cb"), self.fresh("cn"), self.fresh("g")
+        if t.kind == "map":
+            body2 = self.term(t.body2, env)
+            add = (f"if ({n} >= (1 << 13)) fail(c, E_UNSUPPORTED, 0); "
+                   f"else {{ {buf}[2 * {n}] = {body}; {buf}[2 * {n} + 1] = {body2}; {n}++; }}")
+        else:
+            add = f"if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body};"
+        make = {"set": f"set_make(c, {buf}, {n})", "seq": f"v_intern(c, K_SEQ, {buf}, {n})",
+                "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
         return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
-                f"else if ({g}) {{ if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body}; }} "
-                + "}" * len(heads) +
-                (f" set_make(c, {buf}, {n}); }})" if t.kind == "set" else f" v_intern(c, K_SEQ, {buf}, {n}); }})"))
+                f"else if ({g}) {{ {add} }} "
+                + "}" * len(heads) + f" {make}; }})")
 
     def t_Quant(self, t, env):
         env = dict(env)
@@ -739,6 +1407,13 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if self.any_slot(f):
+            args = [self.term(a, env) for a in r.args]
+            v = self.fresh("v")
+            s = self.fresh("lsl")
+            self.reader(f)
+            return (f"{{ V {v} = {self.any_term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                    f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {v}, 0); }}")
         if f.index in self.map_slot:
             args = [self.term(a, env) for a in r.args]
             v = self.fresh("v")
@@ -751,8 +1426,11 @@ class Generator:
         s = self.fresh("lsl")
         self.reader(f)
         enc = self.encoder(f)
+        # a location outside the layout (an argument outside its domain, undef) made undef leaves the
+        # state as it is in the Python engine too (unless a step property may ask whether it was updated)
+        keep = f"{v} != UNDEF" if not self.step_props else "1"
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
-                f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, 0); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def r_UpdateVar(self, r, env):
         uid = r.var.uid
@@ -958,7 +1636,12 @@ class Generator:
         steps = []
         self.step_mode = True
         for p in self.step_props:
-            steps.append(self.term(p.prop.body, {}))
+            e = self.term(p.prop.body, {})
+            if type(p).__name__ == "MonitoredInvariant":
+                # monitored values that break an INVAR are not inputs the spec considers
+                for t in reversed(self.invars):
+                    e = f"(({self.term(t, {})}) != 1 ? (V)1 : ({e}))"
+            steps.append(e)
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
         label_exprs = self.label_code()
@@ -1015,7 +1698,7 @@ class Generator:
             key = tuple(self.codec.to_c(v) for v in vals)
             if key not in dec_names:
                 dec_names[key] = f"DEC{len(dec_names)}"
-                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join(f'{x}LL' for x in key)}"
+                decs.append(f"static const V {dec_names[key]}[] = {{{', '.join('UNDEF' if x is None else f'{x}LL' for x in key)}"
                             f"{', ' if key else ''}UNDEF}};")
         layout = [
             f"static const int SLOT_WORD[{max(nslots, 1)}] = {{{', '.join(map(str, words)) or '0'}}};",
@@ -1029,14 +1712,27 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
-        inv_code += ["static V check_step_prop(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
-        inv_code += ["static V check_invar(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
+        inv_code += ["static V check_invar1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(invar_terms):
             inv_code.append(f"    case {i}: r = {e}; break;")
         inv_code += ["    }", "    c->in_prop = 0;", "    return r;", "}"]
+        # every choice of the unread monitored values for a step property; one for an INVAR, both
+        # before the step (with its monitored values) and after it (with none fixed)
+        inv_code += ["static V check_step_prop(Ctx *c, int k) { c->mfix = 1; V r = prop_all(c, check_step_prop1, k, 0); "
+                     "c->in_prop = 0; return r; }"]
+        if self.invar_pre:
+            inv_code += ["static V check_invar(Ctx *c, int k) {",
+                         "    V *sv = c->rd; c->rd = c->cur; c->mfix = 1;",
+                         "    V r = prop_all(c, check_invar1, k, 1); c->in_prop = 0; c->rd = sv;",
+                         "    if (c->err || r != 1) return r;",
+                         "    c->mfix = 0; r = prop_all(c, check_invar1, k, 1); c->in_prop = 0; return r;", "}"]
+        else:
+            inv_code += ["static V check_invar(Ctx *c, int k) { c->mfix = 0; V r = prop_all(c, check_invar1, k, 1); "
+                         "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
@@ -1102,14 +1798,7 @@ class Generator:
                 kc = self.codec.to_c(args[0] if len(args) == 1 else tuple(args))
                 pairs.append((kc, self.codec.to_c(v)))
         pairs.sort()
-        key = (5, tuple(x for pr in pairs for x in pr))
-        i = self.codec.comp_ids.get(key)
-        if i is None:
-            if self.codec.frozen:
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.codec.comp_ids[key] = len(self.codec.comp)
-            self.codec.comp.append(key)
-        return i
+        return self.codec.intern((5, tuple(x for pr in pairs for x in pr)))
 
     def pack_values(self, st: dict) -> None:
         """Give every composite value of ``st`` its number (before the code is generated)."""
@@ -1120,6 +1809,9 @@ class Generator:
                 continue
             v = st.get(key)
             if v is not None and self.slot_values[s] is None:
+                if self.any_typed(self.slot_types[s]):
+                    self.codec.any_code(v)
+                    continue
                 self.codec.to_c(v)
 
     def pack(self, st: dict) -> list[int]:
@@ -1130,12 +1822,19 @@ class Generator:
                 words[self.words[s]] = self.map_value(st, self.slot_types[s][1]) & MASK64
                 continue
             v = st.get(key)
+            if vals is None and self.any_typed(self.slot_types[s]):
+                x = self.codec.any_code(v)
+                words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
+                continue
             if vals is None:
+                if (type(v) is float or T.root(self.slot_types[s]) is T.REAL) and v is not None and \
+                        not storable_real(v):
+                    raise Unsupported("a Real location holding -0.0, NaN or a value of another type")
                 x = self.codec.to_c(v)
                 words[self.words[s]] = (UNDEF_V if x is None else x) & MASK64
                 continue
             if v is None:
-                code = len(vals)
+                code = len(vals) if self.slot_undef[s] is None else self.slot_undef[s]
             else:
                 code = next((i for i, x in enumerate(vals) if same_value(x, v)), -1)
                 if code < 0:
@@ -1172,7 +1871,7 @@ class Generator:
                 continue
             key, w, sh, mask, vals = p
             code = (words[w] >> sh) & mask
-            if code < len(vals):
+            if code < len(vals) and vals[code] is not None:
                 st[key] = vals[code]
         return st
 
@@ -1194,6 +1893,7 @@ _SYMBOLS = {
     "asm_value_len": (_i64, [_i64]),
     "asm_value_elems": (_i64, [_i64, _i64p]),
     "asm_values": (_i64, []),
+    "asm_value_find": (_i64, [_i64, _i64p, _i64]),
     "asm_free": (None, []),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
@@ -1308,14 +2008,11 @@ class NativeExplorer:
         if len(self.step_props) > 64:
             raise Unsupported("more than 64 step properties")
         self.invars = [p.body for p in machine.spec.properties if p.kind == "invar"]
-        if any(mentions_monitored(t) for t in self.invars):
-            raise Unsupported("an INVAR constraint over monitored functions")
-        if self.invars and any(type(p).__name__ == "MonitoredInvariant" for p in self.step_props):
-            raise Unsupported("an invariant over monitored functions beside INVAR constraints")
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
+        self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
@@ -1402,6 +2099,10 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4:
             code = out[4]
+            self.failed_state = out[5]     # the state whose step or property was refused
+            site = out[6] - 1000
+            if code == 4 and 0 <= site < len(g.site_reasons):
+                raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
                               "more choices in one step than the native search follows" if code == 6 else
                               f"a run-time condition the native search does not handle (code {code})")

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <stdio.h>
 #include <signal.h>
+#include <math.h>
 
 typedef int64_t V;
 #define UNDEF INT64_MIN
@@ -68,6 +69,15 @@ typedef struct {
     int err_site;
     int clash_slot;
     int64_t epoch;       /* which expanded state: candidates of a choose can be reused within it */
+    /* a property's own choices of the monitored values the step did not read (see prop_all) */
+    int mfix;            /* the step's monitored values hold in the property */
+    int32_t pprefix[MAXCH];
+    int32_t pplen, ppos;
+    int32_t pidx[MAXCH];
+    int32_t pcnt[MAXCH];
+    uint32_t pgen_cur;
+    uint32_t pgen[NMON > 0 ? NMON : 1];
+    V pmon[NMON > 0 ? NMON : 1];
 } Ctx;
 
 static int choice(Ctx *c, int n) {
@@ -82,6 +92,42 @@ static int choice(Ctx *c, int n) {
 
 static inline void fail(Ctx *c, int code, int site) {
     if (!c->err) { c->err = code; c->err_site = site; }
+}
+
+static int pchoice(Ctx *c, int n) {
+    if (c->ppos >= MAXCH) { fail(c, E_UNSUPPORTED, 0); return 0; }
+    int i = c->ppos < c->pplen ? c->pprefix[c->ppos] : 0;
+    if (i >= n) i = 0;
+    c->pidx[c->ppos] = i;
+    c->pcnt[c->ppos] = n;
+    c->ppos++;
+    return i;
+}
+
+/* A property over monitored functions holds for every choice of the monitored values it reads
+ * that the step did not fix (an invariant, a step property: exists = 0, the value is 1 or the
+ * first other value met) or for one of them (an INVAR constraint: exists = 1), as the Python
+ * engine's evaluate_all enumerates them.  A run-time error once a monitored value was chosen is
+ * left to the Python engine. */
+typedef V (*PropFn)(Ctx *, int);
+static V prop_all(Ctx *c, PropFn f, int k, int exists) {
+    c->pplen = 0;
+    for (;;) {
+        c->ppos = 0;
+        if (++c->pgen_cur == 0) { memset(c->pgen, 0, sizeof(c->pgen)); c->pgen_cur = 1; }
+        V v = f(c, k);
+        if (c->err) {
+            if (c->ppos > 0) { c->err = 0; fail(c, E_UNSUPPORTED, 0); }
+            return v;
+        }
+        if (exists ? v == 1 : v != 1) return v;
+        int j = c->ppos - 1;
+        while (j >= 0 && c->pidx[j] + 1 >= c->pcnt[j]) j--;
+        if (j < 0) return v;
+        for (int q = 0; q < j; q++) c->pprefix[q] = c->pidx[q];
+        c->pprefix[j] = c->pidx[j] + 1;
+        c->pplen = j + 1;
+    }
 }
 
 /* The update set of a step is one buffer.  Each entry carries the seq step that made it
@@ -305,6 +351,19 @@ static V v_intern(Ctx *c, int kind, const V *e, int n) {
     return nvals++;
 }
 
+/* the number of a value already in the table, or -1 (a state asked for by Python may hold a
+ * composite value the search made) */
+int64_t asm_value_find(int64_t kind, const int64_t *e, int64_t n) {
+    if (!vhash) return -1;
+    uint64_t h = vt_hash((int)kind, e, (int)n) & vmask;
+    while (vhash[h] >= 0) {
+        VEnt *x = &vtab[vhash[h]];
+        if (x->kind == kind && x->len == n && memcmp(vpool + x->off, e, n * sizeof(V)) == 0) return vhash[h];
+        h = (h + 1) & vmask;
+    }
+    return -1;
+}
+
 static void vt_free(void) {
     free(vpool); free(vtab); free(vhash);
     vpool = 0; vtab = 0; vhash = 0; npool = cap_pool = nvals = cap_vals = 0; vmask = 0; vt_oom = 0;
@@ -454,6 +513,319 @@ static int vslot(Ctx *c, int s, V k) {
     return NSLOTS + c->nvs++;
 }
 
+/* ------------------------------------------------------------------ reals
+ * A Real is a Java double.  Its code is the 64-bit pattern of the double, except that every NaN
+ * is one code (R_NAN) and -0.0 has its own code (R_NEGZ, a NaN pattern no double is given),
+ * since -0.0's pattern is the undef sentinel.  Two Reals are equal (Double.equals, as the
+ * Python engine's update and eq compare them) exactly when their codes are equal.
+ */
+#define R_NAN ((V)0x7ff8000000000000LL)
+#define R_NEGZ ((V)0x7ff8000000000001LL)
+static inline double r_d(V v) { double d; if (v == R_NEGZ) return -0.0; memcpy(&d, &v, 8); return d; }
+static inline V r_v(double d) {
+    V v;
+    if (d != d) return R_NAN;
+    if (d == 0 && __builtin_signbit(d)) return R_NEGZ;
+    memcpy(&v, &d, 8); return v;
+}
+/* a Real stored in a location or a tuple: -0.0 and NaN are refused (the Python engine's states
+ * compare them as Python floats: -0.0 equals 0.0 there, and a NaN only itself) */
+static inline V r_chk(Ctx *c, V v) { if (v == R_NEGZ || v == R_NAN) fail(c, E_UNSUPPORTED, 0); return v; }
+static inline V encR(Ctx *c, V v, int site) { return r_chk(c, v); }
+#define RL1(name, expr) static inline V name(V a) { if (a == UNDEF) return UNDEF; double x = r_d(a); return r_v(expr); }
+#define RL2(name, expr) static inline V name(V a, V b) { if (a == UNDEF || b == UNDEF) return UNDEF; double x = r_d(a), y = r_d(b); return r_v(expr); }
+#define RLB(name, expr) static inline V name(V a, V b) { if (a == UNDEF || b == UNDEF) return UNDEF; double x = r_d(a), y = r_d(b); return (V)(expr); }
+RL2(r_add, x + y)
+RL2(r_sub, x - y)
+RL2(r_mul, x * y)
+RL2(r_div, x / y)
+RL1(r_neg, -x)
+RL1(r_abs, x > 0 ? x : -x)
+RL1(r_sqrt, (x != x || x < 0) ? (double)NAN : sqrt(x))
+RLB(r_lt, x < y)
+RLB(r_le, x <= y)
+RLB(r_gt, x > y)
+RLB(r_ge, x >= y)
+/* Double.compareTo: NaN above everything, -0.0 below 0.0 */
+static inline int r_cmp(double x, double y) {
+    int nx = x != x, ny = y != y;
+    if (nx || ny) return nx - ny;
+    if (x < y) return -1;
+    if (x > y) return 1;
+    int sx = __builtin_signbit(x) ? -1 : 1, sy = __builtin_signbit(y) ? -1 : 1;
+    return (sx > sy) - (sx < sy);
+}
+RLB(r_max_b, r_cmp(x, y) > 0)
+static inline V r_max(V a, V b) { V g = r_max_b(a, b); return g == UNDEF ? UNDEF : g ? a : b; }
+static inline V r_min(V a, V b) { if (a == UNDEF || b == UNDEF) return UNDEF; return r_cmp(r_d(a), r_d(b)) < 0 ? a : b; }
+/* Math.pow as the Python engine computes it (a pole of 0 to a negative power is NaN there) */
+static double r_pow_d(double x, double y) {
+    if (y != y) return NAN;
+    if (y == 0) return 1.0;
+    if (fabs(x) == 1.0 && __builtin_isinf(y)) return NAN;
+    if (x == 0 && y < 0 && !__builtin_isinf(y)) return NAN;
+    return pow(x, y);
+}
+RL2(r_pow, r_pow_d(x, y))
+static inline V r_itor(V a) { return a == UNDEF ? UNDEF : r_v((double)a); }
+/* Java's narrowing of a double to long: NaN is 0, out of range saturates (Long.MIN_VALUE is the
+ * undef sentinel of the encoding: refused) */
+static inline V r_rtoi(Ctx *c, V a) {
+    if (a == UNDEF) return UNDEF;
+    double x = r_d(a);
+    if (x != x) return 0;
+    if (x >= 9223372036854775807.0) return INT64_MAX;
+    if (x <= -9223372036854775808.0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    return (V)x;
+}
+/* ASMETA's floor: Math.floor narrowed to a Java int */
+static inline V r_floor(V a) {
+    if (a == UNDEF) return UNDEF;
+    double x = r_d(a);
+    if (x != x) return 0;
+    double f = floor(x);
+    if (f >= 2147483647.0) return 2147483647;
+    if (f <= -2147483648.0) return -2147483648LL;
+    return (V)f;
+}
+/* Math.round: floor(x + 0.5); the Python engine keeps that floor unbounded for finite x, so a
+ * value beyond 64 bits is refused */
+static inline V r_round(Ctx *c, V a) {
+    if (a == UNDEF) return UNDEF;
+    double x = r_d(a);
+    if (x != x) return 0;
+    if (__builtin_isinf(x)) { if (x > 0) return INT64_MAX; fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    double f = floor(x + 0.5);
+    if (!(f > -9223372036854775808.0 && f < 9223372036854775808.0)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    return (V)f;
+}
+/* same_value(real, integer) and same_value(integer, real) of the Python engine: exact numeric
+ * equality; a real -0.0 equals the integer 0 only when the integer comes first */
+static inline int r_is_int(double d, V i) {
+    if (!(d >= -9223372036854775808.0 && d < 9223372036854775808.0)) return 0;
+    if (d != (double)(int64_t)d) return 0;
+    return (int64_t)d == i;
+}
+static inline V r_eq_ri(V r, V i) {
+    if (r == UNDEF || i == UNDEF) return r == i;
+    if (r == R_NEGZ) return 0;
+    return r_is_int(r_d(r), i);
+}
+static inline V r_eq_ir(V i, V r) {
+    if (r == UNDEF || i == UNDEF) return r == i;
+    return r_is_int(r_d(r), i);
+}
+
+/* the virtual slot of location k of the map in slot s, if this step made one (else -1) */
+static int vslot_find(Ctx *c, int s, V k) {
+    for (int i = 0; i < c->nvs; i++) if (c->vs_slot[i] == s && c->vs_key[i] == k) return NSLOTS + i;
+    return -1;
+}
+
 static V tuple_nth(V t, int k) { return (t == UNDEF || k >= v_len(t)) ? UNDEF : v_elems(t)[k]; }
+
+/* ------------------------------------------------------------------ library functions on
+ * sequences, strings, bags and map values.  A string is K_STRING (its characters' code points),
+ * a bag K_BAG (its element codes sorted, repetitions kept), a map value K_MAPV ((key, value)
+ * pairs sorted by key code; unlike a K_MAP slot map an undef value is kept).
+ */
+#define K_BAG 10
+#define K_MAPV 11
+static V seq_insert_at(Ctx *c, V s, V i, V x) {
+    if (s == UNDEF || i == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (i < 0 || i > n) { fail(c, E_DOMAIN, 0); return UNDEF; }
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), i * sizeof(V)); vscratch[i] = x;
+    memcpy(vscratch + i + 1, v_elems(s) + i, (n - i) * sizeof(V));
+    return v_intern(c, K_SEQ, vscratch, n + 1);
+}
+static V seq_replace_at(Ctx *c, V s, V i, V x) {
+    if (s == UNDEF || i == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (i < 0 || i >= n) { fail(c, E_DOMAIN, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[i] = x;
+    return v_intern(c, K_SEQ, vscratch, n);
+}
+/* the same elements as another kind: a sequence (in the order of the codes), a set, a bag */
+static V v_rekind(Ctx *c, V s, int kind) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    memcpy(vscratch, v_elems(s), n * sizeof(V));
+    if (kind == K_SET) return set_make(c, vscratch, n);
+    if (kind == K_BAG) qsort(vscratch, n, sizeof(V), v_cmp);
+    return v_intern(c, kind, vscratch, n);
+}
+static V bag_make(Ctx *c, V *e, int n) {
+    qsort(e, n, sizeof(V), v_cmp);
+    return v_intern(c, K_BAG, e, n);
+}
+static V bag_including(Ctx *c, V s, V x) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    if (n + 1 > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(s), n * sizeof(V)); vscratch[n] = x;
+    return bag_make(c, vscratch, n + 1);
+}
+static V bag_excluding(Ctx *c, V s, V x) {     /* one occurrence removed */
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), k = 0, done = 0;
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) { if (!done && e[i] == x) { done = 1; continue; } vscratch[k++] = e[i]; }
+    return v_intern(c, K_BAG, vscratch, k);
+}
+static V bag_union(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
+    return bag_make(c, vscratch, n + m);
+}
+/* a map value from n (key, value) pairs in the order written: a later pair of the same key wins */
+static V mapv_make(Ctx *c, const V *p, int n) {
+    int w = 0;
+    if (2 * n > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    for (int i = 0; i < n; i++) {
+        V k = p[2 * i], v = p[2 * i + 1];
+        int j = 0;
+        while (j < w && vscratch[2 * j] < k) j++;
+        if (j < w && vscratch[2 * j] == k) { vscratch[2 * j + 1] = v; continue; }
+        memmove(vscratch + 2 * j + 2, vscratch + 2 * j, (size_t)(w - j) * 2 * sizeof(V));
+        vscratch[2 * j] = k; vscratch[2 * j + 1] = v; w++;
+    }
+    return v_intern(c, K_MAPV, vscratch, 2 * w);
+}
+static V mapv_at(V m, V k) {
+    if (m == UNDEF || k == UNDEF) return UNDEF;
+    return map_get(m, k);
+}
+/* merge(a, b): b's pairs win; assign(m, k, v): m with k -> v */
+static V mapv_merge(Ctx *c, V a, V b) {
+    static V buf[1 << 16];
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(buf, v_elems(a), n * sizeof(V)); memcpy(buf + n, v_elems(b), m * sizeof(V));
+    return mapv_make(c, buf, (n + m) / 2);
+}
+static V mapv_assign(Ctx *c, V a, V k, V v) {
+    V p[2] = {k, v};
+    if (a == UNDEF) return UNDEF;
+    return mapv_merge(c, a, mapv_make(c, p, 1));
+}
+static V str_concat(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b);
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    memcpy(vscratch, v_elems(a), n * sizeof(V)); memcpy(vscratch + n, v_elems(b), m * sizeof(V));
+    return v_intern(c, K_STRING, vscratch, n + m);
+}
+static V str_contains(V s, V x) {              /* x a substring of s */
+    if (s == UNDEF || x == UNDEF) return UNDEF;
+    int n = v_len(s), m = v_len(x);
+    const V *a = v_elems(s), *b = v_elems(x);
+    for (int i = 0; i + m <= n; i++) if (memcmp(a + i, b, m * sizeof(V)) == 0) return 1;
+    return 0;
+}
+/* toUpper / toLower: ASCII letters only (another character is left to the Python engine) */
+static V str_case(Ctx *c, V s, int upper) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s);
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) {
+        V ch = e[i];
+        if (ch > 127 || ch < 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+        if (upper && ch >= 'a' && ch <= 'z') ch -= 32;
+        if (!upper && ch >= 'A' && ch <= 'Z') ch += 32;
+        vscratch[i] = ch;
+    }
+    return v_intern(c, K_STRING, vscratch, n);
+}
+static V str_sub(Ctx *c, V s, V i, V j) {
+    if (s == UNDEF || i == UNDEF || j == UNDEF) return UNDEF;
+    if (!(0 <= i && i <= j && j <= v_len(s))) { fail(c, E_DOMAIN, 0); return UNDEF; }
+    return v_intern(c, K_STRING, v_elems(s) + i, (int)(j - i));
+}
+/* split at each occurrence of the non-empty literal sep; trailing empty parts dropped (but one
+ * part is always left), as Java's String.split */
+static V str_split(Ctx *c, V s, V sep) {
+    if (s == UNDEF || sep == UNDEF) return UNDEF;
+    int n = v_len(s), m = v_len(sep), np = 0, start = 0;
+    static V parts[1 << 14];
+    const V *a = v_elems(s), *b = v_elems(sep);
+    if (m == 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    for (int i = 0; i + m <= n; ) {
+        if (memcmp(a + i, b, m * sizeof(V)) == 0) {
+            if (np >= (1 << 14) - 1) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+            parts[np++] = v_intern(c, K_STRING, a + start, i - start);
+            i += m; start = i;
+        } else i++;
+    }
+    parts[np++] = v_intern(c, K_STRING, a + start, n - start);
+    while (np > 1 && v_len(parts[np - 1]) == 0) np--;
+    return v_intern(c, K_SEQ, parts, np);
+}
+/* the interval lo..hi by step (an undef bound or a step <= 0 is the Python engine's error) */
+static V range_make(Ctx *c, int kind, V lo, V hi, V st) {
+    if (lo == UNDEF || hi == UNDEF || st == UNDEF || st <= 0) { fail(c, E_MODEL, 0); return UNDEF; }
+    int n = 0;
+    for (V x = lo; x <= hi; ) {
+        if (n >= (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+        vscratch[n++] = x;
+        if (x > INT64_MAX - st) break;
+        x += st;
+    }
+    return v_intern(c, kind, vscratch, n);   /* ascending: already a set's or a bag's order */
+}
+/* sum of the elements (undef if one is; beyond 64 bits the Python engine's integers grow: left to it) */
+static V v_sum(Ctx *c, V s) {
+    if (s == UNDEF) return UNDEF;
+    int64_t t = 0; const V *e = v_elems(s);
+    for (int i = 0; i < v_len(s); i++) {
+        if (e[i] == UNDEF) return UNDEF;
+        if (__builtin_add_overflow(t, e[i], &t)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    }
+    return t;
+}
+static V set_allin(V a, V b) {                   /* a subset of b */
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    const V *e = v_elems(a);
+    for (int i = 0; i < v_len(a); i++) if (set_contains(b, e[i]) != 1) return 0;
+    return 1;
+}
+static V set_symdiff(Ctx *c, V a, V b) {
+    if (a == UNDEF || b == UNDEF) return UNDEF;
+    int n = v_len(a), m = v_len(b), k = 0;
+    if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+    const V *x = v_elems(a), *y = v_elems(b);
+    for (int i = 0; i < n; i++) if (set_contains(b, x[i]) != 1) vscratch[k++] = x[i];
+    for (int j = 0; j < m; j++) if (set_contains(a, y[j]) != 1) vscratch[k++] = y[j];
+    return set_make(c, vscratch, k);
+}
+/* strings compared by their characters' code points (a prefix first), as Python compares them */
+static int str_cmp(const void *a, const void *b) {
+    V x = *(const V *)a, y = *(const V *)b;
+    int n = v_len(x), m = v_len(y);
+    const V *e = v_elems(x), *f = v_elems(y);
+    for (int i = 0; i < n && i < m; i++) if (e[i] != f[i]) return e[i] < f[i] ? -1 : 1;
+    return n < m ? -1 : n > m;
+}
+/* the strings of a set or bag as a sequence in that order (undef, interned apart, first) */
+static V str_sorted(Ctx *c, V s) {
+    if (s == UNDEF) return UNDEF;
+    int n = v_len(s), u = 0, k = 0;
+    const V *e = v_elems(s);
+    for (int i = 0; i < n; i++) if (e[i] == UNDEF) vscratch[u++] = UNDEF;
+    for (int i = 0; i < n; i++) if (e[i] != UNDEF) vscratch[u + k++] = e[i];
+    qsort(vscratch + u, k, sizeof(V), str_cmp);
+    return v_intern(c, K_SEQ, vscratch, u + k);
+}
+static V int_to_string(Ctx *c, V x) {
+    if (x == UNDEF) return UNDEF;
+    char buf[32]; int n = snprintf(buf, sizeof buf, "%lld", (long long)x);
+    V e[32];
+    for (int i = 0; i < n; i++) e[i] = (unsigned char)buf[i];
+    return v_intern(c, K_STRING, e, n);
+}
 
 /* ------------------------------------------------------------------ the model (generated) */

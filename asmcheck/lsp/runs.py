@@ -85,11 +85,9 @@ def explore(path: str, settings: Settings, progress=None, cancelled=None) -> Exp
     if cancelled is not None and cancelled():
         raise Cancelled()
     traces: dict[str, str] = {}
-    for v in run.violations:
-        if hasattr(v.raw, "holds") or v.trace is None:
-            continue
-        from ..report.trace import explore_violation_lines
-        traces.setdefault(v.property, "\n".join(explore_violation_lines(model.machine, v.raw, v.trace.raw)))
+    safety = [v for v in run.violations if not hasattr(v.raw, "holds")]
+    for v, lines in zip(safety, run.violation_text()):
+        traces.setdefault(v.property, "\n".join(lines))
     failed = [t for t in run.temporal if not t.holds]
     for t, lines in zip(failed, run.temporal_text()):
         traces.setdefault(t.name, "\n".join(lines))

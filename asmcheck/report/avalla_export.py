@@ -210,8 +210,9 @@ def trace_scenario(machine, trace, *, spec_path: str, out_path: str | None = Non
 
     ``out_path`` is where the scenario will be written (its ``load`` is relative to it);
     ``prop`` the violated property (defaults to ``trace.prop``)."""
-    from .describe import ChooseIndex, display_path, property_text, shown_inputs, span_location, step_header, \
-        step_inputs, step_records
+    from .describe import ChooseIndex, display_path, property_text, shown_inputs, span_location, step_inputs, \
+        step_records
+    from .trace import step_header
     prop = prop if prop is not None else trace.prop
     spec = machine.spec
     if chooses is None:

@@ -13,6 +13,26 @@ from ..semantics.state import is_dom_key
 from ..semantics.values import show
 
 
+def key_order(machine, k):
+    """The sort key of a location (domains of extend-made elements last)."""
+    if is_dom_key(k):
+        return ("~", 0, k[1])
+    return location_sort_key(machine, k)
+
+
+def location_name(machine, k) -> str:
+    if is_dom_key(k):
+        return k[1]
+    return location_text(machine, k)
+
+
+def value_text(k, v) -> str:
+    if is_dom_key(k):
+        return "{" + ", ".join(e.name for e in (v or ())) + "}"
+    return show(v)
+
+
+
 @dataclass
 class Location:
     path: str
@@ -292,41 +312,3 @@ def property_text(prop) -> str:
     if j < 0:
         return term_text(end)
     return clean[j + 1:].strip()
-
-
-def key_order(machine, k):
-    """The sort key of a location (domains of extend-made elements last)."""
-    if is_dom_key(k):
-        return ("~", 0, k[1])
-    return location_sort_key(machine, k)
-
-
-def location_name(machine, k) -> str:
-    if is_dom_key(k):
-        return k[1]
-    return location_text(machine, k)
-
-
-def value_text(k, v) -> str:
-    if is_dom_key(k):
-        return "{" + ", ".join(e.name for e in (v or ())) + "}"
-    return show(v)
-
-
-def step_header(rec) -> str:
-    """``step 3: r_main chooses $t = master; reads timeUp(master) = true``"""
-    if rec.number == 0:
-        return "state 0 (initial)"
-    parts = []
-    rules: dict = {}
-    for c in rec.choices:
-        if c.kind == "choose":
-            rules.setdefault(c.rule or "choose", []).append(c.text)
-    for r, items in rules.items():
-        parts.append(f"{r} chooses " + ", ".join(items))
-    if not parts:
-        parts.append(rec.rule)
-    reads = [c.text for c in rec.choices if c.kind == "monitored"]
-    if reads:
-        parts.append("reads " + ", ".join(reads))
-    return f"step {rec.number}: " + "; ".join(p for p in parts if p)

@@ -36,9 +36,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .describe import (Choice, ChooseIndex, Location, StepRecord, display_path, failing_record, flat_choices,  # noqa: F401
-                       one_line, property_text, shown_inputs, source_text, span_location, step_header, step_inputs,
+                       one_line, property_text, shown_inputs, source_text, span_location, step_inputs,
                        step_records, term_text)
-from .trace import RENAMED, cx_summary, lasso_renamed, temporal_json, temporal_text, trace_lines  # noqa: F401
+from .trace import (RENAMED, cx_summary, failing_note, lasso_renamed, step_header, temporal_json,  # noqa: F401
+                    temporal_text, trace_lines)
 
 PASS, FAIL, INCOMPLETE, ERROR = "pass", "fail", "incomplete", "error"
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
@@ -58,7 +59,7 @@ class Counterexample:
     failing: StepRecord | None = None   # property 'error': the step that fails after the last state
     inputs_step: bool = False       # the last step only shows the inputs of the state before it
     fairness: list = field(default_factory=list)    # the fairness constraints a temporal verdict assumed
-    failing_message: str = ""       # a temporal path that halts at a failing step: the error's message
+    failing_note: str = ""           # a temporal path that ends with a step that fails: what then
 
 
 @dataclass
@@ -71,12 +72,12 @@ class PropertyOutcome:
     label: str = ""
     location: Location | None = None      # the property's declaration
     expect_location: Location | None = None   # the '// asmcheck: expect violated' line
-    # a step of the spec fails: the verdict is relative to that run-time error (its location),
-    # the property having been checked on the well-defined steps
-    relative_to: Location | None = None
     text: str = ""                  # the property's term, on one line
     message: str = ""
     counterexample: Counterexample | None = None
+    # a step of the spec fails: the verdict is relative to that run-time error (its location),
+    # the property having been checked on the well-defined steps
+    relative_to: Location | None = None
 
     @property
     def tolerated(self) -> bool:
@@ -217,11 +218,11 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
         return None
 
     bad = {v.prop.name: v for v in result.violations}
+    incomplete = result.stopped_early
+    rows: list[PropertyOutcome] = []
     # where a step fails, the other verdicts are relative to that error (the first one found)
     err = bad.get("error")
     relative = span_location(getattr(err.prop, "span", None), root=root) if err is not None else None
-    incomplete = result.stopped_early
-    rows: list[PropertyOutcome] = []
 
     def counterexample(v) -> Counterexample:
         tr = build_trace(explorer, v)
@@ -351,9 +352,9 @@ def temporal_counterexample(machine, t, chooses, root=None, *, spec_path=None, a
     cx = Counterexample("lasso" if loop is not None else "path", getattr(t, "message", "") or "", steps, js, loop,
                         text, inputs_step=inputs_step, fairness=list(getattr(t, "fairness", None) or ()))
     if tr is not None and getattr(tr, "failing", None) is not None and steps:
-        # the path ends where a step fails: the run halts there (docs/run-time-errors.md)
+        # the path ends with a step that fails: the run halts in its last state
         cx.failing = failing_record(machine, tr, chooses, root)
-        cx.failing_message = getattr(tr, "message", "") or ""
+        cx.failing_note = failing_note(tr)
     if avalla_dir is not None and tr is not None and spec_path is not None:
         from .avalla_export import scenario_file_name, trace_scenario
         prop = getattr(t, "prop", None)

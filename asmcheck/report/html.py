@@ -61,8 +61,7 @@ def _svg(cx) -> str:
     width = max(width, 12)
     box_w = int(width * CHAR_W + 20)
     last = steps[-1].number
-    labels = [step_header(r) + ("  (breaks the property)" if r.number == last and cx.kind == "step" else "")
-              for r in steps[1:]]
+    labels = [step_header(r) + ("  " + step_mark(cx, r) if step_mark(cx, r) else "") for r in steps[1:]]
     caption = ""
     if cx.kind == "lasso" and cx.loop_start is not None:
         again = f"again {RENAMED}" if lasso_renamed(cx) else "again"

@@ -55,10 +55,8 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
             if p.verdict == "violated":
                 cx = p.counterexample
                 n = len(cx.steps) - 1 if cx and cx.steps else None
-                rel = ""
-                if getattr(p, "relative_to", None) is not None:
-                    rel = f", relative to the run-time error at {p.relative_to}"
-                head += violation_head(p.name, p.kind, where) + rel + (f": {p.message}" if p.message else "")
+                rel = f" at {p.relative_to}" if getattr(p, "relative_to", None) is not None else None
+                head += violation_head(p.name, p.kind, where, p.message, rel)
                 if p.expected:
                     head += " (expected)"
                 elif p.status != FAIL:

@@ -6,8 +6,9 @@ from dataclasses import dataclass
 
 from ..explore.trace import (Trace, TraceStep, build_trace, display_choices, display_names,  # noqa: F401
                              state_elements, trace_steps)
+from .describe import (ChooseIndex, failing_record, flat_choices as all_choices, key_order,  # noqa: F401
+                       location_name, property_text, shown_inputs, step_inputs, step_records, value_text)
 from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, RuleValue, SeqV, SetV, show
-from .describe import key_order, location_name, step_header, value_text  # noqa: F401
 
 
 def json_value(v):
@@ -81,7 +82,6 @@ def _choice_json(c, chooses=None) -> dict:
 def _located(machine, step, locs: dict) -> dict:
     """Location key -> value (canonical names of the state before ``step``) as JSON, under the
     trace's display names, in the order of the locations."""
-    from .describe import shown_inputs
     shown = shown_inputs(step, locs)
     return {location_name(machine, k): json_value(shown[k]) for k in sorted(shown, key=lambda k: key_order(machine, k))}
 
@@ -90,7 +90,6 @@ def trace_json(machine, trace: Trace, chooses=None, inputs=None) -> list[dict]:
     """The steps of a trace as JSON (docs/trace.schema.json): per step the main rule, the
     choices (a choose rule's with the rule it is in; those made inside a choose body after it),
     the monitored values the step read, its update set, the locations it changed and the state."""
-    from .describe import ChooseIndex, flat_choices as all_choices, step_inputs
     if chooses is None:
         chooses = ChooseIndex(machine.spec)
     if inputs is None:
@@ -123,21 +122,39 @@ class TraceView:
     steps: list                     # [describe.StepRecord]
     loop_start: int | None = None   # lasso: the state the last step goes back to
     failing: object = None          # property 'error': the StepRecord of the step that fails
-    failing_message: str = ""       # a temporal path that halts at a failing step: the error's message
     inputs_step: bool = False       # the last step only shows the inputs of the state before it
+    failing_note: str = ""          # a temporal path that ends with a step that fails: what then
 
 
 def describe_trace(machine, trace: Trace, *, kind: str | None = None, loop: int | None = None,
                    inputs_step: bool = False, chooses=None, root=None, inputs=None) -> TraceView:
     """A replayed trace as a :class:`TraceView`: per step the rule, its choices, the monitored
     values it read and what changed."""
-    from .describe import ChooseIndex, failing_record, step_records
     if chooses is None:
         chooses = ChooseIndex(machine.spec)
     recs = step_records(machine, trace, chooses, root, inputs)
     if kind is None:
         kind = "lasso" if loop is not None else trace.kind
     return TraceView(kind, recs, loop, failing_record(machine, trace, chooses, root), inputs_step)
+
+
+def step_header(rec) -> str:
+    """``step 3: r_main chooses $t = master; reads timeUp(master) = true``"""
+    if rec.number == 0:
+        return "state 0 (initial)"
+    parts = []
+    rules: dict = {}
+    for c in rec.choices:
+        if c.kind == "choose":
+            rules.setdefault(c.rule or "choose", []).append(c.text)
+    for r, items in rules.items():
+        parts.append(f"{r} chooses " + ", ".join(items))
+    if not parts:
+        parts.append(rec.rule)
+    reads = [c.text for c in rec.choices if c.kind == "monitored"]
+    if reads:
+        parts.append("reads " + ", ".join(reads))
+    return f"step {rec.number}: " + "; ".join(p for p in parts if p)
 
 
 def _plural(n: int, word: str = "step") -> str:
@@ -151,12 +168,10 @@ def cx_summary(cx, what: str = "counterexample") -> str:
     if cx.kind == "lasso" and cx.loop_start is not None:
         return (f"{what}, {steps}: a lasso, {_plural(cx.loop_start)} to the loop, then a loop of "
                 f"{_plural(n - cx.loop_start)} repeated for ever")
+    fails = f", then step {n + 1} fails" if getattr(cx, "failing", None) is not None else ""
     if cx.kind in ("lasso", "path"):
-        return f"{what}, {steps}"
-    tail = " (the last step breaks it)" if cx.kind == "step" else ""
-    if getattr(cx, "failing", None) is not None:
-        tail = f", then step {n + 1} fails"
-    return f"shortest {what}, {steps}" + tail
+        return f"{what}, {steps}{fails}"
+    return f"shortest {what}, {steps}" + (fails or (" (the last step breaks it)" if cx.kind == "step" else ""))
 
 
 def lasso_renamed(cx) -> bool:
@@ -217,15 +232,12 @@ def trace_lines(cx, color: bool = False) -> list[str]:
     failing = getattr(cx, "failing", None)
     if failing is not None:
         out.append(red(step_header(failing)) + yellow("  <- fails (the step cannot be made)"))
-        if cx.kind in ("lasso", "path"):
-            # a temporal path that reaches a failing step halts there (docs/run-time-errors.md)
-            message = getattr(cx, "failing_message", "")
-            out.append(f"(step {failing.number} fails" + (f": {message}" if message else "") +
-                       f"; the run stops there and stays in state {failing.number - 1} for ever)")
     if getattr(cx, "inputs_step", False) and len(cx.steps) > 1:
         n = last
         out.append(f"(step {n} only shows the monitored inputs and choices of state {n - 1}, "
                    f"which are part of its state for the property)")
+    if getattr(cx, "failing_note", ""):
+        out.append(cx.failing_note)
     return out
 
 
@@ -242,21 +254,32 @@ def violation_lines(head: str, cx, color: bool = False, formula: str = "", fairn
     return out
 
 
-def violation_head(name: str, kind: str, where: str = "", message: str = "") -> str:
-    """'inv_x (f.prop:3:11) is violated', 'deadlock', 'a step fails (f.asm:9:14)', with the message."""
+def violation_head(name: str, kind: str, where: str = "", message: str = "", relative: str | None = None) -> str:
+    """'inv_x (f.prop:3:11) is violated', 'deadlock', 'a step fails (f.asm:9:14)', with the message;
+    ``relative``: the verdict is relative to the run-time error there (' at f.asm:16:25')."""
     if kind == "deadlock" or name == "deadlock":
         text = "deadlock"
     elif kind == "error" or name == "error":
         text = f"a step fails{where}"
     else:
         text = f"{name}{where} is violated"
+    if relative is not None:
+        text += f", relative to the run-time error{relative}"
     return text + (f": {message}" if message else "")
+
+
+def failing_note(trace) -> str:
+    """A temporal path that ends with a step that fails: the run halts in its last state."""
+    if getattr(trace, "failing", None) is None:
+        return ""
+    n = len(trace.steps) - 1
+    return (f"(step {n + 1} fails: {trace.message}; the run stops there and stays in state {n} "
+            f"for ever)")
 
 
 def explore_violation_lines(machine, violation, trace: Trace, color: bool = False) -> list[str]:
     """A safety violation (an invariant, a step property, a deadlock, a step that fails) with its
     shortest trace, as ``asmcheck explore`` prints it."""
-    from .describe import property_text
     p = violation.prop
     span = getattr(p, "span", None)
     where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
@@ -271,7 +294,6 @@ RENAMED = "(up to the names of the elements made by extend)"
 def temporal_text(result, machine, color: bool = False) -> list[str]:
     """A temporal result as ``asmcheck explore`` prints it: the verdict, the formula and the
     replayed counterexample (or witness), a lasso marked where its loop starts."""
-    from .describe import property_text
     self = result
     where = ""
     span = getattr(self.prop, "span", None)
@@ -282,19 +304,19 @@ def temporal_text(result, machine, color: bool = False) -> list[str]:
         return [f"{self.name}{where} ({kind}) cannot be checked: {self.message}"]
     tr = self.trace()
     err = getattr(self, "relative_to", None)
-    rel = ""
+    rel = None
     if err is not None:
         span = getattr(err, "span", None)
-        rel = ", relative to the run-time error" + (f" at {span.short()}" if span is not None and span.line else "")
-    head = f"{self.name}{where} {'holds' if self.holds else 'is violated'}{rel}"
+        rel = f" at {span.short()}" if span is not None and span.line else ""
+    head = f"{self.name}{where} {'holds' if self.holds else 'is violated'}" + \
+        (f", relative to the run-time error{rel}" if rel is not None else "")
     formula = property_text(self.prop)
     if tr is None:
         return [head] + ([f"  formula: {formula}"] if formula else [])
     trace, loop, inputs_step = tr
     view = describe_trace(machine, trace, kind="lasso" if loop is not None else "path", loop=loop,
                           inputs_step=inputs_step)
-    if trace.failing is not None:
-        view.failing_message = trace.message
+    view.failing_note = failing_note(trace)
     return violation_lines(head, view, color, formula, self.fairness, "witness" if self.holds else "counterexample")
 
 
