@@ -71,6 +71,10 @@ class CTL:
     def _eu(self, f: bytearray, start: bytearray) -> bytearray:
         """Nodes from which a path of f nodes reaches a ``start`` node."""
         K = self.K
+        from . import kernel
+        y = kernel.eu(K, f, start)
+        if y is not None:
+            return y
         y = bytearray(start)
         q = deque(members(start))
         done = bytearray(len(K.cls_succ))

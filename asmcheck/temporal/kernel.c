@@ -259,3 +259,49 @@ oom:
     free(todo); free(roots);
     return -1;
 }
+
+/* ------------------------------------------------------------------ backward reachability
+ * E[f U start] on a graph of successor classes (node v's successors: the list of class cls[v],
+ * off/adj; ncls classes): y = the nodes from which a path of f nodes reaches a start node.
+ * Returns 0, -1 when out of memory. */
+int64_t kn_eu(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+              const uint8_t *f, const uint8_t *start, uint8_t *y) {
+    int64_t ne = off[ncls];
+    int32_t *moff = (int32_t *)calloc(n + 1, sizeof(int32_t));      /* node -> classes holding it */
+    int32_t *madj = (int32_t *)malloc((ne + 1) * sizeof(int32_t));
+    int32_t *noff = (int32_t *)calloc(ncls + 1, sizeof(int32_t));   /* class -> nodes of that class */
+    int32_t *nadj = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);
+    int64_t rc = -1;
+    if (!moff || !madj || !noff || !nadj || !queue || !done) goto out;
+    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;
+    for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];
+    for (int64_t c = 0; c < ncls; c++)
+        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (int32_t)c;
+    for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];
+    moff[0] = 0;
+    for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;
+    for (int64_t c = 0; c < ncls; c++) noff[c + 1] += noff[c];
+    for (int64_t v = 0; v < n; v++) nadj[noff[cls[v]]++] = (int32_t)v;
+    for (int64_t c = ncls; c > 0; c--) noff[c] = noff[c - 1];
+    noff[0] = 0;
+    int64_t qh = 0, qt = 0;
+    for (int64_t v = 0; v < n; v++) { y[v] = start[v] ? 1 : 0; if (y[v]) queue[qt++] = (int32_t)v; }
+    while (qh < qt) {
+        int32_t w = queue[qh++];
+        for (int32_t a = moff[w]; a < moff[w + 1]; a++) {
+            int32_t c = madj[a];
+            if (done[c]) continue;
+            done[c] = 1;
+            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
+                int32_t v = nadj[b];
+                if (f[v] && !y[v]) { y[v] = 1; queue[qt++] = v; }
+            }
+        }
+    }
+    rc = 0;
+out:
+    free(moff); free(madj); free(noff); free(nadj); free(queue); free(done);
+    return rc;
+}

@@ -27,6 +27,7 @@ _SYMBOLS = {
     "kn_fair": (_i64, [_i64, _p, _i64, _p, _p, _p]),
     "kn_free": (None, []),
     "kn_fair_graph": (_i64, [_i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
+    "kn_eu": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -184,3 +185,20 @@ def fair_sccs(K, s: bytearray, justice, compassion):
         if c >= 0:
             groups.setdefault(c, []).append(v)
     return sorted(groups.values())
+
+
+def eu(K, f: bytearray, start: bytearray):
+    """The nodes from which a path of ``f`` nodes reaches a ``start`` node (E[f U start]), by
+    compiled code over the successor classes; None when it is not available."""
+    dll = library()
+    if dll is None:
+        return None
+    n = K.n
+    if n == 0:
+        return bytearray()
+    cls, off, adj = _csr(K)
+    fb, sb = bytearray(f), bytearray(start)
+    y = bytearray(n)
+    if dll.kn_eu(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), _addr(fb), _addr(sb), _addr(y)) != 0:
+        return None
+    return y

@@ -49,8 +49,8 @@ class Kripke:
         self.vec: list | None = None       # step mode: values of the monitored atoms
         self.cls: list[int] = []
         self.cls_succ: list[list[int]] = []
-        self.member_of: list[list[int]] = []
-        self.cls_nodes: list[list[int]] = []
+        self._member_of: list[list[int]] | None = None
+        self._cls_nodes: list[list[int]] | None = None
         self.init: list[int] = []
         self.label: dict[int, bytearray] = {}     # atom index -> node set
         self.justice: list[tuple[str, bytearray]] = []
@@ -65,16 +65,31 @@ class Kripke:
     def succ(self, v: int) -> list[int]:
         return self.cls_succ[self.cls[v]]
 
+    # the backward lists, made when a backward search in Python first needs them (the compiled
+    # kernel makes its own)
+    @property
+    def member_of(self) -> list[list[int]]:
+        if self._member_of is None:
+            _finish_classes(self)
+        return self._member_of
+
+    @property
+    def cls_nodes(self) -> list[list[int]]:
+        if self._cls_nodes is None:
+            _finish_classes(self)
+        return self._cls_nodes
+
 
 def _finish_classes(K: Kripke) -> None:
     nc = len(K.cls_succ)
-    K.member_of = [[] for _ in range(K.n)]
-    K.cls_nodes = [[] for _ in range(nc)]
+    member_of = [[] for _ in range(K.n)]
+    cls_nodes = [[] for _ in range(nc)]
     for c, lst in enumerate(K.cls_succ):
         for w in lst:
-            K.member_of[w].append(c)
+            member_of[w].append(c)
     for v, c in enumerate(K.cls):
-        K.cls_nodes[c].append(v)
+        cls_nodes[c].append(v)
+    K._member_of, K._cls_nodes = member_of, cls_nodes
 
 
 def _truth(v, atom) -> bool:
@@ -526,7 +541,6 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
             K.label[i] = bytearray(lab[s] for s in sid)
         for k, i in enumerate(mon_atoms):
             K.label[i] = bytearray(1 if vec[k] else 0 for vec in vecs)
-    _finish_classes(K)
     for text, a in justice:
         K.justice.append((text, K.label[a]))
     for text, p, q in compassion:
