@@ -2266,6 +2266,7 @@ class NativeExplorer:
             return None
         karr = (ctypes.c_int64 * len(ks))(*ks)
         out_recs = []
+        vecs: dict = {}
         cap = 1024
         buf = (ctypes.c_int64 * (2 * cap))()
         nk = len(ks)
@@ -2280,9 +2281,13 @@ class NativeExplorer:
                 buf = (ctypes.c_int64 * (2 * cap))()
             if n < 0:
                 return None
-            for r in range(n):
-                vec = buf[2 * r + 1]
-                out_recs.append((src, buf[2 * r], tuple(bool(vec >> k & 1) for k in range(nk))))
+            flat = buf[:2 * n]
+            for r in range(0, 2 * n, 2):
+                vec = flat[r + 1]
+                t = vecs.get(vec)
+                if t is None:
+                    t = vecs[vec] = tuple(bool(vec >> k & 1) for k in range(nk))
+                out_recs.append((src, flat[r], t))
         return out_recs
 
     def find(self, st: dict):
