@@ -35,6 +35,8 @@ from __future__ import annotations
 
 import ctypes
 import math
+import os
+import re
 import struct
 import time
 from array import array
@@ -588,7 +590,8 @@ class Generator:
             self.defined_done.add("lz_note")
             self.funcs.append(
                 "/* lazily initialised locations read in this run: the next state keeps their value */\n"
-                "static uint32_t lz_gen = 0; static int lz_n = 0; static int lz_slot[MAXV]; static V lz_key[MAXV], lz_val[MAXV];\n"
+                "static _Thread_local uint32_t lz_gen = 0; static _Thread_local int lz_n = 0;\n"
+                "static _Thread_local int lz_slot[MAXV]; static _Thread_local V lz_key[MAXV], lz_val[MAXV];\n"
                 "static V lz_note(Ctx *c, int s, V k, V v) {\n"
                 "    if (c->in_prop || c->rd != c->cur) return v;\n"
                 "    if (lz_gen != c->gen) { lz_gen = c->gen; lz_n = 0; }\n"
@@ -1639,7 +1642,7 @@ class Generator:
                 "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
         # the buffer is static: a body that reaches the same comprehension again (a recursive
         # derived function) would overwrite it, so that is left to the Python engine
-        return ("({ " + f"static V {buf}[1 << 14]; static int busy_{buf} = 0; int {n} = 0; "
+        return ("({ " + f"static _Thread_local V {buf}[1 << 14]; static _Thread_local int busy_{buf} = 0; int {n} = 0; "
                 f"if (busy_{buf}) fail(c, E_UNSUPPORTED, 0); busy_{buf} = 1; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
                 f"else if ({g}) {{ {add} }} "
@@ -1692,7 +1695,7 @@ class Generator:
             args = [self.term(a, env) for a in r.args]
             if "res_written" not in self.defined_done:
                 self.defined_done.add("res_written")
-                self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+                self.funcs.append("static _Thread_local int res_written = 0;   /* the call running updated result */")
             return "{ " + self.update_location(f, args, self.term(r.value, env)) + " res_written = 1; }"
         if self.any_slot(f):
             args = [self.term(a, env) for a in r.args]
@@ -1985,11 +1988,12 @@ class Generator:
             ep = self.fresh("ep")
             cn = self.fresh("cn")
             lg = self.fresh("lg")
-            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; static uint32_t {lg} = 0; int pos0 = c->pos; "
+            pre = (f"static _Thread_local int64_t {ep} = -1; static _Thread_local int {cn} = 0; "
+                   f"static _Thread_local uint32_t {lg} = 0; int pos0 = c->pos; "
                    f"int first_{lg} = {lg} != c->gen; {lg} = c->gen; if (!first_{lg}) {ep} = -1; "
                    f"if (pos0 == 0 && first_{lg} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
             post = f" if (c->pos == pos0 && pos0 == 0 && first_{lg}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
-        return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
+        return ("{ " + f"static _Thread_local V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -2023,7 +2027,7 @@ class Generator:
                 f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
         # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
         # and the candidate is copied out before the body runs
-        return ("{ " + f"static V *{cand} = 0; static int {cap} = 0; int {n} = 0; " + " ".join(heads) +
+        return ("{ " + f"static _Thread_local V *{cand} = 0; static _Thread_local int {cap} = 0; int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                 f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -2055,7 +2059,7 @@ class Generator:
         w = self.fresh("rw")
         if "res_written" not in self.defined_done:
             self.defined_done.add("res_written")
-            self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+            self.funcs.append("static _Thread_local int res_written = 0;   /* the call running updated result */")
         if rf.index in self.fn_base:
             s = self.slot_of[rf.index]
             value = (f"(res_written && c->wgen[{s}] == c->gen ? slot_decode({s}, c->upd_code[c->wpos[{s}]]) : UNDEF)")
@@ -2200,6 +2204,7 @@ class Generator:
             steps.append(e)
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
+        label_exprs = self.label_code()
         for st in self.init_states:
             self.pack_values(st)
         self.codec.frozen = True
@@ -2293,7 +2298,57 @@ class Generator:
             step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+        src += "\n" + self.label_entry(label_exprs)
         return src
+
+    # -------------------------------------------------------------- state atoms of temporal properties
+    def label_code(self) -> list:
+        """The C expressions of the atoms of the temporal properties (``self.label_atoms``: the
+        first initial state -> (term, env) pairs), None for an atom that cannot be translated (the
+        temporal layer evaluates it in Python)."""
+        self.labels = []
+        self.label_exprs = []
+        atoms_of = getattr(self, "label_atoms", None)
+        if atoms_of is None or not self.init_states:
+            return []
+        try:
+            self.labels = list(atoms_of(self.init_states[0]))
+        except AsmError:
+            return []
+        out = []
+        for term, env in self.labels:
+            mark = (len(self.funcs), set(self.defined_done), dict(self.rules_done), dict(self.enc_tables))
+            try:
+                cenv = {uid: self.codec.literal(v) for uid, v in env.items()}
+                out.append(self.term(term, cenv))
+            except Unsupported:
+                del self.funcs[mark[0]:]
+                self.defined_done, self.rules_done, self.enc_tables = mark[1], mark[2], mark[3]
+                out.append(None)
+        self.label_exprs = out
+        return out
+
+    def label_entry(self, exprs: list) -> str:
+        """``asm_labels(k, out)``: atom k in every stored state (out[sid] = 1 where it is true);
+        returns 0, or -1 when it cannot be evaluated in some state (Python then says why)."""
+        lines = ["static V check_label(Ctx *c, int k) {", "    switch (k) {"]
+        for i, e in enumerate(exprs):
+            if e is not None:
+                lines.append(f"    case {i}: return {e};")
+        lines += ["    }", "    c->err = E_UNSUPPORTED;", "    return UNDEF;", "}",
+                  "int64_t asm_labels(int64_t k, uint8_t *out) {",
+                  "    Ctx *c = &ctx_static;",
+                  "    for (int64_t sid = 0; sid < nstates; sid++) {",
+                  "        load_state(c, states + sid * NWORDS);",
+                  "        c->rd = c->cur; c->self = UNDEF; c->epoch = ++global_epoch; c->err = 0; c->in_prop = 1;",
+                  "        V v = check_label(c, (int)k);",
+                  "        c->in_prop = 0;",
+                  "        if (c->err) { c->err = 0; return -1; }",
+                  "        out[sid] = v == 1;",
+                  "    }",
+                  "    return 0;",
+                  "}"]
+        return "\n".join(lines) + "\n" + _STEP_ATOMS_C
 
     # -------------------------------------------------------------- packing
     def map_value(self, st: dict, f) -> int:
@@ -2402,7 +2457,121 @@ _SYMBOLS = {
     "asm_values": (_i64, []),
     "asm_value_find": (_i64, [_i64, _i64p, _i64]),
     "asm_free": (None, []),
+    "asm_run_par": (_i64, [_f64, _i64p, _i64]),
+    "asm_limit_memory": (None, [_i64]),
+    "asm_memory_bytes": (_i64, []),
+    "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
+    "asm_par_min_chunk": (None, [_i64]),
+    "asm_par_adapt": (None, [_i64]),
+    "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
+    "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
 }
+
+
+# The C's variables that live as long as the library (``static``, not ``const``) and that the
+# threaded search (native_bfs.c, asm_run_par) shares knowingly: the search's tables, written by one
+# thread between the parallel phases or with atomic operations, and the value table, only read
+# while the threads expand.  Any other such variable in the generated C would be shared by the
+# threads unknowingly (a scratch buffer, a cache): it must be ``_Thread_local``, else the search
+# runs on one thread (``thread_unsafe``).
+_SHARED_STATICS = frozenset("""
+    vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
+    states nstates cap_states parents table tmask tcount ctx_static sbuf smask cap_sbuf global_epoch
+    interrupted W nworkers bar_n posnum cap_posnum nfirst_of ptime grow_failed
+""".split())
+_STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
+                         r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
+
+
+def thread_unsafe(src: str) -> list:
+    """The names of the variables of the C source ``src`` that threads would share unknowingly."""
+    return sorted({m.group(2) for m in _STATIC_VAR.finditer(src)} - _SHARED_STATICS)
+
+
+# asm_step_atoms(src, ks, nk, out, cap): for every step from the stored state src (every sequence of
+# choices, INVAR-filtered as the search does) that leads to a stored state dst, the distinct vectors
+# of the atoms ks (bit k: atom ks[k] is true) evaluated in src with the monitored values the step
+# read, the monitored locations it did not read taking every value (a nested enumeration after
+# the step's own choices); pairs (dst, vector) in the order met, each once.  Returns their number,
+# -1 when an atom or the step cannot be evaluated, -2 when more than cap pairs.
+_STEP_ATOMS_C = """
+int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out, int64_t cap) {
+    Ctx *c = &ctx_static;
+    uint64_t nw[NWORDS > 0 ? NWORDS : 1];
+    static _Thread_local V smon[NMON > 0 ? NMON : 1];
+    static _Thread_local uint32_t smgen[NMON > 0 ? NMON : 1];
+    int64_t nrec = 0;
+    load_state(c, states + src * NWORDS);
+    c->rd = c->cur;
+    c->epoch = ++global_epoch;
+    c->plen = 0;
+    c->in_prop = 0;
+    for (;;) {
+        c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+        c->gen++;
+        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+        c->err = 0;
+        step_main(c);
+        if (c->err) return -1;
+        int ok = 1;
+#if NSTEP > 0 || NINVAR > 0
+        if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+#endif
+#if NINVAR > 0
+        c->rd = c->post;
+        for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+        c->rd = c->cur;
+        if (c->err == E_UNSUPPORTED) return -1;
+        c->err = 0;
+        c->in_prop = 0;
+#endif
+        if (ok) {
+            store_state(c, states + src * NWORDS, nw);
+            int64_t dst = asm_find(nw);
+            if (dst >= 0) {
+                int32_t P = c->pos;
+                memcpy(smon, c->mon, sizeof(smon));
+                memcpy(smgen, c->mgen, sizeof(smgen));
+                c->plen = P;
+                for (;;) {
+                    c->pos = P;
+                    memcpy(c->mon, smon, sizeof(smon));
+                    memcpy(c->mgen, smgen, sizeof(smgen));
+                    c->err = 0;
+                    int64_t vec = 0;
+                    for (int64_t k = 0; k < nk; k++) {
+                        V v = check_label(c, (int)ks[k]);
+                        if (c->err) return -1;
+                        if (v == 1) vec |= (int64_t)1 << k;
+                    }
+                    int dup = 0;
+                    for (int64_t r = 0; r < nrec; r++) if (out[2 * r] == dst && out[2 * r + 1] == vec) { dup = 1; break; }
+                    if (!dup) {
+                        if (nrec >= cap) return -2;
+                        out[2 * nrec] = dst; out[2 * nrec + 1] = vec; nrec++;
+                    }
+                    int j = c->pos - 1;
+                    while (j >= P && c->idx[j] + 1 >= c->cnt[j]) j--;
+                    if (j < P) break;
+                    for (int q = P; q < j; q++) c->prefix[q] = c->idx[q];
+                    c->prefix[j] = c->idx[j] + 1;
+                    c->plen = j + 1;
+                }
+                c->pos = P;
+                memcpy(c->mon, smon, sizeof(smon));
+                memcpy(c->mgen, smgen, sizeof(smgen));
+            }
+        }
+        int j = c->pos - 1;
+        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
+        if (j < 0) break;
+        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
+        c->prefix[j] = c->idx[j] + 1;
+        c->plen = j + 1;
+    }
+    return nrec;
+}
+"""
 
 
 class NativeExplorer:
@@ -2412,7 +2581,8 @@ class NativeExplorer:
     SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, **_ignored):
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
+                 max_memory=None, table_memory=None, label_atoms=None, **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -2429,8 +2599,10 @@ class NativeExplorer:
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
+        self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
+        self.thread_unsafe = thread_unsafe(src)
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
@@ -2448,6 +2620,35 @@ class NativeExplorer:
         self._parent = None
         self._picks_cache = None
         self.nstates = 0
+        # threads that expand each level together (asm_run_par: the same result as one); the
+        # bound on the process's memory in bytes (None: none), of which the search's tables get
+        # what the process does not hold when the search begins, or exactly table_memory bytes
+        self.workers = max(int(workers or 1), 1)
+        self.threaded = False        # True: the threaded search even with one worker (benchmarks)
+        self.adapt = True            # False: every slice on all the threads, even when one is faster
+        self.max_memory = max_memory
+        self.table_memory = table_memory
+
+    def thread_stats(self) -> dict:
+        """What the threaded search did since the last call (benchmarks, tests): chunks of a level
+        done on the threads, chunks sent back to one thread (a value not yet in the value table, a
+        run-time condition), seconds in the parallel phases, CPU seconds of the merge, of the chunks
+        done on one thread (small or sent back), and of threads 0 and 1 in the parallel phases;
+        the slices (calls) run on one thread because that was faster (a busy machine)."""
+        o = (ctypes.c_double * 8)()
+        self.dll.asm_par_stats(o)
+        return {"parallel_chunks": int(o[2]), "serial_chunks": int(o[1]), "parallel_seconds": o[0],
+                "one_thread_slices": int(o[4]),
+                "merge_cpu": o[5], "one_thread_cpu": o[3], "thread_cpu": (o[6], o[7])}
+
+    def _table_bound(self) -> int:
+        """Bytes the search's tables may take (-1: no bound)."""
+        if self.table_memory is not None:
+            return max(int(self.table_memory), 0)
+        if not self.max_memory:
+            return -1
+        from .store import memory_in_use
+        return max(int(self.max_memory) - memory_in_use(), 0)
 
     def _growing(self, depth: int) -> list:
         """Integer locations that took a new least or greatest value at each of the last levels."""
@@ -2485,12 +2686,24 @@ class NativeExplorer:
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
+        self.dll.asm_limit_memory(self._table_bound())
+        # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
+        self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
+        self.dll.asm_par_adapt(1 if self.adapt else 0)
+        if self.workers > 1 and self.thread_unsafe:
+            msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "
+                   f"variables the threads would share ({', '.join(self.thread_unsafe)})")
+            self.workers = 1
+            self.warnings.append(msg)
+            if self.warn is not None:
+                self.warn(msg)
         # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
         # watches for integer locations that grow level after level
         growth_depth = -1
         streak: dict = {}
         while True:
-            status = self.dll.asm_run(self.SLICE, out)
+            status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
+                      if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
             if status != 6:
                 break
             now = time.perf_counter() - t0
@@ -2555,9 +2768,11 @@ class NativeExplorer:
                 violations.append(v)
         # the order of the Python explorer: by when they were found
         stopped = out[11] != 0
-        incomplete = status in (1, 2, 3) or stopped
+        incomplete = status in (1, 2, 3, 8) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
-                  3: f"time limit {self.max_seconds} s reached"}.get(status, "")
+                  3: f"time limit {self.max_seconds} s reached",
+                  8: (f"memory limit {(self.max_memory or 0) / 2**20:,.0f} MB reached" if self.table_memory is None
+                      else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
         if status == 3 and self.warnings:
@@ -2567,6 +2782,7 @@ class NativeExplorer:
                      list(self.state_props) + list(self.step_props))
         res.deadlock_checked = self.deadlock
         res.engine = "native"
+        res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         return res
 
@@ -2638,6 +2854,74 @@ class NativeExplorer:
     @property
     def edges(self):
         return _NativeEdges(self)
+
+    def state_labels(self, items):
+        """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
+        compiled code: a list of bytearrays (1 where the atom is true, undef counts as false), or
+        None when one of them was not translated or fails somewhere (then Python evaluates them)."""
+        index = getattr(self, "_label_index", None)
+        if index is None:
+            index = self._label_index = {}
+            for k, (term, env) in enumerate(self.gen.labels):
+                index.setdefault((id(term), _env_key(env)), k)
+        ks = []
+        for a in items:
+            k = index.get((id(a.term), _env_key(a.env)))
+            if k is None:
+                return None
+            ks.append(k)
+        out = []
+        n = self.nstates
+        for k in ks:
+            buf = ctypes.create_string_buffer(max(n, 1))
+            if self.dll.asm_labels(k, buf) != 0:
+                return None
+            out.append(bytearray(buf.raw[:n]))
+        return out
+
+    def step_atoms(self, items, ok_state):
+        """For the CTL structure whose nodes are steps: (src, dst, vector of the atoms ``items``)
+        for every step between stored states, each triple once, in the order of the Python step
+        function's enumeration -- the atoms (which read monitored functions) evaluated in src with
+        the values the step read, the others taking every value.  None when the compiled code
+        cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        index = getattr(self, "_label_index", None)
+        if index is None:
+            self.state_labels([])
+            index = self._label_index
+        ks = []
+        for a in items:
+            k = index.get((id(a.term), _env_key(a.env)))
+            if k is None or self.gen.label_exprs[k] is None:
+                return None
+            ks.append(k)
+        if not ks or len(ks) > 64:
+            return None
+        karr = (ctypes.c_int64 * len(ks))(*ks)
+        out_recs = []
+        vecs: dict = {}
+        cap = 1024
+        buf = (ctypes.c_int64 * (2 * cap))()
+        nk = len(ks)
+        for src in range(self.nstates):
+            if not ok_state[src]:
+                continue
+            while True:
+                n = self.dll.asm_step_atoms(src, karr, nk, buf, cap)
+                if n != -2:
+                    break
+                cap *= 4
+                buf = (ctypes.c_int64 * (2 * cap))()
+            if n < 0:
+                return None
+            flat = buf[:2 * n]
+            for r in range(0, 2 * n, 2):
+                vec = flat[r + 1]
+                t = vecs.get(vec)
+                if t is None:
+                    t = vecs[vec] = tuple(bool(vec >> k & 1) for k in range(nk))
+                out_recs.append((src, flat[r], t))
+        return out_recs
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""
@@ -2718,6 +3002,15 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _env_key(env) -> tuple:
+    items = tuple(sorted((env or {}).items(), key=lambda kv: kv[0]))
+    try:
+        hash(items)
+        return items
+    except TypeError:
+        return repr(items)
 
 
 class _NativeEdges:
