@@ -638,8 +638,20 @@ def verdict_text(row: dict) -> str:
     return f"{row['verdict']}, relative to the run-time error{where}"
 
 
+def property_place(prop) -> dict:
+    """The formula (its term on one line, '' for deadlock and a step that fails) and the
+    location (as ``check --json`` rows give it; null when unknown) of a violated property."""
+    from .report.describe import property_text, span_location
+    kind = getattr(prop, "kind", "")
+    name = getattr(prop, "name", "")
+    formula = "" if kind in ("deadlock", "error") or name in ("deadlock", "error") else property_text(prop)
+    loc = span_location(getattr(prop, "span", None), name if formula else None)
+    return {"formula": formula, "location": loc.json() if loc is not None else None}
+
+
 def _violation_json(v) -> dict:
-    out = {"property": v.property, "kind": v.trace.kind, "message": v.message, "trace": v.trace.json()}
+    out = {"property": v.property, "kind": v.trace.kind, "message": v.message,
+           **property_place(v.trace.prop), "trace": v.trace.json()}
     failing = failing_json(v.trace.raw)
     if failing is not None:
         out["failing_step"] = failing
@@ -814,7 +826,8 @@ class Exploration:
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]
-                          + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
+                          + [{**temporal_json(t, self.model.machine), **property_place(t.prop)}
+                             for t in self.temporal if not t.holds],
         }
         if self.engine_note:
             out["engine_note"] = f"native engine not used: {self.engine_note}"

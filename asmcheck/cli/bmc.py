@@ -40,7 +40,7 @@ def run(args) -> int:
             "seconds": round(res.seconds, 3),
             "properties": rows,
             "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
-                            "depth": v.raw.depth, "trace": v.trace.json()} for v in res.violations],
+                            **api.property_place(v.trace.prop), "depth": v.raw.depth, "trace": v.trace.json()} for v in res.violations],
         }
         if res.reason:
             doc["unknown"] = res.reason
@@ -66,23 +66,27 @@ def run(args) -> int:
         out(f"  {r['property']:<{width}} {r['verdict']}{extra}{aux}")
     for v in res.violations:
         out()
-        f = v.raw
-        prop = f.prop.wrapper
-        span = getattr(prop, "span", None)
-        where = f" ({span.short()})" if span is not None and span.line else ""
-        head = "a step raises an error" if f.prop.kind == "error" else f"{f.prop.name}{where} is violated"
-        steps = len(f.trace.steps) - 1
-        out(f"{head}" + (f": {f.message}" if f.message else "") +
-            f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
-            (" (the last step breaks it)" if f.trace.kind == "step" else "") + ", replayed:")
-        for line in v.trace.text(color).rstrip("\n").split("\n"):
-            out("  " + line)
+        for line in bmc_violation_lines(model.machine, v.raw, color):
+            out(line)
     if res.not_checked:
         out(f"not checked by bmc: {', '.join(res.not_checked)} (temporal properties)")
     if res.reason:
         out(f"unknown: {res.reason}")
     out(f"verdict: {res.verdict}" + (f" (depth {res.depth})" if res.verdict == "holds-to-depth" else ""))
     return code
+
+
+def bmc_violation_lines(machine, found, color: bool = False) -> list[str]:
+    """A violation found by Z3 and replayed by the step function, as ``asmcheck explore`` shows
+    one: what is violated and where, the summary, the formula, then the trace."""
+    from ..report.trace import describe_trace, property_text, violation_head, violation_lines
+    prop = found.prop.wrapper
+    span = getattr(prop, "span", None)
+    where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
+    kind = found.prop.kind
+    head = violation_head(found.prop.name, kind, where, found.message)
+    formula = property_text(prop) if kind not in ("error", "deadlock") else ""
+    return violation_lines(head, describe_trace(machine, found.trace), color, formula)
 
 
 def register(sub) -> None:

@@ -91,7 +91,9 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
     :func:`asmcheck.parallel.swarm.swarm`): the report as JSON and as text lines."""
     spec, machine = model.spec, model.machine
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
-    from ..report.trace import temporal_json, temporal_text, trace_json, trace_text
+    from ..report.trace import (describe_trace, property_text, temporal_json, temporal_text, trace_json,
+                                violation_head, violation_lines)
+    from ..api import property_place
     from .swarm import run_walks, swarm, swarm_traces
     if walks < 1 or depth < 1:
         raise UsageError("--swarm and --depth expect positive numbers")
@@ -140,10 +142,10 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
            "states_met": res.states_met, "steps": res.steps_taken, "seconds": round(secs, 3),
            "rule_coverage": {"covered": covered, "not_covered": missing, "rules": len(rules)},
            "properties": [{"property": n, "verdict": v} for n, v in rows],
-           "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message,
+           "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message, **property_place(v.prop),
                            "walk": res.found[v.prop.name].walk, "trace": trace_json(machine, tr)}
                           for v, tr in traces]
-                         + [temporal_json(t, machine) for t in lassos],
+                         + [{**temporal_json(t, machine), **property_place(t.prop)} for t in lassos],
            "verdict": "violated" if violated else "no violation found"}
     out: list[str] = []
     say = out.append        # the text report, line by line
@@ -155,14 +157,14 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
         say(f"  {name:<40} {verdict}")
     for v, tr in traces:
         say("")
-        where = f" ({v.prop.span.short()})" if getattr(v.prop, "span", None) is not None and v.prop.span.line else ""
-        what = "deadlock" if v.prop.name == "deadlock" else f"{v.prop.name}{where} is violated"
-        steps = len(tr.steps) - 1
-        say(f"{what}" + (f": {v.message}" if v.message else "") +
-              f" -- shortest trace found (walk {res.found[v.prop.name].walk}), {steps} step{'s' if steps != 1 else ''}"
-              + (" (the last step breaks it)" if tr.kind == "step" else "") + ":")
-        for line in trace_text(machine, tr, color):
-            say("  " + line)
+        # as explore shows a violation; the trace is the shortest found, by the walk named
+        span = getattr(v.prop, "span", None)
+        where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
+        head = violation_head(v.prop.name, getattr(v.prop, "kind", ""), where, v.message)
+        formula = property_text(v.prop) if v.prop.name not in ("deadlock", "error") else ""
+        for line in violation_lines(head, describe_trace(machine, tr), color, formula,
+                                    what=f"counterexample found (walk {res.found[v.prop.name].walk})"):
+            say(line)
     for t in lassos:
         say("")
         for line in temporal_text(t, machine, color):
