@@ -900,7 +900,7 @@ class BmcResult:
     def violations(self) -> list[Violation]:
         out = []
         for f in self.outcome.found:
-            prop = f.prop.wrapper
+            prop = f.trace.prop           # the property (for 'error': where the step fails)
             span = getattr(prop, "span", None)
             loc = str(span) if span is not None and getattr(span, "line", 0) else ""
             out.append(Violation(f.prop.name, f.trace.kind if f.prop.kind != "error" else "error", f.message, loc,

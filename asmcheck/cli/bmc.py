@@ -28,6 +28,7 @@ def run(args) -> int:
         out(json.dumps(itf_documents(model.machine, res.violations, args.file), indent=1))
         return code
     if args.format == "json":
+        from ..report.trace import failing_json
         doc = {
             "spec": model.name,
             "engine": "z3",
@@ -40,7 +41,9 @@ def run(args) -> int:
             "seconds": round(res.seconds, 3),
             "properties": rows,
             "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
-                            **api.property_place(v.trace.prop), "depth": v.raw.depth, "trace": v.trace.json()} for v in res.violations],
+                            **api.property_place(v.trace.prop), "depth": v.raw.depth, "trace": v.trace.json(),
+                            **({"failing_step": failing_json(v.trace.raw)} if v.trace.raw.failing is not None else {})}
+                           for v in res.violations],
         }
         if res.reason:
             doc["unknown"] = res.reason
@@ -80,7 +83,7 @@ def bmc_violation_lines(machine, found, color: bool = False) -> list[str]:
     """A violation found by Z3 and replayed by the step function, as ``asmcheck explore`` shows
     one: what is violated and where, the summary, the formula, then the trace."""
     from ..report.trace import describe_trace, property_text, violation_head, violation_lines
-    prop = found.prop.wrapper
+    prop = found.trace.prop
     span = getattr(prop, "span", None)
     where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
     kind = found.prop.kind

@@ -91,7 +91,7 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
     :func:`asmcheck.parallel.swarm.swarm`): the report as JSON and as text lines."""
     spec, machine = model.spec, model.machine
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
-    from ..report.trace import (describe_trace, property_text, temporal_json, temporal_text, trace_json,
+    from ..report.trace import (describe_trace, failing_json, property_text, temporal_json, temporal_text, trace_json,
                                 violation_head, violation_lines)
     from ..api import property_place
     from .swarm import run_walks, swarm, swarm_traces
@@ -143,7 +143,8 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
            "rule_coverage": {"covered": covered, "not_covered": missing, "rules": len(rules)},
            "properties": [{"property": n, "verdict": v} for n, v in rows],
            "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message, **property_place(v.prop),
-                           "walk": res.found[v.prop.name].walk, "trace": trace_json(machine, tr)}
+                           "walk": res.found[v.prop.name].walk, "trace": trace_json(machine, tr),
+                           **({"failing_step": failing_json(tr)} if tr.failing is not None else {})}
                           for v, tr in traces]
                          + [{**temporal_json(t, machine), **property_place(t.prop)} for t in lassos],
            "verdict": "violated" if violated else "no violation found"}
