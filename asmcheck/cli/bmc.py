@@ -28,7 +28,6 @@ def run(args) -> int:
         out(json.dumps(itf_documents(model.machine, res.violations, args.file), indent=1))
         return code
     if args.format == "json":
-        from ..report.trace import failing_json
         doc = {
             "spec": model.name,
             "engine": "z3",
@@ -40,10 +39,7 @@ def run(args) -> int:
             "k": args.k,
             "seconds": round(res.seconds, 3),
             "properties": rows,
-            "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
-                            **api.property_place(v.trace.prop), "depth": v.raw.depth, "trace": v.trace.json(),
-                            **({"failing_step": failing_json(v.trace.raw)} if v.trace.raw.failing is not None else {})}
-                           for v in res.violations],
+            "violations": res.violation_json(),
         }
         if res.reason:
             doc["unknown"] = res.reason
@@ -67,9 +63,9 @@ def run(args) -> int:
             extra += ")"
         aux = "  [auxiliary]" if r.get("auxiliary") else ""
         out(f"  {r['property']:<{width}} {r['verdict']}{extra}{aux}")
-    for v in res.violations:
+    for lines in res.violation_text(color):
         out()
-        for line in bmc_violation_lines(model.machine, v.raw, color):
+        for line in lines:
             out(line)
     if res.not_checked:
         out(f"not checked by bmc: {', '.join(res.not_checked)} (temporal properties)")
@@ -77,19 +73,6 @@ def run(args) -> int:
         out(f"unknown: {res.reason}")
     out(f"verdict: {res.verdict}" + (f" (depth {res.depth})" if res.verdict == "holds-to-depth" else ""))
     return code
-
-
-def bmc_violation_lines(machine, found, color: bool = False) -> list[str]:
-    """A violation found by Z3 and replayed by the step function, as ``asmcheck explore`` shows
-    one: what is violated and where, the summary, the formula, then the trace."""
-    from ..report.trace import describe_trace, property_text, violation_head, violation_lines
-    prop = found.trace.prop
-    span = getattr(prop, "span", None)
-    where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
-    kind = found.prop.kind
-    head = violation_head(found.prop.name, kind, where, found.message)
-    formula = property_text(prop) if kind not in ("error", "deadlock") else ""
-    return violation_lines(head, describe_trace(machine, found.trace), color, formula)
 
 
 def register(sub) -> None:

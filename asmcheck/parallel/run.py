@@ -91,9 +91,8 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
     :func:`asmcheck.parallel.swarm.swarm`): the report as JSON and as text lines."""
     spec, machine = model.spec, model.machine
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
-    from ..report.trace import (describe_trace, failing_json, property_text, temporal_json, temporal_text, trace_json,
-                                violation_head, violation_lines)
-    from ..api import property_place
+    from ..report.trace import failing_json, temporal_json, temporal_text, trace_json
+    from ..report.place import found_violation_lines, property_place
     from .swarm import run_walks, swarm, swarm_traces
     if walks < 1 or depth < 1:
         raise UsageError("--swarm and --depth expect positive numbers")
@@ -159,12 +158,8 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
     for v, tr in traces:
         say("")
         # as explore shows a violation; the trace is the shortest found, by the walk named
-        span = getattr(v.prop, "span", None)
-        where = f" ({span.short()})" if span is not None and getattr(span, "line", 0) else ""
-        head = violation_head(v.prop.name, getattr(v.prop, "kind", ""), where, v.message)
-        formula = property_text(v.prop) if v.prop.name not in ("deadlock", "error") else ""
-        for line in violation_lines(head, describe_trace(machine, tr), color, formula,
-                                    what=f"counterexample found (walk {res.found[v.prop.name].walk})"):
+        for line in found_violation_lines(machine, v.prop, tr, v.message, color,
+                                          f"counterexample found (walk {res.found[v.prop.name].walk})"):
             say(line)
     for t in lassos:
         say("")
