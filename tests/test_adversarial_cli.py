@@ -218,6 +218,7 @@ def test_deeply_nested_specs_end_well(tmp_path, depth):
 
 
 # ----------------------------------------------------------------- limits under a wall clock
+@pytest.mark.engines("python")
 @pytest.mark.parametrize("limit", ["1", "2.5"])
 def test_time_limits_hold_under_a_wall_clock(tmp_path, limit):
     path = write(tmp_path, COUNTER)
@@ -236,6 +237,7 @@ def cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+@pytest.mark.engines("python")
 @pytest.mark.parametrize("cpu", [0.0, 0.3, 1.0, 2.0])
 @pytest.mark.parametrize("command", ["explore", "check"])
 def test_sigint_at_any_moment_ends_well(tmp_path, command, cpu):
@@ -261,6 +263,7 @@ def capped(limit_mb: int):
     return pre
 
 
+@pytest.mark.engines("python")
 @pytest.mark.parametrize("limit_mb", [600, 800])
 def test_memory_caps_end_well(tmp_path, limit_mb):
     path = write(tmp_path, COUNTER)
@@ -272,6 +275,7 @@ def test_memory_caps_end_well(tmp_path, limit_mb):
     assert "incomplete: " in res.stdout or "out of memory" in res.stderr
 
 
+@pytest.mark.engines("python")
 @pytest.mark.parametrize("limit_mb", [260, 300, 340])
 def test_a_small_memory_cap_leaves_room_for_a_small_search(limit_mb):
     """The deep-call stack is sized to the room under an address-space cap: at 300 MB it once
@@ -285,6 +289,7 @@ def test_a_small_memory_cap_leaves_room_for_a_small_search(limit_mb):
     assert json.loads(res.stdout)["states"] == 267
 
 
+@pytest.mark.engines("python")
 def test_deep_nesting_under_a_memory_cap(tmp_path):
     """800 nested ifs resolve under a 300 MB cap (a smaller stack, a recursion limit to match)."""
     body = "x := 0"

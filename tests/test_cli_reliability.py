@@ -201,6 +201,7 @@ def test_every_unbounded_monitored_integer_is_reported_at_once(tmp_path, capsys)
 
 
 # ----------------------------------------------------------------- 6: a closed stdout keeps the verdict
+@pytest.mark.engines("python")
 def test_a_closed_stdout_keeps_the_exit_code_of_the_verdict(tmp_path):
     path = write(tmp_path, COUNTER.format(bound=30))
     proc = subprocess.Popen([sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python",
@@ -215,6 +216,7 @@ def test_a_closed_stdout_keeps_the_exit_code_of_the_verdict(tmp_path):
 
 
 # ----------------------------------------------------------------- 10, 11: limits
+@pytest.mark.engines("python")
 def test_max_seconds_bounds_the_whole_command_even_inside_one_step(tmp_path):
     path = write(tmp_path, SLOW_STEP)
     t0 = time.monotonic()
@@ -265,6 +267,7 @@ def interrupt(args, cpu=2.5):
     return proc.returncode, out, err, time.monotonic() - t0
 
 
+@pytest.mark.engines("python")
 def test_ctrl_c_during_explore_prints_the_partial_report(tmp_path):
     path = write(tmp_path, COUNTER.format(bound=10**9))
     code, out, err, after = interrupt(["explore", path, "--engine", "python"])
@@ -275,6 +278,7 @@ def test_ctrl_c_during_explore_prints_the_partial_report(tmp_path):
     assert out.endswith("incomplete: interrupted (Ctrl-C)\nverdict: incomplete\n")
 
 
+@pytest.mark.engines("python")
 def test_ctrl_c_after_a_violation_exits_1_with_its_trace(tmp_path):
     path = write(tmp_path, COUNTER.format(bound=30))
     html = tmp_path / "r.html"
@@ -286,6 +290,7 @@ def test_ctrl_c_after_a_violation_exits_1_with_its_trace(tmp_path):
     assert html.exists() and "inv_small" in html.read_text()
 
 
+@pytest.mark.engines("python")
 def test_ctrl_c_during_check_writes_the_reports(tmp_path):
     path = write(tmp_path, COUNTER.format(bound=10**9))
     report = tmp_path / "gate.json"
@@ -297,6 +302,7 @@ def test_ctrl_c_during_check_writes_the_reports(tmp_path):
 
 
 # ----------------------------------------------------------------- 13: memory
+@pytest.mark.engines("python")
 def test_max_memory_stops_the_search_with_a_partial_report(tmp_path):
     path = write(tmp_path, COUNTER.format(bound=10**9))
     res = run_cli("explore", path, "--engine", "python", "--max-memory", "120M", "--format", "json", timeout=300)
@@ -306,6 +312,7 @@ def test_max_memory_stops_the_search_with_a_partial_report(tmp_path):
     assert doc["incomplete"] == "memory limit 120 MB reached" and doc["states"] > 1000
 
 
+@pytest.mark.engines("python")
 def test_running_out_of_memory_ends_with_a_partial_report(tmp_path):
     """A hard address-space limit on the child: MemoryError is a partial report, exit 3."""
     path = write(tmp_path, COUNTER.format(bound=10**9))
@@ -338,6 +345,7 @@ def test_input_errors_go_to_stderr_and_json_stays_json(tmp_path, capsys):
 
 
 # ----------------------------------------------------------------- 17: outputs checked before the search
+@pytest.mark.engines("python")
 @pytest.mark.parametrize("opt", ["--graph", "--html", "--avalla"])
 def test_an_output_onto_a_folder_fails_before_the_search(tmp_path, opt):
     path = write(tmp_path, SLOW_STEP)
@@ -354,6 +362,7 @@ def test_an_output_onto_a_folder_fails_before_the_search(tmp_path, opt):
     assert res.stderr == f"asmcheck: error: {opt} {target}: is a folder; give a file name\n"
 
 
+@pytest.mark.engines("python")
 def test_output_into_a_missing_folder_is_created_and_said(tmp_path, capsys):
     path = write(tmp_path, COUNTER.format(bound=5))
     out = tmp_path / "new" / "deeper" / "g.dot"
@@ -386,6 +395,7 @@ default init s0:
 """
 
 
+@pytest.mark.engines("python")
 def test_the_graph_names_choices_marks_the_counterexample_and_is_valid_graphml(tmp_path, capsys):
     import networkx as nx
     path = write(tmp_path, GRAPH)
@@ -408,6 +418,7 @@ def test_the_graph_names_choices_marks_the_counterexample_and_is_valid_graphml(t
     assert "asmcheck: warning: the graph in " in capsys.readouterr().err
 
 
+@pytest.mark.engines("python")
 def test_explore_html_has_one_verdict(tmp_path, capsys):
     """The title and the rows agree: explore does not judge expectations, so an expected
     violation is a failing row under a FAIL title (the gate's check judges them)."""

@@ -180,6 +180,7 @@ def test_native_and_python_engines_agree(tmp_path, capsys, bug):
     assert outs[0] == outs[1]
 
 
+@pytest.mark.engines("native")
 def test_native_engine_refuses_what_it_cannot_translate(tmp_path, capsys):
     from asmcheck.explore.native_build import compiler
     if compiler() is None:

@@ -280,6 +280,35 @@ default init s0:
 	function nodes = {}
 """
 
+# strings and sequences that grow for 300 steps: the value table's pool moves while a split or a
+# subsequence is made from one of its entries
+GROW = """asm Grow
+import StandardLibrary
+signature:
+	controlled s: String
+	controlled parts: Seq(String)
+	controlled tailq: Seq(Integer)
+	controlled q: Seq(Integer)
+	controlled k: Integer
+definitions:
+	main rule r_main =
+		if k < 300 then
+			par
+				k := k + 1
+				s := concat(s, concat("-", toString(k)))
+				parts := split(s, "-")
+				q := append(q, k)
+				tailq := subSequence(q, 1n, iton(length(q)))
+			endpar
+		endif
+default init s0:
+	function s = "x"
+	function parts = []
+	function q = []
+	function tailq = []
+	function k = 0
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     """The JSON reports of the two engines (equal but for the engine and the times)."""
@@ -476,3 +505,30 @@ def test_named_elements_numbered_out_of_the_order_of_their_names_are_left_to_the
         else:
             with pytest.raises(Unsupported, match=r"^asSequence on Powerset\(Node\)$"):
                 NativeExplorer(machine(tmp_path, text))
+
+
+def test_values_made_from_entries_of_a_growing_table(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, GROW)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (
+        0, "no property checked", 301, 301, 300)
+    sts = states(tmp_path, GROW)
+    last = sts[-1]
+    assert last["k"] == "300" and last["s"] == '"x-' + "-".join(str(i) for i in range(300)) + '"'
+    assert last["parts"] == "[" + ", ".join(f'"{x}"' for x in ["x"] + [str(i) for i in range(299)]) + "]"
+    assert last["tailq"] == "[" + ", ".join(str(i) for i in range(1, 299)) + "]"
+
+
+def test_an_ltl_trace_through_states_holding_bags_and_maps_the_search_made(tmp_path, capsys):
+    # the trace is replayed: its states, with values made during the search, are found by value
+    text = MAPS_BAGS.replace("asm MapsBags", "asm MapsBagsLtl").replace(
+        "import StandardLibrary", "import StandardLibrary\nimport LTLLibrary").replace(
+        "\tmain rule r_main =", "\tLTLSPEC g(ix < 3)\n\tmain rule r_main =")
+    code, out = both(tmp_path, capsys, text)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 47, 62, 5)
+    (v,) = out["violations"]
+    assert v["property"] == "ltl_1"
+    # a lasso: the pick-false path up to ix = 4, then the else branch, which repeats its state
+    assert [s["state"]["ix"] for s in v["trace"]] == [0, 1, 2, 3, 4, 4, 4]
+    assert [s["state"]["b"]["bag"] for s in v["trace"][4:]] == [[1, 1], [0, 1, 1, 3, 3], [0, 1, 1, 3, 3]]
+    assert v["trace"][4]["state"]["m"] == {"map": [[1, "BLUE"], [2, "GREEN"], [3, None]]}
+    assert v["trace"][5]["state"]["m"] == {"map": [[1, "RED"], [2, "GREEN"], [3, "BLUE"]]}

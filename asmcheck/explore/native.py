@@ -9,8 +9,11 @@ A state is a few 64-bit words: a location over a small finite domain (Booleans, 
 integer subdomains, the named elements of abstract domains) is a bit field; an Integer location
 holds its value (64 bits, wrapping like Java's long); a sequence, tuple, set or string is the
 number of its entry in a value table where equal values are interned once.  The rules translated:
-par, seq, if, switch, let, forall, choose, while/iterate, macro calls, agents' programs
-(``program($a)`` and ``self``).  Reads inside a seq block see the working state; update sets are
+par, seq, if, switch, let, forall, choose, while/iterate, macro calls (an argument the Python
+engine passes by name is substituted into the body written in place), turbo calls and their
+return values, rules called through rule values, agents' programs (``program($a)`` and ``self``).
+A choose or forall over a set computed in the state meets its elements in the Python engine's
+order (a generated comparison sorts them as ``vkey`` does).  Reads inside a seq block see the working state; update sets are
 composed as the Python step function composes them (a clash is a run-time error).
 
 The same enumeration of choices as the Python step function is used, so states are discovered in
@@ -42,7 +45,7 @@ from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
 from ..semantics.state import is_dom_key, same_value
-from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, SeqV, SetV
+from ..semantics.values import AbstractValue, BagV, EnumValue, MapV, RuleValue, SeqV, SetV
 from . import native_build
 from .native_build import Unsupported
 
@@ -50,6 +53,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+RULE_BASE = 1 << 48       # the code of a rule value: RULE_BASE + its number (apart from elements, 2^40...)
 K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
 K_MAPV = 11
 
@@ -105,6 +109,8 @@ class Codec:
         self.comp_ids: dict = {}
         self.frozen = False
         self.dll = None
+        self.rule_ids: dict = {}         # rule declaration -> number (rule values <<r>>)
+        self.rule_by_id: list = []
         self.any_tags: list = []         # the kinds of value held in locations of type Any: (key, decoding type)
         self.any_tag_ids: dict = {}
 
@@ -127,6 +133,17 @@ class Codec:
             if base is None:
                 base = self.enum_base[v.domain] = len(self.enum_base) << 20
             return base + v.index
+        if t is RuleValue:
+            # a rule value with no agent bound to it: a number of its own (RULE_BASE + k)
+            if v.agent is not None or v.args:
+                raise Unsupported("a rule value bound to an agent")
+            k = self.rule_ids.get(v.rule)
+            if k is None:
+                if self.frozen:
+                    raise Unsupported("a rule value met after the code was generated")
+                k = self.rule_ids[v.rule] = len(self.rule_by_id)
+                self.rule_by_id.append(v.rule)
+            return RULE_BASE + k
         if t is AbstractValue:
             if v not in self.abstract_ids:
                 raise Unsupported(f"the element {v.name} is not a named element of its domain")
@@ -164,16 +181,7 @@ class Codec:
         else:
             pairs = sorted((code(k), code(x)) for k, x in v)
             key = (K_MAPV, tuple(x for pr in pairs for x in pr))
-        intern = getattr(self, "intern", None)
-        if intern is not None:        # the one interning of the codec, where it has one
-            return intern(key)
-        i = self.comp_ids.get(key)
-        if i is None:
-            if self.frozen:
-                raise Unsupported("a composite value met after the code was generated")
-            i = self.comp_ids[key] = len(self.comp)
-            self.comp.append(key)
-        return i
+        return self.intern(key)
 
     def from_c(self, x: int, typ):
         """The Python value of the int64 ``x`` of static type ``typ``."""
@@ -205,6 +213,10 @@ class Codec:
             if r.kind == "Powerset":
                 return SetV(self.from_c(e, r.args[0]) for e in elems)
             return tuple(self.from_c(e, a) for e, a in zip(elems, r.args))
+        if isinstance(r, T.Struct) and r.kind == "Rule":
+            if RULE_BASE <= x < RULE_BASE + len(self.rule_by_id):
+                return RuleValue(self.rule_by_id[x - RULE_BASE])
+            raise Unsupported(f"a value of type {typ} that the native search cannot decode")
         if x >= 1 << 40:
             return self.abstract_by_id[x - (1 << 40)]
         if isinstance(r, T.Domain) and r.kind == "enum":
@@ -310,6 +322,17 @@ class Codec:
         raise Unsupported("a composite value met after the code was generated")
 
 
+class ByName:
+    """A macro parameter passed by name: the C code of its argument (evaluated where the body
+    uses it) and, for a location argument, its function and the code of its arguments."""
+
+    __slots__ = ("expr", "loc")
+
+    def __init__(self, expr: str, loc):
+        self.expr = expr
+        self.loc = loc
+
+
 class Generator:
     def __init__(self, machine: Machine, props):
         self.m = machine
@@ -376,6 +399,8 @@ class Generator:
             r = T.root(f.codomain)
             if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
+            if isinstance(r, T.Struct) and r.kind == "Rule":
+                return None      # a rule value: its code is stored (a wide slot)
             raise
 
     def composite(self, typ) -> bool:
@@ -406,7 +431,8 @@ class Generator:
         cd = f.codomain
         if isinstance(cd, T.Domain) and cd.kind == "subset" and cd.definition is not None:
             return False
-        return bool(f.domain) and all(scalar(d) for d in f.domain) and scalar(cd)
+        rule_cd = isinstance(T.root(cd), T.Struct) and T.root(cd).kind == "Rule"    # a rule value is a code too
+        return bool(f.domain) and all(scalar(d) for d in f.domain) and (scalar(cd) or rule_cd)
 
     def map_key(self, f, args: list) -> str:
         if len(args) == 1:
@@ -436,7 +462,8 @@ class Generator:
             if f is self.spec.self_func or f is self.spec.result_func:
                 continue
             if f.index in self.m.lazy:
-                raise Unsupported(f"the lazily initialised function {f.name}")
+                self.layout_lazy(f)
+                continue
             if T.root(f.codomain) is T.UNDEF and self.unused(f):
                 self.unlaid[f.index] = f"the function {f.name} of codomain Undef"
                 continue
@@ -473,6 +500,7 @@ class Generator:
             self.fn_base[f.index] = (base, arg_values, cod)
             if len(self.slots) > 1 << 20:
                 raise Unsupported("more than a million locations")
+        self.layout_result()
         self.constant_slots()
         self.initial_values_outside()
         for st in self.init_states:
@@ -494,6 +522,129 @@ class Generator:
                 self.mon_base[f.index] = (self.nmon, arg_values, cod)
                 self.nmon += n
 
+    def layout_lazy(self, f) -> None:
+        """A function initialised over an infinite domain: its updated locations are one map
+        value (as for any function over an infinite domain); a location not in the map has the
+        value of the init term, which must read no location (then its first read in a step and
+        every later one agree)."""
+        params, body = self.m.lazy[f.index]
+        lazy_ok = self.map_function(f) or (bool(f.domain) and all(
+            T.root(d) in (T.INTEGER, T.NATURAL, T.BOOLEAN) for d in f.domain)
+            and isinstance(T.root(f.codomain), T.Struct) and T.root(f.codomain).kind == "Rule")
+        if not lazy_ok or not self.reads_no_location(body) or self.has_choose():
+            # a location first read keeps its initial value in the next state; the Python engine
+            # reads it also in the alternatives of a choose that it merges, and in none when it
+            # reuses a choose's outcomes: only specs without choose rules are translated
+            raise Unsupported(f"the lazily initialised function {f.name}")
+        s_ = len(self.slots)
+        self.slot_of[("map", f.index)] = s_
+        self.slots.append(("map", f.index))
+        self.slot_values.append(None)
+        self.slot_types.append(("map", f))
+        self.map_slot[f.index] = s_
+        self.__dict__.setdefault("lazy_init", {})[f.index] = (params, body)
+
+    def has_choose(self) -> bool:
+        todo: list = [rd.body for rd in self.spec.rules]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Choose):
+                return True
+            if isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
+
+    def reads_no_location(self, t) -> bool:
+        todo = [t]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Loc) and (x.func.kind != "static" or x.func.body is not None and not
+                                          self.reads_no_location(x.func.body)):
+                return False
+            if isinstance(x, (ir.StepOp,)):
+                return False
+            if isinstance(x, ir.Term):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Term, list, tuple)))
+        return True
+
+    def lazy_read(self, f, args: list) -> str:
+        """A read of a lazily initialised location: its value in the map, else the init term's."""
+        params, body = self.lazy_init[f.index]
+        name = f"lz{f.index}"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            env = {p.uid: f"q{p.uid}" for p in params}
+            sig = "".join(f", V q{p.uid}" for p in params)
+            self.funcs.append(f"static V {name}(Ctx *c{sig});")
+            self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {self.term(body, env)}; }}")
+        ks = [self.fresh("lk") for _ in args]
+        m = self.fresh("lm")
+        decl = " ".join(f"V {k} = {a};" for k, a in zip(ks, args))
+        if "lz_note" not in self.defined_done:
+            self.defined_done.add("lz_note")
+            self.funcs.append(
+                "/* lazily initialised locations read in this run: the next state keeps their value */\n"
+                "static uint32_t lz_gen = 0; static int lz_n = 0; static int lz_slot[MAXV]; static V lz_key[MAXV], lz_val[MAXV];\n"
+                "static V lz_note(Ctx *c, int s, V k, V v) {\n"
+                "    if (c->in_prop || c->rd != c->cur) return v;\n"
+                "    if (lz_gen != c->gen) { lz_gen = c->gen; lz_n = 0; }\n"
+                "    if (lz_n >= MAXV) { fail(c, E_UNSUPPORTED, 0); return v; }\n"
+                "    lz_slot[lz_n] = s; lz_key[lz_n] = k; lz_val[lz_n] = v; lz_n++;\n"
+                "    return v;\n"
+                "}\n"
+                "static void lz_flush(Ctx *c) {\n"
+                "    if (c->err || lz_gen != c->gen) return;\n"
+                "    for (int i = 0; i < lz_n; i++) {\n"
+                "        if (lz_val[i] == UNDEF) { fail(c, E_UNSUPPORTED, 0); return; }\n"
+                "        int vs = vslot(c, lz_slot[i], lz_key[i]);\n"
+                "        if (vs >= 0 && c->wgen[vs] != c->gen) upd(c, vs, lz_val[i], 0);\n"
+                "    }\n"
+                "    lz_n = 0;\n"
+                "}")
+        sl = self.map_slot[f.index]
+        key = self.fresh("lq")
+        return (f"({{ {decl} V {key} = {self.map_key(f, ks)}; V {m} = map_get(c->rd[{sl}], {key}); "
+                f"{m} == UNDEF ? lz_note(c, {sl}, {key}, {name}(c{''.join(', ' + k for k in ks)})) : {m}; }})")
+
+    def layout_result(self) -> None:
+        """The location ``result`` of turbo rules (type Any): a slot of the one type every
+        update of it in the spec gives it, or none when nothing updates it."""
+        rf = self.spec.result_func
+        if rf is None:
+            return
+        types = []
+        todo: list = [rd.body for rd in self.spec.rules]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Update) and x.func is rf:
+                types.append(x.value.type)
+            if isinstance(x, (ir.Rule, ir.Term)):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, ir.Term, list, tuple)))
+        if not types:
+            return
+        roots = {T.INTEGER if T.root(t) is T.NATURAL else T.root(t) for t in types}
+        if len(roots) != 1:
+            raise Unsupported("values of several types in the location result")
+        (typ,) = roots
+        if typ in (T.INTEGER, T.NATURAL) or self.composite(typ) or (
+                isinstance(typ, T.Domain) and typ.kind == "abstract"):
+            cod = None       # the code itself (an element of an abstract domain decodes by its number)
+        elif typ is T.BOOLEAN or (isinstance(typ, T.Domain) and typ.kind == "enum"):
+            cod = self.values_of(typ)
+        else:
+            raise Unsupported(f"the location result of type {typ}")
+        base = len(self.slots)
+        self.slot_of[rf.index] = base
+        self.slots.append(rf.index)
+        self.slot_values.append(cod)
+        self.slot_types.append(typ)
+        self.fn_base[rf.index] = (base, [], cod)
     def runtime_site(self, why: str) -> int:
         self.site_reasons.append(why)
         return 1000 + len(self.site_reasons) - 1
@@ -669,6 +820,9 @@ class Generator:
     def t_Const(self, t, env):
         return self.codec.literal(t.value)
 
+    def t_RuleRef(self, t, env):
+        return self.codec.literal(RuleValue(t.rule))
+
     def t_VarRef(self, t, env):
         name = env.get(t.var.uid)
         if name is None:
@@ -677,6 +831,8 @@ class Generator:
             # error ("variable ... is not bound here": a called rule or derived function sees only
             # its parameters, as here)
             return "({ fail(c, E_MODEL, 0); (V)UNDEF; })"
+        if isinstance(name, ByName):
+            return name.expr
         return name
 
     def t_Loc(self, t, env):
@@ -701,6 +857,8 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over an infinite domain")
             base, arg_values, cod = self.mon_base[f.index]
             return f"({self.mon_reader(f)}(c{''.join(', ' + a for a in args)}))"
+        if f.index in getattr(self, "lazy_init", ()):
+            return self.lazy_read(f, args)
         if f.index in self.map_slot:
             return f"map_get(c->rd[{self.map_slot[f.index]}], {self.map_key(f, args)})"
         if f.index not in self.fn_base:
@@ -859,6 +1017,12 @@ class Generator:
             return self.scalar_library_call(t, [self.term(a, env) for a in t.args])
         if name == "prepend" and len(t.args) == 2 and self.composite(t.args[1].type):
             return f"seq_prepend(c, {self.term(t.args[0], env)}, {self.term(t.args[1], env)})"
+        if name in ("eq", "neq", "isDef", "isUndef") and all(
+                isinstance(T.root(a.type), T.Struct) and T.root(a.type).kind == "Rule" for a in t.args):
+            # rule values: equal when they are the same rule (one code per rule)
+            ra = [self.term(a, env) for a in t.args]
+            return {"eq": "v_eq({0}, {1})", "neq": "v_neq({0}, {1})", "isDef": "(V)({0} != UNDEF)",
+                    "isUndef": "(V)({0} == UNDEF)"}[name].format(*ra)
         if any(T.root(a.type) is T.REAL for a in t.args) or name in ("div", "itor", "ntor"):
             return self.real_call(t, env)
         for a in t.args:
@@ -1323,13 +1487,113 @@ class Generator:
                 site = self.runtime_site(why)
                 return f"fail(c, E_UNSUPPORTED, {site}); for (int {q} = 0; {q} < 0; {q}++) {{ V {name} = UNDEF;"
             r = T.root(rg.type) if rg.type is not None else None
-            if not (any_order and isinstance(r, T.Struct) and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
+            sorter = None
+            if not self.runtime_order_ok(rg.type) and isinstance(r, T.Struct) and \
+                    r.kind == "Powerset" and self.composite(rg.type):
+                # a set of composite values: walked sorted as the Python engine sorts it (vkey),
+                # also where any order would do (a quantifier stops where the Python engine stops)
+                sorter = self.vkey_sorter(r.args[0])
+                if sorter is None and not any_order:
+                    raise
+            elif not ((any_order or self.runtime_order_ok(rg.type)) and isinstance(r, T.Struct)
+                      and r.kind in ("Powerset", "Seq") and self.composite(rg.type)):
                 raise
             rv = self.fresh("rv")
-            return (f"V {rv} = {self.term(rg, env)}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
+            value = self.term(rg, env) if sorter is None else f"{sorter}(c, {self.term(rg, env)})"
+            return (f"V {rv} = {value}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
         tab = self.table(vals)
         return f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+
+    def vkey_cmp(self, typ):
+        """The name of a C function comparing two codes of type ``typ`` as ``vkey`` compares
+        the values (-1, 0, 1), or None where that is not written."""
+        r = T.root(typ)
+        key = ("vcmp", str(typ))
+        names = self.__dict__.setdefault("_vcmp", {})
+        if key in names:
+            return names[key]
+        head = "if (a == b) return 0; if (a == UNDEF) return -1; if (b == UNDEF) return 1;"
+        if self.codes_sorted_like_vkey(typ):
+            body = head + " return a < b ? -1 : 1;"
+        elif r is T.STRING:
+            body = (head + " int n = v_len(a), m = v_len(b); for (int i = 0; i < n && i < m; i++) { "
+                    "V x = v_elems(a)[i], y = v_elems(b)[i]; if (x != y) return x < y ? -1 : 1; } "
+                    "return n < m ? -1 : n > m ? 1 : 0;")
+        elif isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset") and self.composite(typ):
+            if r.kind == "Powerset" and not self.codes_sorted_like_vkey(r.args[0]):
+                names[key] = None
+                return None
+            subs = [self.vkey_cmp(a) for a in r.args]
+            if any(x is None for x in subs):
+                names[key] = None
+                return None
+            if r.kind == "Prod":
+                parts = " ".join(f"{{ int k = {subs[i]}(v_elems(a)[{i}], v_elems(b)[{i}]); if (k) return k; }}"
+                                 for i in range(len(subs)))
+                body = head + " " + parts + " return 0;"
+            else:
+                pre = "int n = v_len(a), m = v_len(b); "
+                if r.kind == "Powerset":      # (8, len, elements sorted)
+                    pre += "if (n != m) return n < m ? -1 : 1; "
+                body = (head + " " + pre + "for (int i = 0; i < n && i < m; i++) { "
+                        f"int k = {subs[0]}(v_elems(a)[i], v_elems(b)[i]); if (k) return k; }} "
+                        "return n < m ? -1 : n > m ? 1 : 0;")
+        else:
+            names[key] = None
+            return None
+        name = f"vc{len(names)}"
+        names[key] = name
+        self.funcs.append(f"static int {name}(V a, V b) {{ {body} }}")
+        return name
+
+    def vkey_sorter(self, elem):
+        """The name of a C function: a set of ``elem`` values -> the sequence of its elements
+        sorted by ``vkey`` (interned), or None."""
+        cmp = self.vkey_cmp(elem)
+        if cmp is None:
+            return None
+        name = f"{cmp}_sorted"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            self.funcs.append(
+                f"static int {cmp}_q(const void *x, const void *y) {{ return {cmp}(*(const V *)x, *(const V *)y); }}\n"
+                f"static V {name}(Ctx *c, V s) {{\n"
+                f"    if (s == UNDEF) return UNDEF;\n"
+                f"    int n = v_len(s);\n"
+                f"    if (n > (1 << 16)) {{ fail(c, E_UNSUPPORTED, 0); return UNDEF; }}\n"
+                f"    memcpy(vscratch, v_elems(s), n * sizeof(V));\n"
+                f"    qsort(vscratch, n, sizeof(V), {cmp}_q);\n"
+                f"    return v_intern(c, K_SEQ, vscratch, n);\n"
+                f"}}")
+        return name
+
+    def runtime_order_ok(self, typ) -> bool:
+        """Does a sequence or set of type ``typ`` computed in the state list its elements, in the
+        order of their codes, as the Python engine does (a sequence in its order, a set sorted by
+        ``vkey``)?  Then a loop over it meets the elements (and makes its choices) in the Python
+        engine's order."""
+        r = T.root(typ) if typ is not None else None
+        if not isinstance(r, T.Struct) or r.kind not in ("Seq", "Powerset") or not self.composite(typ):
+            return False
+        if r.kind == "Seq":
+            return True
+        return self.codes_sorted_like_vkey(r.args[0])
+
+    def codes_sorted_like_vkey(self, typ) -> bool:
+        """Do the codes of the values of ``typ`` sort as ``vkey`` sorts the values?"""
+        from ..semantics.values import vkey
+        r = T.root(typ)
+        if r in (T.INTEGER, T.NATURAL, T.BOOLEAN):
+            return True
+        if isinstance(r, T.Domain) and r.kind == "enum":
+            return True
+        if isinstance(r, T.Domain) and r.kind == "abstract" and not r.dynamic:
+            els = list(self.m.static_elements.get(r, ()))
+            if not all(e in self.codec.abstract_ids for e in els):
+                return False
+            return sorted(els, key=vkey) == sorted(els, key=lambda e: self.codec.abstract_ids[e])
+        return False
 
     def t_DomainTerm(self, t, env):
         d = t.domain
@@ -1362,10 +1626,13 @@ class Generator:
             add = f"if ({n} >= (1 << 14)) fail(c, E_UNSUPPORTED, 0); else {buf}[{n}++] = {body};"
         make = {"set": f"set_make(c, {buf}, {n})", "seq": f"v_intern(c, K_SEQ, {buf}, {n})",
                 "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
-        return ("({ " + f"static V {buf}[1 << 14]; int {n} = 0; " + " ".join(heads) +
+        # the buffer is static: a body that reaches the same comprehension again (a recursive
+        # derived function) would overwrite it, so that is left to the Python engine
+        return ("({ " + f"static V {buf}[1 << 14]; static int busy_{buf} = 0; int {n} = 0; "
+                f"if (busy_{buf}) fail(c, E_UNSUPPORTED, 0); busy_{buf} = 1; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
                 f"else if ({g}) {{ {add} }} "
-                + "}" * len(heads) + f" {make}; }})")
+                + "}" * len(heads) + f" busy_{buf} = 0; {make}; }})")
 
     def t_Quant(self, t, env):
         env = dict(env)
@@ -1407,6 +1674,15 @@ class Generator:
 
     def r_Update(self, r, env):
         f = r.func
+        if f.index in getattr(self, "lazy_init", ()):
+            return self.update_location(f, [self.term(a, env) for a in r.args], self.term(r.value, env))
+        if f is self.spec.result_func and f.index in self.fn_base:
+            # a turbo return reads the value of result its call gave (see r_TurboReturn)
+            args = [self.term(a, env) for a in r.args]
+            if "res_written" not in self.defined_done:
+                self.defined_done.add("res_written")
+                self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+            return "{ " + self.update_location(f, args, self.term(r.value, env)) + " res_written = 1; }"
         if self.any_slot(f):
             args = [self.term(a, env) for a in r.args]
             v = self.fresh("v")
@@ -1432,12 +1708,38 @@ class Generator:
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, 0); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
+    def update_location(self, f, args: list, value: str) -> str:
+        """The update of the location ``f(args)`` (the arguments' and the value's C code)."""
+        if f.index in self.map_slot:
+            v = self.fresh("v")
+            if f.index in getattr(self, "lazy_init", ()):
+                # undef in a lazily initialised location is kept apart from "never updated" by
+                # the Python engine; the map cannot hold it
+                value = f"({{ V lz_{v} = {value}; if (lz_{v} == UNDEF) fail(c, E_UNSUPPORTED, 0); lz_{v}; }})"
+            return (f"{{ V {v} = {value}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+                    f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
+        if f.index not in self.fn_base:
+            raise Unsupported(f"an update of {f.name}")
+        v = self.fresh("v")
+        s = self.fresh("lsl")
+        self.reader(f)
+        enc = self.encoder(f)
+        return (f"{{ V {v} = {value}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+                f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
     def r_UpdateVar(self, r, env):
         uid = r.var.uid
-        if uid in self.param_uids:
-            # a rule parameter may stand for a location (an update of it updates that location)
-            raise Unsupported(f"an update of the rule parameter {r.var.name}")
         name = env.get(uid)
+        if isinstance(name, ByName):
+            if name.loc is None:
+                # the Python engine rebinds the parameter to the value: not followed here
+                raise Unsupported(f"an update of the rule parameter {r.var.name} passed by name")
+            # a macro parameter bound to a location: the update is one of that location, whose
+            # arguments are evaluated in the caller's scope (as the Python engine does)
+            f, args = name.loc
+            return self.update_location(f, args, self.term(r.value, env))
+        # a parameter of a translated rule was passed by value (a location argument whose rule
+        # updates the parameter is substituted in place, see r_CallRule): a local rebinding
         if name is None:
             raise Unsupported("a variable bound outside the translated code")
         v = self.fresh("uv")
@@ -1500,7 +1802,56 @@ class Generator:
             parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
             parts.append("if (c->err) return; }")
             return " ".join(parts)
-        raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+        return self.call_rule_value(r, env)
+
+    def referenced_rules(self) -> list:
+        """Every rule written as a value (``<<r>>``) in the spec, in a fixed order."""
+        if getattr(self, "_referenced", None) is not None:
+            return self._referenced
+        out: list = []
+        seen: set = set()
+        todo: list = [rd.body for rd in self.spec.rules]
+        todo += [f.body for f in self.spec.functions if f.body is not None]
+        for init in self.spec.inits:
+            todo += [term for _, _, term, _ in init.functions]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.RuleRef):
+                if id(x.rule) not in seen:
+                    seen.add(id(x.rule))
+                    out.append(x.rule)
+            if isinstance(x, (ir.Term, ir.Rule)):
+                todo.extend(vars(x).values())
+            elif isinstance(x, (list, tuple)):
+                todo.extend(x)
+        out.sort(key=lambda rd: (rd.qualname, rd.span.short() if rd.span else ""))
+        self._referenced = out
+        return out
+
+    def call_rule_value(self, r, env):
+        """``t[args]`` for a term ``t`` whose value is a rule: one branch per rule written as a
+        value in the spec that takes as many arguments (anything else is the Python engine's
+        run-time error); the arguments are passed by value, as the Python engine passes them."""
+        rt = T.root(r.term.type) if r.term.type is not None else None
+        if not (isinstance(rt, T.Struct) and rt.kind == "Rule"):
+            raise Unsupported("a rule called through a term other than program(agent) or a rule name")
+        x = self.fresh("rv")
+        args = [self.term(a, env) for a in r.args]
+        avs = [self.fresh("ra") for _ in args]
+        parts = [f"{{ V {x} = {self.term(r.term, env)}; if (c->err) return;"]
+        parts += [f"V {n} = {a}; if (c->err) return;" for n, a in zip(avs, args)]
+        first = True
+        for rd in self.referenced_rules():
+            if len(rd.params) != len(args):
+                continue
+            code = self.codec.to_c(RuleValue(rd))
+            fn = self.rule_fn(rd)
+            kw = "if" if first else "else if"
+            parts.append(f"{kw} ({x} == {code}LL) {{ {fn}(c{''.join(', ' + a for a in avs)}); }}")
+            first = False
+        parts.append(("else " if not first else "") + "fail(c, E_MODEL, 0);")
+        parts.append("if (c->err) return; }")
+        return " ".join(parts)
 
     def check_by_name(self, rd, args):
         from ..semantics.analysis import has_sequencing as _has_sequencing, is_simple as _is_simple
@@ -1535,13 +1886,38 @@ class Generator:
             env[v.uid] = name
         return "{ " + " ".join(decls) + " " + self.rule(r.body, env) + " }"
 
+    def makes_choices(self, x, seen=None) -> bool:
+        """Could running the rule ``x`` make a choice (a choose, a monitored read, a rule value)?"""
+        seen = set() if seen is None else seen
+        todo = [x]
+        while todo:
+            y = todo.pop()
+            if isinstance(y, (ir.Choose, ir.TermCall)):
+                return True
+            if isinstance(y, ir.Loc) and (y.func.kind == "monitored" or (
+                    y.func.body is not None and y.func not in seen and (seen.add(y.func) or True)
+                    and self.makes_choices(y.func.body, seen))):
+                return True
+            if isinstance(y, (ir.CallRule, ir.TurboReturn)):
+                rd = y.rule if isinstance(y, ir.CallRule) else y.call.rule
+                if rd not in seen:
+                    seen.add(rd)
+                    todo.append(rd.body)
+            if isinstance(y, (ir.Rule, ir.Term)):
+                todo.extend(v for v in vars(y).values() if isinstance(v, (ir.Rule, ir.Term, list, tuple)))
+            elif isinstance(y, (list, tuple)):
+                todo.extend(z for z in y if isinstance(z, (ir.Rule, ir.Term, list, tuple)))
+        return False
+
     def r_Forall(self, r, env):
         env = dict(env)
         heads = []
+        # the body's choices follow the order of the elements: then it must be the Python engine's
+        any_order = not self.makes_choices(r.body)
         for v, rg in r.bindings:
             q = self.fresh("q")
             name = self.fresh("x")
-            heads.append(self.loop_head(rg, env, name, q, True))
+            heads.append(self.loop_head(rg, env, name, q, any_order))
             env[v.uid] = name
         g = self.fresh("g")
         guard = self.term(r.guard, env) if r.guard is not None else "(V)1"
@@ -1550,6 +1926,11 @@ class Generator:
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {body} }} if (c->err) return; " + "}" * len(heads) + " }")
 
     def r_Choose(self, r, env):
+        try:
+            for _, rg in r.bindings:
+                self.range_values(rg)
+        except Unsupported:
+            return self.choose_at_run_time(r, env)
         env2 = dict(env)
         heads = []
         sizes = 1
@@ -1584,28 +1965,192 @@ class Generator:
         # The candidates depend on the state, the variables in scope and the choices made
         # before; when the choose is reached before any choice and binds no outer variable,
         # the list is the same in every run of the step from one state: it is kept.
+        # Only the first visit in a run is that point (a rule called twice in a seq block, or a loop,
+        # reaches it again in another working state): a later visit forgets the list it overwrites.
         cacheable = not env
         pre = ""
         post = ""
         if cacheable:
             ep = self.fresh("ep")
             cn = self.fresh("cn")
-            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; int pos0 = c->pos; "
-                   f"if (pos0 == 0 && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
-            post = f" if (c->pos == pos0 && pos0 == 0) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
+            lg = self.fresh("lg")
+            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; static uint32_t {lg} = 0; int pos0 = c->pos; "
+                   f"int first_{lg} = {lg} != c->gen; {lg} = c->gen; if (!first_{lg}) {ep} = -1; "
+                   f"if (pos0 == 0 && first_{lg} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
+            post = f" if (c->pos == pos0 && pos0 == 0 && first_{lg}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
         return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
 
+    def choose_at_run_time(self, r, env):
+        """A choose whose ranges are computed in the state (or from variables bound before): the
+        candidates are collected, in the Python engine's order, into a buffer that grows."""
+        env2 = dict(env)
+        heads = []
+        names = []
+        for v, rg in r.bindings:
+            q, name = self.fresh("q"), self.fresh("x")
+            heads.append(self.loop_head(rg, env2, name, q, False))
+            env2[v.uid] = name
+            names.append(name)
+        k = len(names)
+        cand, cap, n, g, i = self.fresh("cand"), self.fresh("cap"), self.fresh("n"), self.fresh("g"), self.fresh("i")
+        guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
+        body_env = dict(env)
+        bound = []
+        for v, _ in r.bindings:
+            nm = self.fresh("b")
+            body_env[v.uid] = nm
+            bound.append(nm)
+        body = self.rule(r.body, body_env)
+        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
+        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
+        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+                f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
+                f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
+        # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
+        # and the candidate is copied out before the body runs
+        return ("{ " + f"static V *{cand} = 0; static int {cap} = 0; int {n} = 0; " + " ".join(heads) +
+                f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
+                f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
+                f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
+
     def r_CallRule(self, r, env):
-        if r.turbo:
-            raise Unsupported("turbo rules")
         rd = r.rule
-        self.check_by_name(rd, r.args)
+        if not r.turbo:
+            from ..semantics.analysis import mentions_monitored
+            modes = self.arg_modes(r, env)
+            # a monitored argument is read where the body uses it (if it does), so its choice
+            # comes where the Python engine makes it
+            monitored = any(m == 1 and mentions_monitored(a) for a, m in zip(r.args, modes))
+            if monitored and self.recursive(rd):
+                raise Unsupported(f"a monitored argument passed by name to the recursive rule {rd.name}")
+            if any(m == 3 and self.updates_param(rd, i) for i, m in enumerate(modes)) or (
+                    any(m in (1, 3) for m in modes) and self.seq_rule(rd)) or monitored:
+                return self.call_by_name(r, env, modes)
+            self.check_by_name(rd, [a for a, m in zip(r.args, modes) if m != 3])
+        # a turbo call passes its arguments by value
         name = self.rule_fn(rd)
         args = [self.term(a, env) for a in r.args]
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
+
+    def r_TurboReturn(self, r, env):
+        """``target <- r_t(args)``: the call's updates join the step's, and the target takes the
+        value the call gave ``result`` (undef when it gave none), as in the Python engine."""
+        rf = self.spec.result_func
+        call = self.rule(r.call, env)
+        w = self.fresh("rw")
+        if "res_written" not in self.defined_done:
+            self.defined_done.add("res_written")
+            self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+        if rf.index in self.fn_base:
+            s = self.slot_of[rf.index]
+            value = (f"(res_written && c->wgen[{s}] == c->gen ? slot_decode({s}, c->upd_code[c->wpos[{s}]]) : UNDEF)")
+        else:
+            value = "UNDEF"
+        head = (f"{{ int {w} = res_written; res_written = 0; {{ {call} }} V v_{w} = {value}; "
+                f"res_written = {w} | res_written; if (c->err) return;")
+        tgt = r.target
+        if isinstance(tgt, ir.Update):
+            args = [self.term(a, env) for a in tgt.args]
+            return head + " " + self.update_location(tgt.func, args, f"v_{w}") + " }"
+        name = env.get(tgt.var.uid)
+        if name is None or isinstance(name, ByName):
+            raise Unsupported(f"a turbo return into {tgt.var.name}")
+        return head + f" {name} = v_{w}; }}"
+
+    def arg_modes(self, r, env) -> list:
+        """How the Python engine passes each argument of a macro call: 0 by value, 1 by name,
+        3 a location by name (an update of the parameter updates it); a variable bound to an
+        argument passed by name passes it on as it is."""
+        from ..semantics.analysis import is_simple, mentions_monitored
+        by_name = self.seq_rule(r.rule)
+        modes = []
+        for a in r.args:
+            if isinstance(a, ir.VarRef):
+                b = env.get(a.var.uid)
+                modes.append((3 if b.loc is not None else 1) if isinstance(b, ByName) else 0)
+            elif isinstance(a, ir.Loc) and a.func.is_location and a.func.kind not in ("monitored", "static"):
+                modes.append(3)
+            elif (by_name and not is_simple(a)) or mentions_monitored(a):
+                modes.append(1)
+            else:
+                modes.append(0)
+        return modes
+
+    def recursive(self, rd) -> bool:
+        """Does ``rd`` call itself (through any chain of rule calls)?"""
+        seen = set()
+        todo = list(ir.called_rules(rd.body))
+        while todo:
+            x = todo.pop()
+            if x is rd:
+                return True
+            if id(x) not in seen:
+                seen.add(id(x))
+                todo.extend(ir.called_rules(x.body))
+        return False
+
+    def seq_rule(self, rd) -> bool:
+        from ..semantics.analysis import has_sequencing
+        return has_sequencing(rd)
+
+    def updates_param(self, rd, i: int, seen=None) -> bool:
+        """Does the body of ``rd`` update its i-th parameter, itself or through a macro call
+        that receives it?"""
+        seen = set() if seen is None else seen
+        if (rd, i) in seen:
+            return False
+        seen.add((rd, i))
+        uid = rd.params[i].uid
+        todo = [rd.body]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.UpdateVar) and x.var.uid == uid:
+                return True
+            if isinstance(x, ir.CallRule) and not x.turbo:
+                for j, a in enumerate(x.args):
+                    if isinstance(a, ir.VarRef) and a.var.uid == uid and self.updates_param(x.rule, j, seen):
+                        return True
+            if isinstance(x, ir.TurboReturn):
+                todo.append(x.target)
+                todo.append(x.call)
+            elif isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
+
+    def call_by_name(self, r, env, modes):
+        """A macro call whose arguments the Python engine passes by name where the body sees the
+        state change (seq blocks, loops) or updates a location argument through its parameter:
+        the body is written in place with each such parameter standing for its argument's code
+        (evaluated where the body uses it, in the caller's scope)."""
+        rd = r.rule
+        stack = self.__dict__.setdefault("_inlining", [])
+        if rd in stack:
+            raise Unsupported(f"a recursive rule {rd.name} with arguments passed by name")
+        body_env = {}
+        decls = []
+        for p, a, m in zip(rd.params, r.args, modes):
+            if m == 0:
+                x = self.fresh("pv")
+                decls.append(f"V {x} = {self.term(a, env)}; if (c->err) return;")
+                body_env[p.uid] = x
+            elif isinstance(a, ir.VarRef) and isinstance(env.get(a.var.uid), ByName):
+                body_env[p.uid] = env[a.var.uid]
+            elif m == 3:
+                body_env[p.uid] = ByName(f"({self.term(a, env)})", (a.func, [self.term(x, env) for x in a.args]))
+            else:
+                body_env[p.uid] = ByName(f"({self.term(a, env)})", None)
+        stack.append(rd)
+        try:
+            body = self.rule(rd.body, body_env)
+        finally:
+            stack.pop()
+        return "{ " + " ".join(decls) + " { " + body + " } if (c->err) return; }"
 
     def rule_fn(self, rd) -> str:
         name = self.rules_done.get(rd)
@@ -1733,6 +2278,8 @@ class Generator:
             inv_code += ["static V check_invar(Ctx *c, int k) { c->mfix = 0; V r = prop_all(c, check_invar1, k, 1); "
                          "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
+        if "lz_note" in self.defined_done:
+            step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         return src

@@ -340,9 +340,12 @@ static V v_intern(Ctx *c, int kind, const V *e, int n) {
     if (npool + n > cap_pool) {
         int64_t nc = cap_pool ? cap_pool * 2 : 4096;
         while (nc < npool + n) nc *= 2;
+        /* the elements may be part of an entry (a subsequence): they move with the pool */
+        int64_t eoff = (vpool && e >= vpool && e < vpool + npool) ? (int64_t)(e - vpool) : -1;
         V *t = (V *)realloc(vpool, nc * sizeof(V));
         if (!t) { vt_oom = 1; if (c) fail(c, E_MEMORY, 0); return UNDEF; }
         vpool = t; cap_pool = nc;
+        if (eoff >= 0) e = vpool + eoff;
     }
     memcpy(vpool + npool, e, n * sizeof(V));
     vtab[nvals].off = npool; vtab[nvals].len = n; vtab[nvals].kind = kind;
@@ -701,7 +704,7 @@ static V mapv_at(V m, V k) {
 }
 /* merge(a, b): b's pairs win; assign(m, k, v): m with k -> v */
 static V mapv_merge(Ctx *c, V a, V b) {
-    static V buf[1 << 16];
+    static _Thread_local V buf[1 << 16];
     if (a == UNDEF || b == UNDEF) return UNDEF;
     int n = v_len(a), m = v_len(b);
     if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
@@ -751,13 +754,14 @@ static V str_sub(Ctx *c, V s, V i, V j) {
 static V str_split(Ctx *c, V s, V sep) {
     if (s == UNDEF || sep == UNDEF) return UNDEF;
     int n = v_len(s), m = v_len(sep), np = 0, start = 0;
-    static V parts[1 << 14];
+    static _Thread_local V parts[1 << 14];   /* one per thread, as the scratch space */
     const V *a = v_elems(s), *b = v_elems(sep);
     if (m == 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
     for (int i = 0; i + m <= n; ) {
         if (memcmp(a + i, b, m * sizeof(V)) == 0) {
             if (np >= (1 << 14) - 1) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
             parts[np++] = v_intern(c, K_STRING, a + start, i - start);
+            a = v_elems(s); b = v_elems(sep);      /* the pool may have moved */
             i += m; start = i;
         } else i++;
     }
