@@ -218,6 +218,20 @@ def test_explore_json_temporal_violations_carry_formula_and_location(specs, caps
     tv.validate(ltl)
 
 
+def test_swarm_json_temporal_violations_carry_formula_and_location(specs, capsys):
+    text = SMALL.replace("\tmain rule", "\tLTLSPEC ltlSpec_red: g(light = RED)\n\tmain rule")
+    (specs / "Ltl.asm").write_text(text.replace("asm Small", "asm Ltl").replace("StandardLibrary", "StandardLibrary\nimport LTLLibrary"))
+    code, out = run(capsys, "simulate", "Ltl.asm", "--swarm", "2", "--depth", "4", "--swarm-workers", "1",
+                    "--format", "json")
+    assert code == 1
+    got = [(v["property"], v["kind"], v["formula"], v["location"], v["loop_start"] if "loop_start" in v else "-")
+           for v in json.loads(out)["violations"]]
+    assert got == [
+        ("inv_red", "state", "light = RED", {"path": "Ltl.asm", "line": 9, "column": 2, "end_column": 19}, "-"),
+        ("ltlSpec_red", "ltl", "g(light = RED)", {"path": "Ltl.asm", "line": 10, "column": 2, "end_column": 21}, 2),
+    ]
+
+
 # ----------------------------------------------------------------- --graph
 SMALL_DOT = r"""digraph states {
   node [shape=box, fontname=monospace];
