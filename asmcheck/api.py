@@ -657,8 +657,14 @@ def verdict_text(row: dict) -> str:
     return f"{row['verdict']}, relative to the run-time error{where}"
 
 
+def _property_place(prop) -> dict:
+    from .report.place import property_place
+    return property_place(prop)
+
+
 def _violation_json(v) -> dict:
-    out = {"property": v.property, "kind": v.trace.kind, "message": v.message, "trace": v.trace.json()}
+    out = {"property": v.property, "kind": v.trace.kind, "message": v.message,
+           **_property_place(v.trace.prop), "trace": v.trace.json()}
     failing = failing_json(v.trace.raw)
     if failing is not None:
         out["failing_step"] = failing
@@ -836,7 +842,8 @@ class Exploration:
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]
-                          + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
+                          + [{**temporal_json(t, self.model.machine), **_property_place(t.prop)}
+                             for t in self.temporal if not t.holds],
         }
         if self.engine_note:
             out["engine_note"] = f"native engine not used: {self.engine_note}"
@@ -909,11 +916,30 @@ class BmcResult:
     def violations(self) -> list[Violation]:
         out = []
         for f in self.outcome.found:
-            prop = f.prop.wrapper
+            prop = f.trace.prop           # the property (for 'error': where the step fails)
             span = getattr(prop, "span", None)
             loc = str(span) if span is not None and getattr(span, "line", 0) else ""
             out.append(Violation(f.prop.name, f.trace.kind if f.prop.kind != "error" else "error", f.message, loc,
                                  Trace(self.model, f.trace, prop), f))
+        return out
+
+    def violation_text(self, color: bool = False) -> list[list[str]]:
+        """Each violation as ``asmcheck explore`` shows one: what is violated and where, the
+        summary, the formula, then the replayed trace."""
+        from .report.place import found_violation_lines
+        return [found_violation_lines(self.model.machine, v.trace.prop, v.trace.raw, v.message, color)
+                for v in self.violations]
+
+    def violation_json(self) -> list[dict]:
+        """The violations as ``asmcheck bmc --format json`` writes them (those of explore, with
+        the depth)."""
+        out = []
+        for v in self.violations:
+            d = {"property": v.property, "kind": v.trace.kind, "message": v.message,
+                 **_property_place(v.trace.prop), "depth": v.raw.depth, "trace": v.trace.json()}
+            if v.trace.raw.failing is not None:
+                d["failing_step"] = failing_json(v.trace.raw)
+            out.append(d)
         return out
 
     @property
