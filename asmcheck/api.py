@@ -28,6 +28,7 @@ from .errors import AsmError, UsageError
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
 from .explore.bfs import Explorer, ReplayError, Result, TimeUp
+from .explore.store import memory_in_use  # noqa: F401  (part of the API)
 from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
 from .props import spec_properties
@@ -371,19 +372,6 @@ def auto_engine() -> str:
     return value
 
 
-def memory_in_use() -> int:
-    """The resident memory of this process in bytes (0 when unknown)."""
-    try:
-        with open("/proc/self/statm", "rb") as f:
-            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-    except (OSError, ValueError, IndexError):
-        try:
-            import resource
-            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-        except Exception:       # pragma: no cover - no way to know
-            return 0
-
-
 @contextmanager
 def _watchdog(seconds, explorer=None):
     """Raise :class:`TimeUp` in the main thread ``seconds`` from now (a safety net for a step
@@ -428,6 +416,19 @@ ONE_WORKER_NOTE = ("a step fails: the search ran again on one worker, which expl
 
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
+
+
+def _label_atoms(machine, temporal):
+    """For the native explorer: the first initial state -> the atoms of the temporal properties
+    (None without LTL/CTL properties)."""
+    props = [p for p in temporal if p.kind in ("ltl", "ctl", "justice", "compassion")]
+    if not any(p.kind in ("ltl", "ctl") for p in props):
+        return None
+
+    def atoms(state):
+        from .temporal import label_atoms
+        return label_atoms(machine, props, state)
+    return atoms
 
 
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
@@ -514,7 +515,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                     deadlock=deadlock, state_props=state_props, step_props=step_props,
                                     keep_graph=keep_graph, max_memory=scaled.native_memory(max_memory, workers,
                                                                                           **(scaling or {})),
-                                    progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1))
+                                    progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1),
+                                    label_atoms=_label_atoms(machine, temporal))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:
