@@ -28,6 +28,7 @@ from .errors import AsmError, UsageError
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
 from .explore.bfs import Explorer, ReplayError, Result, TimeUp
+from .explore.store import memory_in_use  # noqa: F401  (part of the API)
 from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
 from .props import spec_properties
@@ -371,19 +372,6 @@ def auto_engine() -> str:
     return value
 
 
-def memory_in_use() -> int:
-    """The resident memory of this process in bytes (0 when unknown)."""
-    try:
-        with open("/proc/self/statm", "rb") as f:
-            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-    except (OSError, ValueError, IndexError):
-        try:
-            import resource
-            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-        except Exception:       # pragma: no cover - no way to know
-            return 0
-
-
 @contextmanager
 def _watchdog(seconds, explorer=None):
     """Raise :class:`TimeUp` in the main thread ``seconds`` from now (a safety net for a step
@@ -428,6 +416,19 @@ ONE_WORKER_NOTE = ("a step fails: the search ran again on one worker, which expl
 
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
+
+
+def _label_atoms(machine, temporal):
+    """For the native explorer: the first initial state -> the atoms of the temporal properties
+    (None without LTL/CTL properties)."""
+    props = [p for p in temporal if p.kind in ("ltl", "ctl", "justice", "compassion")]
+    if not any(p.kind in ("ltl", "ctl") for p in props):
+        return None
+
+    def atoms(state):
+        from .temporal import label_atoms
+        return label_atoms(machine, props, state)
+    return atoms
 
 
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
@@ -514,7 +515,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                     deadlock=deadlock, state_props=state_props, step_props=step_props,
                                     keep_graph=keep_graph, max_memory=scaled.native_memory(max_memory, workers,
                                                                                           **(scaling or {})),
-                                    progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1))
+                                    progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1),
+                                    label_atoms=_label_atoms(machine, temporal))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:
@@ -655,8 +657,14 @@ def verdict_text(row: dict) -> str:
     return f"{row['verdict']}, relative to the run-time error{where}"
 
 
+def _property_place(prop) -> dict:
+    from .report.place import property_place
+    return property_place(prop)
+
+
 def _violation_json(v) -> dict:
-    out = {"property": v.property, "kind": v.trace.kind, "message": v.message, "trace": v.trace.json()}
+    out = {"property": v.property, "kind": v.trace.kind, "message": v.message,
+           **_property_place(v.trace.prop), "trace": v.trace.json()}
     failing = failing_json(v.trace.raw)
     if failing is not None:
         out["failing_step"] = failing
@@ -834,7 +842,8 @@ class Exploration:
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]
-                          + [temporal_json(t, self.model.machine) for t in self.temporal if not t.holds],
+                          + [{**temporal_json(t, self.model.machine), **_property_place(t.prop)}
+                             for t in self.temporal if not t.holds],
         }
         if self.engine_note:
             out["engine_note"] = f"native engine not used: {self.engine_note}"
@@ -907,11 +916,30 @@ class BmcResult:
     def violations(self) -> list[Violation]:
         out = []
         for f in self.outcome.found:
-            prop = f.prop.wrapper
+            prop = f.trace.prop           # the property (for 'error': where the step fails)
             span = getattr(prop, "span", None)
             loc = str(span) if span is not None and getattr(span, "line", 0) else ""
             out.append(Violation(f.prop.name, f.trace.kind if f.prop.kind != "error" else "error", f.message, loc,
                                  Trace(self.model, f.trace, prop), f))
+        return out
+
+    def violation_text(self, color: bool = False) -> list[list[str]]:
+        """Each violation as ``asmcheck explore`` shows one: what is violated and where, the
+        summary, the formula, then the replayed trace."""
+        from .report.place import found_violation_lines
+        return [found_violation_lines(self.model.machine, v.trace.prop, v.trace.raw, v.message, color)
+                for v in self.violations]
+
+    def violation_json(self) -> list[dict]:
+        """The violations as ``asmcheck bmc --format json`` writes them (those of explore, with
+        the depth)."""
+        out = []
+        for v in self.violations:
+            d = {"property": v.property, "kind": v.trace.kind, "message": v.message,
+                 **_property_place(v.trace.prop), "depth": v.raw.depth, "trace": v.trace.json()}
+            if v.trace.raw.failing is not None:
+                d["failing_step"] = failing_json(v.trace.raw)
+            out.append(d)
         return out
 
     @property

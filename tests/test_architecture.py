@@ -217,7 +217,9 @@ OUTSIDE = [ROOT / "scripts", ROOT / "benchmarks"]
 UNIT_BENCHMARKS = {"bench_canonical.py": {"asmcheck.explore"},
                    "bench_parallel.py": {"asmcheck.explore.bfs", "asmcheck.parallel", "asmcheck.parallel.search",
                                          "asmcheck.parallel.expand", "asmcheck.props", "asmcheck.props.files",
-                                         "asmcheck.props.load", "asmcheck.semantics.resolve"},
+                                         "asmcheck.props.load", "asmcheck.semantics.resolve",
+                                         # the native engine's threads, timed on one and two threads
+                                         "asmcheck.explore.native"},
                    # bench_native.py --phases times the phases of one run (search, Kripke structure, LTL)
                    "bench_native.py": {"asmcheck.explore.bfs", "asmcheck.temporal", "asmcheck.temporal.ctl",
                                        "asmcheck.temporal.ltl", "asmcheck.explore"}}

@@ -402,8 +402,8 @@ def test_the_graph_names_choices_marks_the_counterexample_and_is_valid_graphml(t
     dot, gml = tmp_path / "g.dot", tmp_path / "g.graphml"
     assert main(["explore", path, "--graph", str(dot)]) == 1
     text = dot.read_text()
-    assert '  s0 -> s1 [label="go = false; choose at Graph.asm:11:8: $l = GREEN"];' in text
-    assert '  s0 -> s2 [label="go = true", color=red, fontcolor=red, penwidth=2];' in text
+    assert '  s0 -> s1 [label="r_main chooses $l = GREEN; reads go = false"];' in text
+    assert '  s0 -> s2 [label="r_main; reads go = true", color=red, fontcolor=red, penwidth=2];' in text
     assert text.count(", color=red") == 4 + 3        # the 4 states and 3 steps to c = 3
     assert main(["explore", path, "--graph", str(gml)]) == 1
     xml = gml.read_text()

@@ -414,6 +414,31 @@ default init s0:
 	function col = GREEN
 """
 
+# a turbo rule's result written to an initialised monitored location (kept in the state by the
+# Python engine, while steps read the monitored inputs)
+MONITORED_UPDATED = """asm MonitoredUpdated
+import StandardLibrary
+signature:
+	domain State subsetof Natural
+	controlled ctl: State
+	monitored high: Boolean
+	monitored low: Boolean
+definitions:
+	domain State = {0n, 1n}
+	turbo rule r_next in Boolean =
+		if ctl = 0n then result := true else result := false endif
+	invariant inv_hl over high, low: not (high and low)
+	main rule r_main =
+		par
+			high <- r_next()
+			if ctl = 0n then ctl := 1n else ctl := 0n endif
+		endpar
+default init s0:
+	function ctl = 0n
+	function high = false
+	function low = false
+"""
+
 
 def both(tmp_path, capsys, text, *extra):
     if compiler() is None:
@@ -597,3 +622,12 @@ def test_initial_values_outside_their_codomain(tmp_path, capsys):
     assert [s["state"] for s in v["trace"]] == [
         {"col": "GREEN", "n": 0, "pos": 0}, {"col": "RED", "n": 1, "pos": 0}, {"col": "RED", "n": 2, "pos": 2},
         {"col": "RED", "n": 3}]
+
+
+def test_an_initialised_monitored_location_updated_by_a_turbo_rule(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, MONITORED_UPDATED)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 2, 1, 1)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_hl"
+    assert [s["state"] for s in v["trace"]] == [
+        {"ctl": 0, "high": False, "low": False}, {"ctl": 1, "high": True, "low": False, "result": True}]

@@ -138,7 +138,7 @@ def test_text_output(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 1
     assert "inv_exclusive                            violated at depth 13" in out
-    assert "shortest trace, 13 steps, replayed:" in out
+    assert "inv_exclusive (" in out and " is violated -- shortest counterexample, 13 steps:\n  formula: " in out
     assert "  step 13: r_main chooses $a = " in out and "verdict: violated" in out
 
 
@@ -174,7 +174,7 @@ def test_replay_mismatch_is_an_internal_error(tmp_path, monkeypatch, capsys):
     cap = capsys.readouterr()
     assert code == 2
     assert "internal error" in cap.err and "does not replay" in cap.err
-    assert "shortest trace" not in cap.out and "verdict" not in cap.out
+    assert "shortest counterexample" not in cap.out and "verdict" not in cap.out
 
 
 def test_induction_proves_step_properties(capsys):

@@ -39,8 +39,7 @@ def run(args) -> int:
             "k": args.k,
             "seconds": round(res.seconds, 3),
             "properties": rows,
-            "violations": [{"property": v.property, "kind": v.trace.kind, "message": v.message,
-                            "depth": v.raw.depth, "trace": v.trace.json()} for v in res.violations],
+            "violations": res.violation_json(),
         }
         if res.reason:
             doc["unknown"] = res.reason
@@ -64,19 +63,10 @@ def run(args) -> int:
             extra += ")"
         aux = "  [auxiliary]" if r.get("auxiliary") else ""
         out(f"  {r['property']:<{width}} {r['verdict']}{extra}{aux}")
-    for v in res.violations:
+    for lines in res.violation_text(color):
         out()
-        f = v.raw
-        prop = f.prop.wrapper
-        span = getattr(prop, "span", None)
-        where = f" ({span.short()})" if span is not None and span.line else ""
-        head = "a step raises an error" if f.prop.kind == "error" else f"{f.prop.name}{where} is violated"
-        steps = len(f.trace.steps) - 1
-        out(f"{head}" + (f": {f.message}" if f.message else "") +
-            f" -- shortest trace, {steps} step{'s' if steps != 1 else ''}" +
-            (" (the last step breaks it)" if f.trace.kind == "step" else "") + ", replayed:")
-        for line in v.trace.text(color).rstrip("\n").split("\n"):
-            out("  " + line)
+        for line in lines:
+            out(line)
     if res.not_checked:
         out(f"not checked by bmc: {', '.join(res.not_checked)} (temporal properties)")
     if res.reason:

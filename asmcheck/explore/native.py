@@ -827,6 +827,17 @@ class Generator:
                     if v is not None and not any(same_value(v, x) and type(v) is type(x) for x in vals):
                         self.codec.to_c(v)
                         vals.append(v)
+                cod = None
+                if type(k) is int and not T.root(f.codomain) is T.REAL:
+                    # a 0-ary one may be updated (a turbo rule's result): its codomain's codes,
+                    # the initial values outside it after undef (initial_values_outside)
+                    try:
+                        cod = self.values_of(f.codomain)
+                    except Unsupported:
+                        cod = None
+                if cod is not None:
+                    self.fn_base[f.index] = (len(self.slots), [], cod)
+                    vals = list(cod)
                 self.slot_of[k] = len(self.slots)
                 self.slots.append(k)
                 self.slot_values.append(vals)
@@ -2221,6 +2232,7 @@ class Generator:
             steps.append(e)
         self.step_mode = False
         invar_terms = [self.term(t, {}) for t in self.invars]
+        label_exprs = self.label_code()
         for st in self.init_states:
             self.pack_values(st)
         self.codec.frozen = True
@@ -2315,7 +2327,57 @@ class Generator:
             step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
             self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+        src += "\n" + self.label_entry(label_exprs)
         return src
+
+    # -------------------------------------------------------------- state atoms of temporal properties
+    def label_code(self) -> list:
+        """The C expressions of the atoms of the temporal properties (``self.label_atoms``: the
+        first initial state -> (term, env) pairs), None for an atom that cannot be translated (the
+        temporal layer evaluates it in Python)."""
+        self.labels = []
+        self.label_exprs = []
+        atoms_of = getattr(self, "label_atoms", None)
+        if atoms_of is None or not self.init_states:
+            return []
+        try:
+            self.labels = list(atoms_of(self.init_states[0]))
+        except AsmError:
+            return []
+        out = []
+        for term, env in self.labels:
+            mark = (len(self.funcs), set(self.defined_done), dict(self.rules_done), dict(self.enc_tables))
+            try:
+                cenv = {uid: self.codec.literal(v) for uid, v in env.items()}
+                out.append(self.term(term, cenv))
+            except Unsupported:
+                del self.funcs[mark[0]:]
+                self.defined_done, self.rules_done, self.enc_tables = mark[1], mark[2], mark[3]
+                out.append(None)
+        self.label_exprs = out
+        return out
+
+    def label_entry(self, exprs: list) -> str:
+        """``asm_labels(k, out)``: atom k in every stored state (out[sid] = 1 where it is true);
+        returns 0, or -1 when it cannot be evaluated in some state (Python then says why)."""
+        lines = ["static V check_label(Ctx *c, int k) {", "    switch (k) {"]
+        for i, e in enumerate(exprs):
+            if e is not None:
+                lines.append(f"    case {i}: return {e};")
+        lines += ["    }", "    c->err = E_UNSUPPORTED;", "    return UNDEF;", "}",
+                  "int64_t asm_labels(int64_t k, uint8_t *out) {",
+                  "    Ctx *c = &ctx_static;",
+                  "    for (int64_t sid = 0; sid < nstates; sid++) {",
+                  "        load_state(c, states + sid * NWORDS);",
+                  "        c->rd = c->cur; c->self = UNDEF; c->epoch = ++global_epoch; c->err = 0; c->in_prop = 1;",
+                  "        V v = check_label(c, (int)k);",
+                  "        c->in_prop = 0;",
+                  "        if (c->err) { c->err = 0; return -1; }",
+                  "        out[sid] = v == 1;",
+                  "    }",
+                  "    return 0;",
+                  "}"]
+        return "\n".join(lines) + "\n" + _STEP_ATOMS_C
 
     # -------------------------------------------------------------- packing
     def map_value(self, st: dict, f) -> int:
@@ -2712,6 +2774,8 @@ _SYMBOLS = {
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
     "asm_par_min_chunk": (None, [_i64]),
     "asm_par_adapt": (None, [_i64]),
+    "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
+    "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
 }
 
 
@@ -2737,6 +2801,92 @@ def thread_unsafe(src: str) -> list:
     return sorted({m.group(2) for m in _STATIC_VAR.finditer(src)} - _SHARED_STATICS)
 
 
+# asm_step_atoms(src, ks, nk, out, cap): for every step from the stored state src (every sequence of
+# choices, INVAR-filtered as the search does) that leads to a stored state dst, the distinct vectors
+# of the atoms ks (bit k: atom ks[k] is true) evaluated in src with the monitored values the step
+# read, the monitored locations it did not read taking every value (a nested enumeration after
+# the step's own choices); pairs (dst, vector) in the order met, each once.  Returns their number,
+# -1 when an atom or the step cannot be evaluated, -2 when more than cap pairs.
+_STEP_ATOMS_C = """
+int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out, int64_t cap) {
+    Ctx *c = &ctx_static;
+    uint64_t nw[NWORDS > 0 ? NWORDS : 1];
+    static _Thread_local V smon[NMON > 0 ? NMON : 1];
+    static _Thread_local uint32_t smgen[NMON > 0 ? NMON : 1];
+    int64_t nrec = 0;
+    load_state(c, states + src * NWORDS);
+    c->rd = c->cur;
+    c->epoch = ++global_epoch;
+    c->plen = 0;
+    c->in_prop = 0;
+    for (;;) {
+        c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+        c->gen++;
+        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+        c->err = 0;
+        step_main(c);
+        if (c->err) return -1;
+        int ok = 1;
+#if NSTEP > 0 || NINVAR > 0
+        if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+#endif
+#if NINVAR > 0
+        c->rd = c->post;
+        for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+        c->rd = c->cur;
+        if (c->err == E_UNSUPPORTED) return -1;
+        c->err = 0;
+        c->in_prop = 0;
+#endif
+        if (ok) {
+            store_state(c, states + src * NWORDS, nw);
+            int64_t dst = asm_find(nw);
+            if (dst >= 0) {
+                int32_t P = c->pos;
+                memcpy(smon, c->mon, sizeof(smon));
+                memcpy(smgen, c->mgen, sizeof(smgen));
+                c->plen = P;
+                for (;;) {
+                    c->pos = P;
+                    memcpy(c->mon, smon, sizeof(smon));
+                    memcpy(c->mgen, smgen, sizeof(smgen));
+                    c->err = 0;
+                    int64_t vec = 0;
+                    for (int64_t k = 0; k < nk; k++) {
+                        V v = check_label(c, (int)ks[k]);
+                        if (c->err) return -1;
+                        if (v == 1) vec |= (int64_t)1 << k;
+                    }
+                    int dup = 0;
+                    for (int64_t r = 0; r < nrec; r++) if (out[2 * r] == dst && out[2 * r + 1] == vec) { dup = 1; break; }
+                    if (!dup) {
+                        if (nrec >= cap) return -2;
+                        out[2 * nrec] = dst; out[2 * nrec + 1] = vec; nrec++;
+                    }
+                    int j = c->pos - 1;
+                    while (j >= P && c->idx[j] + 1 >= c->cnt[j]) j--;
+                    if (j < P) break;
+                    for (int q = P; q < j; q++) c->prefix[q] = c->idx[q];
+                    c->prefix[j] = c->idx[j] + 1;
+                    c->plen = j + 1;
+                }
+                c->pos = P;
+                memcpy(c->mon, smon, sizeof(smon));
+                memcpy(c->mgen, smgen, sizeof(smgen));
+            }
+        }
+        int j = c->pos - 1;
+        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
+        if (j < 0) break;
+        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
+        c->prefix[j] = c->idx[j] + 1;
+        c->plen = j + 1;
+    }
+    return nrec;
+}
+"""
+
+
 class NativeExplorer:
     """The explorer's interface (run, path_to, replay) over the native search."""
 
@@ -2745,7 +2895,7 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
-                 max_memory=None, table_memory=None, **_ignored):
+                 max_memory=None, table_memory=None, label_atoms=None, **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -2762,6 +2912,7 @@ class NativeExplorer:
         self.gen = Generator(machine, self.state_props)
         self.gen.step_props = self.step_props
         self.gen.invars = self.invars
+        self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
         self.thread_unsafe = thread_unsafe(src)
@@ -2810,7 +2961,7 @@ class NativeExplorer:
             return max(int(self.table_memory), 0)
         if not self.max_memory:
             return -1
-        from ..api import memory_in_use
+        from .store import memory_in_use
         return max(int(self.max_memory) - memory_in_use(), 0)
 
     def _growing(self, depth: int) -> list:
@@ -3069,6 +3220,74 @@ class NativeExplorer:
     def edges(self):
         return _NativeEdges(self)
 
+    def state_labels(self, items):
+        """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
+        compiled code: a list of bytearrays (1 where the atom is true, undef counts as false), or
+        None when one of them was not translated or fails somewhere (then Python evaluates them)."""
+        index = getattr(self, "_label_index", None)
+        if index is None:
+            index = self._label_index = {}
+            for k, (term, env) in enumerate(self.gen.labels):
+                index.setdefault((id(term), _env_key(env)), k)
+        ks = []
+        for a in items:
+            k = index.get((id(a.term), _env_key(a.env)))
+            if k is None:
+                return None
+            ks.append(k)
+        out = []
+        n = self.nstates
+        for k in ks:
+            buf = ctypes.create_string_buffer(max(n, 1))
+            if self.dll.asm_labels(k, buf) != 0:
+                return None
+            out.append(bytearray(buf.raw[:n]))
+        return out
+
+    def step_atoms(self, items, ok_state):
+        """For the CTL structure whose nodes are steps: (src, dst, vector of the atoms ``items``)
+        for every step between stored states, each triple once, in the order of the Python step
+        function's enumeration -- the atoms (which read monitored functions) evaluated in src with
+        the values the step read, the others taking every value.  None when the compiled code
+        cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        index = getattr(self, "_label_index", None)
+        if index is None:
+            self.state_labels([])
+            index = self._label_index
+        ks = []
+        for a in items:
+            k = index.get((id(a.term), _env_key(a.env)))
+            if k is None or self.gen.label_exprs[k] is None:
+                return None
+            ks.append(k)
+        if not ks or len(ks) > 64:
+            return None
+        karr = (ctypes.c_int64 * len(ks))(*ks)
+        out_recs = []
+        vecs: dict = {}
+        cap = 1024
+        buf = (ctypes.c_int64 * (2 * cap))()
+        nk = len(ks)
+        for src in range(self.nstates):
+            if not ok_state[src]:
+                continue
+            while True:
+                n = self.dll.asm_step_atoms(src, karr, nk, buf, cap)
+                if n != -2:
+                    break
+                cap *= 4
+                buf = (ctypes.c_int64 * (2 * cap))()
+            if n < 0:
+                return None
+            flat = buf[:2 * n]
+            for r in range(0, 2 * n, 2):
+                vec = flat[r + 1]
+                t = vecs.get(vec)
+                if t is None:
+                    t = vecs[vec] = tuple(bool(vec >> k & 1) for k in range(nk))
+                out_recs.append((src, flat[r], t))
+        return out_recs
+
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""
         try:
@@ -3150,6 +3369,15 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _env_key(env) -> tuple:
+    items = tuple(sorted((env or {}).items(), key=lambda kv: kv[0]))
+    try:
+        hash(items)
+        return items
+    except TypeError:
+        return repr(items)
 
 
 class _NativeEdges:

@@ -30,6 +30,7 @@ from pathlib import Path
 from ..cache import private_cache_dir, usable_cache_file
 
 FLAGS = ["-O2", "-shared", "-fPIC"]
+LIBS = ["-lm"]          # the generated code calls floor, sqrt, pow (Reals)
 INSTALL_HINT = "pip install 'asmcheck[native]'"
 NO_COMPILER = f"no C compiler found (gcc, cc, clang or $CC); for native speed: {INSTALL_HINT}"
 
@@ -107,7 +108,7 @@ def _compile(cmd: list[str], src: str, folder: Path, lib: Path) -> None:
     os.close(fd)
     try:
         try:
-            proc = subprocess.run([*cmd, *FLAGS, "-o", tmp_name, c_name], capture_output=True, text=True)
+            proc = subprocess.run([*cmd, *FLAGS, "-o", tmp_name, c_name, *LIBS], capture_output=True, text=True)
         except OSError as e:
             raise _unsupported(f"the C compiler {shlex.join(cmd)} cannot be run: {e.strerror}") from None
         if proc.returncode != 0:
@@ -136,7 +137,7 @@ def library_path(src: str, cmd: list[str] | None = None) -> tuple[Path, str]:
     """(folder, file name) under which the library for ``src`` is cached."""
     cmd = cmd or compiler_command() or []
     h = hashlib.sha256()
-    for part in (src, "\0", " ".join(FLAGS), "\0", " ".join(os.path.basename(c) for c in cmd)):
+    for part in (src, "\0", " ".join(FLAGS + LIBS), "\0", " ".join(os.path.basename(c) for c in cmd)):
         h.update(part.encode())
     return cache_dir(), f"model-{h.hexdigest()[:32]}.so"
 

@@ -106,7 +106,8 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
     :func:`asmcheck.parallel.swarm.swarm`): the report as JSON and as text lines."""
     spec, machine = model.spec, model.machine
     state_props, step_props, temporal = list(model.state_props), list(model.step_props), list(model.temporal)
-    from ..report.trace import temporal_json, temporal_text, trace_json, trace_text
+    from ..report.trace import failing_json, temporal_json, temporal_text, trace_json
+    from ..report.place import found_violation_lines, property_place
     from .swarm import run_walks, swarm, swarm_traces
     if walks < 1 or depth < 1:
         raise UsageError("--swarm and --depth expect positive numbers")
@@ -155,10 +156,11 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
            "states_met": res.states_met, "steps": res.steps_taken, "seconds": round(secs, 3),
            "rule_coverage": {"covered": covered, "not_covered": missing, "rules": len(rules)},
            "properties": [{"property": n, "verdict": v} for n, v in rows],
-           "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message,
-                           "walk": res.found[v.prop.name].walk, "trace": trace_json(machine, tr)}
+           "violations": [{"property": v.prop.name, "kind": tr.kind, "message": v.message, **property_place(v.prop),
+                           "walk": res.found[v.prop.name].walk, "trace": trace_json(machine, tr),
+                           **({"failing_step": failing_json(tr)} if tr.failing is not None else {})}
                           for v, tr in traces]
-                         + [temporal_json(t, machine) for t in lassos],
+                         + [{**temporal_json(t, machine), **property_place(t.prop)} for t in lassos],
            "verdict": "violated" if violated else "no violation found"}
     out: list[str] = []
     say = out.append        # the text report, line by line
@@ -170,14 +172,10 @@ def swarm_report(model, *, walks: int = DEFAULT_WALKS, depth: int = DEFAULT_DEPT
         say(f"  {name:<40} {verdict}")
     for v, tr in traces:
         say("")
-        where = f" ({v.prop.span.short()})" if getattr(v.prop, "span", None) is not None and v.prop.span.line else ""
-        what = "deadlock" if v.prop.name == "deadlock" else f"{v.prop.name}{where} is violated"
-        steps = len(tr.steps) - 1
-        say(f"{what}" + (f": {v.message}" if v.message else "") +
-              f" -- shortest trace found (walk {res.found[v.prop.name].walk}), {steps} step{'s' if steps != 1 else ''}"
-              + (" (the last step breaks it)" if tr.kind == "step" else "") + ":")
-        for line in trace_text(machine, tr, color):
-            say("  " + line)
+        # as explore shows a violation; the trace is the shortest found, by the walk named
+        for line in found_violation_lines(machine, v.prop, tr, v.message, color,
+                                          f"counterexample found (walk {res.found[v.prop.name].walk})"):
+            say(line)
     for t in lassos:
         say("")
         for line in temporal_text(t, machine, color):

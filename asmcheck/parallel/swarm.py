@@ -263,7 +263,13 @@ def swarm_traces(machine, state_props, step_props, res: SwarmResult, deadlock=Fa
         elif f.prop_kind == "deadlock":
             v = Violation(DEADLOCK, sid, message=f.message)
         else:
-            v = Violation(PseudoProperty("error", "error"), sid, message=f.message)
+            # the walk's last step fails: found again (where, with which inputs and choices) as explore shows it
+            try:
+                ex.admitted_successors(st)
+            except AsmError as e:
+                v = Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e)
+            else:
+                v = Violation(PseudoProperty("error", "error"), sid, message=f.message)
         out.append((v, build_trace(ex, v)))
     return out
 

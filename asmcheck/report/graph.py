@@ -1,7 +1,7 @@
 """The explored state graph for people: DOT or GraphML.
 
-Each edge is labelled with the choices of its step (the ``choose`` bindings and the
-monitored values read, as traces show them), found by running the step again with its
+Each edge is labelled as a trace names its step (the rule that chooses what, the
+monitored values read: ``r_main chooses $l = GREEN; reads go = false``), found by running the step again with its
 recorded choices; the states and steps of counterexamples are highlighted.  GraphML is
 written by hand so that it is valid: ``boolean`` values are ``true``/``false`` and every
 edge has its own id.
@@ -14,20 +14,27 @@ from pathlib import Path
 from ..errors import UsageError
 from ..semantics.choice import ScriptChooser
 from ..semantics.printer import state_lines
-from .trace import choice_text, flat_choices
+from .describe import Choice, ChooseIndex, StepRecord, choose_records, flat_choices, read_records
+from .trace import step_header
 
 # a graph over this many states is written, with a warning that few people can read it
 READABLE_STATES = 500
 
 
-def edge_label(machine, state: dict, picks) -> str:
-    """The choices of the step from ``state`` taken with ``picks``, as a trace names them."""
+def edge_label(machine, state: dict, picks, chooses=None) -> str:
+    """The step from ``state`` taken with ``picks`` as a trace's step line names it, without its
+    number: ``r_main chooses $l = GREEN; reads go = false``."""
+    from ..semantics.values import show
+    if chooses is None:
+        chooses = ChooseIndex(machine.spec)
     ch = ScriptChooser(picks)
     try:
-        machine.step(state, ch)
-    except Exception:        # a step that fails: its choices are still those made before it failed
-        pass
-    return "; ".join(choice_text(c) for c in flat_choices(ch.log))
+        reads = read_records(machine, dict(machine.step(state, ch)[2].mon))
+    except Exception:        # a step that fails: its choices are those made before it failed
+        reads = [Choice("monitored", f"{c.label} = {show(c.value)}") for c in flat_choices(ch.log)
+                 if c.kind == "monitored"]
+    rec = StepRecord(1, chooses.main, choose_records(ch.log, chooses) + reads, {}, {})
+    return step_header(rec)[len("step 1: "):]
 
 
 def state_graph(explorer, highlight=None):
@@ -39,12 +46,13 @@ def state_graph(explorer, highlight=None):
     states, steps = highlight or (set(), set())
     g = nx.MultiDiGraph()
     m = explorer.m
+    chooses = ChooseIndex(m.spec)
     for sid in range(len(explorer.frozen)):
         st = explorer.state(sid)
         g.add_node(sid, label="\n".join(state_lines(m, st)), depth=int(explorer.depth_of[sid]),
                    initial=explorer.parent[sid] == -1, counterexample=sid in states)
     for i, (src, dst, picks) in enumerate(explorer.edges):
-        g.add_edge(src, dst, key=f"e{i}", choices=edge_label(m, explorer.state(src), picks),
+        g.add_edge(src, dst, key=f"e{i}", choices=edge_label(m, explorer.state(src), picks, chooses),
                    counterexample=(src, dst) in steps)
     return g
 

@@ -293,14 +293,19 @@ def replay(model: Model, prop: Prop, states: list[dict]) -> tuple[Trace, str]:
             message = f"cannot be evaluated: {e.message}"
         if ok:
             raise ReplayMismatch(f"{prop.name} holds in the last state")
-    elif prop.kind == "error":
+    wrapper, failing = prop.wrapper, None
+    if prop.kind == "error":
         try:
             m.successors(states[-1])
         except AsmError as e:
             message = e.message
+            # shown as explore shows it: where the step fails, with the inputs and choices it had taken
+            wrapper = ErrorProperty()
+            wrapper.span = e.span
+            failing = list(getattr(e, "choices", None) or [])
         else:
             raise ReplayMismatch("the last state's step raises no error")
-    return Trace(prop.wrapper, steps, kind, message), message
+    return Trace(wrapper, steps, kind, message, failing), message
 
 
 # ----------------------------------------------------------------- BMC

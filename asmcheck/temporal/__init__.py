@@ -127,6 +127,34 @@ def _has_existential_top(f) -> bool:
     return f[0] in ("EX", "EU", "EG") or (f[0] == "or" and any(_has_existential_top(x) for x in f[1:]))
 
 
+def label_atoms(machine, props, state) -> list:
+    """The (term, env) of the atoms that :func:`check_temporal` will evaluate in the explored
+    states (those reading monitored functions in the steps' sources), for ``props`` (the temporal
+    properties of a run) and ``state`` (the first initial state): an engine that evaluates
+    atoms itself (the native explorer's ``state_labels``) translates them before the search.
+    An atom missing here is evaluated in Python, so this list only has to be a good guess."""
+    atoms = Atoms(machine)
+    builder = Builder(machine, atoms, state)
+    for p in props:
+        try:
+            if p.kind == "justice":
+                atoms.add(p.body, {})
+            elif p.kind == "compassion":
+                atoms.add(p.body, {})
+                atoms.add(p.body2, {})
+            elif p.kind in ("ltl", "ctl", "invariant"):
+                builder.build(p.body, "ltl" if p.kind == "ltl" else "ctl")
+        except (FormulaError, AsmError):
+            continue
+    for p in machine.spec.properties:
+        if p.kind == "invar":
+            try:
+                atoms.add(p.body, {})
+            except AsmError:
+                continue
+    return [(a.term, a.env) for a in atoms.items]
+
+
 def check_temporal(explorer, props, fair=(), on_error: str = "halt"):
     """``on_error``: what a step that fails is on the paths, ``halt`` (a transition to a node that
     stays in the state for ever) or ``drop`` (no transition; a state left without any halts)."""

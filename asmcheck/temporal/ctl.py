@@ -71,6 +71,10 @@ class CTL:
     def _eu(self, f: bytearray, start: bytearray) -> bytearray:
         """Nodes from which a path of f nodes reaches a ``start`` node."""
         K = self.K
+        from . import kernel
+        y = kernel.eu(K, f, start)
+        if y is not None:
+            return y
         y = bytearray(start)
         q = deque(members(start))
         done = bytearray(len(K.cls_succ))
@@ -91,8 +95,11 @@ class CTL:
         key = bytes(s)
         r = self._fair_sccs_cache.get(key)
         if r is None:
-            r = self._fair_sccs_cache[key] = fair_sccs(self.n, self.K.succ, members(s), s, self.justice,
-                                                       self.compassion)
+            from . import kernel
+            r = kernel.fair_sccs(self.K, s, self.justice, self.compassion)
+            if r is None:
+                r = fair_sccs(self.n, self.K.succ, members(s), s, self.justice, self.compassion)
+            self._fair_sccs_cache[key] = r
         return r
 
     def _eg(self, s: bytearray) -> bytearray:

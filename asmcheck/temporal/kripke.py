@@ -49,8 +49,8 @@ class Kripke:
         self.vec: list | None = None       # step mode: values of the monitored atoms
         self.cls: list[int] = []
         self.cls_succ: list[list[int]] = []
-        self.member_of: list[list[int]] = []
-        self.cls_nodes: list[list[int]] = []
+        self._member_of: list[list[int]] | None = None
+        self._cls_nodes: list[list[int]] | None = None
         self.init: list[int] = []
         self.label: dict[int, bytearray] = {}     # atom index -> node set
         self.justice: list[tuple[str, bytearray]] = []
@@ -65,16 +65,31 @@ class Kripke:
     def succ(self, v: int) -> list[int]:
         return self.cls_succ[self.cls[v]]
 
+    # the backward lists, made when a backward search in Python first needs them (the compiled
+    # kernel makes its own)
+    @property
+    def member_of(self) -> list[list[int]]:
+        if self._member_of is None:
+            _finish_classes(self)
+        return self._member_of
+
+    @property
+    def cls_nodes(self) -> list[list[int]]:
+        if self._cls_nodes is None:
+            _finish_classes(self)
+        return self._cls_nodes
+
 
 def _finish_classes(K: Kripke) -> None:
     nc = len(K.cls_succ)
-    K.member_of = [[] for _ in range(K.n)]
-    K.cls_nodes = [[] for _ in range(nc)]
+    member_of = [[] for _ in range(K.n)]
+    cls_nodes = [[] for _ in range(nc)]
     for c, lst in enumerate(K.cls_succ):
         for w in lst:
-            K.member_of[w].append(c)
+            member_of[w].append(c)
     for v, c in enumerate(K.cls):
-        K.cls_nodes[c].append(v)
+        cls_nodes[c].append(v)
+    K._member_of, K._cls_nodes = member_of, cls_nodes
 
 
 def _truth(v, atom) -> bool:
@@ -275,6 +290,80 @@ class EdgePicks:
             return False
 
 
+def _every_step(explorer, ok_state):
+    """(src, dst, choices, monitored values or None) for every enumerated step between explored
+    states, in the explorer's order.  An explorer whose edges hold every enumerated step (the
+    Python explorer's, duplicates included) gives them; one that records each (src, dst) pair
+    once (the native explorer) would hide the other steps from src to dst, whose monitored
+    values may differ: there the Python step function enumerates the steps of each state."""
+    if getattr(explorer, "engine", "") != "native":
+        for src, dst, picks in explorer.edges:
+            yield src, dst, picks, None
+        return
+    m = explorer.m
+    for src in range(explorer.n_states):
+        if not ok_state[src]:
+            continue
+        try:
+            steps = m.successors(explorer.state(src))
+        except AsmError as e:
+            raise AtomError(None, f"the step from state {src} cannot be computed: {e.message}") from None
+        for log, _ups, nxt, mon in steps:
+            dst = _find(explorer, nxt)
+            if dst is not None:
+                yield src, dst, tuple(c.pick for c in log), mon
+
+
+class _PicksOfSteps:
+    """Node -> the choices of the first step (of the Python step function) from the node's
+    source to its target whose monitored values give the node's atom values; found only for the
+    steps a trace prints."""
+
+    def __init__(self, explorer, items, sid, tgt, vecs):
+        self.explorer, self.items = explorer, items
+        self.sid, self.tgt, self.vecs = sid, tgt, vecs
+        self.n = len(sid)
+        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
+
+    def __len__(self):
+        return self.n + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
+
+    def __getitem__(self, v):
+        if v >= self.n:
+            return self.extra[v - self.n]
+        ex = self.explorer
+        m = ex.m
+        st = ex.state(self.sid[v])
+        for log, _ups, nxt, mon in m.successors(st):
+            if _find(ex, nxt) == self.tgt[v] and self.vecs[v] in joint_values(m, self.items, st, mon):
+                return tuple(c.pick for c in log)
+        raise AtomError(None, f"no step from state {self.sid[v]} to state {self.tgt[v]} gives the atoms' values")
+
+
+class _PicksOfEdges:
+    """Node -> the choices of its step (``explorer.edges[i][2]`` of the node's edge), read only
+    for the few steps a trace prints."""
+
+    def __init__(self, explorer, eix):
+        self.explorer = explorer
+        self.eix = eix
+        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
+
+    def __len__(self):
+        return len(self.eix) + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
+
+    def __getitem__(self, v):
+        if v >= len(self.eix):
+            return self.extra[v - len(self.eix)]
+        return self.explorer.edges[self.eix[v]][2]
+
+
 def _hkey(v):
     try:
         hash(v)
@@ -358,18 +447,52 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         sid, tgt, picks_l, vecs = [], [], [], []
         by_sid: list[list[int]] = [[] for _ in range(S)]
         cur_src, cur_state = -1, None
-        for src, dst, picks in explorer.edges:
+        if not mon_items:
+            # no atom reads a monitored function: one node per distinct explored transition,
+            # read from the edge arrays; the choices of a node's step are looked up only for
+            # the steps a trace prints
+            src_a, dst_a = explorer.edge_arrays()
+            seen: set = set()
+            eix = []
+            for i, (src, dst) in enumerate(zip(src_a, dst_a)):
+                if not ok_state[src]:
+                    continue
+                key = src * S + dst
+                if key in seen:
+                    continue
+                seen.add(key)
+                by_sid[src].append(len(sid))
+                sid.append(src)
+                tgt.append(dst)
+                eix.append(i)
+            picks_l = _PicksOfEdges(explorer, eix)
+            vecs = [()] * len(sid)
+        fast = getattr(explorer, "step_atoms", None) if mon_items else None
+        recs = fast(mon_items, ok_state) if fast is not None else None
+        if recs is not None:
+            # the compiled code gave (src, dst, atom values) for every step, each once
+            for src, dst, vec in recs:
+                if any(not vec[k] for k in mon_inv):
+                    continue
+                by_sid[src].append(len(sid))
+                sid.append(src)
+                tgt.append(dst)
+                vecs.append(vec)
+            picks_l = _PicksOfSteps(explorer, mon_items, sid, tgt, vecs)
+        for src, dst, picks, mon in (_every_step(explorer, ok_state) if mon_items and recs is None else ()):
             if not ok_state[src]:
                 continue
             if mon_items:
                 if src != cur_src:
                     cur_src, cur_state = src, explorer.state(src)
-                try:
-                    ch = ScriptChooser(picks)
-                    _, _, ctx = m.step(cur_state, ch)
-                except AsmError as e:
-                    raise AtomError(None, f"the step from state {src} cannot be replayed: {e.message}") from None
-                vs = joint_values(m, mon_items, cur_state, ctx.mon)
+                if mon is None:
+                    try:
+                        ch = ScriptChooser(picks)
+                        _, _, ctx = m.step(cur_state, ch)
+                    except AsmError as e:
+                        raise AtomError(None, f"the step from state {src} cannot be replayed: {e.message}") from None
+                    mon = ctx.mon
+                vs = joint_values(m, mon_items, cur_state, mon)
             else:
                 vs = [()]
             for vec in vs:
@@ -418,7 +541,6 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
             K.label[i] = bytearray(lab[s] for s in sid)
         for k, i in enumerate(mon_atoms):
             K.label[i] = bytearray(1 if vec[k] else 0 for vec in vecs)
-    _finish_classes(K)
     for text, a in justice:
         K.justice.append((text, K.label[a]))
     for text, p, q in compassion:

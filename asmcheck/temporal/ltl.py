@@ -355,6 +355,19 @@ def check_ltl(K, phi) -> LTLResult:
     pa_bits = [(bit[r], r[1]) for r in refs if r[0] == "pa"]
     posm = [sum(bit[r] for r, pos in lits if pos) for lits in g.lits]
     negm = [sum(bit[r] for r, pos in lits if not pos) for lits in g.lits]
+    if mon.empty and len(refs) <= 64:
+        # the product and its fair components over arrays, by compiled code (None: not available)
+        from . import kernel
+        got = kernel.product_and_fair(
+            K, g, ap_bits, posm, negm,
+            [lab for _, lab in K.justice] + [_eval_state(f, K) for f in extra_j], g.accept,
+            [(p, q) for _, p, q in K.compassion] + [(_eval_state(pf, K), _eval_state(qf, K)) for pf, qf in extra_c])
+        if got is not None:
+            N, nfair, build = got
+            if not nfair:
+                return LTLResult(True, product_states=N, automaton_states=len(g.nodes))
+            kk, _, succ, init, comps, justice, compassion = build()
+            return _lasso(N, succ.__getitem__, init, comps, justice, compassion, kk, g)
     ksig = [0] * K.n
     for b, lab in ap_bits:
         for k in range(K.n):
@@ -456,6 +469,13 @@ def check_ltl(K, phi) -> LTLResult:
     comps = fair_sccs(N, sfn, init, None, justice, compassion)
     if not comps:
         return LTLResult(True, product_states=N, automaton_states=len(g.nodes))
+    return _lasso(N, sfn, init, comps, justice, compassion, kk, g)
+
+
+def _lasso(N, sfn, init, comps, justice, compassion, kk, g) -> LTLResult:
+    """The counterexample through the first fair component reached: a shortest path to it,
+    then a cycle inside it that meets every justice set (and q of every compassion pair whose
+    p it meets)."""
     inside = bytearray(N)
     owner = {}
     for ci, comp in enumerate(comps):

@@ -1,0 +1,307 @@
+/* The LTL product and its fair strongly connected components, over arrays.
+ *
+ * The same algorithms as temporal/ltl.py and temporal/graph.py (the product built breadth
+ * first, nodes numbered as they are met; Tarjan's components; justice and compassion by the
+ * refinement of Emerson and Lei), for a Kripke structure and an automaton given as
+ * compressed successor arrays.  Node sets are bytes (0/1).  Model-independent: compiled once.
+ */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int32_t *P_k = 0, *P_q = 0, *P_off = 0, *P_adj = 0, *P_init = 0;
+static int64_t P_n = 0, P_nadj = 0, P_ninit = 0;
+
+void kn_free(void) {
+    free(P_k); free(P_q); free(P_off); free(P_adj); free(P_init);
+    P_k = P_q = P_off = P_adj = P_init = 0;
+    P_n = P_nadj = P_ninit = 0;
+}
+
+static int push32(int32_t **a, int64_t *cap, int64_t n, int32_t x) {
+    if (n >= *cap) {
+        int64_t nc = *cap ? *cap * 2 : 1024;
+        int32_t *b = (int32_t *)realloc(*a, nc * sizeof(int32_t));
+        if (!b) return 0;
+        *a = b;
+        *cap = nc;
+    }
+    (*a)[n] = x;
+    return 1;
+}
+
+/* The product of the Kripke structure (n nodes; the successors of node k are the class
+ * cls[k]'s list coff/cadj; sig[k] its atom bits) with the automaton (Q nodes; successors
+ * goff/gadj; literal masks posm/negm; initial nodes ginit), from the initial nodes kinit.
+ * Returns the number of product nodes, -1 when out of memory. */
+int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const int32_t *cadj, const uint64_t *sig,
+                   int64_t nkinit, const int32_t *kinit, int64_t Q, const int32_t *goff, const int32_t *gadj,
+                   int64_t nginit, const int32_t *ginit, const uint64_t *posm, const uint64_t *negm) {
+    kn_free();
+    if (Q < 1) Q = 1;
+    if ((double)n * (double)Q > (double)(1 << 28)) return -2;
+    int32_t *ids = (int32_t *)malloc((size_t)n * (size_t)Q * sizeof(int32_t));
+    if (!ids && n > 0) return -1;
+    memset(ids, 0xff, (size_t)n * (size_t)Q * sizeof(int32_t));
+    int64_t capa = 0, capi = 0, capo = 0, capq = 0, capk = 0;
+    int64_t N = 0, na = 0, ni = 0;
+#define NODE(K, QQ, OUTV) do { \
+        int64_t key_ = (int64_t)(K) * Q + (QQ); \
+        int32_t i_ = ids[key_]; \
+        if (i_ < 0) { \
+            i_ = ids[key_] = (int32_t)N; \
+            if (!push32(&P_k, &capk, N, (int32_t)(K)) || !push32(&P_q, &capq, N, (int32_t)(QQ))) goto oom; \
+            N++; \
+        } \
+        (OUTV) = i_; \
+    } while (0)
+    for (int64_t a = 0; a < nkinit; a++) {
+        int32_t k = kinit[a];
+        uint64_t s = sig[k];
+        for (int64_t b = 0; b < nginit; b++) {
+            int32_t q = ginit[b];
+            if ((s & posm[q]) != posm[q] || (s & negm[q])) continue;
+            int32_t v;
+            NODE(k, q, v);
+            int dup = 0;
+            for (int64_t c = 0; c < ni; c++) if (P_init[c] == v) { dup = 1; break; }
+            if (!dup) { if (!push32(&P_init, &capi, ni, v)) goto oom; ni++; }
+        }
+    }
+    /* breadth first: node i's successors are listed when i is taken from the queue, and the
+       queue is the numbering itself */
+    if (!push32(&P_off, &capo, 0, 0)) goto oom;
+    for (int64_t i = 0; i < N; i++) {
+        int32_t k = P_k[i], q = P_q[i];
+        int32_t c = cls[k];
+        for (int32_t e = coff[c]; e < coff[c + 1]; e++) {
+            int32_t k2 = cadj[e];
+            uint64_t s = sig[k2];
+            for (int32_t f = goff[q]; f < goff[q + 1]; f++) {
+                int32_t q2 = gadj[f];
+                if ((s & posm[q2]) != posm[q2] || (s & negm[q2])) continue;
+                int32_t v;
+                NODE(k2, q2, v);
+                if (!push32(&P_adj, &capa, na, v)) goto oom;
+                na++;
+            }
+        }
+        if (!push32(&P_off, &capo, i + 1, (int32_t)na)) goto oom;
+    }
+#undef NODE
+    free(ids);
+    P_n = N; P_nadj = na; P_ninit = ni;
+    return N;
+oom:
+    free(ids);
+    kn_free();
+    return -1;
+}
+
+/* sig[k] = the bits of the atoms true in Kripke node k (labels: nl rows of n bytes) */
+void kn_sig(int64_t n, int64_t nl, const uint8_t *labels, const uint64_t *bits, uint64_t *sig) {
+    for (int64_t k = 0; k < n; k++) sig[k] = 0;
+    for (int64_t j = 0; j < nl; j++) {
+        const uint8_t *l = labels + j * n;
+        for (int64_t k = 0; k < n; k++) if (l[k]) sig[k] |= bits[j];
+    }
+}
+
+int64_t kn_adj_len(void) { return P_nadj; }
+int64_t kn_init_len(void) { return P_ninit; }
+void kn_nodes(int32_t *k, int32_t *q) { memcpy(k, P_k, P_n * sizeof(int32_t)); memcpy(q, P_q, P_n * sizeof(int32_t)); }
+void kn_succ(int32_t *off, int32_t *adj, int32_t *init) {
+    memcpy(off, P_off, (P_n + 1) * sizeof(int32_t));
+    memcpy(adj, P_adj, P_nadj * sizeof(int32_t));
+    memcpy(init, P_init, P_ninit * sizeof(int32_t));
+}
+/* out[i] = byte[k of node i] (a Kripke node set), or byte[q of node i] (an automaton node set) */
+void kn_map(int64_t by_q, const uint8_t *bytes, uint8_t *out) {
+    const int32_t *w = by_q ? P_q : P_k;
+    for (int64_t i = 0; i < P_n; i++) out[i] = bytes[w[i]];
+}
+
+#define CL(v) (cls ? cls[v] : (v))
+
+/* ------------------------------------------------------------------ fair components
+ * The components of the product (its own arrays) reachable from the initial nodes in which
+ * a path can stay for ever meeting each of the nj justice sets (just: nj rows of P_n bytes)
+ * and, for each of the nc compassion pairs (p, q: rows of P_n bytes), q if p.  comp[v] gets
+ * the number of v's fair component (-1: in none).  Returns the number of fair components,
+ * -1 when out of memory. */
+static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+                         int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
+                         int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
+                         int32_t *comp);
+
+int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
+    return fair_core(P_n, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
+}
+
+/* the same on a graph given by the caller: the successors of node v are the list of its class
+ * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts */
+int64_t kn_fair_graph(int64_t N, const int32_t *cls, const int32_t *off, const int32_t *adj, int64_t nroots,
+                      const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just, int64_t nc,
+                      const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
+    return fair_core(N, cls, off, adj, nroots, roots, mask, nj, just, nc, cp, cq, comp);
+}
+
+static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+                         int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
+                         int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
+                         int32_t *comp) {
+    int32_t *index = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    int32_t *low = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    int32_t *region = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    int32_t *stack = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    int32_t *work = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    int32_t *wpos = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    uint8_t *onstack = (uint8_t *)calloc(N + 1, 1);
+    uint8_t *badj = (uint8_t *)calloc(nc + 1, 1);
+    int32_t *todo = 0, *roots = 0;
+    int64_t ctodo = 0, ntodo = 0, croots = 0;
+    int64_t nfair = 0, counter = 0, nregions = 1;
+    if (!index || !low || !region || !stack || !work || !wpos || !onstack || !badj) goto oom;
+    for (int64_t v = 0; v < N; v++) { index[v] = -1; region[v] = (mask && !mask[v]) ? -1 : 0; comp[v] = -1; }
+    /* todo: pairs (region, first root position in roots, number of roots) */
+    for (int64_t i = 0; i < P_ninit; i++) if (!push32(&roots, &croots, i, P_init[i])) goto oom;
+    if (!push32(&todo, &ctodo, ntodo++, 0) || !push32(&todo, &ctodo, ntodo++, 0) ||
+        !push32(&todo, &ctodo, ntodo++, (int32_t)P_ninit)) goto oom;
+    int64_t nroots = P_ninit;
+    while (ntodo > 0) {
+        int32_t rn = todo[ntodo - 1], r0 = todo[ntodo - 2], reg = todo[ntodo - 3];
+        ntodo -= 3;
+        for (int32_t ri = r0; ri < r0 + rn; ri++) {
+            int32_t r = roots[ri];
+            if (index[r] != -1 || region[r] != reg) continue;
+            int64_t sp = 0, wp = 0;
+            index[r] = low[r] = (int32_t)counter++;
+            stack[sp++] = r; onstack[r] = 1;
+            work[wp] = r; wpos[wp] = P_off[CL(r)]; wp++;
+            while (wp > 0) {
+                int32_t v = work[wp - 1];
+                int pushed = 0;
+                while (wpos[wp - 1] < P_off[CL(v) + 1]) {
+                    int32_t w = P_adj[wpos[wp - 1]++];
+                    if (region[w] != reg) continue;
+                    if (index[w] == -1) {
+                        index[w] = low[w] = (int32_t)counter++;
+                        stack[sp++] = w; onstack[w] = 1;
+                        work[wp] = w; wpos[wp] = P_off[CL(w)]; wp++;
+                        pushed = 1;
+                        break;
+                    }
+                    if (onstack[w] && index[w] < low[v]) low[v] = index[w];
+                }
+                if (pushed) continue;
+                wp--;
+                if (wp > 0) { int32_t u = work[wp - 1]; if (low[v] < low[u]) low[u] = low[v]; }
+                if (low[v] != index[v]) continue;
+                /* a component: stack[base..sp) */
+                int64_t base = sp;
+                do { base--; } while (stack[base] != v);
+                for (int64_t x = base; x < sp; x++) onstack[stack[x]] = 0;
+                int64_t size = sp - base;
+                int ok = 1;
+                if (size == 1) {
+                    ok = 0;
+                    for (int32_t e = P_off[CL(v)]; e < P_off[CL(v) + 1]; e++) if (P_adj[e] == v) { ok = 1; break; }
+                }
+                for (int64_t j = 0; ok && j < nj; j++) {
+                    const uint8_t *J = just + j * N;
+                    int hit = 0;
+                    for (int64_t x = base; x < sp && !hit; x++) hit = J[stack[x]];
+                    if (!hit) ok = 0;
+                }
+                int bad = 0;
+                if (ok) {
+                    for (int64_t j = 0; j < nc; j++) {
+                        const uint8_t *p = cp + j * N, *q = cq + j * N;
+                        int hp = 0, hq = 0;
+                        for (int64_t x = base; x < sp; x++) { hp |= p[stack[x]]; hq |= q[stack[x]]; }
+                        badj[j] = hp && !hq;
+                        if (badj[j]) bad = 1;
+                    }
+                }
+                if (ok && bad) {
+                    /* refine: the nodes of the component outside every bad p form a new region */
+                    int32_t nreg = (int32_t)nregions++;
+                    int64_t start = nroots, kept = 0;
+                    for (int64_t x = base; x < sp; x++) {
+                        int32_t y = stack[x];
+                        int drop = 0;
+                        for (int64_t j = 0; j < nc && !drop; j++)
+                            if (badj[j] && cp[j * N + y]) drop = 1;
+                        region[y] = drop ? -1 : nreg;
+                        if (!drop) {
+                            index[y] = -1;
+                            if (!push32(&roots, &croots, nroots++, y)) goto oom;
+                            kept++;
+                        }
+                    }
+                    if (kept) {
+                        if (!push32(&todo, &ctodo, ntodo++, nreg) || !push32(&todo, &ctodo, ntodo++, (int32_t)start) ||
+                            !push32(&todo, &ctodo, ntodo++, (int32_t)kept)) goto oom;
+                    }
+                } else if (ok) {
+                    for (int64_t x = base; x < sp; x++) comp[stack[x]] = (int32_t)nfair;
+                    nfair++;
+                }
+                sp = base;
+            }
+        }
+    }
+    free(index); free(low); free(region); free(stack); free(work); free(wpos); free(onstack); free(badj);
+    free(todo); free(roots);
+    return nfair;
+oom:
+    free(index); free(low); free(region); free(stack); free(work); free(wpos); free(onstack); free(badj);
+    free(todo); free(roots);
+    return -1;
+}
+
+/* ------------------------------------------------------------------ backward reachability
+ * E[f U start] on a graph of successor classes (node v's successors: the list of class cls[v],
+ * off/adj; ncls classes): y = the nodes from which a path of f nodes reaches a start node.
+ * Returns 0, -1 when out of memory. */
+int64_t kn_eu(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+              const uint8_t *f, const uint8_t *start, uint8_t *y) {
+    int64_t ne = off[ncls];
+    int32_t *moff = (int32_t *)calloc(n + 1, sizeof(int32_t));      /* node -> classes holding it */
+    int32_t *madj = (int32_t *)malloc((ne + 1) * sizeof(int32_t));
+    int32_t *noff = (int32_t *)calloc(ncls + 1, sizeof(int32_t));   /* class -> nodes of that class */
+    int32_t *nadj = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);
+    int64_t rc = -1;
+    if (!moff || !madj || !noff || !nadj || !queue || !done) goto out;
+    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;
+    for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];
+    for (int64_t c = 0; c < ncls; c++)
+        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (int32_t)c;
+    for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];
+    moff[0] = 0;
+    for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;
+    for (int64_t c = 0; c < ncls; c++) noff[c + 1] += noff[c];
+    for (int64_t v = 0; v < n; v++) nadj[noff[cls[v]]++] = (int32_t)v;
+    for (int64_t c = ncls; c > 0; c--) noff[c] = noff[c - 1];
+    noff[0] = 0;
+    int64_t qh = 0, qt = 0;
+    for (int64_t v = 0; v < n; v++) { y[v] = start[v] ? 1 : 0; if (y[v]) queue[qt++] = (int32_t)v; }
+    while (qh < qt) {
+        int32_t w = queue[qh++];
+        for (int32_t a = moff[w]; a < moff[w + 1]; a++) {
+            int32_t c = madj[a];
+            if (done[c]) continue;
+            done[c] = 1;
+            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
+                int32_t v = nadj[b];
+                if (f[v] && !y[v]) { y[v] = 1; queue[qt++] = v; }
+            }
+        }
+    }
+    rc = 0;
+out:
+    free(moff); free(madj); free(noff); free(nadj); free(queue); free(done);
+    return rc;
+}
