@@ -171,10 +171,12 @@ def test_ltl_verdicts_relative_to_the_error_as_json(tmp_path, capsys, monkeypatc
                        {"property": "ltl_2", "kind": "ltl", "verdict": "holds", "relative_to": at}],
         "violations": [
             {"property": "error", "kind": "state", "message": "inconsistent update of n: 2 and 0",
-             "trace": [step0, step1], "failing_step": failing},
+             "trace": [step0, step1], "failing_step": failing, "formula": "",
+             "location": {"path": "HaltLtl.asm", "line": 16, "column": 25}},
             {"property": "ltl_1", "kind": "ltl", "verdict": "violated", "relative_to": at, "trace": [step0, step1],
              "loop_start": None, "witness": False, "failing_step": failing,
-             "failing_message": "inconsistent update of n: 2 and 0"}]}
+             "failing_message": "inconsistent update of n: 2 and 0", "formula": "f(n = 3)",
+             "location": {"path": "HaltLtl.asm", "line": 11, "column": 2}}]}
 
 
 def test_ctl_verdicts_and_the_rows_of_the_api(tmp_path):
