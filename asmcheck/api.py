@@ -24,7 +24,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import AsmError, UsageError
+from .errors import AsmError, UsageError, interrupt_reason
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
 from .explore.bfs import Explorer, ReplayError, Result, TimeUp
@@ -388,7 +388,8 @@ def _watchdog(seconds, explorer=None):
             return
         raise TimeUp()
     old = signal.signal(signal.SIGALRM, fire)
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001))
+    # (a bound beyond about three years needs no alarm: the platform's timer cannot hold it)
+    signal.setitimer(signal.ITIMER_REAL, min(max(seconds, 0.001), 1e8))
     try:
         yield
     finally:
@@ -521,10 +522,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:
                 result = ex.run()
-            except KeyboardInterrupt:
+            except KeyboardInterrupt as exc:
                 interrupted = True
                 result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
-                                "interrupted (Ctrl-C)", list(state_props))
+                                interrupt_reason(exc), list(state_props))
                 result.deadlock_checked = deadlock
                 result.engine = "native"
                 result.workers = ex.workers
@@ -579,9 +580,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         except (TimeUp, DeadlineReached):
             temporal_note = f"time limit {max_seconds} s reached in the LTL/CTL phase"
             temporal_results = []
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             interrupted = True
-            temporal_note = "interrupted (Ctrl-C) in the LTL/CTL phase"
+            temporal_note = f"{interrupt_reason(exc)} in the LTL/CTL phase"
             temporal_results = []
         except MemoryError:
             temporal_note = "out of memory in the LTL/CTL phase"
@@ -1091,8 +1092,8 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         from .errors import located_recursion_error
         return _gate.error_outcome(path, located_recursion_error(exc, path), root, clock() - t0)
     except (KeyboardInterrupt, MemoryError, TimeUp) as exc:
-        why = {"KeyboardInterrupt": "interrupted (Ctrl-C)", "MemoryError": "out of memory"}.get(
-            type(exc).__name__, "time limit reached")
+        why = (interrupt_reason(exc) if isinstance(exc, KeyboardInterrupt) else
+               "out of memory" if isinstance(exc, MemoryError) else "time limit reached")
         out = _gate.SpecOutcome(_gate.display_path(path, root), "", "incomplete", reason=why, seconds=clock() - t0)
         out.properties = [_gate.judge(_gate.PropertyOutcome("(not checked)", "input", "incomplete", message=why),
                                       False, False)]

@@ -217,5 +217,15 @@ class InconsistentUpdate(AsmRuntimeError):
     pass
 
 
+class Terminated(KeyboardInterrupt):
+    """The process was asked to stop (SIGTERM, as ``timeout`` and CI runners send it): handled as
+    Ctrl-C is, with a partial report, and named so."""
+
+
+def interrupt_reason(exc=None) -> str:
+    """How a report names the interruption ``exc``."""
+    return "interrupted (SIGTERM)" if isinstance(exc, Terminated) else "interrupted (Ctrl-C)"
+
+
 class UsageError(Exception):
     """Bad command-line usage (exit code 2)."""

@@ -302,3 +302,13 @@ def test_deep_nesting_under_a_memory_cap(tmp_path):
     clean(res.stdout + res.stderr)
     assert res.returncode == 0, res.stderr
     assert "2 states" in res.stdout or "1 state" in res.stdout, res.stdout
+
+
+@pytest.mark.engines("python")
+def test_a_time_bound_beyond_the_platform_timer_ends_well(tmp_path):
+    """--max-seconds 9223372036 once stopped with an internal error (the alarm's timer overflowed)."""
+    path = write(tmp_path, COUNTER)
+    code, out = run_main(["explore", path, "--engine", "python", "--max-seconds", "9223372036", "--max-states", "50"])
+    clean(out)
+    assert code == 3
+    assert out.endswith("incomplete: state limit 50 reached\nverdict: incomplete\n"), out

@@ -253,16 +253,16 @@ def cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def interrupt(args, cpu=2.5):
-    """Run the command, send SIGINT once it has used ``cpu`` seconds of CPU (well into the
-    search, however loaded the machine), return (exit code, stdout, stderr, seconds it took
-    to end after the signal)."""
+def interrupt(args, cpu=2.5, sig=signal.SIGINT):
+    """Run the command, send SIGINT (or ``sig``) once it has used ``cpu`` seconds of CPU (well
+    into the search, however loaded the machine), return (exit code, stdout, stderr, seconds it
+    took to end after the signal)."""
     proc = subprocess.Popen([sys.executable, "-m", "asmcheck", *args], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, env=ENV, text=True)
     while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
         time.sleep(0.1)
     t0 = time.monotonic()
-    proc.send_signal(signal.SIGINT)
+    proc.send_signal(sig)
     out, err = proc.communicate(timeout=60)
     return proc.returncode, out, err, time.monotonic() - t0
 
@@ -276,6 +276,23 @@ def test_ctrl_c_during_explore_prints_the_partial_report(tmp_path):
     assert after < 3, after
     assert "  inv_small                                incomplete" in out
     assert out.endswith("incomplete: interrupted (Ctrl-C)\nverdict: incomplete\n")
+
+
+@pytest.mark.parametrize("engine", ["python", "native"])
+@pytest.mark.engines("native")
+def test_sigterm_ends_like_ctrl_c_with_the_partial_report(tmp_path, engine):
+    """SIGTERM (``timeout``, a CI runner's cancel) once ended the run with no report at all."""
+    if engine == "native":
+        from asmcheck.explore.native_build import compiler
+        if compiler() is None:
+            pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, COUNTER.format(bound=10**9))
+    code, out, err, after = interrupt(["explore", path, "--engine", engine], cpu=1.5, sig=signal.SIGTERM)
+    clean(out + err)
+    assert code == 3, err
+    assert after < 3, after
+    assert "  inv_small                                incomplete" in out
+    assert out.endswith("incomplete: interrupted (SIGTERM)\nverdict: incomplete\n")
 
 
 @pytest.mark.engines("python")

@@ -14,11 +14,14 @@ Exit codes (every subcommand):
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import signal
 import sys
+import threading
 
 from ..version import __version__
-from ..errors import AsmError, UsageError
+from ..errors import AsmError, Terminated, UsageError
 from . import advise, bmc, check, common, conform, explore, lsp, parse, scenario, simulate, testgen
 from .common import EXIT_ERROR, EXIT_INCOMPLETE
 
@@ -46,6 +49,27 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+@contextlib.contextmanager
+def _sigterm_as_interrupt():
+    """SIGTERM (``timeout``, a CI runner's cancel) ends a command as Ctrl-C does: with the partial
+    report and the report files, exit 3 (or 1 after a violation)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame):
+        raise Terminated()
+    try:
+        old = signal.signal(signal.SIGTERM, stop)
+    except (ValueError, OSError):     # pragma: no cover - no signals here
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = common.join_range_arguments(list(sys.argv[1:] if argv is None else argv))
     parser = build_parser()
@@ -59,7 +83,8 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_ERROR
         args.started = common.now()
         try:
-            code = args.func(args)
+            with _sigterm_as_interrupt():
+                code = args.func(args)
         except UsageError as exc:
             common.error(f"asmcheck: error: {exc}")
             code = EXIT_ERROR

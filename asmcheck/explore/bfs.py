@@ -12,7 +12,7 @@ import time
 from array import array
 from dataclasses import dataclass, field
 
-from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate
+from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate, interrupt_reason
 from ..semantics.choice import DeadlineReached
 from ..semantics.machine import Machine, ScriptChooser, TooManySuccessors, Undetermined
 from ..semantics.state import is_dom_key, same_value
@@ -316,9 +316,9 @@ class Explorer:
                     depth += 1
                     max_depth_seen = depth
                 frontier = next_frontier
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             incomplete = interrupted = True
-            reason = "interrupted (Ctrl-C)"
+            reason = interrupt_reason(exc)
         except (TimeUp, DeadlineReached):
             incomplete = True
             reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
