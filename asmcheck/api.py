@@ -493,7 +493,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     interrupted = False
     refused = ""
     from .parallel import run as scaled
-    if scaled.wanted(workers, **(scaling or {})):
+    # more workers on the native engine: threads inside its search (the same result as one);
+    # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned
+    # search on the Python step function
+    native_threads = which == "native" and scaled.native_threads(workers, **(scaling or {}))
+    if scaled.wanted(workers, **(scaling or {})) and not native_threads:
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                           max_memory=max_memory, deadlock=deadlock, engine=engine,
@@ -521,7 +525,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             try:
                 ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                     deadlock=deadlock, state_props=state_props, step_props=step_props,
-                                    keep_graph=keep_graph, max_memory=max_memory, progress=progress, warn=warn,
+                                    keep_graph=keep_graph, max_memory=scaled.native_memory(max_memory, workers,
+                                                                                          **(scaling or {})),
+                                    progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1),
                                     label_atoms=_label_atoms(machine, temporal))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
@@ -533,6 +539,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                 "interrupted (Ctrl-C)", list(state_props))
                 result.deadlock_checked = deadlock
                 result.engine = "native"
+                result.workers = ex.workers
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
@@ -547,6 +554,16 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             ex = None
             refused = why
             search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
+            # with several workers too: the sequential explorer's report (the partitioned search does
+            # not check LTL/CTL relative to a run-time error)
+            native_threads = False
+    if ex is None and native_threads:
+        ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
+                                          max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
+                                          max_memory=max_memory, deadlock=deadlock, engine="python",
+                                          keep_graph=keep_graph, progress=progress)
+        result.native_refused = refused
+        interrupted = getattr(result, "interrupted", False)
     if ex is None:
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
@@ -695,6 +712,8 @@ class Exploration:
         self.depth = result.depth
         self.seconds = result.seconds
         self.engine = getattr(result, "engine", "python")
+        # the workers that shared the search (threads of the native engine, or worker processes)
+        self.workers = int(getattr(result, "workers", 1) or 1)
         # why the native engine did not run this search ("" when it did, or was not asked)
         self.engine_note = getattr(result, "native_refused", "") if self.engine == "python" else ""
         # seconds spent compiling the native engine (0.0 when it came from the cache)
@@ -825,6 +844,7 @@ class Exploration:
             "depth": r.depth,
             "seconds": round(r.seconds, 3),
             "engine": self.engine,
+            **({"workers": self.workers} if self.workers > 1 else {}),
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]

@@ -22,6 +22,15 @@ Every run's state and transition counts are checked against the sequential searc
 Markdown table and the load average before and after: on a shared 2-core machine the measured
 2-worker figure is only as good as the cores left idle by others.  This is a benchmark, not a
 test: nothing fails on a slow machine.
+
+The native rows (``--native-only`` skips the Python ones; ``--no-native`` skips them) explore the
+twin T63 K250 (4,245,995 states; ``--native-twin T K`` for another) in this process on the native
+engine, ``--native-repeat`` times each, alternating: 1 worker (the one-thread search), 2 workers
+(the threaded search), and the threaded search on 1 thread (what the threaded code gains or loses
+on its own, apart from the second core).  Search time (wall and this process's CPU), best and
+median, and the speed-up of 2 workers over 1; the twin with ``--bug`` is checked to give the same
+report (trace included) with 1 and 2 workers.  ``--out DIR`` also writes the output to
+``DIR/bench_parallel-DATE.md``.
 """
 import argparse
 import os
@@ -111,6 +120,87 @@ def loadavg():
         return "?"
 
 
+def native_rows(shared, t, k, repeat, say):
+    """The native engine on twin T K: 1 worker, 2 workers, the threaded search on one thread."""
+    import statistics
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck import api
+    tmp = Path(tempfile.mkdtemp(prefix="bench_parallel_native_"))
+    gen = Path(shared) / "bench" / "gen_swing.py"
+    subprocess.run([sys.executable, str(gen), str(t), str(k), str(tmp)], check=True, capture_output=True)
+    subprocess.run([sys.executable, str(gen), str(t), str(k), "--bug", str(tmp)], check=True, capture_output=True)
+    path = tmp / f"swing_T{t}_K{k}.asm"
+    m, sp, stp, _ = load(path)
+    runs = {"1 worker": [], "2 workers": [], "2 workers, always 2 threads": [], "threaded, 1 thread": []}
+    counts = {}
+    idle, split, adapted = [], [], []
+    loads = [loadavg()]
+    for _ in range(repeat):
+        for name, workers, threaded, adapt in (("1 worker", 1, False, True), ("2 workers", 2, False, True),
+                                               ("2 workers, always 2 threads", 2, False, False),
+                                               ("threaded, 1 thread", 1, True, True)):
+            ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=workers)
+            ex.threaded = threaded
+            ex.adapt = adapt
+            ex.thread_stats()
+            w0, c0 = time.perf_counter(), time.process_time()
+            r = ex.run()
+            runs[name].append((time.perf_counter() - w0, time.process_time() - c0))
+            if name == "2 workers":
+                adapted.append(ex.thread_stats()["one_thread_slices"])
+            if name == "2 workers, always 2 threads":
+                st = ex.thread_stats()
+                idle.append(max(st["thread_cpu"]) + st["merge_cpu"] + st["one_thread_cpu"])
+                split.append(st)
+            counts[name] = (r.states, r.transitions, r.depth, r.verdict)
+            ex.close()
+        loads.append(loadavg())
+    assert len(set(counts.values())) == 1, counts
+    states, transitions = counts["1 worker"][:2]
+    # the seeded bug: the same report, trace included, with 1 and 2 workers
+    bug = tmp / f"swing_T{t}_K{k}_bug.asm"
+    docs = []
+    for workers in (1, 2):
+        doc = api.load(str(bug)).explore(workers=workers).json()
+        doc.pop("seconds"), doc.pop("compile_seconds"), doc.pop("workers", None)
+        docs.append(doc)
+    assert docs[0] == docs[1] and docs[0]["engine"] == "native"
+    trace_len = len(docs[0]["violations"][0]["trace"])
+    say(f"Native engine, twin T{t} K{k}: {states:,} states, {transitions:,} transitions, search only, "
+        f"in this process, {repeat} runs each (alternating); load average before and after each round: "
+        + " | ".join(loads))
+    say("")
+    say("| run | wall best | wall median | CPU best | CPU median | states/s (best) | speed-up (wall, best) "
+        "| speed-up (wall, median) |")
+    say("|---|---:|---:|---:|---:|---:|---:|---:|")
+    base = runs["1 worker"]
+    bw, mw = min(x[0] for x in base), statistics.median(x[0] for x in base)
+    for name, xs in runs.items():
+        wb, wm = min(x[0] for x in xs), statistics.median(x[0] for x in xs)
+        cb, cm = min(x[1] for x in xs), statistics.median(x[1] for x in xs)
+        say(f"| {name} | {wb:.3f} s | {wm:.3f} s | {cb:.3f} s | {cm:.3f} s | {states / wb:,.0f} | "
+            f"{bw / wb:.2f}x | {mw / wm:.2f}x |")
+    cb = min(x[1] for x in base)
+    best = min(range(len(idle)), key=lambda i: idle[i])
+    st = split[best]
+    say(f"| 2 threads, 2 idle cores (estimate) | {idle[best]:.3f} s | {statistics.median(idle):.3f} s | | | "
+        f"{states / idle[best]:,.0f} | {cb / idle[best]:.2f}x (over 1 worker's CPU) | "
+        f"{statistics.median(x[1] for x in base) / statistics.median(idle):.2f}x |")
+    say("")
+    say(f"'2 workers' is what `--workers 2` does: it runs on one thread the slices (0.25 s) where a probe "
+        f"found one thread faster (a busy machine); slices so run, per run: {', '.join(map(str, adapted))}. "
+        f"'Always 2 threads' turns that off. The estimate is, for the latter, the CPU time of the busier "
+        f"thread in the parallel phases plus thread 0's one-thread parts (merge, chunks done on one "
+        f"thread): what the run takes when no thread waits for a core; barrier waits are not in it. Best "
+        f"run: threads {st['thread_cpu'][0]:.3f} s and {st['thread_cpu'][1]:.3f} s, merge "
+        f"{st['merge_cpu']:.3f} s, one-thread chunks {st['one_thread_cpu']:.3f} s, "
+        f"{st['parallel_chunks']} chunks on the threads.")
+    say("")
+    say(f"Twin T{t} K{k} --bug: the same report with 1 and 2 workers, the shortest trace of {trace_len} states.")
+    say("")
+    return runs
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--shared", default=os.environ.get("ASMCHECK_SHARED", str(ROOT.parent / "shared")))
@@ -118,7 +208,34 @@ def main():
     ap.add_argument("--big", action="store_true", help="also RtNondetVS (132,077 states; minutes)")
     ap.add_argument("--ray", action="store_true", help="also a local Ray instance with 2 actors")
     ap.add_argument("--only", action="append", default=[], help="only models whose name contains this")
+    ap.add_argument("--native-only", action="store_true", help="only the native rows")
+    ap.add_argument("--no-native", action="store_true", help="no native rows")
+    ap.add_argument("--native-twin", nargs=2, type=int, default=(63, 250), metavar=("T", "K"))
+    ap.add_argument("--native-repeat", type=int, default=5)
+    ap.add_argument("--out", help="also write the output to OUT/bench_parallel-DATE.md")
     args = ap.parse_args()
+    lines = []
+
+    def say(line=""):
+        print(line, flush=True)
+        lines.append(line)
+    say(f"# Parallel search benchmark, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    say("")
+    say(f"Machine: {os.cpu_count()} cores ({len(os.sched_getaffinity(0))} usable), shared with other jobs.")
+    say("")
+    if not args.no_native:
+        native_rows(args.shared, *args.native_twin, args.native_repeat, say)
+    if not args.native_only:
+        python_rows(args, say)
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        dest = out / f"bench_parallel-{time.strftime('%Y%m%d-%H%M', time.gmtime())}.md"
+        dest.write_text("\n".join(lines) + "\n")
+        print(f"written: {dest}")
+
+
+def python_rows(args, say):
     tmp = Path(tempfile.mkdtemp(prefix="bench_parallel_"))
     models = [ROOT / "specs" / "visual_servoing.asm", ROOT / "specs" / "sb_async_slave.asm"]
     gen = Path(args.shared) / "bench" / "gen_swing.py"
@@ -134,14 +251,14 @@ def main():
         from asmcheck.semantics.resolve import set_import_path
         set_import_path([str(Path(args.shared) / "asmeta" / "asm_examples")])
     cores = len(os.sched_getaffinity(0))
-    print(f"load average before: {loadavg()}; {cores} cores usable")
-    print()
+    say(f"load average before: {loadavg()}; {cores} cores usable")
+    say("")
     head = ("| model | states | 1 worker: wall (CPU) | 2 workers: wall | speed-up | 2 idle cores | speed-up "
             "| 8 simulated | speed-up | coordinator |")
     if args.ray:
         head += " Ray, 2 actors |"
-    print(head)
-    print("|" + "---|" * (head.count("|") - 1))
+    say(head)
+    say("|" + "---|" * (head.count("|") - 1))
     for path in models:
         m, sp, stp, kg = load(path)
 
@@ -174,9 +291,9 @@ def main():
             tr, _, rr = best(on_ray, 1)
             assert (rr.states, rr.transitions) == (r1.states, r1.transitions), path
             row += f" {tr:.2f} s |"
-        print(row, flush=True)
-    print()
-    print(f"load average after: {loadavg()}")
+        say(row)
+    say("")
+    say(f"load average after: {loadavg()}")
 
 
 if __name__ == "__main__":

@@ -198,19 +198,22 @@ def run_cli(*args):
 
 def without_seconds(text):
     lines = text.splitlines()
-    return [re.sub(r", \d+\.\d+ s\b", "", l) if i == 0 else l for i, l in enumerate(lines)]
+    return [re.sub(r", \d+ workers$", "", re.sub(r", \d+\.\d+ s\b", "", l)) if i == 0 else l
+            for i, l in enumerate(lines)]
 
 
 def test_cli_workers_prints_what_one_worker_prints():
     spec = "specs/buggy/sb_async_slave_no_recheck.asm"       # an LTL lasso: the graph is gathered
     one = run_cli("explore", spec, "--engine", "python")
-    two = run_cli("explore", spec, "--workers", "2")
+    two = run_cli("explore", spec, "--workers", "2", "--engine", "python")
     assert one.returncode == two.returncode == 1
+    assert two.stdout.splitlines()[0].endswith("python engine, 2 workers")
     assert without_seconds(two.stdout) == without_seconds(one.stdout)
     assert "ltlSpec_slave_leaves                     violated" in two.stdout
     j1 = json.loads(run_cli("explore", spec, "--engine", "python", "--format", "json").stdout)
-    j2 = json.loads(run_cli("explore", spec, "--workers", "auto", "--format", "json").stdout)
+    j2 = json.loads(run_cli("explore", spec, "--workers", "2", "--engine", "python", "--format", "json").stdout)
     j1.pop("seconds"), j2.pop("seconds")
+    assert j2.pop("workers") == 2
     j1.pop("compile_seconds", None), j2.pop("compile_seconds", None)
     assert j1 == j2
 
@@ -233,6 +236,9 @@ def test_cli_workers_usage_errors(write_spec):
     r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "many")
     assert r.returncode == 2 and "--workers expects a number or 'auto', not 'many'" in r.stderr
     r = run_cli("explore", write_spec(COUNTER), "--workers", "2", "--engine", "native")
+    assert r.returncode == 0 and r.stdout.startswith("Counter.asm: 6 states, 6 transitions, depth 5, ")
+    assert r.stdout.splitlines()[0].endswith(" s, native engine, 2 workers")
+    r = run_cli("explore", write_spec(COUNTER), "--bitstate", "16", "--engine", "native")
     assert r.returncode == 2 and "drop --engine native" in r.stderr
     r = run_cli("explore", write_spec(COUNTER), "--workers", "2")
     assert r.returncode == 0 and r.stdout.startswith("Counter.asm: 6 states, 6 transitions, depth 5, ")
@@ -276,7 +282,7 @@ def test_a_worker_over_its_memory_share_ends_with_a_partial_report(monkeypatch):
 
 
 def test_cli_worker_memory_gives_exit_3():
-    r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "2", "--worker-memory", "1")
+    r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "2", "--worker-memory", "1", "--engine", "python")
     assert r.returncode == 3, r.stderr
     assert "incomplete: worker 1 went over its memory share at depth 0" in r.stdout
     assert r.stdout.rstrip().endswith("verdict: incomplete")
@@ -292,7 +298,7 @@ def test_a_time_limit_stops_at_a_level_boundary(tmp_path):
     assert (r.verdict, r.reason) == ("incomplete", "time limit 0.5 s reached")
     # the states of complete levels only: the count is that of a depth-bounded search
     assert r.states == Explorer(m, state_props=sp, step_props=stp, max_depth=r.depth).run().states
-    out = run_cli("explore", str(path), "--workers", "2", "--max-seconds", "0.5")
+    out = run_cli("explore", str(path), "--workers", "2", "--max-seconds", "0.5", "--engine", "python")
     assert out.returncode == 3 and "incomplete: time limit 0.5 s reached" in out.stdout
 
 

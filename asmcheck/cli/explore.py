@@ -55,7 +55,8 @@ def run(args) -> int:
     color = color_on()
     r = run_.result
     out(f"{Path(args.file).name}: {r.states:,} states, {r.transitions:,} transitions, "
-        f"depth {r.depth}, {r.seconds:.2f} s, {run_.engine} engine")
+        f"depth {r.depth}, {r.seconds:.2f} s, {run_.engine} engine"
+        + (f", {run_.workers} workers" if run_.workers > 1 else ""))
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
     verdict_rows([(row["property"], api.verdict_text(row)) for row in run_.rows])

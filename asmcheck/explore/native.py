@@ -35,6 +35,8 @@ from __future__ import annotations
 
 import ctypes
 import math
+import os
+import re
 import struct
 import time
 from array import array
@@ -588,7 +590,8 @@ class Generator:
             self.defined_done.add("lz_note")
             self.funcs.append(
                 "/* lazily initialised locations read in this run: the next state keeps their value */\n"
-                "static uint32_t lz_gen = 0; static int lz_n = 0; static int lz_slot[MAXV]; static V lz_key[MAXV], lz_val[MAXV];\n"
+                "static _Thread_local uint32_t lz_gen = 0; static _Thread_local int lz_n = 0;\n"
+                "static _Thread_local int lz_slot[MAXV]; static _Thread_local V lz_key[MAXV], lz_val[MAXV];\n"
                 "static V lz_note(Ctx *c, int s, V k, V v) {\n"
                 "    if (c->in_prop || c->rd != c->cur) return v;\n"
                 "    if (lz_gen != c->gen) { lz_gen = c->gen; lz_n = 0; }\n"
@@ -1628,7 +1631,7 @@ class Generator:
                 "bag": f"bag_make(c, {buf}, {n})", "map": f"mapv_make(c, {buf}, {n})"}[t.kind]
         # the buffer is static: a body that reaches the same comprehension again (a recursive
         # derived function) would overwrite it, so that is left to the Python engine
-        return ("({ " + f"static V {buf}[1 << 14]; static int busy_{buf} = 0; int {n} = 0; "
+        return ("({ " + f"static _Thread_local V {buf}[1 << 14]; static _Thread_local int busy_{buf} = 0; int {n} = 0; "
                 f"if (busy_{buf}) fail(c, E_UNSUPPORTED, 0); busy_{buf} = 1; " + " ".join(heads) +
                 f" V {g} = {guard}; if ({g} == UNDEF) fail(c, E_MODEL, 0); "
                 f"else if ({g}) {{ {add} }} "
@@ -1681,7 +1684,7 @@ class Generator:
             args = [self.term(a, env) for a in r.args]
             if "res_written" not in self.defined_done:
                 self.defined_done.add("res_written")
-                self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+                self.funcs.append("static _Thread_local int res_written = 0;   /* the call running updated result */")
             return "{ " + self.update_location(f, args, self.term(r.value, env)) + " res_written = 1; }"
         if self.any_slot(f):
             args = [self.term(a, env) for a in r.args]
@@ -1974,11 +1977,12 @@ class Generator:
             ep = self.fresh("ep")
             cn = self.fresh("cn")
             lg = self.fresh("lg")
-            pre = (f"static int64_t {ep} = -1; static int {cn} = 0; static uint32_t {lg} = 0; int pos0 = c->pos; "
+            pre = (f"static _Thread_local int64_t {ep} = -1; static _Thread_local int {cn} = 0; "
+                   f"static _Thread_local uint32_t {lg} = 0; int pos0 = c->pos; "
                    f"int first_{lg} = {lg} != c->gen; {lg} = c->gen; if (!first_{lg}) {ep} = -1; "
                    f"if (pos0 == 0 && first_{lg} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
             post = f" if (c->pos == pos0 && pos0 == 0 && first_{lg}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
-        return ("{ " + f"static V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
+        return ("{ " + f"static _Thread_local V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -2012,7 +2016,7 @@ class Generator:
                 f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
         # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
         # and the candidate is copied out before the body runs
-        return ("{ " + f"static V *{cand} = 0; static int {cap} = 0; int {n} = 0; " + " ".join(heads) +
+        return ("{ " + f"static _Thread_local V *{cand} = 0; static _Thread_local int {cap} = 0; int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                 f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -2044,7 +2048,7 @@ class Generator:
         w = self.fresh("rw")
         if "res_written" not in self.defined_done:
             self.defined_done.add("res_written")
-            self.funcs.append("static int res_written = 0;   /* the call running updated result */")
+            self.funcs.append("static _Thread_local int res_written = 0;   /* the call running updated result */")
         if rf.index in self.fn_base:
             s = self.slot_of[rf.index]
             value = (f"(res_written && c->wgen[{s}] == c->gen ? slot_decode({s}, c->upd_code[c->wpos[{s}]]) : UNDEF)")
@@ -2442,6 +2446,12 @@ _SYMBOLS = {
     "asm_values": (_i64, []),
     "asm_value_find": (_i64, [_i64, _i64p, _i64]),
     "asm_free": (None, []),
+    "asm_run_par": (_i64, [_f64, _i64p, _i64]),
+    "asm_limit_memory": (None, [_i64]),
+    "asm_memory_bytes": (_i64, []),
+    "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
+    "asm_par_min_chunk": (None, [_i64]),
+    "asm_par_adapt": (None, [_i64]),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
 }
@@ -2457,8 +2467,8 @@ _STEP_ATOMS_C = """
 int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out, int64_t cap) {
     Ctx *c = &ctx_static;
     uint64_t nw[NWORDS > 0 ? NWORDS : 1];
-    static V smon[NMON > 0 ? NMON : 1];
-    static uint32_t smgen[NMON > 0 ? NMON : 1];
+    static _Thread_local V smon[NMON > 0 ? NMON : 1];
+    static _Thread_local uint32_t smgen[NMON > 0 ? NMON : 1];
     int64_t nrec = 0;
     load_state(c, states + src * NWORDS);
     c->rd = c->cur;
@@ -2533,6 +2543,26 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
 """
 
 
+# The C's variables that live as long as the library (``static``, not ``const``) and that the
+# threaded search (native_bfs.c, asm_run_par) shares knowingly: the search's tables, written by one
+# thread between the parallel phases or with atomic operations, and the value table, only read
+# while the threads expand.  Any other such variable in the generated C would be shared by the
+# threads unknowingly (a scratch buffer, a cache): it must be ``_Thread_local``, else the search
+# runs on one thread (``thread_unsafe``).
+_SHARED_STATICS = frozenset("""
+    vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
+    states nstates cap_states parents table tmask tcount ctx_static sbuf smask cap_sbuf global_epoch
+    interrupted W nworkers bar_n posnum cap_posnum nfirst_of ptime grow_failed
+""".split())
+_STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
+                         r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
+
+
+def thread_unsafe(src: str) -> list:
+    """The names of the variables of the C source ``src`` that threads would share unknowingly."""
+    return sorted({m.group(2) for m in _STATIC_VAR.finditer(src)} - _SHARED_STATICS)
+
+
 class NativeExplorer:
     """The explorer's interface (run, path_to, replay) over the native search."""
 
@@ -2540,8 +2570,8 @@ class NativeExplorer:
     SLICE = 0.25          # seconds of search between two returns to Python (progress, Ctrl-C)
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
-                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, label_atoms=None,
-                 **_ignored):
+                 state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
+                 max_memory=None, table_memory=None, label_atoms=None, **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -2561,6 +2591,7 @@ class NativeExplorer:
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
+        self.thread_unsafe = thread_unsafe(src)
         self.dll = native_build.build(src, _SYMBOLS)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
@@ -2578,6 +2609,35 @@ class NativeExplorer:
         self._parent = None
         self._picks_cache = None
         self.nstates = 0
+        # threads that expand each level together (asm_run_par: the same result as one); the
+        # bound on the process's memory in bytes (None: none), of which the search's tables get
+        # what the process does not hold when the search begins, or exactly table_memory bytes
+        self.workers = max(int(workers or 1), 1)
+        self.threaded = False        # True: the threaded search even with one worker (benchmarks)
+        self.adapt = True            # False: every slice on all the threads, even when one is faster
+        self.max_memory = max_memory
+        self.table_memory = table_memory
+
+    def thread_stats(self) -> dict:
+        """What the threaded search did since the last call (benchmarks, tests): chunks of a level
+        done on the threads, chunks sent back to one thread (a value not yet in the value table, a
+        run-time condition), seconds in the parallel phases, CPU seconds of the merge, of the chunks
+        done on one thread (small or sent back), and of threads 0 and 1 in the parallel phases;
+        the slices (calls) run on one thread because that was faster (a busy machine)."""
+        o = (ctypes.c_double * 8)()
+        self.dll.asm_par_stats(o)
+        return {"parallel_chunks": int(o[2]), "serial_chunks": int(o[1]), "parallel_seconds": o[0],
+                "one_thread_slices": int(o[4]),
+                "merge_cpu": o[5], "one_thread_cpu": o[3], "thread_cpu": (o[6], o[7])}
+
+    def _table_bound(self) -> int:
+        """Bytes the search's tables may take (-1: no bound)."""
+        if self.table_memory is not None:
+            return max(int(self.table_memory), 0)
+        if not self.max_memory:
+            return -1
+        from ..api import memory_in_use
+        return max(int(self.max_memory) - memory_in_use(), 0)
 
     def _growing(self, depth: int) -> list:
         """Integer locations that took a new least or greatest value at each of the last levels."""
@@ -2615,12 +2675,24 @@ class NativeExplorer:
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
+        self.dll.asm_limit_memory(self._table_bound())
+        # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
+        self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
+        self.dll.asm_par_adapt(1 if self.adapt else 0)
+        if self.workers > 1 and self.thread_unsafe:
+            msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "
+                   f"variables the threads would share ({', '.join(self.thread_unsafe)})")
+            self.workers = 1
+            self.warnings.append(msg)
+            if self.warn is not None:
+                self.warn(msg)
         # the search runs in slices: between two, Python shows progress, notices Ctrl-C and
         # watches for integer locations that grow level after level
         growth_depth = -1
         streak: dict = {}
         while True:
-            status = self.dll.asm_run(self.SLICE, out)
+            status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
+                      if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
             if status != 6:
                 break
             now = time.perf_counter() - t0
@@ -2685,9 +2757,11 @@ class NativeExplorer:
                 violations.append(v)
         # the order of the Python explorer: by when they were found
         stopped = out[11] != 0
-        incomplete = status in (1, 2, 3) or stopped
+        incomplete = status in (1, 2, 3, 8) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
-                  3: f"time limit {self.max_seconds} s reached"}.get(status, "")
+                  3: f"time limit {self.max_seconds} s reached",
+                  8: (f"memory limit {(self.max_memory or 0) / 2**20:,.0f} MB reached" if self.table_memory is None
+                      else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
         if status == 3 and self.warnings:
@@ -2697,6 +2771,7 @@ class NativeExplorer:
                      list(self.state_props) + list(self.step_props))
         res.deadlock_checked = self.deadlock
         res.engine = "native"
+        res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         return res
 

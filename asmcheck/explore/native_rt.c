@@ -323,7 +323,24 @@ static void vt_rehash(void) {
     free(vhash); vhash = nh; vmask = ncap - 1;
 }
 
+/* while several threads expand states (native_bfs.c, asm_run_par) the table is only read: a value
+   not in it yet is noted in vt_missed and the expansion is done again on one thread */
+static int vt_frozen = 0;
+static _Thread_local int vt_missed = 0;
 static V v_intern(Ctx *c, int kind, const V *e, int n) {
+    if (vt_frozen) {
+        if (vhash) {
+            uint64_t h = vt_hash(kind, e, n) & vmask;
+            while (vhash[h] >= 0) {
+                VEnt *x = &vtab[vhash[h]];
+                if (x->kind == kind && x->len == n && memcmp(vpool + x->off, e, n * sizeof(V)) == 0) return vhash[h];
+                h = (h + 1) & vmask;
+            }
+        }
+        vt_missed = 1;
+        if (c) fail(c, E_UNSUPPORTED, 0);
+        return UNDEF;
+    }
     if ((nvals + 1) * 2 > (int64_t)(vmask + 1)) { vt_rehash(); if (vt_oom) { if (c) fail(c, E_MEMORY, 0); return UNDEF; } }
     uint64_t h = vt_hash(kind, e, n) & vmask;
     while (vhash[h] >= 0) {
@@ -376,7 +393,7 @@ static inline int32_t v_len(V a) { return vtab[a].len; }
 static inline const V *v_elems(V a) { return vpool + vtab[a].off; }
 
 /* scratch space for building values (a value is built from its parts before it is interned) */
-static V vscratch[1 << 16];
+static _Thread_local V vscratch[1 << 16];     /* one per thread (asm_run_par) */
 
 static V seq_append(Ctx *c, V s, V x) {
     if (s == UNDEF) return UNDEF;

@@ -19,6 +19,21 @@ def wanted(workers=1, cluster=None, bitstate=None, worker_memory=None) -> bool:
     return (workers or 1) > 1 or bool(cluster) or bitstate is not None
 
 
+def native_threads(workers=1, cluster=None, bitstate=None, worker_memory=None) -> bool:
+    """Whether more workers run as threads of the native search (no cluster, no bitstate)."""
+    return parse_workers(workers or 1) > 1 and not cluster and bitstate is None
+
+
+def native_memory(max_memory, workers=1, cluster=None, bitstate=None, worker_memory=None):
+    """The bound, in bytes, on the native search's tables: ``--worker-memory`` (MB) times the
+    workers (the threads share one table), else ``max_memory``."""
+    if worker_memory is not None and native_threads(workers, cluster, bitstate):
+        if worker_memory <= 0:
+            raise UsageError("--worker-memory expects a positive number of megabytes")
+        return int(worker_memory * 1024 * 1024) * parse_workers(workers)
+    return max_memory
+
+
 def memory_share(worker_memory, max_memory, workers: int):
     """Bytes of resident memory each worker may use: ``worker_memory`` (MB), else an equal share of
     ``max_memory`` (bytes), else of nine tenths of the memory available now."""
@@ -45,7 +60,7 @@ def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bi
     Ray cluster, bitstate).  Returns (explorer, result) as the sequential search does."""
     workers = parse_workers(workers)
     if engine == "native":
-        raise UsageError("--workers, --cluster and --bitstate run the Python step function; the native engine "
+        raise UsageError("--cluster and --bitstate run the Python step function; the native engine "
                          "does not offer its successor function to them (drop --engine native)")
     machine = model.machine
     if bitstate is not None:

@@ -1,0 +1,319 @@
+"""The native engine's threaded search (explore --workers N, engine: native) gives the one-thread
+search's result exactly: the same JSON and text reports, state numbers, parents, edges, violations
+and traces, for 1, 2 and 4 workers; and the bound on its memory stops it with a partial report at
+the same state for any number of workers."""
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import io
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from asmcheck.cli import main
+from asmcheck.explore.native import NativeExplorer, thread_unsafe
+from asmcheck.props import spec_properties
+from asmcheck.props.load import load_machine
+
+from conftest import need_bench
+
+pytestmark = pytest.mark.engines("native")
+
+ROOT = Path(__file__).resolve().parent.parent
+SPECS = sorted((ROOT / "specs").glob("*.asm")) + sorted((ROOT / "specs" / "buggy").glob("*.asm")) + \
+    sorted((ROOT / "specs" / "temporal").glob("*.asm"))
+# specs the native engine refuses: --workers then runs the partitioned search in Python
+NOT_NATIVE: set = set()
+
+
+def cli(*args) -> tuple[int, str]:
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+        code = main([str(a) for a in args])
+    return code, out.getvalue()
+
+
+def report(*args, workers: int) -> tuple[int, dict]:
+    code, out = cli("explore", *args, "--format", "json", "--workers", workers)
+    doc = json.loads(out)
+    doc.pop("seconds"), doc.pop("compile_seconds")
+    return code, doc
+
+
+def text(*args, workers: int) -> tuple[int, list]:
+    code, out = cli("explore", *args, "--workers", workers)
+    lines = out.splitlines()
+    first = re.sub(r", \d+\.\d+ s, ", ", ", lines[0])
+    return code, [first] + lines[1:]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", SPECS, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_same_json_report_for_1_2_and_4_workers(path, monkeypatch):
+    # every level on the threads, however small (by default a level of fewer than 8 states a
+    # thread runs on one)
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    code1, one = report(path, workers=1)
+    assert "workers" not in one
+    native = path.name not in NOT_NATIVE
+    assert one["engine"] == ("native" if native else "python")
+    for n in (2, 4):
+        code, doc = report(path, workers=n)
+        assert doc.pop("workers") == n
+        assert (code, doc) == (code1, one)
+    # with the deadlock check and a state bound (a stop inside a level)
+    code1, one = report(path, "--deadlock", "--max-states", "150", workers=1)
+    code2, two = report(path, "--deadlock", "--max-states", "150", workers=2)
+    two.pop("workers")
+    assert (code2, two) == (code1, one)
+
+
+def twin(tmp_path, t, k, bug=False) -> Path:
+    bench = need_bench()
+    subprocess.run([sys.executable, str(bench / "gen_swing.py"), str(t), str(k), *(["--bug"] if bug else []),
+                    str(tmp_path)], capture_output=True, text=True, check=True)
+    return tmp_path / f"swing_T{t}_K{k}{'_bug' if bug else ''}.asm"
+
+
+@pytest.mark.parametrize("t,k,states,transitions", [(7, 16, 205, 457), (15, 32, 268, 594)])
+def test_a_twin_with_its_bug_gives_the_same_trace(tmp_path, t, k, states, transitions):
+    path = twin(tmp_path, t, k, bug=True)
+    code1, one = text(path, workers=1)
+    assert code1 == 1
+    assert one[0] == f"{path.name}: {states:,} states, {transitions:,} transitions, depth 14, native engine"
+    # the shortest counterexample: 13 steps from the initial state
+    assert any(line.startswith("inv_exclusive") and "13 steps" in line for line in one), one
+    for n in (2, 4):
+        code, lines = text(path, workers=n)
+        assert code == 1
+        assert lines[0] == one[0] + f", {n} workers"
+        assert lines[1:] == one[1:]
+    _, j1 = report(path, workers=1)
+    _, j2 = report(path, workers=2)
+    j2.pop("workers")
+    assert j1 == j2 and len(j1["violations"][0]["trace"]) == 14
+
+
+def explore(path, workers, **kw):
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=workers, **kw)
+    r = ex.run()
+    n = r.states
+    parents = (ctypes.c_int64 * n)()
+    ex.dll.asm_parents(parents)
+    words = (ctypes.c_uint64 * ex.gen.nwords)()
+    states = []
+    for i in range(n):
+        ex.dll.asm_state(i, words)
+        states.append(tuple(words))
+    edges = None if ex.edge_src is None else (list(ex.edge_src), list(ex.edge_dst))
+    return (r.verdict, r.states, r.transitions, r.depth, r.reason,
+            [(v.prop.name, v.state) for v in r.violations]), list(parents), states, edges
+
+
+def test_state_numbers_parents_and_edges_do_not_depend_on_the_workers(tmp_path):
+    path = twin(tmp_path, 15, 32)
+    one = explore(path, 1, keep_graph=True)
+    assert one[0] == ("holds", 38403, 111252, 426, "", [])
+    assert len(one[3][0]) == 111252
+    for n in (2, 3, 4):
+        assert explore(path, n, keep_graph=True) == one
+    # a state bound stops inside a level: the same states, numbered alike
+    cut = explore(path, 1, max_states=20000, deadlock=True)
+    assert cut[0][:5] == ("incomplete", 20000, cut[0][2], cut[0][3], "state limit 20000 reached")
+    assert explore(path, 2, max_states=20000, deadlock=True) == cut
+    assert cut[1] == one[1][:20000] and cut[2] == one[2][:20000]
+
+
+def test_the_memory_bound_stops_at_the_same_state_for_any_number_of_workers(tmp_path):
+    path = twin(tmp_path, 15, 32)
+    # 300,000 bytes of tables: 12 bytes a state (one word and a parent) and the hash table
+    one = explore(path, 1, table_memory=300_000)
+    assert one[0] == ("incomplete", 12288, 35306, 142, "memory limit 0.3 MB of tables reached", [])
+    for n in (2, 4):
+        assert explore(path, n, table_memory=300_000) == one
+
+
+def test_the_memory_limit_gives_a_partial_report_and_exit_3(tmp_path):
+    path = twin(tmp_path, 15, 32)
+    # the process holds more than 1 MB before the search: the tables may grow no more
+    for n in (1, 2):
+        code, lines = text(path, "--max-memory", "1M", workers=n)
+        assert code == 3
+        assert lines[0] == "swing_T15_K32.asm: 3 states, 2 transitions, depth 1, native engine" + \
+            (f", {n} workers" if n > 1 else "")
+        assert "incomplete: memory limit 1 MB reached" in lines
+        assert lines[-1] == "verdict: incomplete"
+
+
+GROWING_SEQUENCES = """asm SeqGrow
+import StandardLibrary
+signature:
+	dynamic controlled q: Seq(Integer)
+definitions:
+	invariant inv_short over q: length(q) <= 5
+	main rule r_main =
+		choose $x in {1, 2, 3} with true do
+			if length(q) < 5 then q := append(q, $x) else q := tail(q) endif
+default init s0:
+	function q = []
+"""
+
+
+def test_values_made_during_the_search_are_numbered_as_on_one_thread(tmp_path):
+    # every level makes new sequences: the threads may not add to the value table, so such a
+    # chunk is expanded again on one thread
+    path = tmp_path / "SeqGrow.asm"
+    path.write_text(GROWING_SEQUENCES)
+    code1, one = report(path, "--deadlock", workers=1)
+    assert one["engine"] == "native"
+    assert (one["states"], one["transitions"], one["depth"]) == (364, 606, 5)
+    for n in (2, 4):
+        code, doc = report(path, "--deadlock", workers=n)
+        doc.pop("workers")
+        assert (code, doc) == (code1, one)
+    assert explore(path, 2) == explore(path, 1)
+    # both ways were taken: level 3 makes new sequences (sent back to one thread), level 5 none
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=2)
+    ex.thread_stats()
+    ex.run()
+    stats = ex.thread_stats()
+    assert (stats["serial_chunks"], stats["parallel_chunks"]) == (1, 1)
+
+
+def test_workers_with_engine_native_and_what_stays_python(tmp_path):
+    path = twin(tmp_path, 7, 16)
+    code, lines = text(path, "--engine", "native", workers=2)
+    assert code == 0 and lines[0] == "swing_T7_K16.asm: 5,571 states, 14,404 transitions, depth 218, native engine, " \
+                                     "2 workers"
+    # what the native engine refuses (here --graph): the partitioned search on the Python step
+    # function, with the same graph as one worker
+    one_dot, two_dot = tmp_path / "one.dot", tmp_path / "two.dot"
+    code1, one = report(path, "--graph", one_dot, workers=1)
+    code, doc = report(path, "--graph", two_dot, workers=2)
+    assert doc["engine"] == "python" and doc.pop("workers") == 2
+    assert doc["engine_note"] == "native engine not used: --graph writes every step with its choices"
+    assert (code, doc) == (code1, one) and two_dot.read_text() == one_dot.read_text()
+
+
+def test_code_that_keeps_state_in_shared_variables_runs_on_one_thread(tmp_path):
+    # a scratch buffer or a cache that lives as long as the library would be shared by the threads
+    assert thread_unsafe("static V buf[1 << 16]; static int n = 0; static V a[4], b[4]; static volatile int f;\n"
+                         "static V g(Ctx *c) { static uint32_t gen = 0; return 0; }") == ["a", "buf", "f", "gen", "n"]
+    assert thread_unsafe("static _Thread_local V buf[8]; static const V T[] = {1}; static inline V h(Ctx *c);\n"
+                         "static V g(Ctx *c); static uint64_t *states = 0;") == []
+    # the generated code of the twin has none: its levels are expanded on the threads
+    path = twin(tmp_path, 15, 32)
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=2)
+    assert ex.thread_unsafe == []
+    ex.thread_stats()
+    assert ex.run().states == 38403
+    stats = ex.thread_stats()
+    assert stats["serial_chunks"] == 0 and stats["parallel_chunks"] > 300
+    # with such a variable the search runs on one thread, and says so
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=2)
+    ex.thread_unsafe = ["buf"]
+    ex.thread_stats()
+    r = ex.run()
+    assert (r.states, r.workers, ex.thread_stats()["parallel_chunks"]) == (38403, 1, 0)
+    assert ex.warnings == ["the native search runs on one thread, not 2: its C code keeps state in variables the "
+                           "threads would share (buf)"]
+
+
+# elements made by extend (canonical names), a monitored input and a counter
+EXTEND = """asm Rep
+import StandardLibrary
+signature:
+	dynamic abstract domain D
+	dynamic controlled cur: D
+	dynamic controlled other: D
+	dynamic controlled started: Boolean
+	dynamic controlled n: Integer
+	dynamic monitored flip: Boolean
+definitions:
+	invariant inv_n over n: n < 4
+	main rule r_main =
+		if not started then
+			extend D with $a, $b do
+				par
+					cur := $a
+					other := $b
+					started := true
+				endpar
+		else
+			par
+				if flip then
+					par
+						cur := other
+						other := cur
+					endpar
+				else
+					extend D with $c do
+						cur := $c
+				endif
+				if n < 5 then n := n + 1 endif
+			endpar
+		endif
+default init s0:
+	function started = false
+	function n = 0
+"""
+
+
+def test_extend_made_elements_give_the_same_report_for_any_number_of_workers(tmp_path, monkeypatch):
+    # whichever engine runs it (the Python engine while the native one refuses extend), the
+    # report with 2 and 3 workers is that of one
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    path = tmp_path / "Rep.asm"
+    path.write_text(EXTEND)
+    code1, one = report(path, "--deadlock", workers=1)
+    assert one["verdict"] == "violated" and one["violations"][0]["property"] == "inv_n"
+    for n in (2, 3):
+        code, doc = report(path, "--deadlock", workers=n)
+        assert doc.pop("workers") == n
+        assert (code, doc) == (code1, one)
+
+
+CLASH = """asm Clash
+import StandardLibrary
+import CTLLibrary
+signature:
+	dynamic controlled x: Integer
+	dynamic monitored go: Boolean
+definitions:
+	CTLSPEC ag(x < 4)
+	main rule r_main =
+		par
+			if x < 4 then x := x + 1 endif
+			if go and x = 2 then x := 0 endif
+		endpar
+default init s0:
+	function x = 0
+"""
+
+
+def test_a_search_that_ends_on_a_run_time_error_gives_the_report_of_one_worker(tmp_path):
+    # the native search hands a run-time error to the Python engine; with workers too, the report
+    # is that of one worker (the error's trace, the CTL verdict relative to the error)
+    path = tmp_path / "Clash.asm"
+    path.write_text(CLASH)
+    code1, one = report(path, workers=1)
+    assert code1 == 1 and one["engine"] == "python"
+    assert [(r["property"], r["verdict"]) for r in one["properties"]] == [("error", "violated"), ("ctl_1", "violated")]
+    code2, two = report(path, workers=2)
+    two.pop("workers", None)
+    assert (code2, two) == (code1, one)
+    # the partitioned search on the Python engine sends the error, recorded in a worker process,
+    # to the coordinator (it once failed to unpickle it): the same error and trace
+    code3, three = report(path, "--engine", "python", workers=2)
+    assert code3 == 1 and three["violations"][0] == one["violations"][0]
