@@ -1993,17 +1993,8 @@ class Generator:
         n = self.fresh("n")
         g = self.fresh("g")
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
-        body_env = dict(env)
-        bound = []
-        for v, _ in r.bindings:
-            nm = self.fresh("b")
-            body_env[v.uid] = nm
-            bound.append(nm)
-        body = self.rule(r.body, body_env)
-        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
         i = self.fresh("i")
-        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
-        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
         # The candidates depend on the state, the variables in scope and the choices made
         # before; when the choose is reached before any choice and binds no outer variable,
         # the list is the same in every run of the step from one state: it is kept.
@@ -2026,6 +2017,23 @@ class Generator:
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
 
+    def choose_parts(self, r, env, names, cand, n, i):
+        """What both translations of a choose share: its body (the bound variables read from the
+        candidate picked), its ifnone rule, the C that copies candidate ``i`` out of ``cand`` and
+        the C that stores the current binding ``names`` as candidate ``n``."""
+        k = len(names)
+        body_env = dict(env)
+        bound = []
+        for v, _ in r.bindings:
+            nm = self.fresh("b")
+            body_env[v.uid] = nm
+            bound.append(nm)
+        body = self.rule(r.body, body_env)
+        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
+        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
+        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        return body, ifnone, pick, store
+
     def choose_at_run_time(self, r, env):
         """A choose whose ranges are computed in the state (or from variables bound before): the
         candidates are collected, in the Python engine's order, into a buffer that grows."""
@@ -2040,16 +2048,7 @@ class Generator:
         k = len(names)
         cand, cap, n, g, i = self.fresh("cand"), self.fresh("cap"), self.fresh("n"), self.fresh("g"), self.fresh("i")
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
-        body_env = dict(env)
-        bound = []
-        for v, _ in r.bindings:
-            nm = self.fresh("b")
-            body_env[v.uid] = nm
-            bound.append(nm)
-        body = self.rule(r.body, body_env)
-        ifnone = self.rule(r.ifnone, env) if r.ifnone is not None else ";"
-        pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
-        store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
+        body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
         grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
                 f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
                 f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
