@@ -54,3 +54,25 @@ def spec(sig: str, defs: str, init: str = "") -> str:
     """A one-file asm named S with the given signature, definitions and default init lines."""
     return ("asm S\nimport StandardLibrary\nsignature:\n" + sig + "\ndefinitions:\n" + defs +
             ("\ndefault init s0:\n" + init + "\n" if init else "\n"))
+
+
+def both(tmp_path, capsys, text, *extra):
+    """``explore --format json`` of the spec ``text`` on the native engine and on the Python engine:
+    the two reports must be equal but for the engine and the times; returns (exit code, report)."""
+    import json
+    import pytest
+    from asmcheck.cli import main
+    from asmcheck.explore.native_build import compiler
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, text)
+    outs = []
+    for engine in ("native", "python"):
+        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
+        out = json.loads(capsys.readouterr().out)
+        assert out.pop("engine") == engine
+        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+            out.pop(key, None)
+        outs.append((code, out))
+    assert outs[0] == outs[1]
+    return outs[0]

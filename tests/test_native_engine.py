@@ -8,7 +8,7 @@ import pytest
 
 from asmcheck.cli import main
 from asmcheck.explore.native_build import compiler
-from helpers import write
+from helpers import both, write
 
 pytestmark = pytest.mark.engines("native")
 
@@ -122,20 +122,6 @@ step stp_total_changes: changed(total) or next(total) = total
 """
 
 
-def both(tmp_path, capsys, text, *extra):
-    if compiler() is None:
-        pytest.skip("no C compiler: the native explorer cannot run here")
-    path = write(tmp_path, text)
-    outs = []
-    for engine in ("native", "python"):
-        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
-        out = json.loads(capsys.readouterr().out)
-        assert out.pop("engine") == engine
-        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
-            out.pop(key, None)
-        outs.append((code, out))
-    assert outs[0] == outs[1]
-    return outs[0]
 
 
 def ends_on_error(tmp_path, capsys, text):

@@ -17,7 +17,7 @@ from asmcheck.explore.native import NativeExplorer
 from asmcheck.explore.native_build import Unsupported, compiler
 from asmcheck.semantics.machine import Machine
 from asmcheck.semantics.resolve import check_file
-from helpers import write
+from helpers import both, write
 
 pytestmark = [pytest.mark.engines("native"),
               pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")]
@@ -309,18 +309,6 @@ default init s0:
 """
 
 
-def both(tmp_path, capsys, text, *extra):
-    path = write(tmp_path, text)
-    outs = []
-    for engine in ("native", "python"):
-        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
-        out = json.loads(capsys.readouterr().out)
-        assert out.pop("engine") == engine
-        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
-            out.pop(key, None)
-        outs.append((code, out))
-    assert outs[0] == outs[1]
-    return outs[0]
 
 
 def same_states(tmp_path, text):

@@ -15,7 +15,7 @@ from asmcheck.explore.bfs import Explorer
 from asmcheck.explore.native import NativeExplorer
 from asmcheck.explore.native_build import Unsupported, compiler
 from asmcheck.semantics.values import show
-from helpers import machine, write
+from helpers import both, machine, write
 
 pytestmark = [pytest.mark.engines("native"),
               pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")]
@@ -310,19 +310,6 @@ default init s0:
 """
 
 
-def both(tmp_path, capsys, text, *extra):
-    """The JSON reports of the two engines (equal but for the engine and the times)."""
-    path = write(tmp_path, text)
-    outs = []
-    for engine in ("native", "python"):
-        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
-        out = json.loads(capsys.readouterr().out)
-        assert out.pop("engine") == engine
-        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
-            out.pop(key, None)
-        outs.append((code, out))
-    assert outs[0] == outs[1]
-    return outs[0]
 
 
 def ends_on_error(tmp_path, capsys, text):

@@ -5,32 +5,14 @@ runs on both engines (pinned with --engine); the JSON reports must be equal apar
 engine and the time, and the native run must not fall back.
 
 Engines: both (python is the reference, native is checked)."""
-import json
-
 import pytest
 
-from asmcheck.cli import main
-from asmcheck.explore.native_build import compiler
-from helpers import write
+from helpers import both
 from test_native_engine import ends_on_error
 
 pytestmark = pytest.mark.engines("native")
 
 
-def both(tmp_path, capsys, text, *extra):
-    if compiler() is None:
-        pytest.skip("no C compiler: the native explorer cannot run here")
-    path = write(tmp_path, text)
-    outs = []
-    for engine in ("native", "python"):
-        code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
-        out = json.loads(capsys.readouterr().out)
-        assert out.pop("engine") == engine
-        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
-            out.pop(key, None)
-        outs.append((code, out))
-    assert outs[0] == outs[1]
-    return outs[0]
 
 
 def summary(out):
