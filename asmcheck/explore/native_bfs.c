@@ -1176,3 +1176,104 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     sigaction(SIGINT, &old, 0);
     return status;
 }
+
+/* ------------------------------------------------------------------ one state at a time
+ * For a search whose partitions live in other processes (asmcheck/parallel/native_expand.py):
+ * the checks and the successors of one packed state w, as asm_run computes them for a stored
+ * state, without storing anything.  asm_start (with no initial state) sets up the value table
+ * first.  skip[k] (NINV + NSTEP bytes, state properties then step properties): 1 when property
+ * k need not be checked.  Out: sfail[k] for each state property (0 holds, 1 violated, 2 undef or
+ * cannot be evaluated); with succ_too, the successors (NWORDS words each, at most cap, in the
+ * order of the enumeration, INVAR-filtered) in succ, and for each two masks in masks: the step
+ * properties it violates, and those of them that are undef or cannot be evaluated.  Returns the
+ * number of successors, -1 when a step fails (info[0]: the error code), -2 when the native engine
+ * cannot go on (info[0]: code, info[1]: site, info[2]: clash slot), -3 when there are more than
+ * cap successors (call again with more room). */
+int64_t asm_x_expand(const uint64_t *w, const uint8_t *skip, int64_t succ_too, int64_t cap,
+                     uint64_t *succ, uint64_t *masks, uint8_t *sfail, int64_t *info) {
+    Ctx *c = &ctx_static;
+    c->rd = c->cur;
+    load_state(c, w);
+    c->self = UNDEF;
+    c->epoch = ++global_epoch;
+    for (int k = 0; k < NINV; k++) {
+        sfail[k] = 0;
+        if (skip[k]) continue;
+        c->err = 0;
+        V v = check_invariant(c, k);
+        if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
+            info[0] = c->err; info[1] = c->err_site; info[2] = c->clash_slot;
+            return -2;
+        }
+        if (c->err || v == UNDEF) sfail[k] = 2;
+        else if (!v) sfail[k] = 1;
+    }
+    if (!succ_too) return 0;
+    c->plen = 0;
+    int64_t n = 0;
+    for (;;) {
+        c->pos = 0;
+        c->nupd = 0;
+        c->nlog = 0;
+        c->seqstart = -1;
+        c->curstep = 0;
+        c->self = UNDEF;
+        c->nvs = 0;
+        c->gen++;
+        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+        c->err = 0;
+        step_main(c);
+        if (c->err) {
+            if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
+                info[0] = c->err; info[1] = c->err_site; info[2] = c->clash_slot;
+                return -2;
+            }
+            info[0] = c->err;
+            return -1;
+        }
+#if NSTEP > 0 || NINVAR > 0
+        if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+#endif
+#if NINVAR > 0
+        {
+            int ok = 1;
+            c->rd = c->post;
+            for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+            c->rd = c->cur;
+            if (c->err == E_UNSUPPORTED) { info[0] = c->err; info[1] = 0; info[2] = 0; return -2; }
+            c->err = 0;
+            if (!ok) goto next_choice;
+        }
+#endif
+        if (n >= cap) return -3;
+        masks[2 * n] = masks[2 * n + 1] = 0;
+#if NSTEP > 0
+        for (int k = 0; k < NSTEP; k++) {
+            if (skip[NINV + k]) continue;
+            c->err = 0;
+            V v = check_step_prop(c, k);
+            if (c->err == E_UNSUPPORTED || c->err == E_CHOICES) {
+                info[0] = c->err; info[1] = 0; info[2] = 0;
+                return -2;
+            }
+            if (c->err || v == UNDEF) masks[2 * n + 1] |= 1ULL << k;
+            if (c->err || v != 1) masks[2 * n] |= 1ULL << k;
+        }
+        c->err = 0;
+#endif
+        store_state(c, w, succ + n * NWORDS);
+#if CN_NDYN > 0
+        if (canon_state(c, succ + n * NWORDS)) { info[0] = E_UNSUPPORTED; info[1] = 0; info[2] = 0; return -2; }
+#endif
+        n++;
+        if (n >= MAX_SUCC) { info[0] = E_TOOMANY; return -1; }
+    next_choice: ;
+        int j = c->pos - 1;
+        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
+        if (j < 0) break;
+        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
+        c->prefix[j] = c->idx[j] + 1;
+        c->plen = j + 1;
+    }
+    return n;
+}

@@ -51,6 +51,7 @@ class Recipe:
     deadlock: bool = False
     state_names: list | None = None     # the properties checked (None: all that apply), in order
     step_names: list | None = None
+    expander: str = "python"            # 'native': the compiled step function (NativeExpander)
 
     def load(self):
         return self.load_all()[:3]
@@ -76,45 +77,87 @@ class Recipe:
         return machine, state_props, step_props, temporal
 
     def __call__(self):
-        from .expand import PythonExpander
         machine, state_props, step_props = self.load()
-        return PythonExpander(machine, state_props, step_props, self.deadlock)
+        return make_expander(self.expander, machine, state_props, step_props, self.deadlock)
+
+
+def make_expander(kind: str, machine, state_props, step_props, deadlock):
+    """An expander of the kind named: 'python' (the Python step function) or 'native' (the
+    compiled one; raises :class:`asmcheck.parallel.native_expand.Refused` where it cannot)."""
+    if kind == "native":
+        from .native_expand import NativeExpander
+        return NativeExpander(machine, state_props, step_props, deadlock)
+    from .expand import PythonExpander
+    return PythonExpander(machine, state_props, step_props, deadlock)
 
 
 def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes", state_props=(),
                         step_props=(), deadlock=False, max_states=None, max_depth=None, max_seconds=None,
                         keep_graph=False, progress=None, memory_share=None, recipe: Recipe | None = None,
-                        cluster: str | None = None, make_expander=None, on_level=None):
+                        cluster: str | None = None, make_expander=None, on_level=None, expander: str = "python"):
     """Explore ``machine`` with the states partitioned among ``workers`` partitions.
 
     ``backend``: 'inline' (partitions in this process: simulated workers), 'processes' (forked
     worker processes) or 'ray' (one Ray actor per partition on the cluster ``cluster``; needs
     ``recipe``).  ``memory_share``: bytes of resident memory each worker may use; a worker over
-    it ends the run with a partial report (verdict incomplete).  Returns (explorer, result); the
-    explorer answers traces and reports like the sequential one."""
-    from .expand import PythonExpander
+    it ends the run with a partial report (verdict incomplete).  ``expander``: 'python' (the
+    Python step function), 'native' (the compiled step function of the native engine) or 'auto'
+    (native where the native engine takes the spec; the search runs again on the Python step
+    function when it refuses the spec, before or during the search).  Returns (explorer, result);
+    the explorer answers traces and reports like the sequential one; ``result.engine`` names the
+    step function that expanded the states and ``result.native_refused`` why it is not the
+    native one ('' when it is, or was not asked for)."""
+    from .native_expand import Refused
+    if expander not in ("python", "native", "auto"):
+        raise ValueError(f"unknown expander {expander!r}")
+    if expander == "python" or make_expander is not None:
+        return _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states,
+                                    max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
+                                    make_expander, on_level, "python")
+    try:
+        return _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states,
+                                    max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
+                                    None, on_level, "native")
+    except Refused as e:
+        if expander == "native":
+            raise
+        reason = str(e)
+    ex, result = _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states,
+                                      max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
+                                      None, on_level, "python")
+    result.native_refused = reason
+    return ex, result
+
+
+def _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states, max_depth,
+                         max_seconds, keep_graph, progress, memory_share, recipe, cluster, make_expander_,
+                         on_level, kind):
+    from dataclasses import replace
+
     from .view import PartitionedExplorer
 
     state_props = list(state_props)
     step_props = list(step_props)
-    if make_expander is None:
-        def make_expander():
-            return PythonExpander(machine, state_props, step_props, deadlock)
+    # the coordinator's own expander (initial states, owners of keys): of the workers' kind
+    local = make_expander(kind, machine, state_props, step_props, deadlock)
+    if make_expander_ is None:
+        # (forked workers inherit the loaded native library; each builds its own expander on it)
+        def make_expander_():
+            return make_expander(kind, machine, state_props, step_props, deadlock)
     if backend == "inline":
-        b = InlineBackend(make_expander, workers, memory_share, keep_graph)
+        b = InlineBackend(make_expander_, workers, memory_share, keep_graph)
     elif backend == "processes":
         from .procs import ProcessBackend
-        b = ProcessBackend(make_expander, workers, memory_share, keep_graph)
+        b = ProcessBackend(make_expander_, workers, memory_share, keep_graph)
     elif backend == "ray":
         from .cluster import RayBackend
         if recipe is None:
             raise ValueError("a Ray search needs a Recipe to rebuild the machine in its actors")
-        b = RayBackend(recipe, workers, cluster or "local", memory_share, keep_graph)
+        b = RayBackend(replace(recipe, expander=kind), workers, cluster or "local", memory_share, keep_graph)
     else:
         raise ValueError(f"unknown backend {backend!r}")
     try:
-        search = PartitionedSearch(b, PythonExpander(machine, state_props, step_props, deadlock),
-                                   state_props=state_props, step_props=step_props, deadlock=deadlock,
+        search = PartitionedSearch(b, local, state_props=state_props, step_props=step_props, deadlock=deadlock,
                                    max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
                                    keep_graph=keep_graph, progress=progress, on_level=on_level)
         result = search.run()
@@ -124,7 +167,8 @@ def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes"
             result.worker_cpu = b.call_all("cpu", [()] * workers)
     finally:
         b.close()
-    result.engine = "python"
+    result.engine = "native" if kind == "native" else "python"
+    result.native_refused = ""
     result.workers = workers
     result.backend = b.name
     result.peak_rss = list(search.peak_rss) if "search" in locals() else []

@@ -49,9 +49,20 @@ class _Owner:
     """The body of the partition actor."""
 
     def __init__(self, wid, n, recipe, memory_share, keep_graph):
-        self.p = Partition(wid, n, recipe(), memory_share, keep_graph)
+        from .native_expand import Refused
+        self.refused = None
+        try:
+            # the native expander compiles the spec's step function here, or loads it from
+            # this node's cache
+            self.p = Partition(wid, n, recipe(), memory_share, keep_graph)
+        except Refused as e:
+            self.p = None
+            self.refused = str(e)
 
     def call(self, method, *args):
+        if self.p is None:
+            from .native_expand import Refused
+            raise Refused(self.refused)
         return getattr(self.p, method)(*args)
 
     def expand_level(self, *args):
@@ -136,6 +147,10 @@ class RayBackend:
         try:
             return self.ray.get(refs)
         except self.RayError as e:
+            from .native_expand import Refused
+            cause = getattr(e, "cause", None)
+            if isinstance(cause, Refused):
+                raise Refused(str(cause)) from None
             text = str(e).splitlines()[0] if str(e) else type(e).__name__
             dead = type(e).__name__
             raise WorkerLost(f"a partition actor failed during the search ({dead}: {text}); "

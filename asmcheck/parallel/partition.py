@@ -24,6 +24,7 @@ import time
 from array import array
 
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
+from .native_expand import Refused
 
 SHIFT = 32                       # discovery key = parent number << SHIFT | successor position
 
@@ -129,6 +130,11 @@ class Partition:
         except (OverMemory, MemoryError):
             out = [[] for _ in range(n)]
             report["stopped"] = "memory"
+        except Refused as e:
+            # the native expander met what it cannot compute: the search runs again on the Python one
+            out = [[] for _ in range(n)]
+            report["stopped"] = "refused"
+            report["refused"] = str(e)
         report["transitions"] = transitions
         report["rss"] = rss_bytes()
         # this partition's own successors stay here, unpickled; its slot travels empty

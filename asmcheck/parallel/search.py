@@ -23,6 +23,7 @@ from array import array
 
 from ..explore.bfs import DEADLOCK, PseudoProperty, Result, Violation
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
+from .native_expand import Refused
 from .partition import SHIFT, Partition
 
 
@@ -123,6 +124,8 @@ class PartitionedSearch:
             for w, r in enumerate(reports):
                 self.peak_rss[w] = max(self.peak_rss[w], r.get("rss", 0))
             stopped = [r["stopped"] for r in reports if r["stopped"]]
+            if "refused" in stopped:
+                raise Refused(next(r["refused"] for r in reports if r["stopped"] == "refused"))
             if "memory" in stopped:
                 w = next(w for w, r in enumerate(reports) if r["stopped"] == "memory")
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,

@@ -38,6 +38,7 @@ class PartitionedExplorer(Explorer):
         self.search = search
         self._n = 0
         self._cache: dict = {}
+        self._picks_src = None
         self.gathered = False
 
     @property
@@ -60,6 +61,9 @@ class PartitionedExplorer(Explorer):
                 for sid in (v.state, v.source):
                     while sid is not None and sid >= 0:
                         sid = self._record(sid)[1]
+        for v in result.violations:
+            if isinstance(v.picks, int):
+                v.picks = self.picks(v.source, v.picks)
 
     def _gather(self) -> None:
         n = self.n_states
@@ -68,11 +72,12 @@ class PartitionedExplorer(Explorer):
         depth = array("l", [0]) * n
         via = [None] * n
         b = self.search.b
+        state_of = self.search.x.state_of
         for w in range(b.n):
             for sid, key, par, picks, d in b.call(w, "gather"):
                 if sid >= n:
                     continue
-                frozen[sid] = self.layout.freeze(dict(key))
+                frozen[sid] = self.layout.freeze(state_of(key))
                 parent[sid] = par
                 via[sid] = picks
                 depth[sid] = d
@@ -80,14 +85,81 @@ class PartitionedExplorer(Explorer):
         self.index = {fz: i for i, fz in enumerate(frozen)}
         self.parent = parent
         self.depth_of = depth
-        self.via = via
-        self.edges = self.search.edges
+        self.via = _Choices(self, via)
+        self.edges = _Edges(self, self.search.edges)
         self.gathered = True
+
+    def edge_arrays(self):
+        """(sources, targets) of the gathered graph, without choices."""
+        e = self.search.edges
+        return array("q", [x[0] for x in e]), array("q", [x[1] for x in e])
 
     def _record(self, sid: int):
         r = self._cache.get(sid)
         if r is None:
             w = self.search.owner[sid]
             key, par, picks, d = self.search.b.call(w, "fetch", [sid])[0]
-            r = self._cache[sid] = (self.layout.freeze(dict(key)), par, picks, d)
+            fz = self.layout.freeze(self.search.x.state_of(key))
+            if isinstance(picks, int):
+                picks = self.picks(par, picks)
+            r = self._cache[sid] = (fz, par, picks, d)
         return r
+
+    def picks(self, src: int, position: int) -> tuple:
+        """The choices of the step from state ``src`` to its successor at ``position`` (the native
+        expander sends positions; the Python step function gives the choices, for the few
+        states a trace or the graph shows; the successors of the last source are kept)."""
+        from .native_expand import picks_of
+        cache = self._picks_src
+        if cache is None or cache[0] != src:
+            succ = self.admitted_successors(self.state(src))
+            cache = self._picks_src = (src, [s[0] for s in succ])
+        if not 0 <= position < len(cache[1]):
+            return picks_of(self, self.state(src), position)     # raises the replay error
+        return cache[1][position]
+
+
+class _Choices:
+    """The choices of each state's step from its parent (positions resolved on demand)."""
+
+    def __init__(self, view, via):
+        self.view = view
+        self.via = via
+
+    def __len__(self):
+        return len(self.via)
+
+    def __getitem__(self, sid):
+        p = self.via[sid]
+        if isinstance(p, int):
+            p = self.via[sid] = self.view.picks(self.view.parent[sid], p)
+        return p
+
+    def __iter__(self):
+        for sid in range(len(self.via)):
+            yield self[sid]
+
+
+class _Edges:
+    """The transitions (source, target, choices) of the gathered graph (positions resolved on
+    demand, source by source)."""
+
+    def __init__(self, view, edges):
+        self.view = view
+        self.e = edges
+
+    def __len__(self):
+        return len(self.e)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self.e)))]
+        a, b, p = self.e[i]
+        if isinstance(p, int):
+            p = self.view.picks(a, p)
+            self.e[i] = (a, b, p)
+        return a, b, p
+
+    def __iter__(self):
+        for i in range(len(self.e)):
+            yield self[i]
