@@ -1277,3 +1277,10 @@ int64_t asm_x_expand(const uint64_t *w, const uint8_t *skip, int64_t succ_too, i
     }
     return n;
 }
+
+/* the number of the composite value (kind, e[0..n-1]) in this process's value table, adding it
+   (the partitioned search brings values from other processes); -1 when out of memory */
+int64_t asm_x_intern(int64_t kind, const int64_t *e, int64_t n) {
+    V r = v_intern(0, (int)kind, (const V *)e, (int)n);
+    return vt_oom ? -1 : (int64_t)r;
+}

@@ -40,28 +40,138 @@ _i64p = ctypes.POINTER(ctypes.c_int64)
 _EXPAND_SIG = (ctypes.c_int64, [_u64p, _u8p, ctypes.c_int64, ctypes.c_int64, _u64p, _u64p, _u8p, _i64p])
 
 
-def _portable(gen) -> str | None:
-    """Why the packed states of ``gen`` (a native Generator) do not mean the same in every
-    process, or None when they do."""
+def _table_slots(gen) -> list:
+    """[(word, type, map function or None)] of the slots whose words hold numbers of the value
+    table (sequences, sets, bags, maps, strings, tuples, values of type Any, the defined
+    locations of a function over an infinite domain): those numbers are the process's own."""
     from ..explore.native import T
-    if gen.dyn:
-        return "domains extended at run time (their elements are renamed per search)"
+    out = []
     for s, vals in enumerate(gen.slot_values):
         typ = gen.slot_types[s]
         if isinstance(typ, tuple):
-            return f"the function {typ[1].name} over an infinite domain (a value of the per-process value table)"
+            out.append((gen.words[s], None, typ[1]))
+            continue
         if vals is not None:
             continue
         r = T.root(typ)
-        if r in (T.BOOLEAN, T.INTEGER, T.NATURAL, T.REAL):
-            continue
-        if isinstance(r, T.Domain) and r.kind in ("enum", "abstract"):
-            continue
-        if isinstance(r, T.Struct) and r.kind == "Rule":
-            continue
-        return (f"the location {gen.m.location_text(gen.slots[s])} holds values of the per-process value table "
-                f"(type {typ})")
-    return None
+        if (r is T.STRING or (isinstance(r, T.Domain) and r.kind == "any")
+                or (isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset", "Bag", "Map"))):
+            out.append((gen.words[s], typ, None))
+    return out
+
+
+_Q = struct.Struct("<q")
+_SORTED = {4, 5, 10, 11}          # kinds whose elements the value table keeps sorted by code
+
+
+class ValueCodec:
+    """Values of the value table <-> bytes that mean the same in every process: the value's
+    structure, with its elements' encodings; the elements of a set, bag or map in the order of
+    their encodings (the table orders them by code, which is the process's own)."""
+
+    def __init__(self, gen, dll):
+        from ..explore.native import T
+        self.T = T
+        self.codec = gen.codec
+        self.dll = dll
+        self.out: dict = {}            # code -> bytes
+        self.into: dict = {}           # bytes -> code
+        fn = dll.asm_x_intern
+        fn.restype, fn.argtypes = ctypes.c_int64, [ctypes.c_int64, _i64p, ctypes.c_int64]
+        self._intern = fn
+
+    def intern(self, kind: int, codes) -> int:
+        n = len(codes)
+        buf = (ctypes.c_int64 * max(n, 1))(*codes)
+        i = self._intern(kind, buf, n)
+        if i < 0:
+            raise MemoryError("the native value table is out of memory")
+        return i
+
+    def _elem_types(self, kind, typ, fn, n):
+        T = self.T
+        if fn is not None:
+            dt = fn.domain[0] if len(fn.domain) == 1 else T.Struct("Prod", tuple(fn.domain))
+            return [dt, fn.codomain] * (n // 2)
+        r = T.root(typ)
+        if kind == 3:
+            return [T.INTEGER] * n
+        if kind == 16:
+            return None
+        if isinstance(r, T.Struct):
+            if r.kind == "Prod":
+                return list(r.args)
+            if r.kind == "Map":
+                return [r.args[0], r.args[1]] * (n // 2)
+            return [r.args[0]] * n
+        raise Refused(f"a value of type {typ} in the value table")
+
+    def encode(self, x: int, typ, fn=None) -> bytes:
+        """The bytes of the value whose code is ``x`` (of static type ``typ``; ``fn``: the map of
+        a function over an infinite domain)."""
+        if x >= 1 << 63:
+            x -= 1 << 64
+        b = self.out.get((x, id(typ), id(fn)))
+        if b is not None:
+            return b
+        from ..explore.native import UNDEF_V
+        T = self.T
+        r = T.root(typ) if typ is not None else None
+        table = fn is not None or r is T.STRING or (isinstance(r, T.Domain) and r.kind == "any") or (
+            isinstance(r, T.Struct) and r.kind in ("Seq", "Prod", "Powerset", "Bag", "Map"))
+        if x == UNDEF_V or not table:
+            b = b"i" + _Q.pack(x)
+        else:
+            kind, elems = self.codec.fetch(x)
+            if kind == 16:
+                tag, code = elems
+                parts = [_Q.pack(tag) + self.encode(code, self.codec.any_tags[tag][1])]
+            else:
+                tys = self._elem_types(kind, typ, fn, len(elems))
+                parts = [self.encode(e, t) for e, t in zip(elems, tys)]
+                if kind in (5, 11):
+                    pairs = sorted(zip(parts[0::2], parts[1::2]))
+                    parts = [_Q.pack(len(a)) + a + _Q.pack(len(v)) + v for a, v in pairs]
+                elif kind in _SORTED:
+                    parts = sorted(parts)
+                    parts = [_Q.pack(len(p)) + p for p in parts]
+                else:
+                    parts = [_Q.pack(len(p)) + p for p in parts]
+            b = b"t" + _Q.pack(kind) + _Q.pack(len(elems)) + b"".join(parts)
+        self.out[(x, id(typ), id(fn))] = b
+        return b
+
+    def decode(self, b: bytes, typ, fn=None) -> int:
+        """This process's code of the value encoded as ``b``."""
+        x = self.into.get(b)
+        if x is None:
+            x = self.into[b] = self._decode(b, 0, typ, fn)[0]
+        return x
+
+    def _decode(self, b: bytes, i: int, typ, fn):
+        if b[i:i + 1] == b"i":
+            return _Q.unpack_from(b, i + 1)[0], i + 9
+        kind = _Q.unpack_from(b, i + 1)[0]
+        n = _Q.unpack_from(b, i + 9)[0]
+        i += 17
+        if kind == 16:
+            tag = _Q.unpack_from(b, i)[0]
+            code, i = self._decode(b, i + 8, self.codec.any_tags[tag][1], None)
+            return self.intern(kind, (tag, code)), i
+        tys = self._elem_types(kind, typ, fn, n)
+        codes = []
+        for t in tys:
+            ln = _Q.unpack_from(b, i)[0]
+            i += 8
+            code, _ = self._decode(b, i, t, None)
+            codes.append(code)
+            i += ln
+        if kind in (5, 11):
+            pairs = sorted(zip(codes[0::2], codes[1::2]))
+            codes = [c for pr in pairs for c in pr]
+        elif kind in _SORTED:
+            codes.sort()
+        return self.intern(kind, codes), i
 
 
 class NativeExpander:
@@ -81,9 +191,6 @@ class NativeExpander:
             raise Refused(str(e)) from None
         except RecursionError:
             raise Refused("the spec nests more deeply than the C generator follows") from None
-        why = _portable(nx.gen)
-        if why:
-            raise Refused(f"the partitioned search cannot share its packed states: {why}")
         self.nx = nx
         self.gen = nx.gen
         self.dll = nx.dll
@@ -93,7 +200,19 @@ class NativeExpander:
         self._fn = fn
         self.nwords = self.gen.nwords
         self._fmt = struct.Struct(f"<{self.nwords}Q")
+        self.tslots = _table_slots(self.gen)
+        self.vc = ValueCodec(self.gen, self.dll)
+        # a composite value asked for by value (an initial state, a state the Python step
+        # function made) enters this process's value table
+        codec = self.gen.codec
+
+        def found(key, codec=codec, vc=self.vc):
+            i = codec.comp_ids[key] = vc.intern(key[0], key[1])
+            return i
+        codec.found = found
         # the value table's first entries (the values the generated code names)
+        if self.gen.dyn:
+            self.dll.asm_canon_reset()
         self.dll.asm_start((ctypes.c_uint64 * 1)(), 0, -1, -1, -1.0, 0, 0)
         self.ninv = len(self.state_props)
         self.nstep = len(self.step_props)
@@ -128,14 +247,43 @@ class NativeExpander:
         return frozen
 
     def key_of(self, st: dict) -> bytes:
-        from ..explore.native import Unsupported
+        from ..explore.native import MASK64, Unsupported
         try:
-            return self._fmt.pack(*self.gen.pack(st))
+            return self.key_of_words(self._fmt.pack(*[w & MASK64 for w in self.gen.pack(st)]))
         except Unsupported as e:
             raise Refused(str(e)) from None
 
+    def key_of_words(self, raw: bytes) -> bytes:
+        """The key of the packed state ``raw`` (this process's words): the words, those holding
+        numbers of the value table zeroed and their values' encodings appended."""
+        if not self.tslots:
+            return raw
+        w = list(self._fmt.unpack(raw))
+        parts = []
+        enc = self.vc.encode
+        for wi, typ, fn in self.tslots:
+            b = enc(w[wi], typ, fn)
+            w[wi] = 0
+            parts.append(_Q.pack(len(b)))
+            parts.append(b)
+        return self._fmt.pack(*w) + b"".join(parts)
+
+    def words_of(self, key: bytes) -> list:
+        """This process's words of the packed state ``key``."""
+        if not self.tslots:
+            return list(self._fmt.unpack(key))
+        w = list(self._fmt.unpack_from(key, 0))
+        i = self._fmt.size
+        dec = self.vc.decode
+        for wi, typ, fn in self.tslots:
+            ln = _Q.unpack_from(key, i)[0]
+            i += 8
+            w[wi] = dec(key[i:i + ln], typ, fn) & 0xFFFFFFFFFFFFFFFF
+            i += ln
+        return w
+
     def state_of(self, key: bytes) -> dict:
-        return self.gen.unpack(list(self._fmt.unpack(key)))
+        return self.gen.unpack(self.words_of(key))
 
     # ------------------------------------------------------------------ steps
     def initial(self) -> list:
@@ -153,7 +301,10 @@ class NativeExpander:
 
     def expand(self, key: bytes, skip=frozenset(), successors=True) -> Expansion:
         skip = frozenset(skip)
-        words = (ctypes.c_uint64 * self.nwords).from_buffer_copy(key)
+        if self.tslots:
+            words = (ctypes.c_uint64 * self.nwords)(*self.words_of(key))
+        else:
+            words = (ctypes.c_uint64 * self.nwords).from_buffer_copy(key)
         sk = self._skip(skip)
         while True:
             n = self._fn(words, sk, 1 if successors else 0, self.cap, self._succ, self._masks, self._sfail, self._info)
@@ -161,6 +312,8 @@ class NativeExpander:
                 break
             self._grow(self.cap * 4)
         if n == -2:
+            if self.gen.dyn and self.nx._canon_refusal():
+                raise Refused(f"more than {self.gen.cn_k} elements of a domain made by extend in one state")
             raise Refused(self._hard_error())
         res = Expansion()
         sfail = self._sfail
@@ -187,12 +340,15 @@ class NativeExpander:
             # a step fails: the Python step function says how (and which successors it has)
             return self._python(key, skip, res.state_failures)
         size = 8 * self.nwords
-        raw = bytes(self._succ)[:n * size] if n else b""
+        raw = ctypes.string_at(self._succ, n * size) if n else b""
         out = res.succ
         masks = self._masks
         targets = set()
+        conv = self.key_of_words if self.tslots else None
         for j in range(n):
             k = raw[j * size:(j + 1) * size]
+            if conv is not None:
+                k = conv(k)
             out.append((k, j))
             targets.add(k)
             bad = masks[2 * j]

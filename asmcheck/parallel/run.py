@@ -59,11 +59,10 @@ def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bi
     """Explore a loaded :class:`asmcheck.api.Model` in the scaling mode asked for (more workers, a
     Ray cluster, bitstate).  Returns (explorer, result) as the sequential search does."""
     workers = parse_workers(workers)
-    if engine == "native":
-        raise UsageError("--cluster and --bitstate run the Python step function; the native engine "
-                         "does not offer its successor function to them (drop --engine native)")
     machine = model.machine
     if bitstate is not None:
+        if engine == "native":
+            raise UsageError("--bitstate runs the Python step function (drop --engine native)")
         if workers > 1 or cluster:
             raise UsageError("--bitstate runs on one worker (drop --workers/--cluster)")
         if keep_graph:
@@ -89,14 +88,21 @@ def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bi
     recipe = Recipe(str(Path(model.path).resolve()), dict(model.options), model.prop_files,
                     model.default_properties, list(import_path()), deadlock,
                     [p.name for p in state_props], [p.name for p in step_props])
+    # the partitions expand states with the native engine's compiled step function where it takes
+    # the spec ('auto', 'native'), else with the Python step function
+    expander = {"native": "native", "python": "python"}.get(engine, "auto")
+    from .native_expand import Refused
     try:
         return explore_partitioned(machine, workers=workers, backend=backend, cluster=cluster,
                                    state_props=state_props, step_props=step_props, deadlock=deadlock,
                                    max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
                                    keep_graph=keep_graph, progress=progress,
-                                   memory_share=memory_share(worker_memory, max_memory, workers), recipe=recipe)
+                                   memory_share=memory_share(worker_memory, max_memory, workers), recipe=recipe,
+                                   expander=expander)
     except WorkerLost as e:
         raise UsageError(str(e)) from None
+    except Refused as e:
+        raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
 
 
 # ----------------------------------------------------------------- swarm
