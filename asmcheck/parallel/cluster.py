@@ -59,6 +59,16 @@ class _Owner:
             self.p = None
             self.refused = str(e)
 
+    def node(self):
+        """(this actor's node, the default memory bound of a process there)."""
+        import ray
+        from ..options import default_max_memory
+        return ray.get_runtime_context().get_node_id(), default_max_memory()
+
+    def set_memory_share(self, share):
+        if self.p is not None:
+            self.p.memory_share = share
+
     def call(self, method, *args):
         if self.p is None:
             from .native_expand import Refused
@@ -139,9 +149,24 @@ class RayBackend:
         from ray.exceptions import RayError
         self.RayError = RayError
         Actor = ray.remote(num_cpus=0, max_restarts=0)(_Owner)
+        from .run import PER_NODE
+        first = None if memory_share == PER_NODE else memory_share
         self.actors = [Actor.options(scheduling_strategy="SPREAD", name=None).remote(
-            w, n, recipe, memory_share, keep_graph) for w in range(n)]
+            w, n, recipe, first, keep_graph) for w in range(n)]
         self.pids = self._get([a.call.remote("ping") for a in self.actors])
+        from .run import PER_NODE
+        if memory_share == PER_NODE:
+            self.shares = self.node_shares()
+            self._get([a.set_memory_share.remote(s) for a, s in zip(self.actors, self.shares)])
+
+    def node_shares(self) -> list:
+        """Each actor's memory share: the default bound of its node divided among the actors
+        placed on that node (the actors of one machine share its memory)."""
+        nodes = self._get([a.node.remote() for a in self.actors])
+        per = {}
+        for node, _ in nodes:
+            per[node] = per.get(node, 0) + 1
+        return [None if bound is None else bound // per[node] for node, bound in nodes]
 
     def _get(self, refs):
         try:

@@ -34,15 +34,24 @@ def native_memory(max_memory, workers=1, cluster=None, bitstate=None, worker_mem
     return max_memory
 
 
-def memory_share(worker_memory, max_memory, workers: int):
-    """Bytes of resident memory each worker may use: ``worker_memory`` (MB), else an equal share of
-    ``max_memory`` (bytes), else of nine tenths of the memory available now."""
+def memory_share(worker_memory, max_memory, workers: int, cluster=None):
+    """Bytes of resident memory each worker may use: ``worker_memory`` (MB); else an equal share of
+    ``max_memory`` (bytes) given by the user; else the default bound (three quarters of the
+    physical memory, ``max_memory`` None or that default) shared by the workers on one machine:
+    on this machine an equal share, on a Ray cluster :data:`PER_NODE` (each actor's share is
+    worked out on its node: the node's default bound divided among the actors placed there)."""
+    from ..options import default_max_memory
     if worker_memory is not None:
         if worker_memory <= 0:
             raise UsageError("--worker-memory expects a positive number of megabytes")
         return int(worker_memory * 1024 * 1024)
+    default = default_max_memory()
+    if cluster and (max_memory is None or max_memory == default):
+        return PER_NODE
     if max_memory:
         return max_memory // workers
+    if default:
+        return default // workers
     try:
         with open("/proc/meminfo") as f:
             for line in f:
@@ -51,6 +60,10 @@ def memory_share(worker_memory, max_memory, workers: int):
     except OSError:  # pragma: no cover - not Linux
         pass
     return None
+
+
+# the memory share of a Ray actor: the default bound of its node divided among the actors there
+PER_NODE = "per-node"
 
 
 def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bitstate=None, worker_memory=None,
@@ -97,7 +110,7 @@ def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bi
                                    state_props=state_props, step_props=step_props, deadlock=deadlock,
                                    max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
                                    keep_graph=keep_graph, progress=progress,
-                                   memory_share=memory_share(worker_memory, max_memory, workers), recipe=recipe,
+                                   memory_share=memory_share(worker_memory, max_memory, workers, cluster), recipe=recipe,
                                    expander=expander)
     except WorkerLost as e:
         raise UsageError(str(e)) from None
