@@ -2759,6 +2759,7 @@ _SYMBOLS = {
     "asm_find": (_i64, [_u64p]),
     "asm_parents": (None, [_i64p]),
     "asm_edges": (None, [_u32p, _u32p]),
+    "asm_edges_drop": (None, []),
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
     "asm_err_code": (_i64, []),
@@ -3056,12 +3057,7 @@ class NativeExplorer:
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
         if self.keep_graph:
-            n = out[9]
-            src = (ctypes.c_uint32 * max(n, 1))()
-            dst = (ctypes.c_uint32 * max(n, 1))()
-            self.dll.asm_edges(src, dst)
-            self.edge_src = array("q", src[:n])
-            self.edge_dst = array("q", dst[:n])
+            self._take_edges(out[9])
         violations = []
         for i in range(out[7]):
             k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
@@ -3102,6 +3098,17 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         return res
+
+    def _take_edges(self, n: int) -> None:
+        """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed."""
+        src = array("I", bytes(4 * max(n, 1)))
+        dst = array("I", bytes(4 * max(n, 1)))
+        self.dll.asm_edges((ctypes.c_uint32 * len(src)).from_buffer(src), (ctypes.c_uint32 * len(dst)).from_buffer(dst))
+        del src[n:], dst[n:]
+        self.edge_src, self.edge_dst = src, dst
+        drop = getattr(self.dll, "asm_edges_drop", None)
+        if drop is not None:
+            drop()
 
     def _canon_refusal(self) -> None:
         """Raise the reason the search stopped on elements made by extend, if it did."""
@@ -3244,9 +3251,9 @@ class NativeExplorer:
         return out
 
     def step_atoms(self, items, ok_state):
-        """For the CTL structure whose nodes are steps: (src, dst, vector of the atoms ``items``)
-        for every step between stored states, each triple once, in the order of the Python step
-        function's enumeration -- the atoms (which read monitored functions) evaluated in src with
+        """For the CTL structure whose nodes are steps: three arrays (src, dst, bits of the atoms
+        ``items``: bit k is atom k) for every step between stored states, each triple once, in the
+        order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
         index = getattr(self, "_label_index", None)
@@ -3262,30 +3269,25 @@ class NativeExplorer:
         if not ks or len(ks) > 64:
             return None
         karr = (ctypes.c_int64 * len(ks))(*ks)
-        out_recs = []
-        vecs: dict = {}
+        rs, rd, rv = array("I"), array("i"), array("B" if len(ks) <= 8 else "q")
         cap = 1024
-        buf = (ctypes.c_int64 * (2 * cap))()
+        buf = array("q", bytes(16 * cap))
         nk = len(ks)
         for src in range(self.nstates):
             if not ok_state[src]:
                 continue
             while True:
-                n = self.dll.asm_step_atoms(src, karr, nk, buf, cap)
+                n = self.dll.asm_step_atoms(src, karr, nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
                 if n != -2:
                     break
                 cap *= 4
-                buf = (ctypes.c_int64 * (2 * cap))()
+                buf = array("q", bytes(16 * cap))
             if n < 0:
                 return None
-            flat = buf[:2 * n]
-            for r in range(0, 2 * n, 2):
-                vec = flat[r + 1]
-                t = vecs.get(vec)
-                if t is None:
-                    t = vecs[vec] = tuple(bool(vec >> k & 1) for k in range(nk))
-                out_recs.append((src, flat[r], t))
-        return out_recs
+            rd.extend(buf[0:2 * n:2].tolist())
+            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
+            rs.extend(array("I", [src]) * n)
+        return rs, rd, rv
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""
