@@ -3226,6 +3226,62 @@ class NativeExplorer:
     def edges(self):
         return _NativeEdges(self)
 
+    # -------------------------------------------------------------- the graph a person reads (--graph)
+    @property
+    def depth_of(self) -> array:
+        """The depth of every explored state (a parent is numbered before its children)."""
+        got = getattr(self, "_depth_of", None)
+        if got is None or len(got) != self.nstates:
+            parent = self.parent
+            got = array("l", bytes(array("l").itemsize * self.nstates))
+            for s in range(self.nstates):
+                p = parent[s]
+                got[s] = 0 if p < 0 else got[p] + 1
+            self._depth_of = got
+        return got
+
+    def graph_edges(self) -> list:
+        """Every step between explored states as the Python explorer records it for --graph:
+        (source, target, choices) for every sequence of choices the step function enumerates from
+        each state (several per pair of states when different choices lead to the same state),
+        sources ascending, in the step function's order.  The step function enumerates the steps;
+        the native edge arrays say where each must lead (Unsupported when they disagree, or a step
+        fails: then the Python engine writes the graph)."""
+        got = getattr(self, "_graph_edges", None)
+        if got is not None:
+            return got
+        from .bfs import Explorer
+        py = Explorer(self.m)       # its admitted_successors: the INVAR constraints, canonical names
+        src_a, dst_a = self.edge_arrays()
+        out: list = []
+        e = 0
+        ne = len(src_a)
+        for src in range(self.nstates):
+            want = set()
+            while e < ne and src_a[e] == src:
+                want.add(dst_a[e])
+                e += 1
+            failed: list = []
+            try:
+                succ = py.admitted_successors(self.state(src), failed)
+            except AsmError as exc:
+                raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated ({exc.message})") from None
+            if failed:
+                raise Unsupported(f"--graph: a step from state {src} fails")
+            got_dst = set()
+            for picks, _ups, _raw, nxt, _mon in succ:
+                dst = self.find(nxt)
+                if dst is None:
+                    raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
+                got_dst.add(dst)
+                out.append((src, dst, picks))
+            if got_dst != want:
+                raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        if e != ne:
+            raise Unsupported("--graph: the native edges are not ordered by source")
+        self._graph_edges = out
+        return out
+
     def state_labels(self, items):
         """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
         compiled code: a list of bytearrays (1 where the atom is true, undef counts as false), or
