@@ -361,3 +361,63 @@ def test_kernel_arrays(compiled, monkeypatch):
     v = Vectors(array("B", [0, 3, 2]), 2)
     v.append((True, False))
     assert list(v) == [(False, False), (True, True), (False, True), (True, False)]
+
+
+# ----------------------------------------------------------------- the state layout
+# rule values in locations of extended-domain elements: each slot holds the number of one of the
+# rules written as values (narrow), not the rule's 64-bit code
+PHASES = """asm Phases
+import StandardLibrary
+import CTLLibrary
+signature:
+	dynamic abstract domain Phase
+	enum domain Mode = {IDLE | BUSY}
+	controlled act: Phase -> Rule
+	controlled mode: Mode
+	controlled made: Integer
+	controlled cur: Phase
+definitions:
+	rule r_work = mode := BUSY
+	rule r_rest = mode := IDLE
+	CTLSPEC ag(ef(mode = IDLE))
+	main rule r_main =
+		if made < 2 then
+			extend Phase with $p do
+				par
+					choose $w in Boolean with true do
+						if $w then act($p) := <<r_work>> else act($p) := <<r_rest>> endif
+					cur := $p
+					made := made + 1
+				endpar
+		else
+			if cur != undef then
+				par
+					act(cur)
+					act(cur) := undef
+					cur := undef
+				endpar
+			else
+				if mode = BUSY then mode := IDLE else mode := BUSY endif
+			endif
+		endif
+default init s0:
+	function made = 0
+	function mode = IDLE
+"""
+
+
+def test_rule_slots_are_narrow(tmp_path, capsys):
+    from asmcheck.explore.native import NativeExplorer
+    path = write(tmp_path, PHASES)
+    model = api.load(path)
+    ex = NativeExplorer(model.machine)
+    ex.run()
+    g = ex.gen
+    rule_slots = [s for s, key in enumerate(g.slots)
+                  if type(key) is tuple and type(key[0]) is int and g.spec.functions[key[0]].name == "act"]
+    assert rule_slots and all(g.bits[s] == 2 for s in rule_slots)     # two rules and undef
+    assert [str(v) for v in g.slot_values[rule_slots[0]]] == ["<<r_rest>>", "<<r_work>>"]
+    code, rep = both(tmp_path, capsys, PHASES)
+    assert (rep["states"], rep["transitions"], ex.n_states) == (11, 14, 11)
+    g2 = graphs(path, tmp_path, capsys)
+    assert g2["native"][0] == "native" and g2["native"][1:] == g2["python"][1:]

@@ -419,8 +419,21 @@ class Generator:
             if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
             if isinstance(r, T.Struct) and r.kind == "Rule":
-                return None      # a rule value: its code is stored (a wide slot)
+                return self.rule_slot_values()
             raise
+
+    def rule_slot_values(self):
+        """The values a location of a rule codomain can hold: the rules written as values in the
+        spec (a rule value is made only by ``<<r>>``; another one, an agent's program, is refused
+        by the codec), so that the slot is narrow; None (a wide slot holding the code) when the spec
+        writes none."""
+        rules = self.referenced_rules()
+        if not rules:
+            return None
+        vals = [RuleValue(rd) for rd in rules]
+        for v in vals:
+            self.codec.to_c(v)
+        return vals
 
     def composite(self, typ) -> bool:
         """A sequence or tuple type over types the native search encodes."""
