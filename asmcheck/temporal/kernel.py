@@ -77,11 +77,7 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         return None
     n = K.n
     Q = max(len(g.nodes), 1)
-    cls = _arr("i", K.cls)
-    lens = [len(x) for x in K.cls_succ]
-    coff = array("i", [0])
-    coff.extend(accumulate(lens))
-    cadj = _arr("i", chain.from_iterable(K.cls_succ))
+    cls, coff, cadj = _csr(K)
     labels = bytearray()
     bits = array("Q")
     for b, lab in ap_bits:
@@ -137,7 +133,8 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         adj = array("i", bytes(4 * max(na, 1)))
         init = array("i", bytes(4 * max(ni, 1)))
         dll.kn_succ(_addr(off), _addr(adj), _addr(init))
-        succ = [adj[off[i]:off[i + 1]].tolist() for i in range(N)]
+        from .kripke import Classes
+        succ = Classes(off, adj[:max(na, 1)])      # a product node's successors, made when a path asks
         groups: dict = {}
         for v in range(N):
             c = comp[v]
@@ -145,7 +142,8 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
                 groups.setdefault(c, []).append(v)
         comps = sorted(groups.values())
         dll.kn_free()
-        return kk[:N].tolist(), qq[:N].tolist(), succ, init[:ni].tolist(), comps, justice, compassion
+        del kk[N:], qq[N:]
+        return kk, qq, succ, init[:ni].tolist(), comps, justice, compassion
 
     if nfair == 0:
         dll.kn_free()
