@@ -153,11 +153,15 @@ class RayBackend:
         first = None if memory_share == PER_NODE else memory_share
         self.actors = [Actor.options(scheduling_strategy="SPREAD", name=None).remote(
             w, n, recipe, first, keep_graph) for w in range(n)]
-        self.pids = self._get([a.call.remote("ping") for a in self.actors])
-        from .run import PER_NODE
-        if memory_share == PER_NODE:
-            self.shares = self.node_shares()
-            self._get([a.set_memory_share.remote(s) for a, s in zip(self.actors, self.shares)])
+        try:
+            self.pids = self._get([a.call.remote("ping") for a in self.actors])
+            if memory_share == PER_NODE:
+                self.shares = self.node_shares()
+                self._get([a.set_memory_share.remote(s) for a, s in zip(self.actors, self.shares)])
+        except BaseException:
+            # (an actor that cannot build its expander: the actors and the instance we started go)
+            self.close()
+            raise
 
     def node_shares(self) -> list:
         """Each actor's memory share: the default bound of its node divided among the actors

@@ -202,6 +202,8 @@ class NativeExpander:
         self._fmt = struct.Struct(f"<{self.nwords}Q")
         self.tslots = _table_slots(self.gen)
         self.vc = ValueCodec(self.gen, self.dll)
+        if self.tslots:
+            self._key_plan()
         # a composite value asked for by value (an initial state, a state the Python step
         # function made) enters this process's value table
         codec = self.gen.codec
@@ -253,33 +255,69 @@ class NativeExpander:
         except Unsupported as e:
             raise Refused(str(e)) from None
 
+    def _key_plan(self) -> None:
+        """Where the words of the value table lie in a packed state: the byte ranges of the other
+        words (kept in the key, in order) and the offsets of the table's words."""
+        table = sorted({wi for wi, _, _ in self.tslots})
+        self._toffs = [8 * wi for wi, _, _ in self.tslots]
+        segs = []
+        for wi in range(self.nwords):
+            if wi in table:
+                continue
+            if segs and segs[-1][1] == 8 * wi:
+                segs[-1][1] = 8 * wi + 8
+            else:
+                segs.append([8 * wi, 8 * wi + 8])
+        self._segs = [tuple(x) for x in segs]
+        self._rest = struct.Struct(f"<{self.nwords - len(table)}Q")
+        self._rest_index = [wi for wi in range(self.nwords) if wi not in table]
+        self._suffix: dict = {}        # the table's words (this process's codes) -> their encodings
+        self._codes: dict = {}         # encodings -> this process's codes
+
     def key_of_words(self, raw: bytes) -> bytes:
-        """The key of the packed state ``raw`` (this process's words): the words, those holding
-        numbers of the value table zeroed and their values' encodings appended."""
+        """The key of the packed state ``raw`` (this process's words): the words but those holding
+        numbers of the value table, then those values' encodings."""
         if not self.tslots:
             return raw
-        w = list(self._fmt.unpack(raw))
-        parts = []
-        enc = self.vc.encode
-        for wi, typ, fn in self.tslots:
-            b = enc(w[wi], typ, fn)
-            w[wi] = 0
-            parts.append(_Q.pack(len(b)))
-            parts.append(b)
-        return self._fmt.pack(*w) + b"".join(parts)
+        tail = b"".join([raw[o:o + 8] for o in self._toffs])
+        suf = self._suffix.get(tail)
+        if suf is None:
+            parts = []
+            enc = self.vc.encode
+            for (wi, typ, fn), o in zip(self.tslots, self._toffs):
+                b = enc(_Q.unpack_from(raw, o)[0], typ, fn)
+                parts.append(_Q.pack(len(b)))
+                parts.append(b)
+            suf = b"".join(parts)
+            if len(self._suffix) > 1 << 20:
+                self._suffix.clear()
+            self._suffix[tail] = suf
+        return b"".join([raw[a:b] for a, b in self._segs]) + suf
 
     def words_of(self, key: bytes) -> list:
         """This process's words of the packed state ``key``."""
         if not self.tslots:
             return list(self._fmt.unpack(key))
-        w = list(self._fmt.unpack_from(key, 0))
-        i = self._fmt.size
-        dec = self.vc.decode
-        for wi, typ, fn in self.tslots:
-            ln = _Q.unpack_from(key, i)[0]
-            i += 8
-            w[wi] = dec(key[i:i + ln], typ, fn) & 0xFFFFFFFFFFFFFFFF
-            i += ln
+        n = self._rest.size
+        w = [0] * self.nwords
+        for wi, x in zip(self._rest_index, self._rest.unpack_from(key, 0)):
+            w[wi] = x
+        suf = key[n:]
+        codes = self._codes.get(suf)
+        if codes is None:
+            codes = []
+            i = 0
+            dec = self.vc.decode
+            for wi, typ, fn in self.tslots:
+                ln = _Q.unpack_from(suf, i)[0]
+                i += 8
+                codes.append(dec(suf[i:i + ln], typ, fn) & 0xFFFFFFFFFFFFFFFF)
+                i += ln
+            if len(self._codes) > 1 << 20:
+                self._codes.clear()
+            codes = self._codes[suf] = tuple(codes)
+        for (wi, _, _), x in zip(self.tslots, codes):
+            w[wi] = x
         return w
 
     def state_of(self, key: bytes) -> dict:
