@@ -315,3 +315,28 @@ def test_rt_nondet_vs_on_a_local_cluster_gives_the_one_worker_report(actors):
     got, seen = explore_json(*args, "--cluster", "local", "--workers", str(actors))
     assert (seen["engine"], seen["workers"], seen["engine_note"]) == ("native", actors, None)
     assert got == one
+
+
+@pytest.mark.slow
+def test_actors_share_the_default_bound_of_their_node(ray_local):
+    """8 actors on this one node: each may use an eighth of the node's default bound."""
+    from asmcheck.options import default_max_memory
+    from asmcheck.parallel.cluster import RayBackend
+    from asmcheck.parallel.run import PER_NODE
+    b = RayBackend(Recipe(str(SPECS / "sb_async_master.asm"), expander="native"), 8, "local", PER_NODE)
+    try:
+        assert b.shares == [default_max_memory() // 8] * 8
+    finally:
+        b.close()
+
+
+@pytest.mark.slow
+def test_cli_cluster_on_a_refused_spec_says_which_expander_ran(write_spec):
+    pytest.importorskip("ray", reason="Ray is not installed (pip install 'asmcheck[cluster]')")
+    path = write_spec(REFUSED)
+    one, seen1 = explore_json(path)
+    got, seen = explore_json(path, "--cluster", "local", "--workers", "2")
+    assert got == one
+    assert (seen["engine"], seen["workers"]) == ("python", 2)
+    assert seen["engine_note"] == seen1["engine_note"] == (
+        "native engine not used: split on String by a regular expression other than a literal text")
