@@ -1181,10 +1181,7 @@ class Generator:
         domains when no domain grows and their numbers follow their names."""
         r = T.root(typ)
         if isinstance(r, T.Domain) and r.kind == "abstract":
-            from ..semantics.values import vkey
-            els = list(self.codec.abstract_ids)
-            return not any(isinstance(d, T.Domain) and d.dynamic for d in self.spec.domains) and \
-                sorted(els, key=vkey) == sorted(els, key=self.codec.to_c)
+            return self.abstract_codes_sorted(r)
         return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
 
     def in_value_order(self, x: str, typ) -> str | None:
@@ -1537,8 +1534,7 @@ class Generator:
             value = self.term(rg, env) if sorter is None else f"{sorter}(c, {self.term(rg, env)})"
             return (f"V {rv} = {value}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
-        tab = self.table(vals)
-        return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+        return self.range_head(rg, vals, q, name)
 
     def vkey_cmp(self, typ):
         """The name of a C function comparing two codes of type ``typ`` as ``vkey`` compares
@@ -1623,22 +1619,37 @@ class Generator:
             return True
         if isinstance(r, T.Domain) and r.kind == "enum":
             return True
-        if isinstance(r, T.Domain) and r.kind == "abstract" and not r.dynamic:
-            els = list(self.m.static_elements.get(r, ()))
-            if not all(e in self.codec.abstract_ids for e in els):
-                return False
-            return sorted(els, key=vkey) == sorted(els, key=lambda e: self.codec.abstract_ids[e])
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            return self.abstract_codes_sorted(r)
         return False
+
+    def abstract_codes_sorted(self, r) -> bool:
+        """Do the codes of the elements of the abstract domain ``r`` and of the domains inside it
+        sort as ``vkey`` sorts them?  ``vkey`` orders by the domain's name, then the serial (0 for a
+        named element, k for the k-th element made by extend), then the name; the codes put every
+        named element (numbered by domain name, then in declaration order) before every element
+        made by extend (numbered by domain name, then serial).  Both agree when the named elements'
+        numbers follow ``vkey`` and no domain extended at run time sorts before the domain of a
+        named element (an element of a domain not declared in the spec counts as inside ``r``)."""
+        from ..semantics.analysis import is_subdomain
+        from ..semantics.values import vkey
+        root = T.root(r)
+        names = {d.name for d in self.spec.domains if isinstance(d, T.Domain)}
+        inside = {d.name for d in self.spec.domains if isinstance(d, T.Domain) and is_subdomain(d, root)}
+        inside.add(root.name)
+        named = [e for e in self.codec.abstract_ids if e.domain in inside or e.domain not in names]
+        if sorted(named, key=vkey) != sorted(named, key=lambda e: self.codec.abstract_ids[e]):
+            return False
+        grown = [d for d in self.dyn if d in inside]
+        return not any(a < e.domain for a in grown for e in named)
 
     def t_DomainTerm(self, t, env):
         d = t.domain
         if self.dyn_values(d):
             vals = self.dyn_values(d)
-            arr = self.fresh("e")
-            tab = self.table(vals)
-            n = self.range_len(t, vals)
-            return (f"({{ V {arr}[{len(vals)}]; for (int q = 0; q < {n}; q++) {arr}[q] = {tab}[q]; "
-                    f"set_make(c, {arr}, {n}); }})")
+            arr, m, q, x = self.fresh("e"), self.fresh("m"), self.fresh("q"), self.fresh("x")
+            return (f"({{ V {arr}[{len(vals)}]; int {m} = 0; {self.range_head(t, vals, q, x)} {arr}[{m}++] = {x}; }} "
+                    f"set_make(c, {arr}, {m}); }})")
         if isinstance(d, T.Domain) and d.dynamic:
             raise Unsupported(f"the dynamic domain {d} as a value")
         vals = self.values_of(d)
@@ -1985,7 +1996,7 @@ class Generator:
             env2[v.uid] = name
             names.append(name)
             sizes *= max(len(vals), 1)
-            heads.append(f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];")
+            heads.append(self.range_head(rg, vals, q, name))
         if sizes > MAX_CANDIDATES:
             raise Unsupported("a choose over too many candidates")
         k = len(names)
@@ -2510,30 +2521,62 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over a domain extended at run time")
 
     def dyn_values(self, dom) -> list | None:
-        """The values of an extended domain: its named elements, then element slots 1..cn_k;
-        None for other domains (a domain holding an extended one is refused)."""
+        """The values of a domain that holds elements made by extend: its named elements, then
+        element slots 1..cn_k of each extended domain inside it (``dyn_segments``); None for
+        other domains (a domain that holds extended ones the Python engine does not list is refused)."""
         if not self.dyn or not isinstance(dom, T.Domain):
             return None
-        if dom.name in self.dyn and self.dyn_doms[self.dyn[dom.name]] is dom:
+        segs = self.dyn_segments(dom)
+        if segs:
             try:
                 named = list(self.m.domain_values(dom, None, None))
             except Undetermined:
                 raise Unsupported(f"the infinite domain {dom}")
             for v in named:
                 self.codec.to_c(v)
-            return named + [fresh_value(dom.name, k) for k in range(1, self.cn_k + 1)]
+            return named + [fresh_value(self.dyn_doms[d].name, k) for d in segs for k in range(1, self.cn_k + 1)]
         for d in self.dyn_doms:
-            if d is not dom and self._dyn_sub(d, dom):
+            if self._dyn_sub(d, dom):
                 raise Unsupported(f"the domain {dom}, which holds the elements extend adds to {d}")
         return None
+
+    def dyn_segments(self, dom) -> list:
+        """The numbers of the extended domains whose elements the Python engine lists among the
+        values of ``dom`` (after the named ones), in its order: the order of the spec's domains
+        (``Machine._abstract_values``).  Empty where it lists none."""
+        if not self.dyn or not isinstance(dom, T.Domain):
+            return []
+        root = dom.root()
+        if not (dom.kind == "abstract" or (dom.kind == "subset" and dom.definition is None and
+                                           isinstance(root, T.Domain) and root.kind == "abstract")):
+            return []
+        segs = [self.dyn[d.name] for d in self.spec.domains
+                if isinstance(d, T.Domain) and d.dynamic and d.name in self.dyn
+                and self.dyn_doms[self.dyn[d.name]] is d and self._dyn_sub(d, dom)]
+        if len(segs) != sum(1 for d in self.dyn_doms if self._dyn_sub(d, dom)):
+            raise Unsupported(f"the domain {dom}, which holds the elements extend adds to a domain not declared")
+        return segs
 
     def range_len(self, rg, vals) -> str:
         """The C expression for how many of ``vals`` (the range ``rg``'s values) to walk: for an
         extended domain its named elements and the elements it has now."""
         if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain):
-            d = self.dyn[rg.domain.name]
+            (d,) = self.dyn_segments(rg.domain)
             return f"({len(vals) - self.cn_k} + cn_count(c, {d}))"
         return str(len(vals))
+
+    def range_head(self, rg, vals, q: str, name: str) -> str:
+        """The C loop header binding ``name`` to each of ``vals`` (the constant range ``rg``'s
+        values, in the Python engine's order): for a domain holding the elements of several
+        extended domains, the slots of elements not made yet are skipped."""
+        tab = self.table(vals)
+        segs = self.dyn_segments(rg.domain) if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain) else []
+        if len(segs) <= 1:
+            return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+        named = len(vals) - len(segs) * self.cn_k
+        doms = ", ".join(map(str, segs))
+        return (f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ if ({q} >= {named} && ({q} - {named}) % {self.cn_k} >= "
+                f"cn_count(c, ((const int[]){{{doms}}})[({q} - {named}) / {self.cn_k}])) continue; V {name} = {tab}[{q}];")
 
     def dyn_slots(self) -> None:
         """One slot per extended domain: its number of elements (0..cn_k)."""
