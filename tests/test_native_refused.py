@@ -6,7 +6,8 @@ the ones written here.
 - a set of elements made by ``extend`` (of a dynamic subset domain) met in the Python engine's
   order: ``chooseone`` picks the least by ``vkey``;
 - a domain holding the elements ``extend`` adds to a domain inside it, ranged over by a choose:
-  its named elements, then each extended domain's elements in the order of the spec's domains.
+  its named elements, then each extended domain's elements in the order of the spec's domains;
+- a dynamic domain that no extend grows, as a value and as a range (it keeps its named elements);
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
@@ -69,3 +70,43 @@ def test_chooseone_on_extended_elements_and_a_domain_holding_two_extended_ones(t
     (v,) = out["violations"]
     assert v["property"] == "inv_few"
     assert len(v["trace"]) == 5
+
+
+ROSTER = """asm Roster
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Node
+	static na: Node
+	static nb: Node
+	static nc: Node
+	controlled mark: Node -> Boolean
+	controlled left: Powerset(Node)
+	controlled k: Integer
+
+definitions:
+
+	invariant inv_left over left: k < 3 or size(left) = 0 or contains(left, nc)
+
+	main rule r_main =
+		par
+			left := difference(Node, {$y in Node | mark($y) : $y})
+			choose $x in Node with mark($x) != true do mark($x) := true
+			if k < 3 then k := k + 1 endif
+		endpar
+
+default init s0:
+	function k = 0
+	function left = {}
+	function mark($n in Node) = false
+"""
+
+
+def test_a_dynamic_domain_nothing_extends_as_a_value(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, ROSTER)
+    assert (out["states"], out["transitions"], out["depth"]) == (14, 17, 4)
+    assert out["verdict"] == "violated"
+    (v,) = out["violations"]
+    assert v["property"] == "inv_left"
+    assert len(v["trace"]) == 4

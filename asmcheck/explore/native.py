@@ -1491,7 +1491,7 @@ class Generator:
             d = r.domain
             if self.dyn_values(d):
                 return self.dyn_values(d)
-            if isinstance(d, T.Domain) and d.dynamic and (d.kind == "abstract" or (
+            if isinstance(d, T.Domain) and d.dynamic and self.grows(d) and (d.kind == "abstract" or (
                     d.kind == "subset" and isinstance(T.root(d), T.Domain) and T.root(d).kind == "abstract")):
                 raise Unsupported(f"ranging over the dynamic domain {d}")
             return self.values_of(d)
@@ -1650,7 +1650,7 @@ class Generator:
             arr, m, q, x = self.fresh("e"), self.fresh("m"), self.fresh("q"), self.fresh("x")
             return (f"({{ V {arr}[{len(vals)}]; int {m} = 0; {self.range_head(t, vals, q, x)} {arr}[{m}++] = {x}; }} "
                     f"set_make(c, {arr}, {m}); }})")
-        if isinstance(d, T.Domain) and d.dynamic:
+        if isinstance(d, T.Domain) and d.dynamic and self.grows(d):
             raise Unsupported(f"the dynamic domain {d} as a value")
         vals = self.values_of(d)
         if not self.composite(T.Struct("Powerset", (d,))):
@@ -2539,6 +2539,14 @@ class Generator:
             if self._dyn_sub(d, dom):
                 raise Unsupported(f"the domain {dom}, which holds the elements extend adds to {d}")
         return None
+
+    def grows(self, dom) -> bool:
+        """Can the domain ``dom`` gain elements in a run (an extend of it or of a domain inside
+        it)?  A dynamic domain nothing extends keeps its named elements (extend is the only rule
+        that adds elements to a domain)."""
+        from ..semantics.analysis import is_subdomain
+        doms = getattr(self, "dyn_doms", None)
+        return doms is None or any(is_subdomain(d, dom) for d in doms)
 
     def dyn_segments(self, dom) -> list:
         """The numbers of the extended domains whose elements the Python engine lists among the
