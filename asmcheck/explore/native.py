@@ -1759,7 +1759,17 @@ class Generator:
         # state as it is in the Python engine too (unless a step property may ask whether it was updated)
         keep = f"{v} != UNDEF" if not self.step_props else "1"
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
-                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, 0); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, {self.outside_site(f)}); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
+    def outside_site(self, f) -> int:
+        """The run-time refusal of an update of ``f`` at arguments outside the layout: the Python
+        engine keeps such a location (an argument undef or outside its domain) in the state."""
+        sites = self.__dict__.setdefault("_outside_sites", {})
+        if f.index not in sites:
+            sites[f.index] = self.runtime_site(
+                f"an update of {f.name} at an argument undef or outside its domain (the Python engine keeps "
+                f"such a location in the state; the native layout has slots for the domains' elements only)")
+        return sites[f.index]
 
     def update_location(self, f, args: list, value: str) -> str:
         """The update of the location ``f(args)`` (the arguments' and the value's C code)."""
