@@ -8,10 +8,14 @@ the ones written here.
 - a domain holding the elements ``extend`` adds to a domain inside it, ranged over by a choose:
   its named elements, then each extended domain's elements in the order of the spec's domains;
 - a dynamic domain that no extend grows, as a value and as a range (it keeps its named elements);
+- ``split`` by a regular expression (a backtracking matcher in C over a program made of the
+  expression: the parts of Python's ``re.split`` and the Python engine's clean-up), and the
+  expressions outside that subset refused with the reason;
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
 
+from asmcheck.explore.native import regex_program
 from asmcheck.explore.native_build import compiler
 from helpers import both
 
@@ -110,3 +114,64 @@ def test_a_dynamic_domain_nothing_extends_as_a_value(tmp_path, capsys):
     (v,) = out["violations"]
     assert v["property"] == "inv_left"
     assert len(v["trace"]) == 4
+
+
+SPLIT = r"""asm Split
+
+import StandardLibrary
+
+signature:
+	controlled txt: String
+	controlled bar: Seq(String)
+	controlled sep: Seq(String)
+	controlled alt: Seq(String)
+	controlled star: Seq(String)
+	controlled grp: Seq(String)
+	controlled lazy: Seq(String)
+	controlled n: Integer
+
+definitions:
+
+	invariant inv_bar over bar: n = 0 or bar = ["a", "|", "b"]
+	invariant inv_sep over sep: n = 0 or sep = ["a", "b", "c", "", "d"]
+	invariant inv_alt over alt: n = 0 or alt = ["b", "", "b"]
+	invariant inv_star over star: n = 0 or star = ["a", "", "b", "c"]
+	invariant inv_grp over grp: n = 0 or grp = ["x", "y", "z"]
+	invariant inv_lazy over lazy: n = 0 or lazy = ["", "", "b", "b"]
+	invariant inv_txt over txt: n < 2 or txt != "a,b"
+
+	main rule r_main =
+		par
+			bar := split("a|b", "\\|")
+			sep := split("a,b; c;;d", "[,;] *")
+			alt := split("bab", "a|")
+			star := split("axbc", "x*")
+			grp := split("xabcyabz", "(?:ab|c)+")
+			lazy := split("aabab", "a{1,2}?")
+			choose $t in {"a,b", "a;b"} with true do
+				if n < 2 then par txt := $t n := n + 1 endpar endif
+		endpar
+
+default init s0:
+	function txt = ""
+	function n = 0
+"""
+
+
+def test_split_by_regular_expressions(tmp_path, capsys):
+    # each invariant holds only if the native split gives the Python engine's parts exactly
+    code, out = both(tmp_path, capsys, SPLIT)
+    assert (out["states"], out["transitions"], out["depth"]) == (5, 8, 2)
+    assert [(v["property"], len(v["trace"])) for v in out["violations"]] == [("inv_txt", 3)]
+
+
+@pytest.mark.parametrize("pattern", ["(a)", "a(?=b)", "(?i)a", "(?:a?)*", "a*+", "a{2", "[[a]", "\\b", "x{3,2}"])
+def test_regular_expressions_outside_the_subset_are_refused(pattern):
+    assert regex_program(pattern) is None
+
+
+def test_the_program_of_a_regular_expression():
+    # instructions (op, a, b): 3 split, 1 char, 4 jump, 7 match; the literal backslash or the empty text
+    assert regex_program("\\\\|") == [4, 3, 1, 3, 1, 92, 0, 4, 3, 0, 7, 0, 0]
+    # x*: split to the body or past it, the body, a jump back
+    assert regex_program("x*") == [4, 3, 1, 3, 1, 120, 0, 4, 0, 0, 7, 0, 0]

@@ -1213,6 +1213,18 @@ class Generator:
             i += 1
         return "".join(out)
 
+    def split_regex(self, t, args) -> str:
+        """``split(s, re)`` by a constant regular expression: its program (``regex_program``) in a
+        table, run by str_split_re (native_rt.c)."""
+        sep = t.args[1]
+        if not (isinstance(sep, ir.Const) and type(sep.value) is str):
+            raise Unsupported("split on String by a regular expression computed in the state")
+        prog = regex_program(sep.value)
+        if prog is None:
+            raise Unsupported("split on String by a regular expression outside the translated subset (a capturing "
+                              "group, a look-around, a back-reference, flags, a repeat of what may match the empty text, ...)")
+        return f"str_split_re(c, {args[0]}, {self.table(prog)})"
+
     def library_call(self, t, args, kind):
         """The StandardLibrary functions on strings, bags, map values and the conversions between
         collections (None: not one of them)."""
@@ -1241,7 +1253,7 @@ class Generator:
                 sep = t.args[1]
                 lit = self.regex_literal(sep.value) if isinstance(sep, ir.Const) and type(sep.value) is str else None
                 if not lit:
-                    raise Unsupported("split on String by a regular expression other than a literal text")
+                    return self.split_regex(t, args)
                 return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
             return None
         if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
@@ -2807,6 +2819,219 @@ def _has_extend(rule) -> bool:
         elif isinstance(x, (list, tuple)):
             stack.extend(x)
     return False
+
+
+# ----------------------------------------------------------------- split by a regular expression
+RX_CHAR, RX_CLASS, RX_SPLIT, RX_JMP, RX_BOL, RX_EOL, RX_MATCH = 1, 2, 3, 4, 5, 6, 7
+RX_MAX_INSTR = 4096
+_RX_CLASS_ESC = "dDwWsS"
+_RX_CHAR_ESC = {"n": "\n", "t": "\t", "r": "\r", "f": "\f", "v": "\v"}
+
+
+class _RxRefused(Exception):
+    pass
+
+
+def regex_program(p: str):
+    """The regular expression ``p`` (Python's ``re``, as the Python engine's split uses it) as a
+    program of the backtracking matcher of native_rt.c (``str_split_re``): a list of int64, the
+    number of instructions first, then (op, a, b) per instruction, then the character classes
+    (bits of the characters 0..127 in two words, then 0 / 1: no / every other character matches,
+    2: another character is refused at run time).  None outside the subset translated: literal
+    characters and escapes, ``.``, classes ``[...]`` and ``\\d \\w \\s`` (their members computed by
+    ``re`` itself), ``^ $``, alternatives, non-capturing groups, and the greedy and lazy quantifiers
+    ``* + ? {m} {m,} {,n} {m,n}`` on parts that cannot match the empty text (a capturing group
+    would put its text among the parts; an empty loop follows ``re``'s own rule)."""
+    import warnings
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            if re.compile(p).groups:
+                return None
+        ast, pos = _rx_alt(p, 0)
+        if pos != len(p):
+            return None
+        code: list = []
+        data: list = []
+        _rx_emit(ast, code, data)
+        code.append([RX_MATCH, 0, 0])
+    except (_RxRefused, re.error, Warning, RecursionError):
+        return None
+    if len(code) > RX_MAX_INSTR:
+        return None
+    base = 1 + 3 * len(code)
+    out = [len(code)]
+    for op, a, b in code:
+        out += [op, base + a if op == RX_CLASS else a, b]
+    return out + data
+
+
+def _rx_alt(p, i):
+    seqs = []
+    seq, i = _rx_seq(p, i)
+    seqs.append(seq)
+    while i < len(p) and p[i] == "|":
+        seq, i = _rx_seq(p, i + 1)
+        seqs.append(seq)
+    return (("alt", seqs) if len(seqs) > 1 else seqs[0]), i
+
+
+def _rx_seq(p, i):
+    items = []
+    while i < len(p) and p[i] not in "|)":
+        atom, i = _rx_atom(p, i)
+        atom, i = _rx_quant(p, i, atom)
+        items.append(atom)
+    return ("seq", items), i
+
+
+def _rx_class_node(text: str, hi: int):
+    bits = [0, 0]
+    for ch in range(128):
+        if re.fullmatch(text, chr(ch)):
+            bits[ch >> 6] |= 1 << (ch & 63)
+    return ("class", tuple(b - (1 << 64) if b >= 1 << 63 else b for b in bits) + (hi,))
+
+
+def _rx_atom(p, i):
+    ch = p[i]
+    if ch == "(":
+        if not p.startswith("(?:", i):
+            raise _RxRefused
+        node, j = _rx_alt(p, i + 3)
+        if j >= len(p) or p[j] != ")":
+            raise _RxRefused
+        return node, j + 1
+    if ch == "[":
+        j = i + 1
+        if j < len(p) and p[j] == "^":
+            j += 1
+        if j < len(p) and p[j] == "]":
+            j += 1
+        while j < len(p) and p[j] != "]":
+            if p[j] == "[":
+                raise _RxRefused
+            j += 2 if p[j] == "\\" else 1
+        if j >= len(p):
+            raise _RxRefused
+        text = p[i:j + 1]
+        inner = text[1:-1]
+        simple = all(ord(x) < 128 for x in inner) and not re.search(r"\\[A-Za-z0-9]", inner.replace("\\\\", ""))
+        hi = (1 if inner.startswith("^") else 0) if simple else 2
+        return _rx_class_node(text, hi), j + 1
+    if ch == ".":
+        return _rx_class_node(".", 1), i + 1
+    if ch == "^":
+        return ("bol",), i + 1
+    if ch == "$":
+        return ("eol",), i + 1
+    if ch == "\\":
+        if i + 1 >= len(p):
+            raise _RxRefused
+        x = p[i + 1]
+        if x in _RX_CLASS_ESC:
+            return _rx_class_node(p[i:i + 2], 2), i + 2
+        if x in _RX_CHAR_ESC:
+            return ("char", ord(_RX_CHAR_ESC[x])), i + 2
+        if x.isascii() and x.isalnum():
+            raise _RxRefused
+        return ("char", ord(x)), i + 2
+    if ch in "*+?{}]":
+        raise _RxRefused
+    return ("char", ord(ch)), i + 1
+
+
+def _rx_quant(p, i, atom):
+    if i >= len(p) or p[i] not in "*+?{":
+        return atom, i
+    if p[i] == "{":
+        m = re.compile(r"\{(\d*)(,?)(\d*)\}").match(p, i)
+        if m is None or (not m.group(1) and not m.group(3) and m.group(2)) or (not m.group(2) and not m.group(1)):
+            raise _RxRefused
+        lo = int(m.group(1)) if m.group(1) else 0
+        hi = int(m.group(3)) if m.group(3) else (None if m.group(2) else lo)
+        if lo > RX_MAX_INSTR or (hi is not None and (hi > RX_MAX_INSTR or hi < lo)):
+            raise _RxRefused
+        i = m.end()
+    else:
+        lo, hi = {"*": (0, None), "+": (1, None), "?": (0, 1)}[p[i]]
+        i += 1
+    lazy = i < len(p) and p[i] == "?"
+    if lazy:
+        i += 1
+    if i < len(p) and p[i] in "*+?{":
+        raise _RxRefused         # a possessive quantifier, or a repeat of a repeat
+    if atom[0] in ("bol", "eol") or _rx_nullable(atom):
+        raise _RxRefused
+    return ("rep", atom, lo, hi, lazy), i
+
+
+def _rx_nullable(node) -> bool:
+    kind = node[0]
+    if kind in ("char", "class"):
+        return False
+    if kind in ("bol", "eol"):
+        return True
+    if kind == "seq":
+        return all(_rx_nullable(x) for x in node[1])
+    if kind == "alt":
+        return any(_rx_nullable(x) for x in node[1])
+    return node[2] == 0 or _rx_nullable(node[1])
+
+
+def _rx_emit(node, code: list, data: list) -> None:
+    if len(code) > RX_MAX_INSTR:
+        raise _RxRefused
+    kind = node[0]
+    if kind == "char":
+        code.append([RX_CHAR, node[1], 0])
+    elif kind == "class":
+        code.append([RX_CLASS, len(data), 0])
+        data.extend(node[1])
+    elif kind == "bol":
+        code.append([RX_BOL, 0, 0])
+    elif kind == "eol":
+        code.append([RX_EOL, 0, 0])
+    elif kind == "seq":
+        for x in node[1]:
+            _rx_emit(x, code, data)
+    elif kind == "alt":
+        jumps = []
+        alts = node[1]
+        for k, x in enumerate(alts):
+            if k < len(alts) - 1:
+                split = [RX_SPLIT, len(code) + 1, 0]
+                code.append(split)
+                _rx_emit(x, code, data)
+                jumps.append([RX_JMP, 0, 0])
+                code.append(jumps[-1])
+                split[2] = len(code)
+            else:
+                _rx_emit(x, code, data)
+        for j in jumps:
+            j[1] = len(code)
+    else:
+        _, body, lo, hi, lazy = node
+        for _ in range(lo):
+            _rx_emit(body, code, data)
+        if hi is None:
+            top = len(code)
+            split = [RX_SPLIT, 0, 0]
+            code.append(split)
+            _rx_emit(body, code, data)
+            code.append([RX_JMP, top, 0])
+            body_at, end = top + 1, len(code)
+            split[1], split[2] = (end, body_at) if lazy else (body_at, end)
+        else:
+            splits = []
+            for _ in range(hi - lo):
+                split = [RX_SPLIT, 0, 0]
+                code.append(split)
+                splits.append((split, len(code)))
+                _rx_emit(body, code, data)
+            end = len(code)
+            for split, body_at in splits:
+                split[1], split[2] = (end, body_at) if lazy else (body_at, end)
 
 
 # ----------------------------------------------------------------- compile and load
