@@ -11,6 +11,9 @@ the ones written here.
 - ``split`` by a regular expression (a backtracking matcher in C over a program made of the
   expression: the parts of Python's ``re.split`` and the Python engine's clean-up), and the
   expressions outside that subset refused with the reason;
+- a domain read inside a seq block after an extend of it: the elements finished steps of the block
+  made are in the working state (not those of a parallel branch: the visible elements need not be
+  numbered 1..n);
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
@@ -175,3 +178,58 @@ def test_the_program_of_a_regular_expression():
     assert regex_program("\\\\|") == [4, 3, 1, 3, 1, 92, 0, 4, 3, 0, 7, 0, 0]
     # x*: split to the body or past it, the body, a jump back
     assert regex_program("x*") == [4, 3, 1, 3, 1, 120, 0, 4, 0, 0, 7, 0, 0]
+
+
+TWIN = """asm Twin
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Traffic
+	controlled status: Traffic -> Boolean
+	controlled seen: Agent -> Integer
+	controlled picked: Agent -> Traffic
+	controlled steps: Integer
+	static agentA: Agent
+	static agentB: Agent
+
+definitions:
+
+	rule r_agentRule =
+		seq
+			extend Traffic with $t do
+				status($t) := false
+			seen(self) := size({$x in Traffic | true : $x})
+			choose $q in Traffic with not(status($q)) do
+				picked(self) := $q
+		endseq
+
+	invariant inv_seen over seen: steps < 2 or seen(agentA) != seen(agentB)
+
+	main rule r_Main =
+		if steps < 2 then
+			par
+				steps := steps + 1
+				program(agentA)
+				program(agentB)
+			endpar
+		endif
+
+default init s0:
+	function steps = 0
+
+	agent Agent:
+		r_agentRule[]
+"""
+
+
+def test_a_domain_read_in_a_seq_block_after_an_extend_by_agents_in_parallel(tmp_path, capsys):
+    # step 1: agent A makes Traffic!1 and sees {Traffic!1}; agent B (in parallel) makes Traffic!2
+    # and sees {Traffic!2} only, and picks it
+    code, out = both(tmp_path, capsys, TWIN)
+    assert (out["states"], out["transitions"], out["depth"]) == (4, 4, 2)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_seen"
+    first = v["trace"][1]["state"]
+    assert (first["seen(agentA)"], first["seen(agentB)"]) == (1, 1)
+    assert (first["picked(agentA)"], first["picked(agentB)"]) == ("Traffic!1", "Traffic!2")

@@ -2601,12 +2601,18 @@ class Generator:
         extended domains, the slots of elements not made yet are skipped."""
         tab = self.table(vals)
         segs = self.dyn_segments(rg.domain) if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain) else []
-        if len(segs) <= 1:
+        if not segs:
             return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
         named = len(vals) - len(segs) * self.cn_k
+        # inside a seq block the elements finished steps made are seen, which need not be the
+        # next numbers (an element made by a parallel branch is not): each slot is asked
+        if len(segs) == 1:
+            return (f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ if ({q} >= {named} && "
+                    f"!cn_vis(c, {segs[0]}, {q} - {named} + 1)) continue; V {name} = {tab}[{q}];")
         doms = ", ".join(map(str, segs))
-        return (f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ if ({q} >= {named} && ({q} - {named}) % {self.cn_k} >= "
-                f"cn_count(c, ((const int[]){{{doms}}})[({q} - {named}) / {self.cn_k}])) continue; V {name} = {tab}[{q}];")
+        return (f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ if ({q} >= {named} && !cn_vis(c, "
+                f"((const int[]){{{doms}}})[({q} - {named}) / {self.cn_k}], ({q} - {named}) % {self.cn_k} + 1)) continue; "
+                f"V {name} = {tab}[{q}];")
 
     def dyn_slots(self) -> None:
         """One slot per extended domain: its number of elements (0..cn_k)."""

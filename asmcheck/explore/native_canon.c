@@ -44,6 +44,16 @@ typedef struct {
     CnBuf tb; CnSpan *sp; int nsp, capsp;                    /* the texts of this round */
     V *dpool; int64_t dn, dused, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept */
     int64_t my_search;
+    /* the elements made in this run of the step (fgen): domain, number, the seq step that made
+       them (restamped to the enclosing step when a seq block ends, as updates are); the ones a
+       finished step of an open seq block made are visible (vis, bit k - 1), undone through vlog */
+    uint32_t fgen;
+    int fn, vn;
+    int fdom[CN_MAXE > 0 ? CN_MAXE : 1], fnum[CN_MAXE > 0 ? CN_MAXE : 1];
+    int32_t fstamp[CN_MAXE > 0 ? CN_MAXE : 1];
+    uint64_t vis[CN_NDYN];
+    int vdom[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
+    uint64_t vold[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
     CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
     int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
 } CnW;
@@ -100,8 +110,18 @@ static void cn_why(int why, int d) {
 
 /* the number of each domain's next element in this run of the step */
 
-static V fresh_elem(Ctx *c, int d) {
+/* the tables of this run of the step's elements, started again in a new run */
+static CnW *cn_wf(Ctx *c) {
     CnW *W = cn_w(c);
+    if (W && W->fgen != c->gen) {
+        W->fgen = c->gen; W->fn = 0; W->vn = 0;
+        memset(W->vis, 0, sizeof(W->vis));
+    }
+    return W;
+}
+
+static V fresh_elem(Ctx *c, int d) {
+    CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return UNDEF; }
     if (W->dgen[d] != c->gen) {
         W->dgen[d] = c->gen;
@@ -113,22 +133,62 @@ static V fresh_elem(Ctx *c, int d) {
         fail(c, E_UNSUPPORTED, 0);
         return UNDEF;
     }
+    W->fdom[W->fn] = d; W->fnum[W->fn] = k; W->fstamp[W->fn] = c->curstep; W->fn++;
     return cn_code(d, k);
 }
 
-/* How many elements domain d has where terms are read: in the state expanded, or in the
- * successor (INVAR, next()): those of the state and the ones this step made.  Inside a seq
- * block after an extend of d the Python step function sees the new elements: not followed. */
+/* Seq blocks: the elements the step just finished made join the working state (as the Python
+ * step function adds them to its domains); when the block ends they leave it, and the elements
+ * made inside count as made by the enclosing step. */
+static void cn_seq_begin(Ctx *c, SeqFrame *f) {
+    CnW *W = cn_wf(c);
+    f->cn_fmark = W ? W->fn : 0;
+    f->cn_vmark = W ? W->vn : 0;
+}
+static void cn_seq_step_end(Ctx *c) {
+    CnW *W = cn_wf(c);
+    if (!W) { fail(c, E_MEMORY, 0); return; }
+    for (int i = 0; i < W->fn; i++) {
+        if (W->fstamp[i] != c->curstep) continue;
+        int d = W->fdom[i];
+        uint64_t bit = 1ULL << (W->fnum[i] - 1);
+        if (W->vis[d] & bit) continue;
+        if (W->vn >= 4 * CN_MAXE) { fail(c, E_UNSUPPORTED, 0); return; }
+        W->vdom[W->vn] = d; W->vold[W->vn] = W->vis[d]; W->vn++;
+        W->vis[d] |= bit;
+    }
+}
+static void cn_seq_end(Ctx *c, SeqFrame *f) {
+    CnW *W = cn_wf(c);
+    if (!W) return;
+    while (W->vn > f->cn_vmark) { W->vn--; W->vis[W->vdom[W->vn]] = W->vold[W->vn]; }
+    for (int i = f->cn_fmark; i < W->fn; i++) W->fstamp[i] = c->curstep;
+}
+
+/* Is element k of domain d in the state where terms are read: in the state expanded (and, inside
+ * a seq block, the elements finished steps made), or in the successor (INVAR, next()): those of
+ * the state and the ones this step made. */
+static inline int cn_vis(Ctx *c, int d, int k) {
+    int n = (int)c->cur[CN_COUNT_SLOT[d]];
+    CnW *W = cn_wf(c);
+    if (!W) { fail(c, E_MEMORY, 0); return 0; }
+    int extended = W->dgen[d] == c->gen;
+    if (c->rd == c->post) return k <= (extended ? W->dnext[d] - 1 : n);
+    if (k <= (int)c->rd[CN_COUNT_SLOT[d]]) return 1;
+    return extended && k <= CN_K && ((W->vis[d] >> (k - 1)) & 1);
+}
+/* the number of element slots of d to look at (the highest element that may be visible) */
 static int cn_count(Ctx *c, int d) {
-    CnW *W = cn_w(c);
+    CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return 0; }
     int extended = W->dgen[d] == c->gen;
     if (c->rd == c->post) return extended ? W->dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
-    if (extended && c->seqstart >= 0) {
-        cn_why(CN_SEQ, d);
-        fail(c, E_UNSUPPORTED, 0);
+    int n = (int)c->rd[CN_COUNT_SLOT[d]];
+    if (extended && W->vis[d]) {
+        int hi = 64 - __builtin_clzll(W->vis[d]);
+        if (hi > n) n = hi;
     }
-    return (int)c->rd[CN_COUNT_SLOT[d]];
+    return n;
 }
 
 /* ---------------------------------------------------------------- texts */

@@ -172,11 +172,20 @@ static inline void upd(Ctx *c, int slot, V code, int site) {
     c->nupd++;
 }
 
-typedef struct { int32_t start, outer_start, outer_step, logmark; } SeqFrame;
+typedef struct { int32_t start, outer_start, outer_step, logmark, cn_fmark, cn_vmark; } SeqFrame;
+#if CN_NDYN > 0
+/* elements made by extend in seq blocks (native_canon.c) */
+static void cn_seq_begin(Ctx *c, SeqFrame *f);
+static void cn_seq_step_end(Ctx *c);
+static void cn_seq_end(Ctx *c, SeqFrame *f);
+#endif
 
 static inline void seq_begin(Ctx *c, SeqFrame *f) {
     f->start = c->nupd; f->outer_start = c->seqstart; f->outer_step = c->curstep; f->logmark = c->nlog;
     c->seqstart = c->nupd;
+#if CN_NDYN > 0
+    cn_seq_begin(c, f);
+#endif
 }
 static inline void seq_step_begin(Ctx *c) { c->curstep = ++c->stepctr; }
 /* the updates of the step just run become visible to the next ones */
@@ -194,6 +203,9 @@ static inline void seq_step_end(Ctx *c, SeqFrame *f) {
         c->rlog_slot[c->nlog] = s; c->rlog_val[c->nlog] = c->cur[s]; c->nlog++;
         c->cur[s] = slot_decode(s, c->upd_code[i]);
     }
+#if CN_NDYN > 0
+    cn_seq_step_end(c);
+#endif
 }
 /* iterate: did the step just run change nothing?  (then its updates are dropped) */
 static inline int seq_step_idle(Ctx *c, SeqFrame *f, int32_t mark) {
@@ -209,6 +221,9 @@ static void seq_end(Ctx *c, SeqFrame *f) {
     while (c->nlog > f->logmark) { c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }
     c->seqstart = f->outer_start;
     c->curstep = f->outer_step;
+#if CN_NDYN > 0
+    cn_seq_end(c, f);
+#endif
     if (c->err) return;
     int32_t w = f->start;
     for (int32_t i = f->start; i < c->nupd; i++) {
