@@ -14,13 +14,19 @@ the ones written here.
 - a domain read inside a seq block after an extend of it: the elements finished steps of the block
   made are in the working state (not those of a parallel branch: the visible elements need not be
   numbered 1..n);
+- elements made by extend in the keys or values of a function held as a map (an argument over an
+  infinite domain), and Reals beside them: each entry is a location of the canonical form, with the
+  Python engine's text (a Real's text is Python's repr of the double).
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
 
-from asmcheck.explore.native import regex_program
+from asmcheck.explore.bfs import Explorer
+from asmcheck.explore.native import NativeExplorer, regex_program
 from asmcheck.explore.native_build import compiler
-from helpers import both
+from asmcheck.semantics.machine import Machine
+from asmcheck.semantics.resolve import check_file
+from helpers import both, write
 
 pytestmark = [pytest.mark.engines("native"),
               pytest.mark.skipif(compiler() is None, reason="no C compiler: the native explorer cannot run here")]
@@ -233,3 +239,54 @@ def test_a_domain_read_in_a_seq_block_after_an_extend_by_agents_in_parallel(tmp_
     first = v["trace"][1]["state"]
     assert (first["seen(agentA)"], first["seen(agentB)"]) == (1, 1)
     assert (first["picked(agentA)"], first["picked(agentB)"]) == ("Traffic!1", "Traffic!2")
+
+
+FRAMES = """asm Frames
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Proc
+	enum domain Speed = {SLOW | FAST}
+	controlled frame: Prod(Proc, Integer) -> Integer
+	controlled rate: Proc -> Real
+	controlled owner: Integer -> Proc
+	controlled n: Integer
+
+definitions:
+
+	main rule r_main =
+		if n < 3 then
+			par
+				n := n + 1
+				choose $s in Speed with true do
+					extend Proc with $p do
+						par
+							if $s = SLOW then rate($p) := 0.00001 else rate($p) := 2.5 endif
+							frame($p, n) := n * 10
+							owner(n) := $p
+						endpar
+			endpar
+		else
+			forall $q in Proc with rate($q) > 1.0 do
+				frame($q, 0) := 7
+		endif
+
+default init s0:
+	function n = 0
+"""
+
+
+def test_elements_made_by_extend_in_a_function_held_as_a_map_and_reals_beside_them(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, FRAMES)
+    assert (out["states"], out["transitions"], out["depth"]) == (22, 29, 4)
+    # the same canonical states, in the same order
+    spec = check_file(write(tmp_path, FRAMES))
+    py = Explorer(Machine(spec, {}))
+    py.run()
+    nat = NativeExplorer(Machine(spec, {}))
+    try:
+        nat.run()
+        assert [py.state(i) for i in range(py.n_states)] == [nat.state(i) for i in range(nat.n_states)]
+    finally:
+        nat.close()

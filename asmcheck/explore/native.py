@@ -2676,6 +2676,8 @@ class Generator:
             node = [2]                          # rule values: texts from the atom table
         elif r is T.STRING:
             node = [3]
+        elif r is T.REAL:
+            node = [8]                          # Python's repr of the double (cn_real)
         elif isinstance(r, T.Struct) and r.kind in ("Seq", "Powerset") and self.composite(typ):
             node = [4 if r.kind == "Seq" else 6, self.cn_type(r.args[0], tys, memo)]
         elif isinstance(r, T.Struct) and r.kind == "Prod" and self.composite(typ):
@@ -2685,6 +2687,22 @@ class Generator:
         memo[key] = len(tys)
         tys.extend(node)
         return memo[key]
+
+    def canon_map_slot(self, f, tys, memo, fn_ids, slot_fn, slot_vty, slot_nargs, slot_arg, slot_base) -> None:
+        """The tables of native_canon.c for the slot holding the locations of ``f`` as a map whose
+        keys or values may hold elements made by extend: each entry is a location f(args)=value,
+        renamed by rebuilding the map (type node T_LMAP: arity, key type, value type)."""
+        if f.index in getattr(self, "lazy_init", ()):
+            raise Unsupported(f"the lazily initialised function {f.name} over extended domains")
+        key_t = f.domain[0] if len(f.domain) == 1 else T.Struct("Prod", tuple(f.domain))
+        kt = self.cn_type(key_t, tys, memo)
+        vt = self.cn_type(f.codomain, tys, memo)
+        node = len(tys)
+        tys.extend([7, len(f.domain), kt, vt])
+        if f.index not in fn_ids:
+            fn_ids[f.index] = len(fn_ids)
+        slot_fn.append(fn_ids[f.index]); slot_vty.append(node); slot_nargs.append(0); slot_arg.append(0)
+        slot_base.append(-1)
 
     def canon_code(self) -> str:
         """The tables of native_canon.c and the file itself (nothing without extend)."""
@@ -2710,7 +2728,8 @@ class Generator:
             if isinstance(typ, tuple):          # a map slot
                 f = typ[1]
                 if self.cn_may_hold(f.codomain) or any(self.cn_may_hold(d) for d in f.domain):
-                    raise Unsupported(f"the function {f.name} over an infinite domain and extended domains")
+                    self.canon_map_slot(f, tys, memo, fn_ids, slot_fn, slot_vty, slot_nargs, slot_arg, slot_base)
+                    continue
                 key = None
             if key is None or (type(key) is tuple and key[0] == "#dom"):
                 slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
