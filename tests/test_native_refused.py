@@ -18,10 +18,14 @@ the ones written here.
   infinite domain), and Reals beside them: each entry is a location of the canonical form, with the
   Python engine's text (a Real's text is Python's repr of the double).
 
+Still refused, with the reason: a local function (the Python engine's local functions share one
+location, whose updates join the step's update set; not followed).
+
 Engines: both (python is the reference, native is checked)."""
 import pytest
 
 from asmcheck.explore.bfs import Explorer
+from asmcheck.explore.native_build import Unsupported
 from asmcheck.explore.native import NativeExplorer, regex_program
 from asmcheck.explore.native_build import compiler
 from asmcheck.semantics.machine import Machine
@@ -290,3 +294,34 @@ def test_elements_made_by_extend_in_a_function_held_as_a_map_and_reals_beside_th
         assert [py.state(i) for i in range(py.n_states)] == [nat.state(i) for i in range(nat.n_states)]
     finally:
         nat.close()
+
+
+LOCAL = """asm Loc
+
+import StandardLibrary
+
+signature:
+	controlled y: Integer
+
+definitions:
+
+	turbo rule r_t =
+		local x : Integer [ x := 1 ]
+		seq
+			x := x + 1
+			y := x
+		endseq
+
+	main rule r_main =
+		r_t[]
+
+default init s0:
+	function y = 0
+"""
+
+
+def test_a_local_function_is_refused_with_the_reason(tmp_path):
+    spec = check_file(write(tmp_path, LOCAL))
+    with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(the Python engine's local "
+                                          r"functions share one location"):
+        NativeExplorer(Machine(spec, {}))

@@ -1737,6 +1737,14 @@ class Generator:
     def r_Skip(self, r, env):
         return ";"
 
+    def r_LocalRule(self, r, env):
+        # The Python engine (the reference) declares a local function with no place in the spec's
+        # function table (index -1): every local function is the one location -1 there; the body's
+        # updates of it join the step's update set (so two calls, or two local functions, clash)
+        # and leave the state afterwards.  Not followed.
+        raise Unsupported(f"the local function {r.func.name} at {r.span.short() if r.span else '?'} (the Python "
+                          f"engine's local functions share one location whose updates join the step's update set)")
+
     def r_Update(self, r, env):
         f = r.func
         if f.index in getattr(self, "lazy_init", ()):

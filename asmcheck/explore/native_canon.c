@@ -172,7 +172,7 @@ static void cn_seq_end(Ctx *c, SeqFrame *f) {
 /* Is element k of domain d in the state where terms are read: in the state expanded (and, inside
  * a seq block, the elements finished steps made), or in the successor (INVAR, next()): those of
  * the state and the ones this step made. */
-static inline int cn_vis(Ctx *c, int d, int k) {
+static int cn_vis_(Ctx *c, int d, int k) {
     int n = (int)c->cur[CN_COUNT_SLOT[d]];
     CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return 0; }
@@ -181,6 +181,8 @@ static inline int cn_vis(Ctx *c, int d, int k) {
     if (k <= (int)c->rd[CN_COUNT_SLOT[d]]) return 1;
     return extended && k <= CN_K && ((W->vis[d] >> (k - 1)) & 1);
 }
+/* (the elements of the state expanded are seen wherever terms are read) */
+static inline int cn_vis(Ctx *c, int d, int k) { return k <= (int)c->cur[CN_COUNT_SLOT[d]] || cn_vis_(c, d, k); }
 /* the number of element slots of d to look at (the highest element that may be visible) */
 static int cn_count(Ctx *c, int d) {
     CnW *W = cn_wf(c);
