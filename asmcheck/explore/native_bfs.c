@@ -228,6 +228,37 @@ static int over_memory(int64_t n);
 static volatile sig_atomic_t interrupted = 0;
 static void on_sigint(int sig) { (void)sig; interrupted = 1; }
 
+/* The distinct successors of the state being expanded (a transition is a pair of states): a set
+   of state numbers by open addressing, emptied in O(1) per state by a new stamp. */
+static uint64_t *succ_set = 0;
+static int64_t succ_cap = 0;
+static uint32_t succ_stamp = 0;
+static int succ_reset(int64_t n) {
+    if (2 * n > succ_cap) {
+        int64_t nc = succ_cap ? succ_cap : 1024;
+        while (nc < 2 * n) nc *= 2;
+        uint64_t *x = (uint64_t *)realloc(succ_set, (size_t)nc * sizeof(uint64_t));
+        if (!x) return 0;
+        succ_set = x;
+        succ_cap = nc;
+        memset(succ_set, 0, (size_t)nc * sizeof(uint64_t));
+        succ_stamp = 0;
+    }
+    if (++succ_stamp == 0) { memset(succ_set, 0, (size_t)succ_cap * sizeof(uint64_t)); succ_stamp = 1; }
+    return 1;
+}
+/* 1 the first time tid is met since succ_reset */
+static inline int succ_first(int64_t tid) {
+    uint64_t msk = (uint64_t)succ_cap - 1, h = mix64((uint64_t)tid) & msk;
+    uint64_t want = ((uint64_t)succ_stamp << 32) | (uint32_t)tid;
+    for (;;) {
+        uint64_t x = succ_set[h];
+        if ((uint32_t)(x >> 32) != succ_stamp) { succ_set[h] = want; return 1; }
+        if (x == want) return 0;
+        h = (h + 1) & msk;
+    }
+}
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
     /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
@@ -238,7 +269,6 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
     interrupted = 0;
     sigaction(SIGINT, &sa, &old);
     uint64_t nw[NWORDS > 0 ? NWORDS : 1];
-    int64_t succ_ids[4096];
     double ts = now_seconds();
     int status = S.status == -1 ? 0 : S.status;
     if (S.status != -1) goto done;
@@ -358,8 +388,8 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             S.step_failed = 1;
             continue;
         }
-        int nsucc = 0;
         int only_self = 1;
+        if (!succ_reset(nbuf)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
@@ -369,10 +399,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
                 note_range(wb, S.depth + 1);
             }
-            int seen = 0;
-            for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
-            if (!seen) {
-                if (nsucc < 4096) succ_ids[nsucc++] = tid;
+            if (succ_first(tid)) {
                 S.transitions++;
                 if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; goto finish; }
             }
@@ -437,6 +464,12 @@ int64_t asm_words(void) { return NWORDS; }
 void asm_edges(uint32_t *src, uint32_t *dst) {
     memcpy(src, S.esrc, S.nedges * sizeof(uint32_t));
     memcpy(dst, S.edst, S.nedges * sizeof(uint32_t));
+}
+
+/* the edges, once copied out at the end of the search, are not needed here any more */
+void asm_edges_drop(void) {
+    free(S.esrc); free(S.edst);
+    S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
 }
 
 /* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set) */
@@ -983,7 +1016,6 @@ static void fill_out(int64_t *out, int status) {
    the search ends with. */
 static int phase_merge(int nthreads, int64_t n0) {
     int64_t run_n = n0;
-    int64_t succ_ids[4096];
     int nprops = NINV + NSTEP + (S.deadlock ? 1 : 0);
     for (int t = 0; t < nthreads; t++) {
         Worker *w = &W[t];
@@ -1001,9 +1033,9 @@ static int phase_merge(int nthreads, int64_t n0) {
                 S.step_failed = 1;
                 continue;
             }
-            int nsucc = 0;
             int only_self = 1;
             int64_t q0 = w->sfirst[i], q1 = q0 + w->scount[i];
+            if (!succ_reset(q1 - q0)) return 5;
             for (int64_t q = q0; q < q1; q++) {
                 int64_t tid = w->ctid[q];
                 if (tid < 0) tid = posnum[tid - NOTFIRST];
@@ -1012,10 +1044,7 @@ static int phase_merge(int nthreads, int64_t n0) {
                     if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
                     note_range(states + tid * NWORDS, S.depth + 1);
                 }
-                int seen = 0;
-                for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
-                if (!seen) {
-                    if (nsucc < 4096) succ_ids[nsucc++] = tid;
+                if (succ_first(tid)) {
                     S.transitions++;
                     if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; break; }
                 }
