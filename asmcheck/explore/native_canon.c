@@ -138,6 +138,7 @@ static V fresh_elem(Ctx *c, int d) {
         return UNDEF;
     }
     W->fdom[W->fn] = d; W->fnum[W->fn] = k; W->fstamp[W->fn] = c->curstep; W->fn++;
+    c->cn_made = c->gen;
     return cn_code(d, k);
 }
 
@@ -145,11 +146,13 @@ static V fresh_elem(Ctx *c, int d) {
  * step function adds them to its domains); when the block ends they leave it, and the elements
  * made inside count as made by the enclosing step. */
 static void cn_seq_begin(Ctx *c, SeqFrame *f) {
+    if (c->cn_made != c->gen) { f->cn_fmark = 0; f->cn_vmark = 0; return; }   /* none made in this run yet */
     CnW *W = cn_wf(c);
     f->cn_fmark = W ? W->fn : 0;
     f->cn_vmark = W ? W->vn : 0;
 }
 static void cn_seq_step_end(Ctx *c) {
+    if (c->cn_made != c->gen) return;
     CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return; }
     for (int i = 0; i < W->fn; i++) {
@@ -163,6 +166,7 @@ static void cn_seq_step_end(Ctx *c) {
     }
 }
 static void cn_seq_end(Ctx *c, SeqFrame *f) {
+    if (c->cn_made != c->gen) return;
     CnW *W = cn_wf(c);
     if (!W) return;
     while (W->vn > f->cn_vmark) { W->vn--; W->vis[W->vdom[W->vn]] = W->vold[W->vn]; }
@@ -173,6 +177,7 @@ static void cn_seq_end(Ctx *c, SeqFrame *f) {
  * a seq block, the elements finished steps made), or in the successor (INVAR, next()): those of
  * the state and the ones this step made. */
 static int cn_vis_(Ctx *c, int d, int k) {
+    if (c->cn_made != c->gen) return 0;
     int n = (int)c->cur[CN_COUNT_SLOT[d]];
     CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return 0; }
@@ -185,6 +190,7 @@ static int cn_vis_(Ctx *c, int d, int k) {
 static inline int cn_vis(Ctx *c, int d, int k) { return k <= (int)c->cur[CN_COUNT_SLOT[d]] || cn_vis_(c, d, k); }
 /* the number of element slots of d to look at (the highest element that may be visible) */
 static int cn_count(Ctx *c, int d) {
+    if (c->cn_made != c->gen) return (int)c->cur[CN_COUNT_SLOT[d]];   /* none made in this run */
     CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return 0; }
     int extended = W->dgen[d] == c->gen;

@@ -44,6 +44,7 @@ typedef struct {
     int32_t uprev[MAXUPD];
     int32_t nupd;
     int32_t seqstart, curstep, stepctr;
+    uint32_t cn_made;                        /* the run of the step (gen) that last made an element by extend */
     int32_t rlog_slot[MAXUPD];
     V rlog_val[MAXUPD];
     int32_t nlog;
