@@ -419,8 +419,21 @@ class Generator:
             if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
             if isinstance(r, T.Struct) and r.kind == "Rule":
-                return None      # a rule value: its code is stored (a wide slot)
+                return self.rule_slot_values()
             raise
+
+    def rule_slot_values(self):
+        """The values a location of a rule codomain can hold: the rules written as values in the
+        spec (a rule value is made only by ``<<r>>``; another one, an agent's program, is refused
+        by the codec), so that the slot is narrow; None (a wide slot holding the code) when the spec
+        writes none."""
+        rules = self.referenced_rules()
+        if not rules:
+            return None
+        vals = [RuleValue(rd) for rd in rules]
+        for v in vals:
+            self.codec.to_c(v)
+        return vals
 
     def composite(self, typ) -> bool:
         """A sequence or tuple type over types the native search encodes."""
@@ -3033,6 +3046,7 @@ _SYMBOLS = {
     "asm_find": (_i64, [_u64p]),
     "asm_parents": (None, [_i64p]),
     "asm_edges": (None, [_u32p, _u32p]),
+    "asm_edges_drop": (None, []),
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
     "asm_err_code": (_i64, []),
@@ -3331,12 +3345,7 @@ class NativeExplorer:
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
         if self.keep_graph:
-            n = out[9]
-            src = (ctypes.c_uint32 * max(n, 1))()
-            dst = (ctypes.c_uint32 * max(n, 1))()
-            self.dll.asm_edges(src, dst)
-            self.edge_src = array("q", src[:n])
-            self.edge_dst = array("q", dst[:n])
+            self._take_edges(out[9])
         violations = []
         for i in range(out[7]):
             k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
@@ -3377,6 +3386,17 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         return res
+
+    def _take_edges(self, n: int) -> None:
+        """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed."""
+        src = array("I", bytes(4 * max(n, 1)))
+        dst = array("I", bytes(4 * max(n, 1)))
+        self.dll.asm_edges((ctypes.c_uint32 * len(src)).from_buffer(src), (ctypes.c_uint32 * len(dst)).from_buffer(dst))
+        del src[n:], dst[n:]
+        self.edge_src, self.edge_dst = src, dst
+        drop = getattr(self.dll, "asm_edges_drop", None)
+        if drop is not None:
+            drop()
 
     def _canon_refusal(self) -> None:
         """Raise the reason the search stopped on elements made by extend, if it did."""
@@ -3494,6 +3514,62 @@ class NativeExplorer:
     def edges(self):
         return _NativeEdges(self)
 
+    # -------------------------------------------------------------- the graph a person reads (--graph)
+    @property
+    def depth_of(self) -> array:
+        """The depth of every explored state (a parent is numbered before its children)."""
+        got = getattr(self, "_depth_of", None)
+        if got is None or len(got) != self.nstates:
+            parent = self.parent
+            got = array("l", bytes(array("l").itemsize * self.nstates))
+            for s in range(self.nstates):
+                p = parent[s]
+                got[s] = 0 if p < 0 else got[p] + 1
+            self._depth_of = got
+        return got
+
+    def graph_edges(self) -> list:
+        """Every step between explored states as the Python explorer records it for --graph:
+        (source, target, choices) for every sequence of choices the step function enumerates from
+        each state (several per pair of states when different choices lead to the same state),
+        sources ascending, in the step function's order.  The step function enumerates the steps;
+        the native edge arrays say where each must lead (Unsupported when they disagree, or a step
+        fails: then the Python engine writes the graph)."""
+        got = getattr(self, "_graph_edges", None)
+        if got is not None:
+            return got
+        from .bfs import Explorer
+        py = Explorer(self.m)       # its admitted_successors: the INVAR constraints, canonical names
+        src_a, dst_a = self.edge_arrays()
+        out: list = []
+        e = 0
+        ne = len(src_a)
+        for src in range(self.nstates):
+            want = set()
+            while e < ne and src_a[e] == src:
+                want.add(dst_a[e])
+                e += 1
+            failed: list = []
+            try:
+                succ = py.admitted_successors(self.state(src), failed)
+            except AsmError as exc:
+                raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated ({exc.message})") from None
+            if failed:
+                raise Unsupported(f"--graph: a step from state {src} fails")
+            got_dst = set()
+            for picks, _ups, _raw, nxt, _mon in succ:
+                dst = self.find(nxt)
+                if dst is None:
+                    raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
+                got_dst.add(dst)
+                out.append((src, dst, picks))
+            if got_dst != want:
+                raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        if e != ne:
+            raise Unsupported("--graph: the native edges are not ordered by source")
+        self._graph_edges = out
+        return out
+
     def state_labels(self, items):
         """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
         compiled code: a list of bytearrays (1 where the atom is true, undef counts as false), or
@@ -3519,9 +3595,9 @@ class NativeExplorer:
         return out
 
     def step_atoms(self, items, ok_state):
-        """For the CTL structure whose nodes are steps: (src, dst, vector of the atoms ``items``)
-        for every step between stored states, each triple once, in the order of the Python step
-        function's enumeration -- the atoms (which read monitored functions) evaluated in src with
+        """For the CTL structure whose nodes are steps: three arrays (src, dst, bits of the atoms
+        ``items``: bit k is atom k) for every step between stored states, each triple once, in the
+        order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
         index = getattr(self, "_label_index", None)
@@ -3537,30 +3613,25 @@ class NativeExplorer:
         if not ks or len(ks) > 64:
             return None
         karr = (ctypes.c_int64 * len(ks))(*ks)
-        out_recs = []
-        vecs: dict = {}
+        rs, rd, rv = array("I"), array("i"), array("B" if len(ks) <= 8 else "q")
         cap = 1024
-        buf = (ctypes.c_int64 * (2 * cap))()
+        buf = array("q", bytes(16 * cap))
         nk = len(ks)
         for src in range(self.nstates):
             if not ok_state[src]:
                 continue
             while True:
-                n = self.dll.asm_step_atoms(src, karr, nk, buf, cap)
+                n = self.dll.asm_step_atoms(src, karr, nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
                 if n != -2:
                     break
                 cap *= 4
-                buf = (ctypes.c_int64 * (2 * cap))()
+                buf = array("q", bytes(16 * cap))
             if n < 0:
                 return None
-            flat = buf[:2 * n]
-            for r in range(0, 2 * n, 2):
-                vec = flat[r + 1]
-                t = vecs.get(vec)
-                if t is None:
-                    t = vecs[vec] = tuple(bool(vec >> k & 1) for k in range(nk))
-                out_recs.append((src, flat[r], t))
-        return out_recs
+            rd.extend(buf[0:2 * n:2].tolist())
+            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
+            rs.extend(array("I", [src]) * n)
+        return rs, rd, rv
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""

@@ -624,6 +624,12 @@ void asm_edges(uint32_t *src, uint32_t *dst) {
     memcpy(dst, S.edst, S.nedges * sizeof(uint32_t));
 }
 
+/* the edges, once copied out at the end of the search, are not needed here any more */
+void asm_edges_drop(void) {
+    free(S.esrc); free(S.edst);
+    S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
+}
+
 /* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set) */
 void asm_range(int64_t slot, int64_t *out) { out[0] = S.lo[slot]; out[1] = S.hi[slot]; out[2] = S.grew[slot]; }
 
