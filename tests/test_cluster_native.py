@@ -342,3 +342,19 @@ def test_cli_cluster_on_a_refused_spec_says_which_expander_ran(write_spec):
     assert got == one
     assert (seen["engine"], seen["workers"]) == ("python", 2)
     assert seen["engine_note"] == seen1["engine_note"] == f"native engine not used: {REFUSAL}"
+
+
+@pytest.mark.slow
+def test_cli_cluster_worker_memory_gives_a_partial_report():
+    """An actor over its share (1 MB: less than any Python process) ends the run at the last complete
+    level with exit 3, on the native expander as on the Python one; never a count beyond it."""
+    pytest.importorskip("ray", reason="Ray is not installed (pip install 'asmcheck[cluster]')")
+    r = subprocess.run([sys.executable, "-m", "asmcheck", "explore", "specs/sb_async_master.asm", "--cluster", "local",
+                        "--workers", "2", "--worker-memory", "1"], cwd=ROOT, capture_output=True, text=True,
+                       timeout=600, env={**os.environ, "PYTHONPATH": str(ROOT), "NO_COLOR": "1"})
+    assert r.returncode == 3, r.stderr
+    first = r.stdout.splitlines()[0]
+    assert first.startswith("sb_async_master.asm: 1 states, 0 transitions, depth 0, ")
+    assert first.endswith(" s, native engine, 2 workers")
+    assert "incomplete: worker 1 went over its memory share at depth 0" in r.stdout
+    assert r.stdout.rstrip().endswith("verdict: incomplete")
