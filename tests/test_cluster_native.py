@@ -358,3 +358,18 @@ def test_cli_cluster_worker_memory_gives_a_partial_report():
     assert first.endswith(" s, native engine, 2 workers")
     assert "incomplete: worker 1 went over its memory share at depth 0" in r.stdout
     assert r.stdout.rstrip().endswith("verdict: incomplete")
+
+
+def test_choices_of_a_trace_step_whose_position_differs_in_the_python_enumeration():
+    """RushHourMon with --deadlock: a step of the trace is the successor at a position where the
+    Python step function enumerates another state; its choices are those of the first Python
+    successor that is the trace's state, as the native engine's own replay finds them."""
+    from asmcheck.explore.native import NativeExplorer
+    path = SHARED / "asmeta" / "asm_examples" / "examples" / "RushHour" / "RushHourMon.asm"
+    if not path.exists():
+        pytest.skip(f"the ASMETA corpus is not at {SHARED / 'asmeta'}")
+    m, sp, stp = load(path)
+    nx = NativeExplorer(m, state_props=sp, step_props=stp, deadlock=True)
+    ref = summary(nx, nx.run())
+    assert (ref["states"], ref["transitions"], ref["violations"][0][:2]) == (838, 5714, ("deadlock", 815))
+    assert native(path, 3, "inline", deadlock=True) == ref

@@ -420,15 +420,3 @@ class NativeExpander:
 
     def close(self) -> None:
         self.nx = None
-
-
-def picks_of(explorer, src_state: dict, position: int) -> tuple:
-    """The choices of the successor at ``position`` among the admitted successors of
-    ``src_state`` (the Python step function's enumeration, as the native one's)."""
-    from ..explore.bfs import ReplayError
-    succ = explorer.admitted_successors(src_state)
-    if not 0 <= position < len(succ):
-        raise ReplayError(f"no successor {position} of a state of the partitioned search")
-    return succ[position][0]
-
-

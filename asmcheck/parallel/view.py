@@ -63,7 +63,7 @@ class PartitionedExplorer(Explorer):
                         sid = self._record(sid)[1]
         for v in result.violations:
             if isinstance(v.picks, int):
-                v.picks = self.picks(v.source, v.picks)
+                v.picks = self.picks(v.source, v.picks, self.frozen[v.state])
 
     def _gather(self) -> None:
         n = self.n_states
@@ -101,22 +101,29 @@ class PartitionedExplorer(Explorer):
             key, par, picks, d = self.search.b.call(w, "fetch", [sid])[0]
             fz = self.layout.freeze(self.search.x.state_of(key))
             if isinstance(picks, int):
-                picks = self.picks(par, picks)
+                picks = self.picks(par, picks, fz)
             r = self._cache[sid] = (fz, par, picks, d)
         return r
 
-    def picks(self, src: int, position: int) -> tuple:
-        """The choices of the step from state ``src`` to its successor at ``position`` (the native
-        expander sends positions; the Python step function gives the choices, for the few
-        states a trace or the graph shows; the successors of the last source are kept)."""
-        from .native_expand import picks_of
+    def picks(self, src: int, position: int, target) -> tuple:
+        """The choices of the step from state ``src`` to its successor at ``position``, which is the
+        state frozen as ``target`` (the native expander sends positions; the Python step function
+        gives the choices, for the few states a trace or the graph shows; the successors of the
+        last source are kept).  Where the Python step function's successor at that position is
+        another state, the first of its successors that is ``target`` gives them, as the native
+        engine's own replay finds them."""
+        from ..explore.bfs import ReplayError
         cache = self._picks_src
         if cache is None or cache[0] != src:
             succ = self.admitted_successors(self.state(src))
-            cache = self._picks_src = (src, [s[0] for s in succ])
-        if not 0 <= position < len(cache[1]):
-            return picks_of(self, self.state(src), position)     # raises the replay error
-        return cache[1][position]
+            cache = self._picks_src = (src, [(s[0], self.layout.freeze(s[3])) for s in succ])
+        succ = cache[1]
+        if 0 <= position < len(succ) and succ[position][1] == target:
+            return succ[position][0]
+        for picks, fz in succ:
+            if fz == target:
+                return picks
+        raise ReplayError(f"no step of the Python step function goes from state {src} to a state of the search")
 
 
 class _Choices:
@@ -132,7 +139,7 @@ class _Choices:
     def __getitem__(self, sid):
         p = self.via[sid]
         if isinstance(p, int):
-            p = self.via[sid] = self.view.picks(self.view.parent[sid], p)
+            p = self.via[sid] = self.view.picks(self.view.parent[sid], p, self.view.frozen[sid])
         return p
 
     def __iter__(self):
@@ -156,7 +163,7 @@ class _Edges:
             return [self[j] for j in range(*i.indices(len(self.e)))]
         a, b, p = self.e[i]
         if isinstance(p, int):
-            p = self.view.picks(a, p)
+            p = self.view.picks(a, p, self.view.frozen[b])
             self.e[i] = (a, b, p)
         return a, b, p
 
