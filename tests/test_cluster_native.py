@@ -373,3 +373,34 @@ def test_choices_of_a_trace_step_whose_position_differs_in_the_python_enumeratio
     ref = summary(nx, nx.run())
     assert (ref["states"], ref["transitions"], ref["violations"][0][:2]) == (838, 5714, ("deadlock", 815))
     assert native(path, 3, "inline", deadlock=True) == ref
+
+
+MANY = """asm Many
+import StandardLibrary
+signature:
+	dynamic abstract domain D
+	dynamic controlled owned: D -> Boolean
+	dynamic controlled n: Integer
+	dynamic monitored twice: Boolean
+definitions:
+	invariant inv_n over n: n < 20
+	main rule r_main =
+		if n < 20 then
+			extend D with $a do
+				par
+					owned($a) := twice
+					n := n + 1
+				endpar
+		endif
+default init s0:
+	function n = 0
+"""
+
+
+def test_more_elements_made_by_extend_than_slots_start_again_with_more(write_spec):
+    """A state with 17 elements of D: the compiled code has 16 slots per domain at first; the
+    partitioned search starts again on code with 32, as the native search does (still native)."""
+    path = write_spec(MANY)
+    ref = sequential(path, keep_graph=True)
+    assert (ref["states"], ref["transitions"], ref["verdict"]) == (231, 441, "violated")
+    assert native(path, 2, "processes", keep_graph=True) == ref

@@ -52,6 +52,7 @@ class Recipe:
     state_names: list | None = None     # the properties checked (None: all that apply), in order
     step_names: list | None = None
     expander: str = "python"            # 'native': the compiled step function (NativeExpander)
+    cn_k: int | None = None             # its element slots per extended domain (None: the default)
 
     def load(self):
         return self.load_all()[:3]
@@ -78,15 +79,15 @@ class Recipe:
 
     def __call__(self):
         machine, state_props, step_props = self.load()
-        return make_expander(self.expander, machine, state_props, step_props, self.deadlock)
+        return make_expander(self.expander, machine, state_props, step_props, self.deadlock, self.cn_k)
 
 
-def make_expander(kind: str, machine, state_props, step_props, deadlock):
+def make_expander(kind: str, machine, state_props, step_props, deadlock, cn_k=None):
     """An expander of the kind named: 'python' (the Python step function) or 'native' (the
     compiled one; raises :class:`asmcheck.parallel.native_expand.Refused` where it cannot)."""
     if kind == "native":
         from .native_expand import NativeExpander
-        return NativeExpander(machine, state_props, step_props, deadlock)
+        return NativeExpander(machine, state_props, step_props, deadlock, cn_k)
     from .expand import PythonExpander
     return PythonExpander(machine, state_props, step_props, deadlock)
 
@@ -107,31 +108,39 @@ def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes"
     the explorer answers traces and reports like the sequential one; ``result.engine`` names the
     step function that expanded the states and ``result.native_refused`` why it is not the
     native one ('' when it is, or was not asked for)."""
-    from .native_expand import Refused
     if expander not in ("python", "native", "auto"):
         raise ValueError(f"unknown expander {expander!r}")
+    args = (machine, workers, backend, state_props, step_props, deadlock, max_states, max_depth, max_seconds,
+            keep_graph, progress, memory_share, recipe, cluster)
     if expander == "python" or make_expander is not None:
-        return _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states,
-                                    max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
-                                    make_expander, on_level, "python")
-    try:
-        return _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states,
-                                    max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
-                                    None, on_level, "native")
-    except Refused as e:
-        if expander == "native":
-            raise
-        reason = str(e)
-    ex, result = _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states,
-                                      max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
-                                      None, on_level, "python")
+        return _explore_partitioned(*args, make_expander, on_level, "python")
+    from ..explore.native import CN_K_MAX
+    from .native_expand import MoreSlots, Refused
+    cn_k = None
+    while True:
+        try:
+            return _explore_partitioned(*args, None, on_level, "native", cn_k)
+        except MoreSlots as e:
+            # as the native search does: again, on code with twice the element slots
+            if e.cn_k * 2 <= CN_K_MAX:
+                cn_k = e.cn_k * 2
+                continue
+            if expander == "native":
+                raise
+            reason = str(e)
+        except Refused as e:
+            if expander == "native":
+                raise
+            reason = str(e)
+        break
+    ex, result = _explore_partitioned(*args, None, on_level, "python")
     result.native_refused = reason
     return ex, result
 
 
 def _explore_partitioned(machine, workers, backend, state_props, step_props, deadlock, max_states, max_depth,
                          max_seconds, keep_graph, progress, memory_share, recipe, cluster, make_expander_,
-                         on_level, kind):
+                         on_level, kind, cn_k=None):
     from dataclasses import replace
 
     from .view import PartitionedExplorer
@@ -139,11 +148,11 @@ def _explore_partitioned(machine, workers, backend, state_props, step_props, dea
     state_props = list(state_props)
     step_props = list(step_props)
     # the coordinator's own expander (initial states, owners of keys): of the workers' kind
-    local = make_expander(kind, machine, state_props, step_props, deadlock)
+    local = make_expander(kind, machine, state_props, step_props, deadlock, cn_k)
     if make_expander_ is None:
         # (forked workers inherit the loaded native library; each builds its own expander on it)
         def make_expander_():
-            return make_expander(kind, machine, state_props, step_props, deadlock)
+            return make_expander(kind, machine, state_props, step_props, deadlock, cn_k)
     if backend == "inline":
         b = InlineBackend(make_expander_, workers, memory_share, keep_graph)
     elif backend == "processes":
@@ -153,7 +162,7 @@ def _explore_partitioned(machine, workers, backend, state_props, step_props, dea
         from .cluster import RayBackend
         if recipe is None:
             raise ValueError("a Ray search needs a Recipe to rebuild the machine in its actors")
-        b = RayBackend(replace(recipe, expander=kind), workers, cluster or "local", memory_share, keep_graph)
+        b = RayBackend(replace(recipe, expander=kind, cn_k=cn_k), workers, cluster or "local", memory_share, keep_graph)
     else:
         raise ValueError(f"unknown backend {backend!r}")
     try:

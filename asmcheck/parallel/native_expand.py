@@ -34,6 +34,18 @@ class Refused(Exception):
     """The native expander cannot expand this spec (the one-line reason)."""
 
 
+class MoreSlots(Refused):
+    """A state holds more elements made by extend than the compiled code has slots for
+    (``cn_k`` per domain): the search can start again on code with more."""
+
+    def __init__(self, reason: str, cn_k: int):
+        super().__init__(reason)
+        self.cn_k = cn_k
+
+    def __reduce__(self):
+        return (MoreSlots, (str(self), self.cn_k))
+
+
 _u8p = ctypes.POINTER(ctypes.c_uint8)
 _u64p = ctypes.POINTER(ctypes.c_uint64)
 _i64p = ctypes.POINTER(ctypes.c_int64)
@@ -179,7 +191,7 @@ class NativeExpander:
 
     CAP = 256
 
-    def __init__(self, machine, state_props=(), step_props=(), deadlock=False):
+    def __init__(self, machine, state_props=(), step_props=(), deadlock=False, cn_k=None):
         from ..explore.native import NativeExplorer, Unsupported
         self.m = machine
         self.state_props = list(state_props)
@@ -187,6 +199,8 @@ class NativeExpander:
         self.deadlock = deadlock
         try:
             nx = NativeExplorer(machine, state_props=self.state_props, step_props=self.step_props, deadlock=deadlock)
+            if cn_k is not None and nx.gen.dyn and cn_k != nx.gen.cn_k:
+                self._more_slots(nx, cn_k)
         except Unsupported as e:
             raise Refused(str(e)) from None
         except RecursionError:
@@ -223,6 +237,25 @@ class NativeExpander:
         self._grow(self.CAP)
         self._sfail = (ctypes.c_uint8 * max(self.ninv, 1))()
         self._info = (ctypes.c_int64 * 4)()
+
+    @staticmethod
+    def _more_slots(nx, cn_k: int) -> None:
+        """The code again with ``cn_k`` element slots per extended domain (as the native search
+        does when it meets a state with more elements)."""
+        from ..explore import native_build
+        from ..explore.native import _SYMBOLS, Generator
+        old = nx.gen
+        gen = Generator(nx.m, nx.state_props)
+        gen.step_props = old.step_props
+        gen.invars = old.invars
+        gen.invar_pre = getattr(old, "invar_pre", False)
+        gen.label_atoms = getattr(old, "label_atoms", None)
+        gen.cn_k = cn_k
+        src = gen.generate()
+        dll = native_build.build(src, _SYMBOLS)
+        gen.codec.dll = dll
+        nx.gen, nx.dll = gen, dll
+        nx.compile_seconds += native_build.last_compile_seconds
 
     def _grow(self, cap: int) -> None:
         self.cap = cap
@@ -350,8 +383,14 @@ class NativeExpander:
                 break
             self._grow(self.cap * 4)
         if n == -2:
-            if self.gen.dyn and self.nx._canon_refusal():
-                raise Refused(f"more than {self.gen.cn_k} elements of a domain made by extend in one state")
+            from ..explore.native import Unsupported
+            try:
+                more = self.gen.dyn and self.nx._canon_refusal()
+            except Unsupported as e:
+                raise Refused(str(e)) from None
+            if more:
+                raise MoreSlots(f"more than {self.gen.cn_k} elements of a domain made by extend in one state",
+                                self.gen.cn_k)
             raise Refused(self._hard_error())
         res = Expansion()
         sfail = self._sfail

@@ -135,6 +135,7 @@ class Partition:
             out = [[] for _ in range(n)]
             report["stopped"] = "refused"
             report["refused"] = str(e)
+            report["slots"] = getattr(e, "cn_k", None)
         report["transitions"] = transitions
         report["rss"] = rss_bytes()
         # this partition's own successors stay here, unpickled; its slot travels empty

@@ -23,7 +23,7 @@ from array import array
 
 from ..explore.bfs import DEADLOCK, PseudoProperty, Result, Violation
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
-from .native_expand import Refused
+from .native_expand import MoreSlots, Refused
 from .partition import SHIFT, Partition
 
 
@@ -125,7 +125,8 @@ class PartitionedSearch:
                 self.peak_rss[w] = max(self.peak_rss[w], r.get("rss", 0))
             stopped = [r["stopped"] for r in reports if r["stopped"]]
             if "refused" in stopped:
-                raise Refused(next(r["refused"] for r in reports if r["stopped"] == "refused"))
+                r = next(r for r in reports if r["stopped"] == "refused")
+                raise Refused(r["refused"]) if r.get("slots") is None else MoreSlots(r["refused"], r["slots"])
             if "memory" in stopped:
                 w = next(w for w, r in enumerate(reports) if r["stopped"] == "memory")
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,
