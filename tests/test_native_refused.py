@@ -89,6 +89,38 @@ def test_chooseone_on_extended_elements_and_a_domain_holding_two_extended_ones(t
     assert len(v["trace"]) == 5
 
 
+ZED = """asm Zed
+
+import StandardLibrary
+
+signature:
+	dynamic abstract domain Zed
+	dynamic domain Abc subsetof Zed
+	static z0: Zed
+	controlled pool: Powerset(Zed)
+	controlled got: Zed
+
+definitions:
+
+	main rule r_main =
+		par
+			extend Abc with $a do pool := including(pool, $a)
+			if notEmpty(pool) then got := chooseone(pool) endif
+		endpar
+
+default init s0:
+	function pool = {z0}
+"""
+
+
+def test_chooseone_is_refused_where_codes_do_not_sort_as_the_python_engine_sorts(tmp_path):
+    # the Python engine puts Abc!1 (domain Abc) before z0 (domain Zed): the codes put every named
+    # element first, so chooseone on Powerset(Zed) is left to the Python engine
+    spec = check_file(write(tmp_path, ZED))
+    with pytest.raises(Unsupported, match=r"^chooseone on Powerset\(Zed\)$"):
+        NativeExplorer(Machine(spec, {}))
+
+
 ROSTER = """asm Roster
 
 import StandardLibrary
