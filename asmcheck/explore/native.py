@@ -2175,7 +2175,8 @@ class Generator:
                 f"if ({e} < 0) {{ {collect} {e} = mc_begin(c, m_{e}, key_{e}, {len(key)}, {n}, ca_{e}); "
                 f"if ({e} < 0) return; if ({n} > 0) {{ {outcomes} }} mc_commit(c, m_{e}, {e}, {len(key)}, ca_{e}); if (c->err) return; }} "
                 f"{{ int32_t no_{e} = m_{e}->onum[{e}]; if (no_{e} == 0) {{ {ifnone} }} else {{ int32_t o_{e} = m_{e}->ofirst[{e}] + "
-                f"(no_{e} > 1 ? choice(c, no_{e}) : 0); mc_apply(c, m_{e}, o_{e}); if (c->err) return; }} }} }}")
+                f"(no_{e} > 1 ? choice(c, no_{e}) : 0); int32_t at_{e} = c->nupd; if (c->pos - 1 < mc_skip_from || no_{e} < 2) mc_apply(c, m_{e}, o_{e}); if (c->err) return; "
+                f"if (no_{e} > 1 && c->seqstart < 0 && c->pos <= MAXCH) mc_note(c, m_{e}, {e}, o_{e}, at_{e}); }} }} }}")
 
     def choose_at_run_time(self, r, env):
         """A choose whose ranges are computed in the state (or from variables bound before): the
@@ -3198,6 +3199,7 @@ typedef struct {
     V *ucode;
     int32_t *oh, ohcap;              /* the outcomes of the key being computed, by hash: index + 1 */
     int32_t last;                    /* the entry found last */
+    uint32_t resets;                 /* how many times the entries were forgotten */
 } MChoose;
 
 static inline uint64_t mc_mix(uint64_t z) {
@@ -3224,7 +3226,7 @@ static inline int mc_same(const V *a, const V *b, int n) {
 static int32_t mc_find(Ctx *c, MChoose *m, const V *key, int klen) {
     if (m->epoch != c->epoch) {
         m->epoch = c->epoch;
-        m->nkeys = 0; m->nout = 0; m->nu = 0;
+        m->nkeys = 0; m->nout = 0; m->nu = 0; m->resets++;
         if (m->khcap) memset(m->kh, 0, (size_t)m->khcap * sizeof(int32_t));
         return -1;
     }
@@ -3244,7 +3246,7 @@ static int32_t mc_find(Ctx *c, MChoose *m, const V *key, int klen) {
 }
 /* a new entry for the key, before its outcomes (ncand candidates); -1 when out of memory */
 static int32_t mc_begin(Ctx *c, MChoose *m, const V *key, int klen, int ncand, int cached) {
-    if (!cached) { m->epoch = -1; m->nkeys = 0; m->nout = 0; m->nu = 0; }
+    if (!cached) { m->epoch = -1; m->nkeys = 0; m->nout = 0; m->nu = 0; m->resets++; }
     if (m->nkeys >= m->cap_keys) {
         int32_t nc = m->cap_keys ? 2 * m->cap_keys : 16;
         if (!mc_more((void **)&m->keys, (int64_t)nc * klen, sizeof(V)) || !mc_more((void **)&m->ofirst, nc, sizeof(int32_t))
@@ -3333,6 +3335,16 @@ static void mc_commit(Ctx *c, MChoose *m, int32_t e, int klen, int cached) {
         return;
     }
     mc_insert(m, e, klen);
+}
+/* The choice points of this run of the step that are merged chooses, with the alternative taken
+   and where its updates begin in the update buffer (see mc_tail in native_bfs.c). */
+#define MC_TAIL 1
+typedef struct { uint32_t gen; uint32_t resets; int64_t epoch; MChoose *m; int32_t e, o, at; } MPoint;
+static _Thread_local MPoint mc_pt[MAXCH];
+static _Thread_local int32_t mc_skip_from = MAXCH;   /* choice points from here on apply nothing */
+static inline void mc_note(Ctx *c, MChoose *m, int32_t e, int32_t o, int32_t at) {
+    MPoint *p = &mc_pt[c->pos - 1];
+    p->gen = c->gen; p->epoch = c->epoch; p->resets = m->resets; p->m = m; p->e = e; p->o = o; p->at = at;
 }
 /* the updates of outcome o join the step's */
 static void mc_apply(Ctx *c, MChoose *m, int32_t o) {
