@@ -357,3 +357,54 @@ def test_a_local_function_is_refused_with_the_reason(tmp_path):
     with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(the Python engine's local "
                                           r"functions share one location"):
         NativeExplorer(Machine(spec, {}))
+
+
+def _split_cases(seed: int, n: int = 40):
+    """``n`` regular expressions of the translated subset and texts to split, made from ``seed``
+    (texts and expressions written as AsmetaL string literals allow them: no quote, and a
+    backslash only before a backslash, n or t)."""
+    import random
+    import re
+    rnd = random.Random(seed)
+    atoms = ["a", "b", ",", " ", ".", "[ab]", "[^a]", "[a-c ]", "\\\\", "\\n", "\\t", "x", "^", "$", "\u00e9",
+             "[^,]", "[\\\\a]"]
+    quants = ["", "", "*", "+", "?", "{2}", "{1,3}", "{,2}", "*?", "??", "{2,}"]
+
+    def pattern(depth=0):
+        k = rnd.random()
+        if depth < 2 and k < 0.15:
+            return "(?:" + pattern(depth + 1) + "|" + pattern(depth + 1) + ")" + rnd.choice(["", "*", "+", "?", "{1,2}", "*?", "+?"])
+        if depth < 2 and k < 0.25:
+            return pattern(depth + 1) + "|" + pattern(depth + 1)
+        return "".join(rnd.choice(atoms) + rnd.choice(quants) for _ in range(rnd.randint(0, 3)))
+    cases = []
+    while len(cases) < n:
+        p = pattern()
+        try:
+            re.compile(p)
+        except re.error:
+            continue
+        if regex_program(p) is None:
+            continue
+        text = "".join(rnd.choice(["a", "b", ",", " ", "x", ".", "1", "\u00e9", "\\\\", "\\n"])
+                       for _ in range(rnd.randint(0, 9)))
+        cases.append((p, text))
+    return cases
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_split_by_generated_regular_expressions_gives_the_python_engines_parts(tmp_path, seed):
+    cases = _split_cases(seed)
+    sig = "\n".join(f"\tcontrolled s{i}: String\n\tcontrolled o{i}: Seq(String)" for i in range(len(cases)))
+    body = "\n".join(f'\t\t\to{i} := split(s{i}, "{p}")' for i, (p, _) in enumerate(cases))
+    init = "\n".join(f'\tfunction s{i} = "{t}"' for i, (_, t) in enumerate(cases))
+    text = (f"asm Splits\nimport StandardLibrary\nsignature:\n{sig}\ndefinitions:\n\tmain rule r_main =\n"
+            f"\t\tpar\n{body}\n\t\tendpar\ndefault init s0:\n{init}\n")
+    m = Machine(check_file(write(tmp_path, text)), {})
+    (want,) = [nxt for _, _, nxt, _ in m.successors(m.initial_state())]
+    nat = NativeExplorer(m)
+    try:
+        assert nat.run().states == 2
+        assert nat.state(1) == want
+    finally:
+        nat.close()
