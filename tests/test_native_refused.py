@@ -18,8 +18,8 @@ the ones written here.
   infinite domain), and Reals beside them: each entry is a location of the canonical form, with the
   Python engine's text (a Real's text is Python's repr of the double).
 
-Still refused, with the reason: a local function (the Python engine's local functions share one
-location, whose updates join the step's update set; not followed).
+Still refused, with the reason: a local function (a location of one call of its rule, which the
+native state has no slot for).
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
@@ -354,8 +354,8 @@ default init s0:
 
 def test_a_local_function_is_refused_with_the_reason(tmp_path):
     spec = check_file(write(tmp_path, LOCAL))
-    with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(the Python engine's local "
-                                          r"functions share one location"):
+    with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(a location of one call "
+                                          r"of its rule, which the native state has no slot for\)$"):
         NativeExplorer(Machine(spec, {}))
 
 
