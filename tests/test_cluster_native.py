@@ -404,3 +404,23 @@ def test_more_elements_made_by_extend_than_slots_start_again_with_more(write_spe
     ref = sequential(path, keep_graph=True)
     assert (ref["states"], ref["transitions"], ref["verdict"]) == (231, 441, "violated")
     assert native(path, 2, "processes", keep_graph=True) == ref
+
+
+LONG = """asm Long
+import StandardLibrary
+signature:
+	dynamic controlled n: Integer
+definitions:
+	invariant inv_n over n: n < 1500
+	main rule r_main = if n < 2000 then n := n + 1 endif
+default init s0:
+	function n = 0
+"""
+
+
+def test_a_trace_longer_than_the_recursion_limit(write_spec):
+    """A 1,500-step trace: the choices of its steps are found state by state, not recursively."""
+    path = write_spec(LONG)
+    ref = sequential(path)
+    assert (ref["states"], ref["violations"][0][:2]) == (1502, ("inv_n", 1500))
+    assert native(path, 2, "inline") == ref

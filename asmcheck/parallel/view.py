@@ -28,6 +28,8 @@ class _Lazy:
             sid += self.view.n_states
         if not 0 <= sid < self.view.n_states:
             raise IndexError(sid)
+        if self.col == 2:
+            return self.view._via(sid)
         return self.view._record(sid)[self.col]
 
 
@@ -100,10 +102,16 @@ class PartitionedExplorer(Explorer):
             w = self.search.owner[sid]
             key, par, picks, d = self.search.b.call(w, "fetch", [sid])[0]
             fz = self.layout.freeze(self.search.x.state_of(key))
-            if isinstance(picks, int):
-                picks = self.picks(par, picks, fz)
             r = self._cache[sid] = (fz, par, picks, d)
         return r
+
+    def _via(self, sid: int):
+        """The choices of the step to state ``sid`` (a position turned into choices here, once)."""
+        fz, par, picks, d = self._record(sid)
+        if isinstance(picks, int):
+            picks = self.picks(par, picks, fz)
+            self._cache[sid] = (fz, par, picks, d)
+        return picks
 
     def picks(self, src: int, position: int, target) -> tuple:
         """The choices of the step from state ``src`` to its successor at ``position``, which is the
