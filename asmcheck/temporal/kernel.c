@@ -139,7 +139,8 @@ int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, 
 }
 
 /* the same on a graph given by the caller: the successors of node v are the list of its class
- * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts */
+ * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts (null: every
+ * node of the mask, ascending) */
 int64_t kn_fair_graph(int64_t N, const int32_t *cls, const int32_t *off, const int32_t *adj, int64_t nroots,
                       const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just, int64_t nc,
                       const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
@@ -163,16 +164,18 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
     int64_t nfair = 0, counter = 0, nregions = 1;
     if (!index || !low || !region || !stack || !work || !wpos || !onstack || !badj) goto oom;
     for (int64_t v = 0; v < N; v++) { index[v] = -1; region[v] = (mask && !mask[v]) ? -1 : 0; comp[v] = -1; }
-    /* todo: pairs (region, first root position in roots, number of roots) */
-    for (int64_t i = 0; i < P_ninit; i++) if (!push32(&roots, &croots, i, P_init[i])) goto oom;
-    if (!push32(&todo, &ctodo, ntodo++, 0) || !push32(&todo, &ctodo, ntodo++, 0) ||
-        !push32(&todo, &ctodo, ntodo++, (int32_t)P_ninit)) goto oom;
-    int64_t nroots = P_ninit;
+    /* todo: triples (region, first root position in roots, number of roots); without P_init the
+       roots are every node, ascending (first position -1: no copy of them is made) */
+    if (P_init)
+        for (int64_t i = 0; i < P_ninit; i++) if (!push32(&roots, &croots, i, P_init[i])) goto oom;
+    if (!push32(&todo, &ctodo, ntodo++, 0) || !push32(&todo, &ctodo, ntodo++, P_init ? 0 : -1) ||
+        !push32(&todo, &ctodo, ntodo++, (int32_t)(P_init ? P_ninit : N))) goto oom;
+    int64_t nroots = P_init ? P_ninit : 0;
     while (ntodo > 0) {
         int32_t rn = todo[ntodo - 1], r0 = todo[ntodo - 2], reg = todo[ntodo - 3];
         ntodo -= 3;
-        for (int32_t ri = r0; ri < r0 + rn; ri++) {
-            int32_t r = roots[ri];
+        for (int32_t ri = 0; ri < rn; ri++) {
+            int32_t r = r0 < 0 ? ri : roots[r0 + ri];
             if (index[r] != -1 || region[r] != reg) continue;
             int64_t sp = 0, wp = 0;
             index[r] = low[r] = (int32_t)counter++;
