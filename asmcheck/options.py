@@ -7,6 +7,7 @@ import os
 import re
 
 from .errors import AsmError, UsageError
+from .explore.store import default_max_memory  # noqa: F401  (part of the options' API)
 
 # 64-bit integers, as the step function computes them
 LONG_MIN, LONG_MAX = -(1 << 63), (1 << 63) - 1
@@ -186,24 +187,6 @@ def monitored_ranges(machine, monitored: dict) -> dict:
                 seen.append(cv)
         out[name] = seen
     return out
-
-
-def default_max_memory() -> int | None:
-    """The memory bound a run has when none is given: three quarters of the physical memory,
-    or of the address-space limit when one is set and lower (None when neither is known)."""
-    limits = []
-    try:
-        limits.append(int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") * 0.75))
-    except (ValueError, OSError, AttributeError):
-        pass
-    try:
-        import resource
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-        if soft != resource.RLIM_INFINITY and soft > 0:
-            limits.append(int(soft * 0.75))
-    except (ImportError, ValueError, OSError):
-        pass
-    return min(limits) if limits else None
 
 
 def read_monitored(spec) -> list:

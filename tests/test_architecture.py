@@ -220,6 +220,8 @@ UNIT_BENCHMARKS = {"bench_canonical.py": {"asmcheck.explore"},
                                          "asmcheck.props.load", "asmcheck.semantics.resolve",
                                          # the native engine's threads, timed on one and two threads
                                          "asmcheck.explore.native"},
+                   # bench_cluster.py times the partitioned search apart from starting the actors
+                   "bench_cluster.py": {"asmcheck.explore.native", "asmcheck.parallel", "asmcheck.semantics.resolve"},
                    # bench_native.py --phases times the phases of one run (search, Kripke structure, LTL)
                    "bench_native.py": {"asmcheck.explore.bfs", "asmcheck.temporal", "asmcheck.temporal.ctl",
                                        "asmcheck.temporal.ltl", "asmcheck.explore"}}

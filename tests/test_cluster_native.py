@@ -216,7 +216,8 @@ def test_a_worker_over_its_memory_share_ends_with_a_partial_report(monkeypatch):
 
 def test_the_default_memory_share_divides_among_the_workers_of_one_machine():
     from asmcheck.options import default_max_memory
-    from asmcheck.parallel.run import PER_NODE, memory_share
+    from asmcheck.parallel.run import memory_share
+    from asmcheck.parallel.cluster import PER_NODE
     d = default_max_memory()
     assert memory_share(None, d, 4) == d // 4
     assert memory_share(None, None, 4) == d // 4
@@ -325,7 +326,7 @@ def test_actors_share_the_default_bound_of_their_node(ray_local):
     """8 actors on this one node: each may use an eighth of the node's default bound."""
     from asmcheck.options import default_max_memory
     from asmcheck.parallel.cluster import RayBackend
-    from asmcheck.parallel.run import PER_NODE
+    from asmcheck.parallel.cluster import PER_NODE
     b = RayBackend(Recipe(str(SPECS / "sb_async_master.asm"), expander="native"), 8, "local", PER_NODE)
     try:
         assert b.shares == [default_max_memory() // 8] * 8

@@ -3384,6 +3384,12 @@ _SYMBOLS = {
 }
 
 
+def build_library(src: str):
+    """The compiled library of the generated source ``src`` (from the cache when it is there),
+    with the argument and result types of the engine's entry points."""
+    return native_build.build(src, _SYMBOLS)
+
+
 # The C's variables that live as long as the library (``static``, not ``const``) and that the
 # threaded search (native_bfs.c, asm_run_par) shares knowingly: the search's tables, written by one
 # thread between the parallel phases or with atomic operations, and the value table, only read
@@ -3522,7 +3528,7 @@ class NativeExplorer:
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
         self.thread_unsafe = thread_unsafe(src)
-        self.dll = native_build.build(src, _SYMBOLS)
+        self.dll = build_library(src)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
@@ -3741,7 +3747,7 @@ class NativeExplorer:
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
         gen.cn_k = self.gen.cn_k * 2
         src = gen.generate()
-        dll = native_build.build(src, _SYMBOLS)
+        dll = build_library(src)
         gen.codec.dll = dll
         self.close()
         self.gen, self.dll = gen, dll

@@ -71,3 +71,21 @@ class Layout:
             if v is not None:
                 out[keys[i]] = None if v is UNDEF_MARK else v
         return out
+
+
+def default_max_memory() -> int | None:
+    """The memory bound a run has when none is given: three quarters of the physical memory,
+    or of the address-space limit when one is set and lower (None when neither is known)."""
+    limits = []
+    try:
+        limits.append(int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") * 0.75))
+    except (ValueError, OSError, AttributeError):
+        pass
+    try:
+        import resource
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            limits.append(int(soft * 0.75))
+    except (ImportError, ValueError, OSError):
+        pass
+    return min(limits) if limits else None

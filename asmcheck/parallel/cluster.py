@@ -25,6 +25,10 @@ NO_RAY = ("--cluster needs Ray, an optional extra: pip install 'asmcheck[cluster
 
 # the local instance's object store holds one level's batches: a fifth of the memory available,
 # from 96 MB to 1 GB (a level's batches beyond it are spilled to disk, which is slow)
+# the memory share of a Ray actor: the default bound of its node divided among the actors there
+PER_NODE = "per-node"
+
+
 def local_object_store() -> int:
     avail = 0
     try:
@@ -62,7 +66,7 @@ class _Owner:
     def node(self):
         """(this actor's node, the default memory bound of a process there)."""
         import ray
-        from ..options import default_max_memory
+        from ..explore.store import default_max_memory
         return ray.get_runtime_context().get_node_id(), default_max_memory()
 
     def set_memory_share(self, share):
@@ -149,7 +153,6 @@ class RayBackend:
         from ray.exceptions import RayError
         self.RayError = RayError
         Actor = ray.remote(num_cpus=0, max_restarts=0)(_Owner)
-        from .run import PER_NODE
         first = None if memory_share == PER_NODE else memory_share
         self.actors = [Actor.options(scheduling_strategy="SPREAD", name=None).remote(
             w, n, recipe, first, keep_graph) for w in range(n)]

@@ -243,7 +243,7 @@ class NativeExpander:
         """The code again with ``cn_k`` element slots per extended domain (as the native search
         does when it meets a state with more elements)."""
         from ..explore import native_build
-        from ..explore.native import _SYMBOLS, Generator
+        from ..explore.native import Generator, build_library
         old = nx.gen
         gen = Generator(nx.m, nx.state_props)
         gen.step_props = old.step_props
@@ -252,7 +252,7 @@ class NativeExpander:
         gen.label_atoms = getattr(old, "label_atoms", None)
         gen.cn_k = cn_k
         src = gen.generate()
-        dll = native_build.build(src, _SYMBOLS)
+        dll = build_library(src)
         gen.codec.dll = dll
         nx.gen, nx.dll = gen, dll
         nx.compile_seconds += native_build.last_compile_seconds

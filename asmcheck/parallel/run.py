@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..errors import UsageError
 from . import Recipe, explore_partitioned, parse_workers
+from .cluster import PER_NODE
 from .search import WorkerLost
 
 DEFAULT_WALKS = 32
@@ -40,7 +41,7 @@ def memory_share(worker_memory, max_memory, workers: int, cluster=None):
     physical memory, ``max_memory`` None or that default) shared by the workers on one machine:
     on this machine an equal share, on a Ray cluster :data:`PER_NODE` (each actor's share is
     worked out on its node: the node's default bound divided among the actors placed there)."""
-    from ..options import default_max_memory
+    from ..explore.store import default_max_memory
     if worker_memory is not None:
         if worker_memory <= 0:
             raise UsageError("--worker-memory expects a positive number of megabytes")
@@ -62,8 +63,6 @@ def memory_share(worker_memory, max_memory, workers: int, cluster=None):
     return None
 
 
-# the memory share of a Ray actor: the default bound of its node divided among the actors there
-PER_NODE = "per-node"
 
 
 def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bitstate=None, worker_memory=None,
