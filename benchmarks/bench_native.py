@@ -169,7 +169,28 @@ def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None)
             warm["compile_seconds"] = row["compile_seconds"]
         warm["cold_wall"] = row["wall"]
         row = warm
+    if row.get("states"):
+        row.update(search_loop(path, extra, engine, max_seconds, env))
     return row
+
+
+def search_loop(path, extra, engine, max_seconds, env) -> dict:
+    """The seconds of the search loop alone (``NativeExplorer.run`` or ``Explorer.run``, measured
+    in process by ``--phases``) and the rates over it: what the explore phase costs beyond it
+    (code generation or the cache lookup, INVAR and property set-up, LTL/CTL, traces) is a fixed
+    cost that dominates small models."""
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--phases", str(path), "--engine", engine, "--",
+           "--max-seconds", str(max_seconds), *extra]
+    r = measure(cmd, timeout=max_seconds + 30, env=env)
+    try:
+        res = json.loads(r["stdout"])
+    except ValueError:
+        return {}
+    ph = res.get("phases", {})
+    loop = ph.get("search (native)") if res.get("engine") == "native" else ph.get("search (python)")
+    if not loop or res.get("transitions") is None:
+        return {}
+    return {"loop_seconds": round(loop, 4), "loop_transitions_per_s": round(res["transitions"] / max(loop, 1e-6))}
 
 
 def _row(name, path, extra, r) -> dict:
@@ -192,6 +213,7 @@ def _row(name, path, extra, r) -> dict:
 
 
 MIN_TIMED = 0.01             # rates of searches shorter than this (s) are not shown: the clock says little
+MIN_LOOP_TIMED = 0.002      # the same for the search loop alone (timed in process)
 MIN_STATES_MEMORY = 1000     # bytes/state of smaller models is mostly the interpreter: not shown
 
 
@@ -201,24 +223,29 @@ def markdown(rows, meta) -> str:
              f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
              "Rates are per second of the explore phase (the JSON's seconds; shown from 0.01 s); bytes/state is peak memory above "
              "the baseline per state (shown from 1,000 states); compile s is the cold run's compile time, "
-             "the row itself the warm run (cache filled).", "",
+             "the row itself the warm run (cache filled).  The loop columns time the search loop alone "
+             f"(measured in process; the twin's loop: {meta.get('twin_loop_tps', 0):,.0f} transitions/s): the rest of "
+             "the explore phase is the fixed cost of code generation or the cache lookup, property set-up and LTL/CTL.", "",
              "| model | engine | verdict | states | transitions | wall s | explore s | compile s (cold wall) | states/s | "
-             "transitions/s | × twin | peak MB | bytes/state |",
-             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "transitions/s | × twin | loop s | loop transitions/s | × twin's loop | peak MB | bytes/state |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         if "states" not in r:
-            lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | "
+            lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | | | | "
                          f"{r['peak_mb']:.0f} | |")
             continue
         timed = (r.get("search") or 0) >= MIN_TIMED
         rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
         ratio = f"{r['ratio']:.3f}" if timed else "-"
+        loop_timed = (r.get("loop_seconds") or 0) >= MIN_LOOP_TIMED
+        loop = (f"{r['loop_seconds']:.3f} | {r['loop_transitions_per_s']:,} | {r.get('loop_ratio', float('nan')):.3f}"
+                if loop_timed else f"{r.get('loop_seconds') or 0:.3f} | - | -" if r.get("loop_seconds") else "- | - | -")
         bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
         comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = (r.get("verdict") or "-") + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states'] or 0:,} | {r['transitions'] or 0:,} | "
                      f"{r['wall']:.2f} | {r['search'] or 0:.2f} | {comp} | {rate(r['states_per_s'])} | "
-                     f"{rate(r['transitions_per_s'])} | {ratio} | {r['peak_mb']:.0f} | {bps} |")
+                     f"{rate(r['transitions_per_s'])} | {ratio} | {loop} | {r['peak_mb']:.0f} | {bps} |")
     return "\n".join(lines) + "\n"
 
 
@@ -312,12 +339,14 @@ def main(argv=None):
               file=sys.stderr, flush=True)
     twin = next((r for r in rows if r["role"] == "twin" and r.get("transitions_per_s")), None)
     twin_tps = twin["transitions_per_s"] if twin else 0
+    twin_loop = twin.get("loop_transitions_per_s", 0) if twin else 0
     for r in rows:
         r["ratio"] = (r.get("transitions_per_s", 0) / twin_tps) if twin_tps else float("nan")
+        r["loop_ratio"] = (r.get("loop_transitions_per_s", 0) / twin_loop) if twin_loop else float("nan")
     meta = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "mode": "quick" if args.quick else "full", "engine": args.engine,
             "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-            "twin_tps": twin_tps, "baseline_mb": base["rss"] / 2 ** 20, "max_seconds": max_seconds}
+            "twin_tps": twin_tps, "twin_loop_tps": twin_loop, "baseline_mb": base["rss"] / 2 ** 20, "max_seconds": max_seconds}
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     stem = f"bench_native-{time.strftime('%Y%m%d-%H%M', time.gmtime())}{'-quick' if args.quick else ''}"

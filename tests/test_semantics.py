@@ -5,6 +5,7 @@ from asmcheck.errors import AsmRuntimeError, InconsistentUpdate
 from asmcheck.semantics.machine import RandomChooser
 
 from helpers import machine, run, spec, successor_views, view
+from asmcheck.semantics.printer import location_text
 
 pytestmark = pytest.mark.engines("none")
 
@@ -210,3 +211,49 @@ def test_random_simulation_is_reproducible(tmp_path):
     a = run(m, 3, lambda: RandomChooser(7))
     b = run(m, 3, lambda: RandomChooser(7))
     assert a == b
+
+
+def test_two_local_functions_are_two_locations(tmp_path):
+    # each local function has its own number: x and y do not share one location
+    m = machine(tmp_path, spec("\tcontrolled a: Integer\n\tcontrolled b: Integer",
+                               "\trule r_two =\n\t\tlocal x : Integer [ x := 1 ]\n\t\tlocal y : Integer [ y := 2 ]\n"
+                               "\t\tpar\n\t\t\ta := x\n\t\t\tb := y\n\t\tendpar\n\tmain rule r_main = r_two[]",
+                               "\tfunction a = 0\n\tfunction b = 0"))
+    assert run(m) == {"a": "1", "b": "2"}
+
+
+def test_updates_of_a_local_function_stay_in_its_rule(tmp_path):
+    # x := 7 is made within the local rule (a reads the initial 1, in parallel) and is not a
+    # location of the next state
+    m = machine(tmp_path, spec("\tcontrolled a: Integer",
+                               "\trule r_one =\n\t\tlocal x : Integer [ x := 1 ]\n"
+                               "\t\tpar\n\t\t\tx := 7\n\t\t\ta := x\n\t\tendpar\n\tmain rule r_main = r_one[]",
+                               "\tfunction a = 0"))
+    st = m.initial_state()
+    (log, ups, nxt, mon), = m.successors(st)
+    assert nxt == {k: v for k, v in nxt.items() if location_text(m, k) == "a"}
+    assert view(m, nxt) == {"a": "1"}
+
+
+def test_a_recursive_turbo_rule_has_its_own_local_per_call(tmp_path):
+    # the factorial of 5 through a local x per call (an inner call's x := ... is not the outer's)
+    m = machine(tmp_path, spec("\tcontrolled valore: Integer\n\tcontrolled fact: Integer",
+                               "\tturbo rule r_fact($n in Integer) in Integer =\n"
+                               "\t\tlocal x : Integer [ x := 1 ]\n"
+                               "\t\tif $n = 1 then result := 1\n"
+                               "\t\telse seq\n\t\t\tx <- r_fact($n - 1)\n\t\t\tresult := $n * x\n\t\tendseq endif\n"
+                               "\tmain rule r_main = fact <- r_fact(valore)",
+                               "\tfunction valore = 5\n\tfunction fact = 0"))
+    out = run(m)
+    assert (out["valore"], out["fact"]) == ("5", "120")
+    assert "x" not in out
+
+
+def test_an_inconsistent_update_of_a_local_function_names_it(tmp_path):
+    m = machine(tmp_path, spec("\tcontrolled a: Integer",
+                               "\trule r_one =\n\t\tlocal x : Integer [ x := 1 ]\n"
+                               "\t\tpar\n\t\t\tx := 7\n\t\t\tx := 8\n\t\tendpar\n\tmain rule r_main = r_one[]",
+                               "\tfunction a = 0"))
+    with pytest.raises(InconsistentUpdate) as info:
+        run(m)
+    assert info.value.message == "inconsistent update of x: 7 and 8"

@@ -354,6 +354,9 @@ class Spec:
     self_func: Function | None = None
     result_func: Function | None = None
     scope: object = None
+    # functions declared by `local` rules: numbered after ``functions``; they hold values only
+    # within the step that runs the rule, never in a state
+    local_functions: list[Function] = field(default_factory=list)
 
     @property
     def default_init(self) -> InitState | None:

@@ -52,7 +52,7 @@ class Machine(TermEvaluator, RuleExecutor):
         self.deadline = self.options.get("deadline")
         self._ticks = 0
         self.functions = spec.functions
-        self.fname = [f.name for f in spec.functions]
+        self.fname = [f.name for f in spec.functions] + [f.name for f in spec.local_functions]
         self._static_cache: dict = {}
         self._domain_cache: dict = {}
         self._abstract_cache: dict = {}

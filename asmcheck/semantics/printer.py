@@ -87,6 +87,8 @@ def printable(machine, key) -> bool:
     if is_dom_key(key):
         return False
     fidx = key if type(key) is int else key[0]
+    if fidx >= len(machine.functions):
+        return False                   # a local function's location (within a step only)
     f = machine.functions[fidx]
     return f.kind in ("controlled", "out") and f is not machine.spec.self_func
 

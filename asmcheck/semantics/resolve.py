@@ -97,6 +97,7 @@ class Module:
         self.functions: list[ir.Function] = []
         self.domains: list[T.Type] = []
         self.rules: list[ir.RuleDecl] = []
+        self.local_functions: list[ir.Function] = []   # declared by `local` rules, numbered after the table
         self.resolved = False
 
 
@@ -919,6 +920,7 @@ class Resolver:
             dt = self.type_of(d.domain)
             domain = list(dt.args) if isinstance(dt, T.Struct) and dt.kind == "Prod" else [dt]
         func = ir.Function(d.name, "local", domain, self.type_of(d.codomain), self.mod.name, d.span)
+        self.mod.local_functions.append(func)
         saved = self.scope
         self.scope = _LocalScope(self.scope, d.name, func)
         try:
@@ -1266,6 +1268,10 @@ def _load_spec_now(path: str) -> ir.Spec:
     functions = loader.std.functions + functions
     for i, f in enumerate(functions):
         f.index = i
+    # each local function has its own number after the table, so its locations are its own
+    local_functions = [f for m in mods for f in m.local_functions]
+    for i, f in enumerate(local_functions, len(functions)):
+        f.index = i
     main = None
     if syn.main is not None:
         main = next(r for r in root.rules if r.name == syn.main.name and len(r.params) == len(syn.main.params))
@@ -1287,6 +1293,7 @@ def _load_spec_now(path: str) -> ir.Spec:
                    props, [m.path for m in mods], static_elements, loader.std.functions[0], loader.std.functions[1],
                    root.scope)
     spec.is_module = syn.is_module
+    spec.local_functions = local_functions
     spec.loader = loader
     spec.root_module = root
     return spec

@@ -626,6 +626,8 @@ class RuleExecutor:
         body = self.rule(r.body)
         machine = self
 
+        fidx = r.func.index
+
         def local(ctx, ups):
             saved = ctx.st
             work = dict(saved)
@@ -634,9 +636,14 @@ class RuleExecutor:
                 sub = UpdateSet()
                 init(ctx, sub)
                 apply_in_place(work, sub, machine.keep_undef)
-                body(ctx, ups)
+                inner = UpdateSet()
+                body(ctx, inner)
             finally:
                 ctx.st = saved
+            # the local function lives within this rule only: its updates stay here
+            for k in [k for k in inner.locs if (k if type(k) is int else k[0]) == fidx]:
+                del inner.locs[k]
+            ups.merge_par(inner, machine)
         return local
 
 
