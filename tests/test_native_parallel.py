@@ -353,12 +353,12 @@ def test_three_barriers_a_chunk_and_nothing_walked_when_nothing_needs_recording(
     assert (r.states, r.transitions) == (38403, 111252)
     chunks = st["parallel_chunks"]
     assert chunks > 300 and st["serial_chunks"] == 0 and st["walked_chunks"] == 0
-    # the table grows inside chunks (the threads meet twice more each time)
-    assert st["table_growths"] >= 1
-    # three barriers a chunk, two a growth, and a few more where thread 0 takes over (small levels
-    # on one thread, the end of a slice)
-    extra = st["barriers"] - 3 * chunks - 2 * st["table_growths"]
-    assert 0 < extra < 60, st
+    # the table grows inside chunks (the threads meet three to five times more each time)
+    growths = st["table_growths"]
+    assert growths >= 1
+    # three barriers a chunk, and a few more where thread 0 takes over (small levels on one
+    # thread, the end of a slice)
+    assert 3 * chunks + 3 * growths < st["barriers"] < 3 * chunks + 5 * growths + 60, st
     # a violation: the chunks where something is recorded are walked by thread 0 in order
     bug = twin(tmp_path, 15, 32, bug=True)
     r, st = stats_of(bug, 2)

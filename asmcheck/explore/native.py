@@ -2788,7 +2788,7 @@ _SYMBOLS = {
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
-    interrupted stop_all W C nworkers bar_n spin_seconds ptime chunk_new chunk_trans
+    interrupted stop_all W C nworkers bar_n spin_seconds ptime chunk_new chunk_trans newtab newmask
     cn_reason cn_reason_dom cn_search cn_ws
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"

@@ -947,31 +947,62 @@ static void set_lim(int64_t nstates_now, int nt) {
     C.lim = a < b ? a : b;
 }
 
-/* room for `need` more successors: a bigger table (provisional entries included) and arena */
-static int grow_room(int64_t nstates_now, int64_t need, int nt) {
+/* room for `need` more successors: a bigger arena, and a bigger table (provisional entries
+   included), filled by every thread at once (rehash_part, then grow_finish) */
+static uint64_t *newtab = 0, newmask = 0;
+
+static int grow_plan(int64_t nstates_now, int64_t need, int nt) {
     if (!grow_arena(need + nt + 1)) return 0;
     uint64_t ncap = tmask + 1;
     while ((nstates_now + need + 1) * 4 > (int64_t)ncap * 3) ncap *= 2;
     if (ncap != tmask + 1) {
-        uint64_t *nt_ = (uint64_t *)malloc(ncap * sizeof(uint64_t));
-        if (!nt_) return 0;
-        memset(nt_, 0xff, ncap * sizeof(uint64_t));
-        uint64_t nmask = ncap - 1, *old = (uint64_t *)table;
-        for (uint64_t h = 0; h <= tmask; h++) {
-            uint64_t e = old[h];
-            if (e == EMPTY) continue;
-            uint32_t id = (uint32_t)e;
-            const uint64_t *wd = (id & PROV) ? C.aw + (int64_t)(id & ~PROV) * NWORDS : states + (int64_t)id * NWORDS;
-            uint64_t g = hash_state(wd) & nmask;
-            while (nt_[g] != EMPTY) g = (g + 1) & nmask;
-            nt_[g] = e;
-            if (id & PROV) C.aslot[id & ~PROV] = (int64_t)g;
+        newtab = (uint64_t *)malloc(ncap * sizeof(uint64_t));
+        if (!newtab) return 0;
+        newmask = ncap - 1;
+    }
+    return 1;
+}
+
+/* thread t of nt: part 0 empties its share of the new table, part 1 enters its share of the old
+   table's entries in it */
+static void rehash_part(int t, int nt, int part) {
+    if (part == 0) {
+        uint64_t lo = (newmask + 1) * t / nt, hi = (newmask + 1) * (t + 1) / nt;
+        memset(newtab + lo, 0xff, (hi - lo) * sizeof(uint64_t));
+        return;
+    }
+    uint64_t *old = (uint64_t *)table, lo = (tmask + 1) * t / nt, hi = (tmask + 1) * (t + 1) / nt;
+    for (uint64_t h = lo; h < hi; h++) {
+        uint64_t e = old[h];
+        if (e == EMPTY) continue;
+        uint32_t id = (uint32_t)e;
+        const uint64_t *wd = (id & PROV) ? C.aw + (int64_t)(id & ~PROV) * NWORDS : states + (int64_t)id * NWORDS;
+        uint64_t g = hash_state(wd) & newmask;
+        for (;;) {
+            uint64_t x = EMPTY;
+            if (__atomic_load_n(&newtab[g], __ATOMIC_RELAXED) == EMPTY &&
+                __atomic_compare_exchange_n(&newtab[g], &x, e, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) break;
+            g = (g + 1) & newmask;
         }
+        if (id & PROV) C.aslot[id & ~PROV] = (int64_t)g;
+    }
+}
+
+static void grow_finish(int64_t nstates_now, int nt) {
+    if (newtab) {
         free(table);
-        table = (Entry *)nt_;
-        tmask = nmask;
+        table = (Entry *)newtab;
+        tmask = newmask;
+        newtab = 0;
     }
     set_lim(nstates_now, nt);
+}
+
+/* the same on this thread alone */
+static int grow_room(int64_t nstates_now, int64_t need, int nt) {
+    if (!grow_plan(nstates_now, need, nt)) return 0;
+    if (newtab) { rehash_part(0, 1, 0); rehash_part(0, 1, 1); }
+    grow_finish(nstates_now, nt);
     return 1;
 }
 
@@ -1055,12 +1086,22 @@ static int chunk_par(int t, Plan *pl, int *sense) {
         if (t == 0) {
             int64_t need = C.reserved;
             for (int u = 0; u < nt; u++) if (W[u].blk >= 0) need += W[u].ncand - W[u].bq0;
-            if (!grow_room(pl->nstates, 2 * need + 1024, nt)) C.failed_seq = pl->chunkno;
-            C.grow = 0;
+            if (!grow_plan(pl->nstates, 2 * need + 1024, nt)) C.failed_seq = pl->chunkno;
             ptime[9] += 1;
         }
         barrier(w, sense);
         if (C.failed_seq == pl->chunkno) return CH_ABORT;
+        if (newtab) {             /* a bigger table: the threads fill it */
+            rehash_part(t, nt, 0);
+            barrier(w, sense);
+            rehash_part(t, nt, 1);
+            barrier(w, sense);
+        }
+        if (t == 0) {
+            grow_finish(pl->nstates, nt);
+            C.grow = 0;
+        }
+        barrier(w, sense);
     }
     int64_t an = C.an;
     if (t == 0 && (pl->nstates + an >= (int64_t)PROV || !grow_states(pl->nstates + an))) C.failed_seq = pl->chunkno;
