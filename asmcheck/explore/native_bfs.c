@@ -572,6 +572,7 @@ int64_t asm_memory_bytes(void) { return memory_bytes(nstates); }
 #define MAXBLOCKS (CHUNK_STATES / 8 + 1)
 #define PROV 0x80000000u
 #define EMPTY 0xffffffffffffffffULL
+#define ARENA_BATCH 64           /* arena positions a thread takes at once */
 
 typedef struct {
     Ctx *c;
@@ -582,14 +583,14 @@ typedef struct {
     int64_t *ref;
     int64_t ncand, cap_cand, cap_cw;
     int64_t blk, bq0;             /* the block expanded and waiting for room (-1: none), its first successor */
-    int64_t spare;                /* an arena position taken and not used yet (-1: none) */
+    int64_t spare, spare_end;     /* arena positions taken and not used yet */
     int64_t epoch, epoch_end;     /* numbers of expansions (choose caches), taken from global_epoch */
     int64_t events;               /* states of the chunk with something to record */
     int irregular, timeout;
     V lo[2][NSLOTS > 0 ? NSLOTS : 1], hi[2][NSLOTS > 0 ? NSLOTS : 1];   /* wide slots, by chunk parity */
     double spin, wait, cpu;       /* seconds spinning and waiting at barriers, CPU seconds */
     int64_t waits, sleeps;
-} Worker;
+} __attribute__((aligned(64))) Worker;
 
 static Worker W[MAXTHREADS];
 static int nworkers = 0;
@@ -785,9 +786,10 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
             for (;;) {
                 uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
                 if (e == EMPTY) {
-                    if (w->spare < 0) {
-                        w->spare = __atomic_fetch_add(&C.an, 1, __ATOMIC_RELAXED);
-                        C.aslot[w->spare] = -1;
+                    if (w->spare >= w->spare_end) {       /* ARENA_BATCH positions more */
+                        w->spare = __atomic_fetch_add(&C.an, ARENA_BATCH, __ATOMIC_RELAXED);
+                        w->spare_end = w->spare + ARENA_BATCH;
+                        for (int64_t x = w->spare; x < w->spare_end; x++) C.aslot[x] = -1;
                     }
                     int64_t p = w->spare;
                     memcpy(C.aw + p * NWORDS, cw, NWORDS * sizeof(uint64_t));
@@ -795,7 +797,7 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
                     uint64_t mine = ((uint64_t)fp << 32) | (PROV | (uint32_t)p);
                     if (__atomic_compare_exchange_n(&tab[h], &e, mine, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) {
                         C.aslot[p] = (int64_t)h;
-                        w->spare = -1;
+                        w->spare++;
                         w->ref[q] = -1 - p;
                         nnew++;
                         break;
@@ -941,9 +943,9 @@ static int grow_arena(int64_t n) {
 }
 
 /* the room for successors reserved in phase 1: the table at most 3/4 full, an arena position
-   for each (and a spare one a thread) */
+   for each (and the positions a thread took and has not used yet) */
 static void set_lim(int64_t nstates_now, int nt) {
-    int64_t a = (int64_t)(tmask + 1) * 3 / 4 - nstates_now, b = C.acap - nt - 1;
+    int64_t a = (int64_t)(tmask + 1) * 3 / 4 - nstates_now, b = C.acap - (int64_t)nt * ARENA_BATCH - 1;
     C.lim = a < b ? a : b;
 }
 
@@ -952,7 +954,7 @@ static void set_lim(int64_t nstates_now, int nt) {
 static uint64_t *newtab = 0, newmask = 0;
 
 static int grow_plan(int64_t nstates_now, int64_t need, int nt) {
-    if (!grow_arena(need + nt + 1)) return 0;
+    if (!grow_arena(need + (int64_t)nt * ARENA_BATCH + 1)) return 0;
     uint64_t ncap = tmask + 1;
     while ((nstates_now + need + 1) * 4 > (int64_t)ncap * 3) ncap *= 2;
     if (ncap != tmask + 1) {
@@ -1075,7 +1077,7 @@ static int chunk_par(int t, Plan *pl, int *sense) {
     w->events = 0;
     w->irregular = w->timeout = 0;
     w->blk = -1;
-    w->spare = -1;
+    w->spare = w->spare_end = 0;
     vt_missed = 0;
     for (;;) {
         phase_expand(w, pl);
