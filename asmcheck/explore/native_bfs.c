@@ -596,8 +596,12 @@ static Worker W[MAXTHREADS];
 static int nworkers = 0;
 
 /* the chunk: counters the threads share (atomic), the arena of new states, blocks, states */
+#define LINE __attribute__((aligned(64)))    /* a cache line of its own: written by every thread */
 typedef struct {
-    int64_t next_block, an, reserved, lim;
+    LINE int64_t next_block;
+    LINE int64_t an;
+    LINE int64_t reserved;
+    LINE int64_t lim;
     uint64_t *aw, *akey;          /* arena: words, least discovery key */
     int64_t *aslot, *anum;        /* its table entry (-1: none), its number */
     int64_t acap;
