@@ -390,3 +390,22 @@ def test_a_time_limit_stops_at_the_end_of_a_chunk_with_the_states_numbered_as_on
         full.dll.asm_state(i, wa)
         part.dll.asm_state(i, wb)
         assert list(wa) == list(wb)
+
+
+def test_levels_cut_into_chunks_give_the_same_numbers_parents_and_edges(tmp_path, monkeypatch):
+    # a level of more states than a chunk holds (65,536; here 37) is expanded chunk after chunk:
+    # the new states of a chunk are numbered after those of the chunks before it
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    monkeypatch.setenv("ASMCHECK_THREAD_MAX_CHUNK", "37")
+    path = twin(tmp_path, 15, 32)
+    one = explore(path, 1, keep_graph=True)
+    assert one[0] == ("holds", 38403, 111252, 426, "", [])
+    for n in (2, 3, 8):
+        assert explore(path, n, keep_graph=True) == one
+        assert explore(path, n) == explore(path, 1)
+    cut = explore(path, 1, max_states=20000, deadlock=True)
+    assert cut[0][1] == 20000
+    for n in (2, 8):
+        assert explore(path, n, max_states=20000, deadlock=True) == cut
+    r, st = stats_of(path, 2)
+    assert r.states == 38403 and st["parallel_chunks"] > 38403 // 37 and st["serial_chunks"] == 0

@@ -2772,6 +2772,7 @@ _SYMBOLS = {
     "asm_memory_bytes": (_i64, []),
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
     "asm_par_min_chunk": (None, [_i64]),
+    "asm_par_max_chunk": (None, [_i64]),
     "asm_par_adapt": (None, [_i64]),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
@@ -2788,7 +2789,7 @@ _SYMBOLS = {
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
-    interrupted stop_all W C nworkers bar_n spin_seconds ptime chunk_new chunk_trans newtab newmask
+    interrupted stop_all W C nworkers bar_n spin_seconds ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
@@ -3008,6 +3009,8 @@ class NativeExplorer:
         self.dll.asm_limit_memory(self._table_bound())
         # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
         self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
+        # and of more states split (ASMCHECK_THREAD_MAX_CHUNK: tests; at most 65,536)
+        self.dll.asm_par_max_chunk(int(os.environ.get("ASMCHECK_THREAD_MAX_CHUNK", "65536") or 65536))
         self.dll.asm_par_adapt(1 if self.adapt else 0)
         if self.workers > 1 and self.thread_unsafe:
             msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "

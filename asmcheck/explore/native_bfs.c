@@ -1033,13 +1033,17 @@ static int chunk_alloc(void) {
     return grow_arena(4096);
 }
 
+/* chunks of at most this many states (CHUNK_STATES; tests use fewer) */
+static int64_t max_chunk = CHUNK_STATES;
+void asm_par_max_chunk(int64_t n) { max_chunk = n < 1 ? 1 : n > CHUNK_STATES ? CHUNK_STATES : n; }
+
 /* the next chunk, from the plan alone (every thread works it out alike): 1 when it runs on the
    threads, 0 when thread 0 takes over (the search ends, or the chunk is small: one thread) */
 static int plan_next(Plan *pl, int nt) {
     if (pl->c0 >= pl->nstates) return 0;
     if (pl->c0 == pl->level_end) { pl->depth++; pl->level_end = pl->nstates; }
     int64_t c1 = pl->level_end;
-    if (c1 - pl->c0 > CHUNK_STATES) c1 = pl->c0 + CHUNK_STATES;
+    if (c1 - pl->c0 > max_chunk) c1 = pl->c0 + max_chunk;
     if (c1 - pl->c0 < P.min_chunk * nt || pl->serial_skip > 0) return 0;
     pl->c1 = c1;
     int64_t n = c1 - pl->c0, bs = (n + 32 * nt - 1) / (32 * nt);
@@ -1351,7 +1355,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         Plan pl = { S.sid, 0, S.level_end, S.depth, nstates, C.seqnext, 0, 0, P.serial_skip, 0 };
         int on_threads = plan_next(&pl, nt);
         S.depth = pl.depth; S.level_end = pl.level_end;
-        int64_t c1 = pl.level_end < pl.c0 + CHUNK_STATES ? pl.level_end : pl.c0 + CHUNK_STATES;
+        int64_t c1 = pl.level_end < pl.c0 + max_chunk ? pl.level_end : pl.c0 + max_chunk;
         int skipped = P.serial_skip > 0;     /* a chunk of a stretch that needed one thread */
         if (on_threads) {
             set_lim(nstates, nt);
