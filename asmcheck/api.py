@@ -509,8 +509,6 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
-            if graph:
-                raise Unsupported("--graph writes every step with its choices")
             try:
                 ex = NativeExplorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                     deadlock=deadlock, state_props=state_props, step_props=step_props,
@@ -522,6 +520,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:
                 result = ex.run()
+                if graph:
+                    # every step with its choices, checked against the native edges (else the Python engine)
+                    if result.verdict == "incomplete":
+                        raise Unsupported("--graph on a search that stopped before its end")
+                    ex.graph_edges()
             except KeyboardInterrupt as exc:
                 interrupted = True
                 result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],

@@ -37,16 +37,18 @@ def test_python_engine_on_request_says_nothing_of_native(capsys):
     assert "native engine not used" not in out
 
 
+@needs_cc
 def test_fallback_gives_its_reason_in_text_and_json(capsys, tmp_path):
-    code, out = explore(capsys, "--graph", str(tmp_path / "g.dot"))
-    assert code == 0
+    # the native engine writes --graph after a complete search only
+    code, out = explore(capsys, "--max-states", "5", "--graph", str(tmp_path / "g.dot"))
+    assert code == 3
     lines = out.splitlines()
     assert lines[0].endswith(" s, python engine")
-    assert lines[1] == "  (native engine not used: --graph writes every step with its choices)"
-    code, out = explore(capsys, "--graph", str(tmp_path / "h.dot"), "--format", "json")
+    assert lines[1] == "  (native engine not used: --graph on a search that stopped before its end)"
+    code, out = explore(capsys, "--max-states", "5", "--graph", str(tmp_path / "h.dot"), "--format", "json")
     doc = json.loads(out)
     assert doc["engine"] == "python"
-    assert doc["engine_note"] == "native engine not used: --graph writes every step with its choices"
+    assert doc["engine_note"] == "native engine not used: --graph on a search that stopped before its end"
     assert doc["compile_seconds"] == 0.0
 
 

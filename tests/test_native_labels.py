@@ -194,10 +194,15 @@ def test_step_atoms_pairs(tmp_path):
     mon = [a for a in atoms.items if a.monitored]
     assert [a.text for a in mon] == ["b", "not b"]
     tf, ft = (True, False), (False, True)
-    assert ex.step_atoms(mon, bytearray(b"\x01\x01")) == [(0, 1, ft), (0, 1, tf), (1, 0, ft), (1, 0, tf)]
-    assert ex.step_atoms(mon, bytearray(b"\x00\x01")) == [(1, 0, ft), (1, 0, tf)]
+
+    def triples(items, ok):
+        # three arrays: sources, targets, the atoms' values as bits (bit k: atom k)
+        src, dst, bits = ex.step_atoms(items, ok)
+        return [(s, d, tuple(bool(b >> k & 1) for k in range(len(items)))) for s, d, b in zip(src, dst, bits)]
+    assert triples(mon, bytearray(b"\x01\x01")) == [(0, 1, ft), (0, 1, tf), (1, 0, ft), (1, 0, tf)]
+    assert triples(mon, bytearray(b"\x00\x01")) == [(1, 0, ft), (1, 0, tf)]
     # b is read by the step (False first, as the monitored values are enumerated)
-    assert ex.step_atoms(mon[:1], bytearray(b"\x01\x00")) == [(0, 1, (False,)), (0, 1, (True,))]
+    assert triples(mon[:1], bytearray(b"\x01\x00")) == [(0, 1, (False,)), (0, 1, (True,))]
 
 
 MONUNREAD = """asm monunread

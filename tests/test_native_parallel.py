@@ -198,14 +198,19 @@ def test_workers_with_engine_native_and_what_stays_python(tmp_path):
     code, lines = text(path, "--engine", "native", workers=2)
     assert code == 0 and lines[0] == "swing_T7_K16.asm: 5,571 states, 14,404 transitions, depth 218, native engine, " \
                                      "2 workers"
-    # what the native engine refuses (here --graph): the partitioned search on the Python step
-    # function, with the same graph as one worker
-    one_dot, two_dot = tmp_path / "one.dot", tmp_path / "two.dot"
+    # --graph on the threads: the same report and the same graph as one worker
+    one_dot, two_dot, py_dot = tmp_path / "one.dot", tmp_path / "two.dot", tmp_path / "py.dot"
     code1, one = report(path, "--graph", one_dot, workers=1)
     code, doc = report(path, "--graph", two_dot, workers=2)
-    assert doc["engine"] == "python" and doc.pop("workers") == 2
-    assert doc["engine_note"] == "native engine not used: --graph writes every step with its choices"
+    assert one["engine"] == doc["engine"] == "native" and doc.pop("workers") == 2
     assert (code, doc) == (code1, one) and two_dot.read_text() == one_dot.read_text()
+    # the partitioned search on the Python step function (--engine python): the same counts,
+    # verdicts and graph
+    code, doc = report(path, "--graph", py_dot, "--engine", "python", workers=2)
+    assert doc["engine"] == "python" and doc.pop("workers") == 2
+    assert code == code1 and py_dot.read_text() == one_dot.read_text()
+    assert {k: doc[k] for k in ("states", "transitions", "depth", "verdict", "properties")} == \
+        {k: one[k] for k in ("states", "transitions", "depth", "verdict", "properties")}
 
 
 def test_code_that_keeps_state_in_shared_variables_runs_on_one_thread(tmp_path):

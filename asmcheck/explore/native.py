@@ -419,8 +419,21 @@ class Generator:
             if r in (T.INTEGER, T.NATURAL, T.REAL) or self.composite(f.codomain):
                 return None
             if isinstance(r, T.Struct) and r.kind == "Rule":
-                return None      # a rule value: its code is stored (a wide slot)
+                return self.rule_slot_values()
             raise
+
+    def rule_slot_values(self):
+        """The values a location of a rule codomain can hold: the rules written as values in the
+        spec (a rule value is made only by ``<<r>>``; another one, an agent's program, is refused
+        by the codec), so that the slot is narrow; None (a wide slot holding the code) when the spec
+        writes none."""
+        rules = self.referenced_rules()
+        if not rules:
+            return None
+        vals = [RuleValue(rd) for rd in rules]
+        for v in vals:
+            self.codec.to_c(v)
+        return vals
 
     def composite(self, typ) -> bool:
         """A sequence or tuple type over types the native search encodes."""
@@ -1968,6 +1981,8 @@ class Generator:
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {body} }} if (c->err) return; " + "}" * len(heads) + " }")
 
     def r_Choose(self, r, env):
+        if self.mergeable(r, env):
+            return self.choose_merged(r, env)
         try:
             for _, rg in r.bindings:
                 self.range_values(rg)
@@ -2033,6 +2048,93 @@ class Generator:
         pick = " ".join(f"V {bound[j]} = {cand}[{i} * {k} + {j}];" for j in range(k))
         store = " ".join(f"{cand}[{n} * {k} + {j}] = {names[j]};" for j in range(k))
         return body, ifnone, pick, store
+
+    # -------------------------------------------------------------- choose, merged by effect
+    MERGE_RULES = (ir.Skip, ir.Update, ir.Block, ir.If, ir.SwitchRule, ir.LetRule, ir.Forall, ir.CallRule)
+
+    def mergeable(self, r, env) -> bool:
+        """Can the choose ``r`` be translated as the Python engine enumerates it: one alternative
+        per distinct effect of its body (``choose_merged``)?  Its body must make no choice (no
+        choose, monitored read or rule value: its effect is then its update set alone), update only
+        locations whose codes are equal exactly when the values are (no Real, no value of type
+        Any, no map of locations) and change nothing but the update set (no extend, no update of a
+        variable, no turbo return, no loop); no variable in scope may be passed by name."""
+        if not getattr(self.m, "dedupe", True):
+            return False
+        if any(isinstance(v, ByName) or not isinstance(v, str) for v in env.values()):
+            return False
+        if self.makes_choices(r.body):
+            return False
+        seen = set()
+        todo = [r.body]
+        while todo:
+            x = todo.pop()
+            if not isinstance(x, self.MERGE_RULES):
+                return False
+            if isinstance(x, ir.Update):
+                f = x.func
+                if (f.index not in self.fn_base or f.index in self.map_slot or self.any_slot(f)
+                        or f is self.spec.result_func or _holds_real(f.codomain)):
+                    return False
+            elif isinstance(x, ir.CallRule):
+                if x.rule not in seen:
+                    seen.add(x.rule)
+                    todo.append(x.rule.body)
+            elif isinstance(x, ir.Block):
+                todo.extend(x.rules)
+            elif isinstance(x, ir.If):
+                todo.extend(y for y in (x.then, x.other) if y is not None)
+            elif isinstance(x, ir.SwitchRule):
+                todo.extend(b for _, b in x.cases)
+                if x.other is not None:
+                    todo.append(x.other)
+            elif isinstance(x, (ir.LetRule, ir.Forall)):
+                todo.append(x.body)
+        return True
+
+    def choose_merged(self, r, env):
+        """A choose whose alternatives are its body's distinct effects, in the order first met,
+        as the Python engine enumerates them: the body runs once per candidate with its updates
+        kept apart (MChoose in _MERGE_C), and the step chooses among the distinct update sets.
+        Outside seq blocks the outcomes depend only on the state, the variables in scope and self
+        (when the guard and the ranges read no monitored function): they are computed once per
+        expanded state and key, and reused by every later run of the step from that state."""
+        if "mchoose" not in self.defined_done:
+            self.defined_done.add("mchoose")
+            self.funcs.append(_MERGE_C)
+        env2 = dict(env)
+        heads = []
+        names = []
+        for v, rg in r.bindings:
+            q, name = self.fresh("q"), self.fresh("x")
+            heads.append(self.loop_head(rg, env2, name, q, False))
+            env2[v.uid] = name
+            names.append(name)
+        k = len(names)
+        mc, cand, cap, n, g, i, e = (self.fresh(x) for x in ("mc", "cand", "cap", "n", "g", "i", "e"))
+        guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
+        body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
+        cacheable = not (r.guard is not None and self.makes_choices(r.guard)) and \
+            not any(self.makes_choices(rg) for _, rg in r.bindings)
+        key = list(dict.fromkeys(env.values())) + ["c->self"]
+        grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+                f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
+                f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
+        collect = (f"int {n} = 0; " + " ".join(heads) +
+                   f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
+                   f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
+        outcomes = (f"int32_t mk_{e} = c->nupd, st_{e} = c->curstep, ss_{e} = c->seqstart; "
+                    f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = ++c->stepctr; c->seqstart = -1; "
+                    f"{{ {pick} {body} }} if (c->err) return; c->curstep = st_{e}; c->seqstart = ss_{e}; "
+                    f"if (!mc_outcome(c, m_{e}, {e}, mk_{e})) return; }}")
+        return ("{ " + f"static _Thread_local MChoose {mc}; static _Thread_local V *{cand} = 0; "
+                f"static _Thread_local int {cap} = 0; MChoose *m_{e} = &{mc}; V key_{e}[{len(key)}] = {{{', '.join(key)}}}; "
+                f"int ca_{e} = {1 if cacheable else 0} && c->seqstart < 0; "
+                f"int32_t {e} = ca_{e} ? mc_find(c, m_{e}, key_{e}, {len(key)}) : -1; "
+                f"if ({e} < 0) {{ {collect} {e} = mc_begin(c, m_{e}, key_{e}, {len(key)}, {n}, ca_{e}); "
+                f"if ({e} < 0) return; if ({n} > 0) {{ {outcomes} }} mc_commit(c, m_{e}, {e}, {len(key)}, ca_{e}); if (c->err) return; }} "
+                f"{{ int32_t no_{e} = m_{e}->onum[{e}]; if (no_{e} == 0) {{ {ifnone} }} else {{ int32_t o_{e} = m_{e}->ofirst[{e}] + "
+                f"(no_{e} > 1 ? choice(c, no_{e}) : 0); mc_apply(c, m_{e}, o_{e}); if (c->err) return; }} }} }}")
 
     def choose_at_run_time(self, r, env):
         """A choose whose ranges are computed in the state (or from variables bound before): the
@@ -2748,6 +2850,179 @@ def _has_extend(rule) -> bool:
     return False
 
 
+def _holds_real(typ) -> bool:
+    """Is a value of ``typ`` a Real or made of Reals somewhere (or of a type not known here)?"""
+    if typ is None:
+        return True
+    r = T.root(typ) if isinstance(typ, T.Domain) else typ
+    if isinstance(r, T.Struct):
+        return any(_holds_real(a) for a in r.args)
+    return r is T.REAL or r is T.COMPLEX or (isinstance(r, T.Domain) and r.kind == "any")
+
+
+# The run-time part of the merged choose (Generator.choose_merged), emitted once in a model that
+# has one.  Per choose site, for each key (the values of the variables in scope and self) met in
+# the state being expanded (epoch): the distinct update sets of the body over the candidates, in
+# the order first met, each a run of (slot, code) pairs sorted by slot in one pool.
+_MERGE_C = r"""/* a choose whose alternatives with the same effect are one (see Generator.choose_merged) */
+typedef struct {
+    int64_t epoch;                   /* the state the keys belong to */
+    int32_t nkeys, cap_keys;
+    V *keys;                         /* klen values per key */
+    int32_t *ofirst, *onum;          /* key -> its first outcome, their number (0: no candidate) */
+    int32_t *kh, khcap;              /* keys by hash: index + 1 (0: empty) */
+    int32_t nout, cap_out;
+    int32_t *ustart, *ulen;          /* outcome -> its updates in the pool */
+    uint64_t *uhash;
+    int32_t nu, cap_u;
+    int32_t *uslot;
+    V *ucode;
+    int32_t *oh, ohcap;              /* the outcomes of the key being computed, by hash: index + 1 */
+    int32_t last;                    /* the entry found last */
+} MChoose;
+
+static inline uint64_t mc_mix(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+static uint64_t mc_hash(const V *k, int n) {
+    uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (int i = 0; i < n; i++) h = mc_mix(h ^ (uint64_t)k[i]);
+    return h;
+}
+static int mc_more(void **p, int64_t n, size_t sz) {
+    void *q = realloc(*p, (size_t)(n > 0 ? n : 1) * sz);
+    if (!q) return 0;
+    *p = q;
+    return 1;
+}
+static inline int mc_same(const V *a, const V *b, int n) {
+    for (int i = 0; i < n; i++) if (a[i] != b[i]) return 0;
+    return 1;
+}
+/* the key's entry computed in this state, or -1 (a new state forgets the entries) */
+static int32_t mc_find(Ctx *c, MChoose *m, const V *key, int klen) {
+    if (m->epoch != c->epoch) {
+        m->epoch = c->epoch;
+        m->nkeys = 0; m->nout = 0; m->nu = 0;
+        if (m->khcap) memset(m->kh, 0, (size_t)m->khcap * sizeof(int32_t));
+        return -1;
+    }
+    if (!m->khcap) return -1;
+    /* the runs of a step from one state mostly meet the keys in the same order: the one after
+       the key found last, or the first, is tried before the hash */
+    int32_t g = m->last + 1 < m->nkeys ? m->last + 1 : 0;
+    if (g < m->nkeys && mc_same(m->keys + (int64_t)g * klen, key, klen)) { m->last = g; return g; }
+    uint64_t msk = (uint64_t)m->khcap - 1;
+    uint64_t h = mc_hash(key, klen) & msk;
+    while (m->kh[h]) {
+        int32_t e = m->kh[h] - 1;
+        if (mc_same(m->keys + (int64_t)e * klen, key, klen)) { m->last = e; return e; }
+        h = (h + 1) & msk;
+    }
+    return -1;
+}
+/* a new entry for the key, before its outcomes (ncand candidates); -1 when out of memory */
+static int32_t mc_begin(Ctx *c, MChoose *m, const V *key, int klen, int ncand, int cached) {
+    if (!cached) { m->epoch = -1; m->nkeys = 0; m->nout = 0; m->nu = 0; }
+    if (m->nkeys >= m->cap_keys) {
+        int32_t nc = m->cap_keys ? 2 * m->cap_keys : 16;
+        if (!mc_more((void **)&m->keys, (int64_t)nc * klen, sizeof(V)) || !mc_more((void **)&m->ofirst, nc, sizeof(int32_t))
+            || !mc_more((void **)&m->onum, nc, sizeof(int32_t))) { fail(c, E_MEMORY, 0); return -1; }
+        m->cap_keys = nc;
+    }
+    int32_t need = 16;
+    while (need < 2 * ncand) need *= 2;
+    if (need > m->ohcap) {
+        if (!mc_more((void **)&m->oh, need, sizeof(int32_t))) { fail(c, E_MEMORY, 0); return -1; }
+        m->ohcap = need;
+    }
+    memset(m->oh, 0, (size_t)m->ohcap * sizeof(int32_t));
+    int32_t e = m->nkeys++;
+    memcpy(m->keys + (int64_t)e * klen, key, (size_t)klen * sizeof(V));
+    m->ofirst[e] = m->nout;
+    m->onum[e] = 0;
+    m->last = e;
+    return e;
+}
+/* the updates the body made since mark: an outcome of entry e unless one has the same, then
+   taken back (the body ran with its own seq step, so each of its updates has its entry) */
+static int mc_outcome(Ctx *c, MChoose *m, int32_t e, int32_t mark) {
+    int32_t nu = c->nupd - mark;
+    if (m->nu + nu > m->cap_u) {
+        int32_t nc = m->cap_u ? m->cap_u : 64;
+        while (nc < m->nu + nu) nc *= 2;
+        if (!mc_more((void **)&m->uslot, nc, sizeof(int32_t)) || !mc_more((void **)&m->ucode, nc, sizeof(V))) {
+            fail(c, E_MEMORY, 0); return 0;
+        }
+        m->cap_u = nc;
+    }
+    int32_t at = m->nu;
+    int32_t *us = m->uslot + at;
+    V *uc = m->ucode + at;
+    for (int32_t i = 0; i < nu; i++) {            /* sorted by slot (a slot has one update) */
+        int32_t s = c->upd_slot[mark + i];
+        V v = c->upd_code[mark + i];
+        int32_t j = i;
+        while (j > 0 && us[j - 1] > s) { us[j] = us[j - 1]; uc[j] = uc[j - 1]; j--; }
+        us[j] = s; uc[j] = v;
+    }
+    for (int32_t i = c->nupd - 1; i >= mark; i--) {
+        int32_t s = c->upd_slot[i];
+        if (c->uprev[i] >= 0) c->wpos[s] = c->uprev[i]; else c->wgen[s] = c->gen - 1;
+    }
+    c->nupd = mark;
+    uint64_t h = 0x51afd7ed558ccd6dULL ^ (uint64_t)nu;
+    for (int32_t i = 0; i < nu; i++) h = mc_mix(h ^ mc_mix((uint64_t)us[i] ^ ((uint64_t)uc[i] << 21) ^ (uint64_t)uc[i]));
+    uint64_t msk = (uint64_t)m->ohcap - 1, p = h & msk;
+    while (m->oh[p]) {
+        int32_t o = m->oh[p] - 1;
+        if (m->uhash[o] == h && m->ulen[o] == nu && memcmp(m->uslot + m->ustart[o], us, (size_t)nu * sizeof(int32_t)) == 0
+            && memcmp(m->ucode + m->ustart[o], uc, (size_t)nu * sizeof(V)) == 0) return 1;
+        p = (p + 1) & msk;
+    }
+    if (m->nout >= m->cap_out) {
+        int32_t nc = m->cap_out ? 2 * m->cap_out : 64;
+        if (!mc_more((void **)&m->ustart, nc, sizeof(int32_t)) || !mc_more((void **)&m->ulen, nc, sizeof(int32_t))
+            || !mc_more((void **)&m->uhash, nc, sizeof(uint64_t))) { fail(c, E_MEMORY, 0); return 0; }
+        m->cap_out = nc;
+    }
+    int32_t o = m->nout++;
+    m->ustart[o] = at; m->ulen[o] = nu; m->uhash[o] = h;
+    m->nu += nu;
+    m->onum[e]++;
+    m->oh[p] = o + 1;
+    return 1;
+}
+/* the entry's outcomes are complete: findable from now on (when cached) */
+static void mc_insert(MChoose *m, int32_t e, int klen) {
+    uint64_t msk = (uint64_t)m->khcap - 1;
+    uint64_t h = mc_hash(m->keys + (int64_t)e * klen, klen) & msk;
+    while (m->kh[h]) h = (h + 1) & msk;
+    m->kh[h] = e + 1;
+}
+static void mc_commit(Ctx *c, MChoose *m, int32_t e, int klen, int cached) {
+    if (!cached) return;
+    if (2 * m->nkeys > m->khcap) {
+        int32_t nc = m->khcap ? 2 * m->khcap : 32;
+        while (nc < 2 * m->nkeys) nc *= 2;
+        if (!mc_more((void **)&m->kh, nc, sizeof(int32_t))) { fail(c, E_MEMORY, 0); return; }
+        m->khcap = nc;
+        memset(m->kh, 0, (size_t)nc * sizeof(int32_t));
+        for (int32_t x = 0; x < m->nkeys; x++) mc_insert(m, x, klen);
+        return;
+    }
+    mc_insert(m, e, klen);
+}
+/* the updates of outcome o join the step's */
+static void mc_apply(Ctx *c, MChoose *m, int32_t o) {
+    int32_t a = m->ustart[o], n = m->ulen[o];
+    for (int32_t i = 0; i < n && !c->err; i++) upd(c, m->uslot[a + i], m->ucode[a + i], 0);
+}
+"""
+
+
 # ----------------------------------------------------------------- compile and load
 _i64, _f64 = ctypes.c_int64, ctypes.c_double
 _u64p, _i64p, _u32p = ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_int64), ctypes.POINTER(ctypes.c_uint32)
@@ -2759,6 +3034,7 @@ _SYMBOLS = {
     "asm_find": (_i64, [_u64p]),
     "asm_parents": (None, [_i64p]),
     "asm_edges": (None, [_u32p, _u32p]),
+    "asm_edges_drop": (None, []),
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
     "asm_err_code": (_i64, []),
@@ -2791,6 +3067,7 @@ _SHARED_STATICS = frozenset("""
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     interrupted stop_all W C nworkers bar_n spin_seconds ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
+    succ_set succ_cap succ_stamp
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
@@ -3063,12 +3340,7 @@ class NativeExplorer:
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
         if self.keep_graph:
-            n = out[9]
-            src = (ctypes.c_uint32 * max(n, 1))()
-            dst = (ctypes.c_uint32 * max(n, 1))()
-            self.dll.asm_edges(src, dst)
-            self.edge_src = array("q", src[:n])
-            self.edge_dst = array("q", dst[:n])
+            self._take_edges(out[9])
         violations = []
         for i in range(out[7]):
             k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
@@ -3109,6 +3381,17 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         return res
+
+    def _take_edges(self, n: int) -> None:
+        """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed."""
+        src = array("I", bytes(4 * max(n, 1)))
+        dst = array("I", bytes(4 * max(n, 1)))
+        self.dll.asm_edges((ctypes.c_uint32 * len(src)).from_buffer(src), (ctypes.c_uint32 * len(dst)).from_buffer(dst))
+        del src[n:], dst[n:]
+        self.edge_src, self.edge_dst = src, dst
+        drop = getattr(self.dll, "asm_edges_drop", None)
+        if drop is not None:
+            drop()
 
     def _canon_refusal(self) -> None:
         """Raise the reason the search stopped on elements made by extend, if it did."""
@@ -3226,6 +3509,62 @@ class NativeExplorer:
     def edges(self):
         return _NativeEdges(self)
 
+    # -------------------------------------------------------------- the graph a person reads (--graph)
+    @property
+    def depth_of(self) -> array:
+        """The depth of every explored state (a parent is numbered before its children)."""
+        got = getattr(self, "_depth_of", None)
+        if got is None or len(got) != self.nstates:
+            parent = self.parent
+            got = array("l", bytes(array("l").itemsize * self.nstates))
+            for s in range(self.nstates):
+                p = parent[s]
+                got[s] = 0 if p < 0 else got[p] + 1
+            self._depth_of = got
+        return got
+
+    def graph_edges(self) -> list:
+        """Every step between explored states as the Python explorer records it for --graph:
+        (source, target, choices) for every sequence of choices the step function enumerates from
+        each state (several per pair of states when different choices lead to the same state),
+        sources ascending, in the step function's order.  The step function enumerates the steps;
+        the native edge arrays say where each must lead (Unsupported when they disagree, or a step
+        fails: then the Python engine writes the graph)."""
+        got = getattr(self, "_graph_edges", None)
+        if got is not None:
+            return got
+        from .bfs import Explorer
+        py = Explorer(self.m)       # its admitted_successors: the INVAR constraints, canonical names
+        src_a, dst_a = self.edge_arrays()
+        out: list = []
+        e = 0
+        ne = len(src_a)
+        for src in range(self.nstates):
+            want = set()
+            while e < ne and src_a[e] == src:
+                want.add(dst_a[e])
+                e += 1
+            failed: list = []
+            try:
+                succ = py.admitted_successors(self.state(src), failed)
+            except AsmError as exc:
+                raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated ({exc.message})") from None
+            if failed:
+                raise Unsupported(f"--graph: a step from state {src} fails")
+            got_dst = set()
+            for picks, _ups, _raw, nxt, _mon in succ:
+                dst = self.find(nxt)
+                if dst is None:
+                    raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
+                got_dst.add(dst)
+                out.append((src, dst, picks))
+            if got_dst != want:
+                raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        if e != ne:
+            raise Unsupported("--graph: the native edges are not ordered by source")
+        self._graph_edges = out
+        return out
+
     def state_labels(self, items):
         """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
         compiled code: a list of bytearrays (1 where the atom is true, undef counts as false), or
@@ -3251,9 +3590,9 @@ class NativeExplorer:
         return out
 
     def step_atoms(self, items, ok_state):
-        """For the CTL structure whose nodes are steps: (src, dst, vector of the atoms ``items``)
-        for every step between stored states, each triple once, in the order of the Python step
-        function's enumeration -- the atoms (which read monitored functions) evaluated in src with
+        """For the CTL structure whose nodes are steps: three arrays (src, dst, bits of the atoms
+        ``items``: bit k is atom k) for every step between stored states, each triple once, in the
+        order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
         index = getattr(self, "_label_index", None)
@@ -3269,30 +3608,25 @@ class NativeExplorer:
         if not ks or len(ks) > 64:
             return None
         karr = (ctypes.c_int64 * len(ks))(*ks)
-        out_recs = []
-        vecs: dict = {}
+        rs, rd, rv = array("I"), array("i"), array("B" if len(ks) <= 8 else "q")
         cap = 1024
-        buf = (ctypes.c_int64 * (2 * cap))()
+        buf = array("q", bytes(16 * cap))
         nk = len(ks)
         for src in range(self.nstates):
             if not ok_state[src]:
                 continue
             while True:
-                n = self.dll.asm_step_atoms(src, karr, nk, buf, cap)
+                n = self.dll.asm_step_atoms(src, karr, nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
                 if n != -2:
                     break
                 cap *= 4
-                buf = (ctypes.c_int64 * (2 * cap))()
+                buf = array("q", bytes(16 * cap))
             if n < 0:
                 return None
-            flat = buf[:2 * n]
-            for r in range(0, 2 * n, 2):
-                vec = flat[r + 1]
-                t = vecs.get(vec)
-                if t is None:
-                    t = vecs[vec] = tuple(bool(vec >> k & 1) for k in range(nk))
-                out_recs.append((src, flat[r], t))
-        return out_recs
+            rd.extend(buf[0:2 * n:2].tolist())
+            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
+            rs.extend(array("I", [src]) * n)
+        return rs, rd, rv
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""

@@ -334,6 +334,37 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
     }
 }
 
+/* The distinct successors of the state being expanded (a transition is a pair of states): a set
+   of state numbers by open addressing, emptied in O(1) per state by a new stamp. */
+static uint64_t *succ_set = 0;
+static int64_t succ_cap = 0;
+static uint32_t succ_stamp = 0;
+static int succ_reset(int64_t n) {
+    if (2 * n > succ_cap) {
+        int64_t nc = succ_cap ? succ_cap : 1024;
+        while (nc < 2 * n) nc *= 2;
+        uint64_t *x = (uint64_t *)realloc(succ_set, (size_t)nc * sizeof(uint64_t));
+        if (!x) return 0;
+        succ_set = x;
+        succ_cap = nc;
+        memset(succ_set, 0, (size_t)nc * sizeof(uint64_t));
+        succ_stamp = 0;
+    }
+    if (++succ_stamp == 0) { memset(succ_set, 0, (size_t)succ_cap * sizeof(uint64_t)); succ_stamp = 1; }
+    return 1;
+}
+/* 1 the first time tid is met since succ_reset */
+static inline int succ_first(int64_t tid) {
+    uint64_t msk = (uint64_t)succ_cap - 1, h = mix64((uint64_t)tid) & msk;
+    uint64_t want = ((uint64_t)succ_stamp << 32) | (uint32_t)tid;
+    for (;;) {
+        uint64_t x = succ_set[h];
+        if ((uint32_t)(x >> 32) != succ_stamp) { succ_set[h] = want; return 1; }
+        if (x == want) return 0;
+        h = (h + 1) & msk;
+    }
+}
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
     /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
@@ -343,7 +374,6 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
     sigemptyset(&sa.sa_mask);
     interrupted = 0;
     sigaction(SIGINT, &sa, &old);
-    int64_t succ_ids[4096];
     double ts = now_seconds();
     int status = S.status == -1 ? 0 : S.status;
     if (S.status != -1) goto done;
@@ -394,8 +424,8 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         }
         int64_t nbuf = sb0.n;
         const uint64_t *sbuf = sb0.w, *smask = sb0.m;
-        int nsucc = 0;
         int only_self = 1;
+        if (!succ_reset(nbuf)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
@@ -405,10 +435,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
                 note_range(wb, S.depth + 1);
             }
-            int seen = 0;
-            for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
-            if (!seen) {
-                if (nsucc < 4096) succ_ids[nsucc++] = tid;
+            if (succ_first(tid)) {
                 S.transitions++;
                 if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; goto finish; }
             }
@@ -473,6 +500,12 @@ int64_t asm_words(void) { return NWORDS; }
 void asm_edges(uint32_t *src, uint32_t *dst) {
     memcpy(src, S.esrc, S.nedges * sizeof(uint32_t));
     memcpy(dst, S.edst, S.nedges * sizeof(uint32_t));
+}
+
+/* the edges, once copied out at the end of the search, are not needed here any more */
+void asm_edges_drop(void) {
+    free(S.esrc); free(S.edst);
+    S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
 }
 
 /* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set) */
@@ -590,6 +623,9 @@ typedef struct {
     V lo[2][NSLOTS > 0 ? NSLOTS : 1], hi[2][NSLOTS > 0 ? NSLOTS : 1];   /* wide slots, by chunk parity */
     double spin, wait, cpu;       /* seconds spinning and waiting at barriers, CPU seconds */
     int64_t waits, sleeps;
+    uint64_t *sset;               /* the successors of one state told apart (wset_first) */
+    int64_t scap;
+    uint32_t sstamp;
 } __attribute__((aligned(64))) Worker;
 
 static Worker W[MAXTHREADS];
@@ -765,7 +801,34 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
     return 1;
 }
 
-/* phase 1, insertion of block i's successors: 0 when there is no room (the block waits) */
+/* a thread's set of the successors of one state (as succ_reset, succ_first) */
+static int wset_reset(Worker *w, int64_t n) {
+    if (2 * n > w->scap) {
+        int64_t nc = w->scap ? w->scap : 1024;
+        while (nc < 2 * n) nc *= 2;
+        uint64_t *x = (uint64_t *)realloc(w->sset, (size_t)nc * sizeof(uint64_t));
+        if (!x) return 0;
+        w->sset = x;
+        w->scap = nc;
+        memset(w->sset, 0, (size_t)nc * sizeof(uint64_t));
+        w->sstamp = 0;
+    }
+    if (++w->sstamp == 0) { memset(w->sset, 0, (size_t)w->scap * sizeof(uint64_t)); w->sstamp = 1; }
+    return 1;
+}
+static inline int wset_first(Worker *w, int64_t tid) {
+    uint64_t msk = (uint64_t)w->scap - 1, h = mix64((uint64_t)tid) & msk;
+    uint64_t want = ((uint64_t)w->sstamp << 32) | (uint32_t)tid;
+    for (;;) {
+        uint64_t x = w->sset[h];
+        if ((uint32_t)(x >> 32) != w->sstamp) { w->sset[h] = want; return 1; }
+        if (x == want) return 0;
+        h = (h + 1) & msk;
+    }
+}
+
+/* phase 1, insertion of block i's successors: 1 done, 0 when there is no room (the block
+   waits), -1 out of memory */
 static int insert_block(Worker *w, const Plan *pl, int64_t i) {
     int64_t n = w->ncand - w->bq0;
     int64_t r = __atomic_fetch_add(&C.reserved, n, __ATOMIC_RELAXED);
@@ -827,19 +890,18 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
                 h = (h + 1) & tmask;
             }
         }
-        /* as asm_run: the distinct successors (the first 4096 told apart), a deadlock, the step
-           properties */
-        int64_t succ_ids[4096];
-        int nsucc = 0, only_self = 1;
+        /* as asm_run: the distinct successors (a few compared with those before, more in the
+           thread's set), a deadlock, the step properties */
+        int only_self = 1, few = q1 - q0 <= 16;
         uint64_t bad = 0;
+        if (!few && !wset_reset(w, q1 - q0)) { w->irregular = 1; return -1; }
         for (int64_t q = q0; q < q1; q++) {
             int64_t tid = w->ref[q];
-            int seen = 0;
-            for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
-            if (!seen) {
-                if (nsucc < 4096) succ_ids[nsucc++] = tid;
-                trans++;
-            }
+            if (few) {
+                int seen = 0;
+                for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
+                trans += !seen;
+            } else trans += wset_first(w, tid);
             if (tid != sid) only_self = 0;
             bad |= w->cm[2 * q];
         }
@@ -860,7 +922,9 @@ static void phase_expand(Worker *w, const Plan *pl) {
             if (!expand_block(w, pl, i)) { C.abort_seq = pl->chunkno; return; }
             w->blk = i;
         }
-        if (!insert_block(w, pl, w->blk)) { C.grow = 1; return; }
+        int r = insert_block(w, pl, w->blk);
+        if (r < 0) { C.abort_seq = pl->chunkno; return; }
+        if (r == 0) { C.grow = 1; return; }
         w->blk = -1;
     }
 }
@@ -1206,7 +1270,6 @@ static void fill_out(int64_t *out, int status) {
    with. */
 static int walk_chunk(const Plan *pl, int64_t n0) {
     int64_t run_n = n0;
-    int64_t succ_ids[4096];
     int nprops = NINV + NSTEP + (S.deadlock ? 1 : 0);
     for (int64_t sid = pl->c0; sid < pl->c1; sid++) {
         int64_t li = sid - pl->c0;
@@ -1223,9 +1286,9 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             S.step_failed = 1;
             continue;
         }
-        int nsucc = 0;
         int only_self = 1;
         int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
+        if (!succ_reset(q1 - q0)) return 5;
         for (int64_t q = q0; q < q1; q++) {
             int64_t tid = w->ref[q];
             if (tid < 0) tid = C.anum[-1 - tid];
@@ -1234,10 +1297,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
                 if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
                 note_range(states + tid * NWORDS, S.depth + 1);
             }
-            int seen = 0;
-            for (int j = 0; j < nsucc; j++) if (succ_ids[j] == tid) { seen = 1; break; }
-            if (!seen) {
-                if (nsucc < 4096) succ_ids[nsucc++] = tid;
+            if (succ_first(tid)) {
                 S.transitions++;
                 if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; break; }
             }

@@ -47,11 +47,14 @@ def state_graph(explorer, highlight=None):
     g = nx.MultiDiGraph()
     m = explorer.m
     chooses = ChooseIndex(m.spec)
-    for sid in range(len(explorer.frozen)):
+    depth_of, parent = explorer.depth_of, explorer.parent
+    for sid in range(explorer.n_states):
         st = explorer.state(sid)
-        g.add_node(sid, label="\n".join(state_lines(m, st)), depth=int(explorer.depth_of[sid]),
-                   initial=explorer.parent[sid] == -1, counterexample=sid in states)
-    for i, (src, dst, picks) in enumerate(explorer.edges):
+        g.add_node(sid, label="\n".join(state_lines(m, st)), depth=int(depth_of[sid]),
+                   initial=parent[sid] == -1, counterexample=sid in states)
+    # an engine whose edge arrays hold each pair of states once gives every step apart
+    every = getattr(explorer, "graph_edges", None)
+    for i, (src, dst, picks) in enumerate(every() if every is not None else explorer.edges):
         g.add_edge(src, dst, key=f"e{i}", choices=edge_label(m, explorer.state(src), picks, chooses),
                    counterexample=(src, dst) in steps)
     return g

@@ -60,6 +60,10 @@ class CTL:
     def _ex(self, s: bytearray) -> bytearray:
         K = self.K
         g = b_and(s, self.fair)
+        from . import kernel
+        y = kernel.ex(K, g)
+        if y is not None:
+            return y
         cls_ok = bytearray(len(K.cls_succ))
         for c, lst in enumerate(K.cls_succ):
             for w in lst:
@@ -102,13 +106,25 @@ class CTL:
             self._fair_sccs_cache[key] = r
         return r
 
-    def _eg(self, s: bytearray) -> bytearray:
-        comps = self.fair_sccs(s)
+    def fair_mask(self, s: bytearray) -> bytearray:
+        """The nodes of the fair components of the subgraph of ``s``."""
+        key = bytes(s)
+        r = self._fair_sccs_cache.get(key)
+        if r is None:
+            from . import kernel
+            got = kernel.fair_comp(self.K, s, self.justice, self.compassion)
+            if got is not None:
+                # the components as lists only when a path through one is shown (fair_sccs)
+                return kernel.in_comp(got[1], self.n)
+            r = self.fair_sccs(s)
         start = bytearray(self.n)
-        for comp in comps:
+        for comp in r:
             for v in comp:
                 start[v] = 1
-        return self._eu(s, start)
+        return start
+
+    def _eg(self, s: bytearray) -> bytearray:
+        return self._eu(s, self.fair_mask(s))
 
     # -------------------------------------------------------------- verdict
     def check(self, f):

@@ -305,3 +305,84 @@ out:
     free(moff); free(madj); free(noff); free(nadj); free(queue); free(done);
     return rc;
 }
+
+/* ------------------------------------------------------------------ the structure's arrays
+ * The successor lists of the state graph from its edge arrays (ne edges src[e] -> dst[e]): the
+ * edges whose both ends have ok[] set, each node's successors ascending, each once.  off gets
+ * n + 1 entries; adj (room for ne) the successors.  Returns the number of successors kept. */
+static int cmp32(const void *a, const void *b) {
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+int64_t kn_csr(int64_t n, int64_t ne, const uint32_t *src, const uint32_t *dst, const uint8_t *ok,
+               int32_t *off, int32_t *adj) {
+    for (int64_t v = 0; v <= n; v++) off[v] = 0;
+    for (int64_t e = 0; e < ne; e++)
+        if (ok[src[e]] && ok[dst[e]]) off[src[e] + 1]++;
+    for (int64_t v = 0; v < n; v++) off[v + 1] += off[v];
+    int32_t *pos = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    if (!pos) return -1;
+    memcpy(pos, off, (n + 1) * sizeof(int32_t));
+    for (int64_t e = 0; e < ne; e++)
+        if (ok[src[e]] && ok[dst[e]]) adj[pos[src[e]]++] = (int32_t)dst[e];
+    free(pos);
+    /* sort and deduplicate each list, compacting */
+    int64_t out = 0;
+    for (int64_t v = 0; v < n; v++) {
+        int32_t a = off[v], b = off[v + 1];
+        if (b - a > 1) qsort(adj + a, (size_t)(b - a), sizeof(int32_t), cmp32);
+        off[v] = (int32_t)out;
+        for (int32_t e = a; e < b; e++)
+            if (e == a || adj[e] != adj[e - 1]) adj[out++] = adj[e];
+    }
+    off[n] = (int32_t)out;
+    return out;
+}
+
+/* out[i] = lab[idx[i]]: a state set read at each node of a structure whose nodes are steps */
+void kn_gather(int64_t n, const uint32_t *idx, const uint8_t *lab, uint8_t *out) {
+    for (int64_t i = 0; i < n; i++) out[i] = lab[idx[i]];
+}
+
+/* out[i] = bit k of vec[i] */
+void kn_bit(int64_t n, const int64_t *vec, int64_t k, uint8_t *out) {
+    for (int64_t i = 0; i < n; i++) out[i] = (uint8_t)(((uint64_t)vec[i] >> k) & 1u);
+}
+
+/* y[v] = 1 when one node of class cls[v] (off/adj) is in g: EX over successor classes.
+ * Returns 0, -1 when out of memory. */
+int64_t kn_ex(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+              const uint8_t *g, uint8_t *y) {
+    uint8_t *ok = (uint8_t *)calloc(ncls + 1, 1);
+    if (!ok) return -1;
+    for (int64_t c = 0; c < ncls; c++)
+        for (int32_t e = off[c]; e < off[c + 1]; e++) if (g[adj[e]]) { ok[c] = 1; break; }
+    for (int64_t v = 0; v < n; v++) y[v] = ok[cls[v]];
+    free(ok);
+    return 0;
+}
+
+/* off/adj: for each of the n owners, the positions i < m with owner[i] equal to it, ascending
+ * (off: n + 1 entries, adj: m).  Returns 0, -1 when out of memory. */
+int64_t kn_group(int64_t n, int64_t m, const uint32_t *owner, int32_t *off, int32_t *adj) {
+    for (int64_t v = 0; v <= n; v++) off[v] = 0;
+    for (int64_t i = 0; i < m; i++) off[owner[i] + 1]++;
+    for (int64_t v = 0; v < n; v++) off[v + 1] += off[v];
+    int32_t *pos = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    if (!pos) return -1;
+    memcpy(pos, off, (n + 1) * sizeof(int32_t));
+    for (int64_t i = 0; i < m; i++) adj[pos[owner[i]]++] = (int32_t)i;
+    free(pos);
+    return 0;
+}
+
+/* out[v] = 1 when comp[v] >= 0 (v lies in a fair component) */
+void kn_in_comp(int64_t n, const int32_t *comp, uint8_t *out) {
+    for (int64_t v = 0; v < n; v++) out[v] = comp[v] >= 0;
+}
+
+/* out[i] = bit k of vec[i] (one byte a vector) */
+void kn_bit8(int64_t n, const uint8_t *vec, int64_t k, uint8_t *out) {
+    for (int64_t i = 0; i < n; i++) out[i] = (uint8_t)((vec[i] >> k) & 1u);
+}

@@ -13,6 +13,8 @@ from array import array
 from importlib import resources
 from itertools import accumulate, chain
 
+from .classes import Classes
+
 ENABLED = True                 # tests switch the kernel off to compare with the Python code
 
 _i64, _p = ctypes.c_int64, ctypes.c_void_p
@@ -28,6 +30,13 @@ _SYMBOLS = {
     "kn_free": (None, []),
     "kn_fair_graph": (_i64, [_i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
     "kn_eu": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p]),
+    "kn_csr": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
+    "kn_gather": (None, [_i64, _p, _p, _p]),
+    "kn_bit": (None, [_i64, _p, _i64, _p]),
+    "kn_bit8": (None, [_i64, _p, _i64, _p]),
+    "kn_ex": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
+    "kn_group": (_i64, [_i64, _i64, _p, _p, _p]),
+    "kn_in_comp": (None, [_i64, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -70,11 +79,7 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         return None
     n = K.n
     Q = max(len(g.nodes), 1)
-    cls = _arr("i", K.cls)
-    lens = [len(x) for x in K.cls_succ]
-    coff = array("i", [0])
-    coff.extend(accumulate(lens))
-    cadj = _arr("i", chain.from_iterable(K.cls_succ))
+    cls, coff, cadj = _csr(K)
     labels = bytearray()
     bits = array("Q")
     for b, lab in ap_bits:
@@ -130,7 +135,7 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         adj = array("i", bytes(4 * max(na, 1)))
         init = array("i", bytes(4 * max(ni, 1)))
         dll.kn_succ(_addr(off), _addr(adj), _addr(init))
-        succ = [adj[off[i]:off[i + 1]].tolist() for i in range(N)]
+        succ = Classes(off, adj[:max(na, 1)])      # a product node's successors, made when a path asks
         groups: dict = {}
         for v in range(N):
             c = comp[v]
@@ -138,7 +143,8 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
                 groups.setdefault(c, []).append(v)
         comps = sorted(groups.values())
         dll.kn_free()
-        return kk[:N].tolist(), qq[:N].tolist(), succ, init[:ni].tolist(), comps, justice, compassion
+        del kk[N:], qq[N:]
+        return kk, qq, succ, init[:ni].tolist(), comps, justice, compassion
 
     if nfair == 0:
         dll.kn_free()
@@ -147,20 +153,123 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
 
 
 def _csr(K):
-    """(cls, off, adj) of the Kripke structure's successor classes, made once per structure."""
+    """(cls, off, adj) of the Kripke structure's successor classes, made once per structure
+    (the structure's own arrays when it keeps them so)."""
     got = getattr(K, "_kernel_csr", None)
     if got is None:
-        cls = _arr("i", K.cls)
-        off = array("i", [0])
-        off.extend(accumulate(len(x) for x in K.cls_succ))
-        adj = _arr("i", chain.from_iterable(K.cls_succ))
+        cls = K.cls if isinstance(K.cls, array) and K.cls.typecode == "i" and len(K.cls) else _arr("i", K.cls)
+        arrays = getattr(K.cls_succ, "arrays", None)
+        if arrays is not None:
+            off, adj = arrays()
+            if not len(adj):
+                adj = _arr("i", ())
+        else:
+            off = array("i", [0])
+            off.extend(accumulate(len(x) for x in K.cls_succ))
+            adj = _arr("i", chain.from_iterable(K.cls_succ))
         got = K._kernel_csr = (cls, off, adj)
     return got
 
 
-def fair_sccs(K, s: bytearray, justice, compassion):
-    """:func:`asmcheck.temporal.graph.fair_sccs` on the Kripke structure restricted to the nodes
-    of ``s`` (roots: those nodes), by compiled code; None when it is not available."""
+def _u32(a) -> array:
+    return a if isinstance(a, array) and a.typecode == "I" else array("I", a)
+
+
+def csr(n: int, src, dst, ok: bytearray):
+    """(off, adj): the successor lists of the n nodes of the graph whose edges are ``src[e] ->
+    dst[e]`` (two sequences), the edges between nodes with ``ok`` set only, each list ascending
+    and without repeats; ``off`` has n + 1 entries (array('i'))."""
+    dll = library()
+    ne = len(src)
+    if dll is not None:
+        s, d = _u32(src), _u32(dst)
+        off = array("i", bytes(4 * (n + 1)))
+        adj = array("i", bytes(4 * max(ne, 1)))
+        okb = bytearray(ok) if len(ok) else bytearray(1)
+        k = dll.kn_csr(n, ne, _addr(s) if ne else 0, _addr(d) if ne else 0, _addr(okb), _addr(off), _addr(adj))
+        if k >= 0:
+            del adj[k:]
+            return off, adj
+    succ: list = [[] for _ in range(n)]
+    for a, b in zip(src, dst):
+        if ok[a] and ok[b]:
+            succ[a].append(b)
+    off = array("i", [0])
+    adj = array("i")
+    for lst in succ:
+        adj.extend(sorted(set(lst)))
+        off.append(len(adj))
+    return off, adj
+
+
+def group(n: int, owner) -> tuple[array, array]:
+    """(off, adj): for each of the n owners, the positions i with ``owner[i]`` equal to it,
+    ascending."""
+    m = len(owner)
+    off = array("i", bytes(4 * (n + 1)))
+    adj = array("i", bytes(4 * max(m, 1)))
+    dll = library()
+    if dll is not None and m:
+        ow = _u32(owner)
+        if dll.kn_group(n, m, _addr(ow), _addr(off), _addr(adj)) == 0:
+            del adj[m:]
+            return off, adj
+    del adj[m:]
+    for o in owner:
+        off[o + 1] += 1
+    for v in range(n):
+        off[v + 1] += off[v]
+    pos = array("i", off)
+    for i, o in enumerate(owner):
+        adj[pos[o]] = i
+        pos[o] += 1
+    return off, adj
+
+
+def gather(idx, lab) -> bytearray:
+    """bytearray(lab[i] for i in idx), by compiled code when it is there."""
+    n = len(idx)
+    dll = library()
+    if dll is not None and n and len(lab):
+        ix = _u32(idx)
+        src = bytearray(lab)
+        out = bytearray(n)
+        dll.kn_gather(n, _addr(ix), _addr(src), _addr(out))
+        return out
+    return bytearray(lab[i] for i in idx)
+
+
+def bit(vec, k: int) -> bytearray:
+    """bytearray(bit k of each vec[i]) for an array('q') of bit vectors."""
+    n = len(vec)
+    dll = library()
+    if dll is not None and n and isinstance(vec, array) and vec.typecode in ("q", "B"):
+        out = bytearray(n)
+        (dll.kn_bit if vec.typecode == "q" else dll.kn_bit8)(n, _addr(vec), k, _addr(out))
+        return out
+    return bytearray((x >> k) & 1 for x in vec)
+
+
+def ex(K, g: bytearray):
+    """The nodes with a successor in ``g`` (over the successor classes), or None."""
+    dll = library()
+    if dll is None:
+        return None
+    n = K.n
+    if n == 0:
+        return bytearray()
+    cls, off, adj = _csr(K)
+    gb = bytearray(g)
+    y = bytearray(n)
+    if dll.kn_ex(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), _addr(gb), _addr(y)) != 0:
+        return None
+    return y
+
+
+def fair_comp(K, s: bytearray, justice, compassion):
+    """The fair components of the Kripke structure restricted to the nodes of ``s`` (roots:
+    those nodes), by compiled code: (number of components, array('i') giving each node's
+    component, -1 outside every one), or None when the code is not available."""
     dll = library()
     if dll is None:
         return None
@@ -177,6 +286,21 @@ def fair_sccs(K, s: bytearray, justice, compassion):
                               len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
     if nfair < 0:
         return None
+    return nfair, comp
+
+
+def in_comp(comp: array, n: int) -> bytearray:
+    """The nodes that lie in a component (``comp[v] >= 0``)."""
+    out = bytearray(max(n, 1))
+    dll = library()
+    if dll is not None and n:
+        dll.kn_in_comp(n, _addr(comp), _addr(out))
+        return out[:n]
+    return bytearray(1 if comp[v] >= 0 else 0 for v in range(n))
+
+
+def comp_lists(nfair: int, comp: array, n: int) -> list:
+    """The components as sorted lists of nodes, in the order of their first nodes."""
     if nfair == 0:
         return []
     groups: dict = {}
@@ -185,6 +309,15 @@ def fair_sccs(K, s: bytearray, justice, compassion):
         if c >= 0:
             groups.setdefault(c, []).append(v)
     return sorted(groups.values())
+
+
+def fair_sccs(K, s: bytearray, justice, compassion):
+    """:func:`asmcheck.temporal.graph.fair_sccs` on the Kripke structure restricted to the nodes
+    of ``s`` (roots: those nodes), by compiled code; None when it is not available."""
+    got = fair_comp(K, s, justice, compassion)
+    if got is None:
+        return None
+    return comp_lists(got[0], got[1], K.n)
 
 
 def eu(K, f: bytearray, start: bytearray):

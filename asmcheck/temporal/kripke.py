@@ -25,12 +25,14 @@ successor list ``cls_succ[c]``; ``member_of[w]`` are the classes containing w an
 """
 from __future__ import annotations
 
+from array import array
 from bisect import bisect_left
 
 from ..errors import AsmError, UsageError
 from ..semantics.machine import Chooser, Ctx, Machine, ScriptChooser, Enumerator
 from ..semantics.state import same_value
 from ..semantics.values import show
+from .classes import Classes
 from .formula import Atoms
 from ..semantics.choice import next_prefix
 
@@ -78,6 +80,34 @@ class Kripke:
         if self._cls_nodes is None:
             _finish_classes(self)
         return self._cls_nodes
+
+
+class Vectors:
+    """The atom values of the nodes of a step-mode structure: bit k of ``bits[v]`` is atom k's
+    (``bits`` None: ``n`` nodes without atoms); ``self[v]`` is the tuple of booleans the Python
+    code compares.  Vectors appended later are kept as tuples."""
+
+    def __init__(self, bits, nk: int, n: int = 0):
+        self.bits, self.nk, self.n0 = bits, nk, (len(bits) if bits is not None else n)
+        self.extra: list = []
+
+    def __len__(self):
+        return self.n0 + len(self.extra)
+
+    def __getitem__(self, v):
+        if v >= self.n0:
+            return self.extra[v - self.n0]
+        if self.bits is None:
+            return ()
+        x = self.bits[v]
+        return tuple(bool(x >> k & 1) for k in range(self.nk))
+
+    def append(self, vec):
+        self.extra.append(tuple(vec))
+
+    def __iter__(self):
+        for v in range(len(self)):
+            yield self[v]
 
 
 def _finish_classes(K: Kripke) -> None:
@@ -412,73 +442,80 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         if info is None:
             info = cache["agents"] = agent_moves(explorer, fair)
         agents, enabled, moves = K.agent_info = info
+    from . import kernel
     if not mon_atoms and not fair and not step:
-        # ---- state mode: the explored graph itself
+        # ---- state mode: the explored graph itself, its successor lists as two arrays
         K.mode = "state"
         K.n = S
         K.sid = range(S)
         src_a, dst_a = explorer.edge_arrays()
         K.edge_picks = EdgePicks(explorer, src_a, dst_a)
-        succ = [[] for _ in range(S)]
-        if len(ok_state) and ok_state.find(0) < 0:
-            for src, dst in zip(src_a, dst_a):
-                succ[src].append(dst)
-        else:
-            for src, dst in zip(src_a, dst_a):
-                if ok_state[src] and ok_state[dst]:
-                    succ[src].append(dst)
-        for v in range(S):
-            lst = succ[v]
-            if len(lst) > 1:
-                succ[v] = sorted(set(lst))
-        K.cls = list(range(S))
-        K.cls_succ = [succ[v] if ok_state[v] else [] for v in range(S)]
+        off, adj = kernel.csr(S, src_a, dst_a, ok_state)
+        K.cls = array("i", range(S))
+        K.cls_succ = Classes(off, adj)
         K.init = [s for s in init_sids if ok_state[s]]
         for i, lab in slab.items():
             K.label[i] = lab
         if halts:
             _state_halts(K, halts, ok_state, S)
     else:
-        # ---- step mode: one node per (transition, values of the monitored atoms)
+        # ---- step mode: one node per (transition, values of the monitored atoms), the nodes
+        # as arrays (their state, target, atom values), numbered source by source
         K.mode = "step"
         mon_items = [atoms.items[i] for i in mon_atoms]
         mon_inv = [k for k, i in enumerate(mon_atoms) if i in invars]
         key_ix: dict = {}
-        sid, tgt, picks_l, vecs = [], [], [], []
-        by_sid: list[list[int]] = [[] for _ in range(S)]
+        sid, tgt = array("I"), array("i")
+        picks_l: list = []
+        vecs = Vectors(None, 0)
         cur_src, cur_state = -1, None
         if not mon_items:
             # no atom reads a monitored function: one node per distinct explored transition,
             # read from the edge arrays; the choices of a node's step are looked up only for
             # the steps a trace prints
             src_a, dst_a = explorer.edge_arrays()
-            seen: set = set()
-            eix = []
-            for i, (src, dst) in enumerate(zip(src_a, dst_a)):
-                if not ok_state[src]:
-                    continue
-                key = src * S + dst
-                if key in seen:
-                    continue
-                seen.add(key)
-                by_sid[src].append(len(sid))
-                sid.append(src)
-                tgt.append(dst)
-                eix.append(i)
+            off0, _ = kernel.group(S, src_a) if len(src_a) else (array("i", [0]), None)
+            once = getattr(explorer, "engine", "") == "native" and not halts and (
+                not S or max(off0[v + 1] - off0[v] for v in range(S)) <= 4096)
+            if once and len(ok_state) and ok_state.find(0) < 0:
+                # the native search records each (src, dst) pair once (it tells apart 4096
+                # successors of a state): every edge is a node
+                sid = kernel._u32(src_a)
+                tgt = array("i", dst_a)
+                eix = range(len(sid))
+            else:
+                seen: set = set()
+                eix = array("I")
+                for i, (src, dst) in enumerate(zip(src_a, dst_a)):
+                    if not ok_state[src]:
+                        continue
+                    key = src * S + dst
+                    if key in seen:
+                        continue
+                    seen.add(key)
+                    sid.append(src)
+                    tgt.append(dst)
+                    eix.append(i)
+                del seen
             picks_l = _PicksOfEdges(explorer, eix)
-            vecs = [()] * len(sid)
+            vecs = Vectors(None, 0, len(sid))
         fast = getattr(explorer, "step_atoms", None) if mon_items else None
         recs = fast(mon_items, ok_state) if fast is not None else None
         if recs is not None:
             # the compiled code gave (src, dst, atom values) for every step, each once
-            for src, dst, vec in recs:
-                if any(not vec[k] for k in mon_inv):
-                    continue
-                by_sid[src].append(len(sid))
-                sid.append(src)
-                tgt.append(dst)
-                vecs.append(vec)
+            rs, rd, rv = recs
+            need = 0
+            for k in mon_inv:
+                need |= 1 << k
+            if need:
+                keep = [i for i in range(len(rs)) if rv[i] & need == need]
+                rs = array("I", [rs[i] for i in keep])
+                rd = array("i", [rd[i] for i in keep])
+                rv = array(rv.typecode, [rv[i] for i in keep])
+            sid, tgt, vecs = rs, rd, Vectors(rv, len(mon_items))
             picks_l = _PicksOfSteps(explorer, mon_items, sid, tgt, vecs)
+        elif mon_items:
+            vecs = Vectors(None, len(mon_items), 0)
         for src, dst, picks, mon in (_every_step(explorer, ok_state) if mon_items and recs is None else ()):
             if not ok_state[src]:
                 continue
@@ -501,15 +538,17 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 key = (src, dst, vec)
                 if key in key_ix:
                     continue
-                v = key_ix[key] = len(sid)
+                key_ix[key] = len(sid)
                 sid.append(src)
                 tgt.append(dst)
                 picks_l.append(picks)
                 vecs.append(vec)
-                by_sid[src].append(v)
+        nbase = len(sid)
+        # the nodes leaving each explored state (its successor class)
+        off, adj = kernel.group(S, sid)
         # the halt nodes: (state, values of the monitored atoms in the failing step), each its
         # own successor class (it loops on itself)
-        halt_cls: list[int] = []
+        halt_nodes: list = []
         for src, picks, mon, ix in (halts or ()):
             if not ok_state[src]:
                 continue
@@ -520,27 +559,36 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 key = (src, None, vec)
                 if key in key_ix:
                     continue
+                if sid is getattr(explorer, "edge_src", None) or len(sid) == nbase:
+                    sid = array("I", sid)        # not the explorer's own array
                 v = key_ix[key] = len(sid)
                 sid.append(src)
                 tgt.append(-1)
                 picks_l.append(picks)
                 vecs.append(vec)
-                by_sid[src].append(v)
                 K.halt[v] = (src, picks, ix)
-                halt_cls.append(v)
+                halt_nodes.append(v)
         K.n = n = len(sid)
         K.sid, K.tgt, K.picks, K.vec = sid, tgt, picks_l, vecs
+        if isinstance(picks_l, _PicksOfSteps):
+            picks_l.sid = sid
         # successor classes: one per explored state (the nodes leaving it), one per halt node
-        K.cls = list(tgt)
-        K.cls_succ = list(by_sid)
-        for v in halt_cls:
+        K.cls = array("i", tgt) if halt_nodes else tgt
+        K.cls_succ = Classes(off, adj)
+        for v in halt_nodes:
+            s_ = sid[v]
+            K.cls_succ[s_] = K.cls_succ[s_] + [v]
+        for v in halt_nodes:
             K.cls[v] = len(K.cls_succ)
             K.cls_succ.append([v])
-        K.init = [v for s in init_sids for v in by_sid[s]]
+        K.init = [v for s in init_sids for v in K.cls_succ[s]]
         for i, lab in slab.items():
-            K.label[i] = bytearray(lab[s] for s in sid)
+            K.label[i] = kernel.gather(sid, lab)
         for k, i in enumerate(mon_atoms):
-            K.label[i] = bytearray(1 if vec[k] else 0 for vec in vecs)
+            if vecs.bits is not None and not vecs.extra:
+                K.label[i] = kernel.bit(vecs.bits, k)
+            else:
+                K.label[i] = bytearray(1 if vec[k] else 0 for vec in vecs)
     for text, a in justice:
         K.justice.append((text, K.label[a]))
     for text, p, q in compassion:
