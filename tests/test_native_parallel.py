@@ -414,3 +414,39 @@ def test_levels_cut_into_chunks_give_the_same_numbers_parents_and_edges(tmp_path
         assert explore(path, n, max_states=20000, deadlock=True) == cut
     r, st = stats_of(path, 2)
     assert r.states == 38403 and st["parallel_chunks"] > 38403 // 37 and st["serial_chunks"] == 0
+
+
+# many successors a state, most of them equal (the distinct ones counted in a set)
+MANY = """asm Many
+import StandardLibrary
+signature:
+	dynamic controlled x: Integer
+	dynamic controlled n: Integer
+definitions:
+	invariant inv_small over x: x < 50
+	main rule r_main =
+		choose $i in {0 : 40} with true do
+			if n < 7 then
+				par
+					x := x + $i mod 9
+					n := n + 1
+				endpar
+			endif
+default init s0:
+	function x = 0
+	function n = 0
+"""
+
+
+def test_states_with_many_equal_successors_give_the_same_report(tmp_path, monkeypatch):
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    path = tmp_path / "Many.asm"
+    path.write_text(MANY)
+    for extra in ((), ("--deadlock",)):
+        code1, one = report(path, *extra, workers=1)
+        assert one["engine"] == "native"
+        for n in (2, 3, 8):
+            code, doc = report(path, *extra, workers=n)
+            assert doc.pop("workers") == n
+            assert (code, doc) == (code1, one)
+    assert explore(path, 2) == explore(path, 1)
