@@ -28,8 +28,12 @@ twin T63 K250 (4,245,995 states; ``--native-twin T K`` for another) in this proc
 engine, ``--native-repeat`` times each, alternating: 1 worker (the one-thread search), 2 workers
 (the threaded search), and the threaded search on 1 thread (what the threaded code gains or loses
 on its own, apart from the second core).  Search time (wall and this process's CPU), best and
-median, and the speed-up of 2 workers over 1; the twin with ``--bug`` is checked to give the same
-report (trace included) with 1 and 2 workers.  ``--out DIR`` also writes the output to
+median, and the speed-up of 2 workers over 1; the threads' CPU time (spinning not counted), the
+barriers (three a chunk of a level), how many waits ended in a futex sleep and how long the threads
+waited; the twin with ``--bug`` is checked to give the same report (trace included) with 1 and 2
+workers.  On a machine whose cores other jobs use, the wall times say little (a waiting thread
+waits for one that has no core): the best of several alternating runs, the CPU times and the load
+average printed with them are what to read.  ``--out DIR`` also writes the output to
 ``DIR/bench_parallel-DATE.md``.
 """
 import argparse
