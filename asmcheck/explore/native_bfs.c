@@ -566,7 +566,7 @@ int64_t asm_memory_bytes(void) { return memory_bytes(nstates); }
  * asm_run_par() is asm_run() on several threads, with the same results whatever the threads'
  * timing: the same state numbers, parents, counts, edges, violations and stopping state.  The
  * frontier is cut into chunks (a level, or CHUNK_STATES states of a big one) and each chunk into
- * blocks, which the threads take in turn from a counter.  For each chunk:
+ * blocks.  For each chunk:
  *   1  each thread expands the states of its blocks (expand_state, as asm_run) and inserts their
  *      successors into the one hash table, all threads at once (compare-and-swap on the entries).
  *      A new state gets a provisional entry that points to its words in the chunk's arena, and
@@ -576,13 +576,15 @@ int64_t asm_memory_bytes(void) { return memory_bytes(nstates); }
  *      transitions of its states and notes whether any needs recording (a property violated, a
  *      failed step, a deadlock);
  *      -- barrier --
- *   2  each thread counts, block by block, the successors whose key is the least of their state
+ *   2  the threads count, block by block, the successors whose key is the least of their state
  *      (the first discoveries); thread 0 makes room for the new states;
  *      -- barrier --
  *   3  summing the counts block by block gives each block the number of its first new state:
- *      each thread numbers the first discoveries of its blocks in order, stores them with their
- *      parents and makes their table entries final;
+ *      the threads number the first discoveries of each block in order, store them with their
+ *      parents and make their table entries final;
  *      -- barrier --
+ * (in each phase the threads take the blocks in turn from a counter: a thread that has no core
+ * for a while holds the others up for one block only).
  * When something needs recording or a limit (states, memory) is reached in the chunk, thread 0
  * then walks the chunk in order and does what asm_run does after each state (transitions, edges,
  * violations, deadlock, limits; the states numbered after the one where the search stops are
@@ -635,6 +637,8 @@ static int nworkers = 0;
 #define LINE __attribute__((aligned(64)))    /* a cache line of its own: written by every thread */
 typedef struct {
     LINE int64_t next_block;
+    LINE int64_t next_count;
+    LINE int64_t next_number;
     LINE int64_t an;
     LINE int64_t reserved;
     LINE int64_t lim;
@@ -929,11 +933,13 @@ static void phase_expand(Worker *w, const Plan *pl) {
     }
 }
 
-/* phase 2: the first discoveries of each of the thread's blocks */
-static void phase_count(int t, const Plan *pl) {
-    Worker *w = &W[t];
-    for (int64_t i = 0; i < pl->nblocks; i++) {
-        if (C.bthr[i] != t) continue;
+/* phase 2: the first discoveries of each block, the blocks taken in turn (a thread that has no
+   core for a while holds up the others for one block only) */
+static void phase_count(const Plan *pl) {
+    for (;;) {
+        int64_t i = __atomic_fetch_add(&C.next_count, 1, __ATOMIC_RELAXED);
+        if (i >= pl->nblocks) return;
+        const Worker *w = &W[C.bthr[i]];
         int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz, cnt = 0;
         if (s1 > pl->c1) s1 = pl->c1;
         for (int64_t sid = s0; sid < s1; sid++) {
@@ -947,17 +953,21 @@ static void phase_count(int t, const Plan *pl) {
     }
 }
 
-/* phase 3: number, store and enter the first discoveries of the thread's blocks */
+/* phase 3: number, store and enter the first discoveries of each block, the blocks taken in turn
+   (in increasing order: the number of a block's first new state is a running sum) */
 static void phase_number(int t, const Plan *pl) {
-    Worker *w = &W[t];
+    Worker *me = &W[t];
     uint64_t *tab = (uint64_t *)table;
     int par = (int)(pl->chunkno & 1);
-    V *lo = w->lo[par], *hi = w->hi[par];
+    V *lo = me->lo[par], *hi = me->hi[par];
     for (int s = 0; s < NSLOTS; s++) { lo[s] = INT64_MAX; hi[s] = INT64_MIN + 1; }
-    int64_t num = pl->nstates;
-    for (int64_t i = 0; i < pl->nblocks; i++) {
-        if (C.bthr[i] != t) { num += C.bcount[i]; continue; }
-        int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz;
+    int64_t num = pl->nstates, j = 0;        /* num: the first number of block j */
+    for (;;) {
+        int64_t i = __atomic_fetch_add(&C.next_number, 1, __ATOMIC_RELAXED);
+        if (i >= pl->nblocks) return;
+        for (; j < i; j++) num += C.bcount[j];
+        const Worker *w = &W[C.bthr[i]];
+        int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz, n = num;
         if (s1 > pl->c1) s1 = pl->c1;
         for (int64_t sid = s0; sid < s1; sid++) {
             int64_t li = sid - pl->c0, q0 = C.sfirst[li], q1 = q0 + C.scount[li];
@@ -966,11 +976,11 @@ static void phase_number(int t, const Plan *pl) {
                 if (x >= 0) continue;
                 int64_t p = -1 - x;
                 if (C.akey[p] != dkey(sid, q - q0)) continue;
-                uint64_t *dst = states + num * NWORDS;
+                uint64_t *dst = states + n * NWORDS;
                 memcpy(dst, C.aw + p * NWORDS, NWORDS * sizeof(uint64_t));
-                parents[num] = (uint32_t)sid;
-                C.anum[p] = num;
-                __atomic_store_n(&tab[C.aslot[p]], (w->ch[q] & 0xffffffff00000000ULL) | (uint64_t)num, __ATOMIC_RELAXED);
+                parents[n] = (uint32_t)sid;
+                C.anum[p] = n;
+                __atomic_store_n(&tab[C.aslot[p]], (w->ch[q] & 0xffffffff00000000ULL) | (uint64_t)n, __ATOMIC_RELAXED);
                 for (int s = 0; s < NSLOTS; s++) {
                     if (SLOT_BITS[s] != 64) continue;
                     V v = (V)dst[SLOT_WORD[s]];
@@ -978,7 +988,7 @@ static void phase_number(int t, const Plan *pl) {
                     if (v < lo[s]) lo[s] = v;
                     if (v > hi[s]) hi[s] = v;
                 }
-                num++;
+                n++;
             }
         }
     }
@@ -1179,7 +1189,8 @@ static int chunk_par(int t, Plan *pl, int *sense) {
     }
     int64_t an = C.an;
     if (t == 0 && (pl->nstates + an >= (int64_t)PROV || !grow_states(pl->nstates + an))) C.failed_seq = pl->chunkno;
-    phase_count(t, pl);
+    if (t == 0) C.next_number = 0;     /* nobody uses it before the barrier */
+    phase_count(pl);
     if (t == 0) {             /* time, Ctrl-C, the end of the slice: after this chunk */
         double tnow = now_seconds();
         C.stopreq = interrupted ? 7 : (S.max_seconds >= 0 && tnow - S.t0 >= S.max_seconds) ? 3
@@ -1196,6 +1207,7 @@ static int chunk_par(int t, Plan *pl, int *sense) {
     phase_number(t, pl);
     if (t == 0) {             /* the counters of the next chunk (nobody uses them until the barrier) */
         C.next_block = 0;
+        C.next_count = 0;
         C.an = 0;
         C.reserved = 0;
         set_lim(pl->nstates + nnew, nt);
@@ -1419,7 +1431,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         int skipped = P.serial_skip > 0;     /* a chunk of a stretch that needed one thread */
         if (on_threads) {
             set_lim(nstates, nt);
-            C.next_block = C.an = C.reserved = 0;
+            C.next_block = C.next_count = C.an = C.reserved = 0;
             C.grow = 0;
             vt_frozen = 1;
             J.plan = pl;
