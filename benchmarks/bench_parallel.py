@@ -202,7 +202,7 @@ def native_rows(shared, t, k, repeat, say):
         f"{st['parallel_chunks']} chunks on the threads, {st['walked_chunks']} walked by thread 0, "
         f"{st['serial_chunks']} sent back to one thread, {st['table_growths']} table growths; "
         f"{st['barriers']} barriers (three a chunk), {st['sleeps']} of the threads' waits ended in a futex "
-        f"sleep (a wait longer than the 30 us spin), {st['barrier_wait'][0]:.3f} s and "
+        f"sleep (a wait longer than the thread's spin, 2 to 50 us), {st['barrier_wait'][0]:.3f} s and "
         f"{st['barrier_wait'][1]:.3f} s waited at barriers by threads 0 and 1.")
     say("")
     say(f"Twin T{t} K{k} --bug: the same report with 1 and 2 workers, the shortest trace of {trace_len} states.")

@@ -3065,7 +3065,7 @@ _SYMBOLS = {
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
-    interrupted stop_all W C nworkers bar_n spin_seconds ptime chunk_new chunk_trans newtab newmask max_chunk
+    interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succ_set succ_cap succ_stamp
 """.split())

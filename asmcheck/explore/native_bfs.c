@@ -624,6 +624,7 @@ typedef struct {
     int irregular, timeout;
     V lo[2][NSLOTS > 0 ? NSLOTS : 1], hi[2][NSLOTS > 0 ? NSLOTS : 1];   /* wide slots, by chunk parity */
     double spin, wait, cpu;       /* seconds spinning and waiting at barriers, CPU seconds */
+    double spin_limit;            /* how long it spins at a barrier before it sleeps */
     int64_t waits, sleeps;
     uint64_t *sset;               /* the successors of one state told apart (wset_first) */
     int64_t scap;
@@ -665,10 +666,13 @@ typedef struct { int64_t c0, c1, level_end, depth, nstates, chunkno, blksz, nblo
 static struct { volatile int cmd; Plan plan; } J;     /* set by thread 0 before the start barrier */
 
 /* the barrier: a short spin, then a futex wait (the machine may have fewer free cores than
-   threads: a waiting thread must not hold the core of a working one) */
+   threads: a waiting thread must not hold the core of a working one).  Each thread spins up to
+   its own limit, 2 to 50 us: longer after a wait the spin ended, shorter after one it did not
+   (another job has the cores: the threads' waits are long). */
 static struct { int count, sense, sleepers; } B;
 static int bar_n;
-static double spin_seconds = 30e-6;
+#define SPIN_MIN 2e-6
+#define SPIN_MAX 50e-6
 
 static void barrier(Worker *w, int *local_sense) {
     int s = 1 - *local_sense;
@@ -686,15 +690,17 @@ static void barrier(Worker *w, int *local_sense) {
         if (__atomic_load_n(&B.sense, __ATOMIC_ACQUIRE) == s) {
             if (spins > 64) t = now_seconds();
             w->spin += t - t0; w->wait += t - t0;
+            w->spin_limit = w->spin_limit + 5e-6 > SPIN_MAX ? SPIN_MAX : w->spin_limit + 5e-6;
             return;
         }
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
-        if ((spins & 63) == 0 && (t = now_seconds()) - t0 > spin_seconds) break;
+        if ((spins & 63) == 0 && (t = now_seconds()) - t0 > w->spin_limit) break;
     }
     w->spin += t - t0;
     w->sleeps++;
+    w->spin_limit = w->spin_limit / 2 < SPIN_MIN ? SPIN_MIN : w->spin_limit / 2;
     __atomic_add_fetch(&B.sleepers, 1, __ATOMIC_SEQ_CST);
     while (__atomic_load_n(&B.sense, __ATOMIC_SEQ_CST) != s)
         syscall(SYS_futex, &B.sense, FUTEX_WAIT_PRIVATE, 1 - s, 0, 0, 0);
@@ -1367,6 +1373,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     if (nthreads > MAXTHREADS) nthreads = MAXTHREADS;
     if ((nthreads <= 1 && !force) || NINV > 64 || NSTEP > 64 || S.status != -1) return asm_run(slice_seconds, out);
     if (!chunk_alloc()) return asm_run(slice_seconds, out);
+    for (int t = 0; t < nthreads; t++) if (W[t].spin_limit == 0) W[t].spin_limit = 30e-6;
     for (int t = 0; t < nthreads; t++) {
         if (W[t].c) continue;
         if (t == 0) W[t].c = &ctx_static;
