@@ -29,7 +29,7 @@ engine, ``--native-repeat`` times each, alternating: 1 worker (the one-thread se
 (the threaded search), and the threaded search on 1 thread (what the threaded code gains or loses
 on its own, apart from the second core).  Search time (wall and this process's CPU), best and
 median, and the speed-up of 2 workers over 1; the threads' CPU time (spinning not counted), the
-barriers (three a chunk of a level), how many waits ended in a futex sleep and how long the threads
+barriers (two a chunk of a level), how many waits ended in a futex sleep and how long the threads
 waited; the twin with ``--bug`` is checked to give the same report (trace included) with 1 and 2
 workers.  On a machine whose cores other jobs use, the wall times say little (a waiting thread
 waits for one that has no core): the best of several alternating runs, the CPU times and the load
@@ -201,7 +201,7 @@ def native_rows(shared, t, k, repeat, say):
         f"run: threads {st['thread_cpu'][0]:.3f} s and {st['thread_cpu'][1]:.3f} s of CPU, "
         f"{st['parallel_chunks']} chunks on the threads, {st['walked_chunks']} walked by thread 0, "
         f"{st['serial_chunks']} sent back to one thread, {st['table_growths']} table growths; "
-        f"{st['barriers']} barriers (three a chunk), {st['sleeps']} of the threads' waits ended in a futex "
+        f"{st['barriers']} barriers (two a chunk), {st['sleeps']} of the threads' waits ended in a futex "
         f"sleep (a wait longer than the thread's spin, 2 to 50 us), {st['barrier_wait'][0]:.3f} s and "
         f"{st['barrier_wait'][1]:.3f} s waited at barriers by threads 0 and 1.")
     say("")

@@ -577,11 +577,10 @@ int64_t asm_memory_bytes(void) { return memory_bytes(nstates); }
  *      failed step, a deadlock);
  *      -- barrier --
  *   2  the threads count, block by block, the successors whose key is the least of their state
- *      (the first discoveries); thread 0 makes room for the new states;
- *      -- barrier --
- *   3  summing the counts block by block gives each block the number of its first new state:
- *      the threads number the first discoveries of each block in order, store them with their
- *      parents and make their table entries final;
+ *      (the first discoveries), and publish each count; thread 0 makes room for the new states;
+ *   3  the sum of the counts of the blocks before it gives each block the number of its first new
+ *      state (a count not published yet is awaited): the threads number the first discoveries
+ *      of each block in order, store them with their parents and make their table entries final;
  *      -- barrier --
  * (in each phase the threads take the blocks in turn from a counter: a thread that has no core
  * for a while holds the others up for one block only).
@@ -589,7 +588,7 @@ int64_t asm_memory_bytes(void) { return memory_bytes(nstates); }
  * then walks the chunk in order and does what asm_run does after each state (transitions, edges,
  * violations, deadlock, limits; the states numbered after the one where the search stops are
  * dropped), the others waiting.  Otherwise each thread works out the next chunk from the counts
- * and goes on: three barriers a chunk.  A thread that cannot reserve room in the table (or the
+ * and goes on: two barriers a chunk.  A thread that cannot reserve room in the table (or the
  * arena) for a block's successors makes the threads meet at the first barrier; thread 0 grows
  * them and the expansion goes on.  What a thread cannot do without writing shared data (a value
  * not yet in the value table), a run-time condition the native search does not handle, or memory
@@ -647,7 +646,9 @@ typedef struct {
     int64_t *aslot, *anum;        /* its table entry (-1: none), its number */
     int64_t acap;
     int32_t *bthr;                /* by block: the thread that expanded it, its first successor, */
-    int64_t *bq0, *bcount, *btrans;   /* first discoveries, transitions */
+    int64_t *bq0, *bcount, *btrans;   /* first discoveries, transitions, */
+    volatile int64_t *bdone;      /* the chunk whose count it holds */
+    volatile int64_t states_ready;    /* the chunk for whose new states there is room */
     int64_t *sfirst, *scount;     /* by state: first successor (in its thread's), successors, */
     uint64_t *sfail, *serr;       /* invariants failed, in error, */
     int32_t *ssteperr;            /* run-time error of the step */
@@ -956,13 +957,34 @@ static void phase_count(const Plan *pl) {
             }
         }
         C.bcount[i] = cnt;
+        __atomic_store_n(&C.bdone[i], pl->chunkno, __ATOMIC_RELEASE);
     }
 }
 
+/* wait until *x is v (a count another thread publishes, thread 0's room for the new states): a
+   spin, then giving the core away */
+static void wait_for(Worker *w, volatile int64_t *x, int64_t v) {
+    if (__atomic_load_n(x, __ATOMIC_ACQUIRE) == v) return;
+    double t0 = now_seconds();
+    for (int spins = 1; __atomic_load_n(x, __ATOMIC_ACQUIRE) != v; spins++) {
+        if (spins < 2000) {
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        } else sched_yield();
+    }
+    double d = now_seconds() - t0;
+    w->wait += d;
+    w->spin += d;
+}
+
 /* phase 3: number, store and enter the first discoveries of each block, the blocks taken in turn
-   (in increasing order: the number of a block's first new state is a running sum) */
+   (in increasing order: the number of a block's first new state is the sum of the counts before
+   it, each awaited if not published yet); once thread 0 has made room for the states */
 static void phase_number(int t, const Plan *pl) {
     Worker *me = &W[t];
+    wait_for(me, &C.states_ready, pl->chunkno);
+    if (C.failed_seq == pl->chunkno) return;
     uint64_t *tab = (uint64_t *)table;
     int par = (int)(pl->chunkno & 1);
     V *lo = me->lo[par], *hi = me->hi[par];
@@ -971,7 +993,7 @@ static void phase_number(int t, const Plan *pl) {
     for (;;) {
         int64_t i = __atomic_fetch_add(&C.next_number, 1, __ATOMIC_RELAXED);
         if (i >= pl->nblocks) return;
-        for (; j < i; j++) num += C.bcount[j];
+        for (; j < i; j++) { wait_for(me, &C.bdone[j], pl->chunkno); num += C.bcount[j]; }
         const Worker *w = &W[C.bthr[i]];
         int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz, n = num;
         if (s1 > pl->c1) s1 = pl->c1;
@@ -1099,17 +1121,19 @@ static int chunk_alloc(void) {
     C.bq0 = (int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
     C.bcount = (int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
     C.btrans = (int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
+    C.bdone = (volatile int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
     C.scount = (int64_t *)malloc(CHUNK_STATES * sizeof(int64_t));
     C.sfail = (uint64_t *)malloc(CHUNK_STATES * sizeof(uint64_t));
     C.serr = (uint64_t *)malloc(CHUNK_STATES * sizeof(uint64_t));
     C.ssteperr = (int32_t *)malloc(CHUNK_STATES * sizeof(int32_t));
     C.sfirst = (int64_t *)malloc(CHUNK_STATES * sizeof(int64_t));
-    if (!C.bthr || !C.bq0 || !C.bcount || !C.btrans || !C.scount || !C.sfail || !C.serr || !C.ssteperr || !C.sfirst) {
-        free(C.bthr); free(C.bq0); free(C.bcount); free(C.btrans); free(C.scount); free(C.sfail); free(C.serr);
+    if (!C.bthr || !C.bq0 || !C.bcount || !C.btrans || !C.bdone || !C.scount || !C.sfail || !C.serr || !C.ssteperr || !C.sfirst) {
+        free(C.bthr); free(C.bq0); free(C.bcount); free(C.btrans); free((void *)C.bdone); free(C.scount); free(C.sfail); free(C.serr);
         free(C.ssteperr); free(C.sfirst);
         C.sfirst = 0;
         return 0;
     }
+    for (int64_t i = 0; i < MAXBLOCKS; i++) C.bdone[i] = -1;
     return grow_arena(4096);
 }
 
@@ -1193,34 +1217,38 @@ static int chunk_par(int t, Plan *pl, int *sense) {
         }
         barrier(w, sense);
     }
-    int64_t an = C.an;
-    if (t == 0 && (pl->nstates + an >= (int64_t)PROV || !grow_states(pl->nstates + an))) C.failed_seq = pl->chunkno;
-    if (t == 0) C.next_number = 0;     /* nobody uses it before the barrier */
+    if (t == 0) {             /* room for the new states (the others count meanwhile) */
+        int64_t an = C.an;
+        if (pl->nstates + an >= (int64_t)PROV || !grow_states(pl->nstates + an)) C.failed_seq = pl->chunkno;
+        else C.next_block = C.an = C.reserved = 0;    /* the next chunk's (none uses them now) */
+        __atomic_store_n(&C.states_ready, pl->chunkno, __ATOMIC_RELEASE);
+    }
+    int64_t events = 0;       /* read now: a thread clears its own when it begins the next chunk */
+    for (int u = 0; u < nt; u++) events += W[u].events;
     phase_count(pl);
-    if (t == 0) {             /* time, Ctrl-C, the end of the slice: after this chunk */
+    phase_number(t, pl);
+    if (t == 0) {             /* the next chunk's room; time, Ctrl-C, the end of the slice */
+        int64_t nnew = 0, trans = 0;
+        for (int64_t i = 0; i < pl->nblocks; i++) {
+            wait_for(w, &C.bdone[i], pl->chunkno);
+            nnew += C.bcount[i];
+            trans += C.btrans[i];
+        }
+        set_lim(pl->nstates + nnew, nt);
+        chunk_new = nnew;
+        chunk_trans = trans;
         double tnow = now_seconds();
         C.stopreq = interrupted ? 7 : (S.max_seconds >= 0 && tnow - S.t0 >= S.max_seconds) ? 3
             : tnow >= C.slice_end ? 6 : 0;
     }
     barrier(w, sense);
+    if (t == 0) C.next_count = C.next_number = 0;  /* none uses them before the next chunk's first barrier */
     if (C.failed_seq == pl->chunkno) return CH_ABORT;
-    int64_t nnew = 0, trans = 0, events = 0;
-    for (int64_t i = 0; i < pl->nblocks; i++) { nnew += C.bcount[i]; trans += C.btrans[i]; }
-    for (int u = 0; u < nt; u++) events += W[u].events;
+    int64_t nnew = 0;
+    for (int64_t i = 0; i < pl->nblocks; i++) nnew += C.bcount[i];
     int walk = events > 0 || S.keep_graph || (S.max_states >= 0 && pl->nstates + nnew >= S.max_states)
         || over_memory(pl->nstates + nnew);
     int stop = C.stopreq;
-    phase_number(t, pl);
-    if (t == 0) {             /* the counters of the next chunk (nobody uses them until the barrier) */
-        C.next_block = 0;
-        C.next_count = 0;
-        C.an = 0;
-        C.reserved = 0;
-        set_lim(pl->nstates + nnew, nt);
-        chunk_new = nnew;
-        chunk_trans = trans;
-    }
-    barrier(w, sense);
     if (walk) return CH_WALK;
     pl->c0 = pl->c1;
     pl->nstates += nnew;
@@ -1400,7 +1428,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     sigemptyset(&sa.sa_mask);
     interrupted = 0;
     stop_all = 0;
-    C.abort_seq = C.failed_seq = -1;
+    C.abort_seq = C.failed_seq = C.states_ready = -1;
     sigaction(SIGINT, &sa, &old);
     B.count = 0; B.sense = 0; B.sleepers = 0; bar_n = nt;
     nworkers = nt;
@@ -1438,7 +1466,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         int skipped = P.serial_skip > 0;     /* a chunk of a stretch that needed one thread */
         if (on_threads) {
             set_lim(nstates, nt);
-            C.next_block = C.next_count = C.an = C.reserved = 0;
+            C.next_block = C.next_count = C.next_number = C.an = C.reserved = 0;
             C.grow = 0;
             vt_frozen = 1;
             J.plan = pl;
