@@ -962,20 +962,24 @@ static void phase_count(const Plan *pl) {
 }
 
 /* wait until *x is v (a count another thread publishes, thread 0's room for the new states): a
-   spin, then giving the core away */
+   spin, then short sleeps */
 static void wait_for(Worker *w, volatile int64_t *x, int64_t v) {
     if (__atomic_load_n(x, __ATOMIC_ACQUIRE) == v) return;
-    double t0 = now_seconds();
+    double t0 = now_seconds(), ts = -1;
     for (int spins = 1; __atomic_load_n(x, __ATOMIC_ACQUIRE) != v; spins++) {
         if (spins < 2000) {
 #if defined(__x86_64__) || defined(__i386__)
             __builtin_ia32_pause();
 #endif
-        } else sched_yield();
+        } else {               /* the thread awaited has no core: give this one away */
+            if (ts < 0) ts = now_seconds();
+            struct timespec nap = { 0, 20000 };
+            nanosleep(&nap, 0);
+        }
     }
-    double d = now_seconds() - t0;
-    w->wait += d;
-    w->spin += d;
+    double t1 = now_seconds();
+    w->wait += t1 - t0;
+    w->spin += (ts < 0 ? t1 : ts) - t0;      /* the CPU time spent spinning (not yielding) */
 }
 
 /* phase 3: number, store and enter the first discoveries of each block, the blocks taken in turn
