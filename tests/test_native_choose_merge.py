@@ -75,6 +75,33 @@ default init s0:
 	function h = 0
 """
 
+# the last choice points are merged chooses: their other combinations are written without running
+# the step again, unless another update of the step touches what they update -- here f := 1 when
+# g = 3, the same update as the first choose's first alternative (made once in the update buffer)
+AFTER = """\
+asm After
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled f: Small
+	controlled g: Small
+	controlled h: Small
+definitions:
+	domain Small = {0 : 3}
+	main rule r_Main =
+		par
+			choose $p in Small with true do
+				if $p < 2 then f := 1 else g := $p endif
+			choose $q in Small with true do
+				if $q = 0 then h := (h + 2) mod 4 endif
+			if g = 3 then f := 1 endif
+		endpar
+default init s0:
+	function f = 0
+	function g = 0
+	function h = 0
+"""
+
 # chooses inside a seq block read the working state (x already incremented), so their outcomes
 # cannot be kept for the next run of the step: computed at every visit
 IN_SEQ = """\
@@ -178,6 +205,12 @@ def test_same_update_as_a_sibling(tmp_path, capsys):
     code, out = both(tmp_path, capsys, ABSORB, "--deadlock")
     assert code == 0
     assert summary(out) == ("holds", 17, 88, 3)
+
+
+def test_an_update_after_the_last_choices(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, AFTER, "--deadlock")
+    assert code == 0
+    assert summary(out) == ("holds", 11, 54, 2)
 
 
 def test_choose_in_seq(tmp_path, capsys):

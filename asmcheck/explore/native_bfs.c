@@ -255,6 +255,180 @@ static int succ_grow(Succ *b) {
     return 1;
 }
 
+
+/* The distinct successors of the state being expanded (a transition is a pair of states): a set
+   of state numbers by open addressing, emptied in O(1) per state by a new stamp. */
+static uint64_t *succ_set = 0;
+static int64_t succ_cap = 0;
+static uint32_t succ_stamp = 0;
+static int succ_reset(int64_t n) {
+    if (2 * n > succ_cap) {
+        int64_t nc = succ_cap ? succ_cap : 1024;
+        while (nc < 2 * n) nc *= 2;
+        uint64_t *x = (uint64_t *)realloc(succ_set, (size_t)nc * sizeof(uint64_t));
+        if (!x) return 0;
+        succ_set = x;
+        succ_cap = nc;
+        memset(succ_set, 0, (size_t)nc * sizeof(uint64_t));
+        succ_stamp = 0;
+    }
+    if (++succ_stamp == 0) { memset(succ_set, 0, (size_t)succ_cap * sizeof(uint64_t)); succ_stamp = 1; }
+    return 1;
+}
+/* 1 the first time tid is met since succ_reset */
+static inline int succ_first(int64_t tid) {
+    uint64_t msk = (uint64_t)succ_cap - 1, h = mix64((uint64_t)tid) & msk;
+    uint64_t want = ((uint64_t)succ_stamp << 32) | (uint32_t)tid;
+    for (;;) {
+        uint64_t x = succ_set[h];
+        if ((uint32_t)(x >> 32) != succ_stamp) { succ_set[h] = want; return 1; }
+        if (x == want) return 0;
+        h = (h + 1) & msk;
+    }
+}
+
+#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0
+#define MC_TAIL_ON 1
+/* The run of the step just stored (its successor the last of b, b->n of them) ends with choice
+   points that are all merged chooses (mc_note), each at its first alternative.  When no other
+   update of the step touches a location any of their alternatives updates, and no two of them
+   share one, the rest of the step does not depend on their alternatives (only the update buffer
+   would tell them apart): every other combination of them is the successor of a probe run (the
+   same choices, those alternatives left out) with their updates written in, in the enumeration's
+   order.  They are added to b, the choice points set to their last alternatives, and their
+   number returned (0: the conditions do not hold, nothing done; -1: out of memory). */
+static void mc_patch(const MPoint *p, int32_t from, int32_t to, const uint64_t *old, uint64_t *w) {
+    const MChoose *m = p->m;
+    int32_t of = m->ofirst[p->e] + from, ot = m->ofirst[p->e] + to;
+    for (int32_t i = 0; i < m->ulen[of]; i++) {
+        int s = m->uslot[m->ustart[of] + i];
+        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = old[SLOT_WORD[s]]; continue; }
+        uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
+        w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | (old[SLOT_WORD[s]] & mask);
+    }
+    for (int32_t i = 0; i < m->ulen[ot]; i++) {
+        int s = m->uslot[m->ustart[ot] + i];
+        V code = m->ucode[m->ustart[ot] + i];
+        if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)code; continue; }
+        uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
+        w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
+    }
+}
+static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
+    int64_t nbuf = b->n;
+    static _Thread_local MPoint tp[MAXCH];
+    static _Thread_local int32_t sidx[MAXCH], scnt[MAXCH], cur[MAXCH];
+    static _Thread_local uint32_t stamp_of[NSLOTS > 0 ? NSLOTS : 1], stamp = 0;
+    static _Thread_local int32_t owner[NSLOTS > 0 ? NSLOTS : 1];
+    int32_t pos = c->pos, j0 = pos;
+    while (j0 > 0) {
+        const MPoint *p = &mc_pt[j0 - 1];
+        if (p->gen != c->gen || p->epoch != c->epoch || p->resets != p->m->resets || c->idx[j0 - 1] != 0) break;
+        j0--;
+    }
+    int32_t nt = pos - j0;
+    if (nt == 0) return 0;
+    int64_t total = 1, most = 0;
+    for (int32_t t = 0; t < nt; t++) {
+        tp[t] = mc_pt[j0 + t];
+        total *= c->cnt[j0 + t];
+        if (total > MAX_SUCC) return 0;
+        const MChoose *m = tp[t].m;
+        int32_t longest = 0;
+        for (int32_t o = 0; o < m->onum[tp[t].e]; o++)
+            if (m->ulen[m->ofirst[tp[t].e] + o] > longest) longest = m->ulen[m->ofirst[tp[t].e] + o];
+        most += longest;
+    }
+    if (nbuf - 1 + total >= MAX_SUCC) return 0;
+    memcpy(sidx, c->idx, (size_t)pos * sizeof(int32_t));
+    memcpy(scnt, c->cnt, (size_t)pos * sizeof(int32_t));
+    /* the probe */
+    memcpy(c->prefix, c->idx, (size_t)pos * sizeof(int32_t));
+    c->plen = pos;
+    c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+    c->gen++;
+    if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+    c->err = 0;
+    mc_skip_from = j0;
+    step_main(c);
+    mc_skip_from = MAXCH;
+    int ok = !c->err && c->pos == pos && c->nupd + most < MAXUPD;
+    for (int32_t q = 0; ok && q < pos; q++) if (c->idx[q] != sidx[q] || c->cnt[q] != scnt[q]) ok = 0;
+    if (ok) {
+        if (++stamp == 0) { memset(stamp_of, 0, sizeof(stamp_of)); stamp = 1; }
+        for (int32_t i = 0; i < c->nupd; i++) {
+            int s = c->upd_slot[i];
+            if (s < NSLOTS) { stamp_of[s] = stamp; owner[s] = -1; }
+        }
+        for (int32_t t = 0; ok && t < nt; t++) {
+            const MChoose *m = tp[t].m;
+            for (int32_t o = 0; ok && o < m->onum[tp[t].e]; o++) {
+                int32_t x = m->ofirst[tp[t].e] + o;
+                for (int32_t i = 0; i < m->ulen[x]; i++) {
+                    int s = m->uslot[m->ustart[x] + i];
+                    if (stamp_of[s] == stamp && owner[s] != t) { ok = 0; break; }
+                    stamp_of[s] = stamp; owner[s] = t;
+                }
+            }
+        }
+    }
+    uint64_t w[NWORDS > 0 ? NWORDS : 1];
+    if (ok) {
+        store_state(c, old, w);
+        for (int32_t t = 0; t < nt; t++) mc_patch(&tp[t], 0, 0, old, w);
+        /* the run already stored is the first combination */
+        if (memcmp(w, b->w + (nbuf - 1) * NWORDS, NWORDS * sizeof(uint64_t)) != 0) ok = 0;
+    }
+    c->err = 0;
+    c->pos = pos;
+    memcpy(c->idx, sidx, (size_t)pos * sizeof(int32_t));
+    memcpy(c->cnt, scnt, (size_t)pos * sizeof(int32_t));
+    if (!ok) return 0;
+    while (nbuf - 1 + total > b->cap) if (!succ_grow(b)) return -1;
+    /* each alternative as the words it changes (xor) from the first combination */
+    static _Thread_local uint64_t *dx = 0;
+    static _Thread_local int64_t cap_dx = 0;
+    static _Thread_local int64_t dbase[MAXCH];
+    int64_t nd = 0;
+    for (int32_t t = 0; t < nt; t++) { dbase[t] = nd; nd += (int64_t)scnt[j0 + t] * NWORDS; }
+    if (nd > cap_dx) {
+        uint64_t *x = (uint64_t *)realloc(dx, (size_t)nd * sizeof(uint64_t));
+        if (!x) return -1;
+        dx = x;
+        cap_dx = nd;
+    }
+    for (int32_t t = 0; t < nt; t++)
+        for (int32_t o = 0; o < scnt[j0 + t]; o++) {
+            uint64_t *d = dx + dbase[t] + (int64_t)o * NWORDS;
+            memcpy(d, w, NWORDS * sizeof(uint64_t));
+            mc_patch(&tp[t], 0, o, old, d);
+            for (int q = 0; q < NWORDS; q++) d[q] ^= w[q];
+        }
+    for (int32_t t = 0; t < nt; t++) cur[t] = 0;
+    int64_t k = 0;
+    for (;;) {
+        int32_t t = nt - 1;
+        while (t >= 0 && cur[t] + 1 >= scnt[j0 + t]) t--;
+        if (t < 0) break;
+        for (int32_t u = t + 1; u < nt; u++) {
+            const uint64_t *d = dx + dbase[u] + (int64_t)cur[u] * NWORDS;
+            for (int q = 0; q < NWORDS; q++) w[q] ^= d[q];
+            cur[u] = 0;
+        }
+        {
+            const uint64_t *d0 = dx + dbase[t] + (int64_t)cur[t] * NWORDS, *d1 = d0 + NWORDS;
+            for (int q = 0; q < NWORDS; q++) w[q] ^= d0[q] ^ d1[q];
+        }
+        cur[t]++;
+        memcpy(b->w + (nbuf + k) * NWORDS, w, NWORDS * sizeof(uint64_t));
+        b->m[2 * (nbuf + k)] = b->m[2 * (nbuf + k) + 1] = 0;
+        k++;
+    }
+    for (int32_t t = 0; t < nt; t++) c->idx[j0 + t] = scnt[j0 + t] - 1;
+    return k;
+}
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site) {
     c->plen = 0;
     b->n = 0;
@@ -318,6 +492,14 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #endif
         }
         b->n++;
+#ifdef MC_TAIL_ON
+        if (b->n < MAX_SUCC) {  /* the other combinations of the merged chooses the run ends with */
+            int64_t more = mc_tail(c, src, b);
+            if (more < 0) return EXP_MEM;
+            if (MISSED()) return EXP_MISSED;
+            b->n += more;
+        }
+#endif
         if (b->n >= MAX_SUCC) { *steperr = E_TOOMANY; b->n = 0; return EXP_OK; }
         if ((b->n & 4095) == 0) {
             if (interrupted || stop_all) return EXP_STOP;
@@ -331,37 +513,6 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
         c->prefix[j] = c->idx[j] + 1;
         c->plen = j + 1;
-    }
-}
-
-/* The distinct successors of the state being expanded (a transition is a pair of states): a set
-   of state numbers by open addressing, emptied in O(1) per state by a new stamp. */
-static uint64_t *succ_set = 0;
-static int64_t succ_cap = 0;
-static uint32_t succ_stamp = 0;
-static int succ_reset(int64_t n) {
-    if (2 * n > succ_cap) {
-        int64_t nc = succ_cap ? succ_cap : 1024;
-        while (nc < 2 * n) nc *= 2;
-        uint64_t *x = (uint64_t *)realloc(succ_set, (size_t)nc * sizeof(uint64_t));
-        if (!x) return 0;
-        succ_set = x;
-        succ_cap = nc;
-        memset(succ_set, 0, (size_t)nc * sizeof(uint64_t));
-        succ_stamp = 0;
-    }
-    if (++succ_stamp == 0) { memset(succ_set, 0, (size_t)succ_cap * sizeof(uint64_t)); succ_stamp = 1; }
-    return 1;
-}
-/* 1 the first time tid is met since succ_reset */
-static inline int succ_first(int64_t tid) {
-    uint64_t msk = (uint64_t)succ_cap - 1, h = mix64((uint64_t)tid) & msk;
-    uint64_t want = ((uint64_t)succ_stamp << 32) | (uint32_t)tid;
-    for (;;) {
-        uint64_t x = succ_set[h];
-        if ((uint32_t)(x >> 32) != succ_stamp) { succ_set[h] = want; return 1; }
-        if (x == want) return 0;
-        h = (h + 1) & msk;
     }
 }
 
