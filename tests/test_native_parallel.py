@@ -450,3 +450,21 @@ def test_states_with_many_equal_successors_give_the_same_report(tmp_path, monkey
             assert doc.pop("workers") == n
             assert (code, doc) == (code1, one)
     assert explore(path, 2) == explore(path, 1)
+
+
+@pytest.mark.parametrize("name", ["LOTS", "ABSORB", "AFTER", "IN_SEQ", "AGENTS"])
+def test_merged_chooses_give_the_same_report_for_any_number_of_workers(tmp_path, monkeypatch, name):
+    # the combinations of merged chooses a run of the step ends with are written by each thread
+    # into its own buffer (mc_tail), as one worker writes them
+    import test_native_choose_merge as merged
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    src = getattr(merged, name)
+    path = tmp_path / f"{src.split()[1]}.asm"
+    path.write_text(src)
+    for extra in ((), ("--deadlock",)):
+        code1, one = report(path, *extra, workers=1)
+        assert one["engine"] == "native"
+        for n in (2, 3, 8):
+            code, doc = report(path, *extra, workers=n)
+            assert doc.pop("workers") == n
+            assert (code, doc) == (code1, one)
