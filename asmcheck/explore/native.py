@@ -1751,12 +1751,11 @@ class Generator:
         return ";"
 
     def r_LocalRule(self, r, env):
-        # The Python engine (the reference) declares a local function with no place in the spec's
-        # function table (index -1): every local function is the one location -1 there; the body's
-        # updates of it join the step's update set (so two calls, or two local functions, clash)
-        # and leave the state afterwards.  Not followed.
-        raise Unsupported(f"the local function {r.func.name} at {r.span.short() if r.span else '?'} (the Python "
-                          f"engine's local functions share one location whose updates join the step's update set)")
+        # A local function lives in the working state of its rule only, one per call (a recursive
+        # turbo rule has one per level), and its updates stay in the rule: the native state has no
+        # slots for it.  The Python engine runs such specs.
+        raise Unsupported(f"the local function {r.func.name} at {r.span.short() if r.span else '?'} (a location of "
+                          f"one call of its rule, which the native state has no slot for)")
 
     def r_Update(self, r, env):
         f = r.func

@@ -139,7 +139,8 @@ int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, 
 }
 
 /* the same on a graph given by the caller: the successors of node v are the list of its class
- * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts */
+ * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts (null: every
+ * node of the mask, ascending) */
 int64_t kn_fair_graph(int64_t N, const int32_t *cls, const int32_t *off, const int32_t *adj, int64_t nroots,
                       const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just, int64_t nc,
                       const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
@@ -152,7 +153,9 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
                          int32_t *comp) {
     int32_t *index = (int32_t *)malloc((N + 1) * sizeof(int32_t));
     int32_t *low = (int32_t *)malloc((N + 1) * sizeof(int32_t));
-    int32_t *region = (int32_t *)malloc((N + 1) * sizeof(int32_t));
+    /* the region of each node: the set it is searched in (-1: none); without compassion there is no
+       refinement, and the region is the mask itself (no array) */
+    int32_t *region = nc > 0 ? (int32_t *)malloc((N + 1) * sizeof(int32_t)) : 0;
     int32_t *stack = (int32_t *)malloc((N + 1) * sizeof(int32_t));
     int32_t *work = (int32_t *)malloc((N + 1) * sizeof(int32_t));
     int32_t *wpos = (int32_t *)malloc((N + 1) * sizeof(int32_t));
@@ -161,19 +164,22 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
     int32_t *todo = 0, *roots = 0;
     int64_t ctodo = 0, ntodo = 0, croots = 0;
     int64_t nfair = 0, counter = 0, nregions = 1;
-    if (!index || !low || !region || !stack || !work || !wpos || !onstack || !badj) goto oom;
-    for (int64_t v = 0; v < N; v++) { index[v] = -1; region[v] = (mask && !mask[v]) ? -1 : 0; comp[v] = -1; }
-    /* todo: pairs (region, first root position in roots, number of roots) */
-    for (int64_t i = 0; i < P_ninit; i++) if (!push32(&roots, &croots, i, P_init[i])) goto oom;
-    if (!push32(&todo, &ctodo, ntodo++, 0) || !push32(&todo, &ctodo, ntodo++, 0) ||
-        !push32(&todo, &ctodo, ntodo++, (int32_t)P_ninit)) goto oom;
-    int64_t nroots = P_ninit;
+    if (!index || !low || (nc > 0 && !region) || !stack || !work || !wpos || !onstack || !badj) goto oom;
+#define REGION(v) (region ? region[v] : ((mask && !mask[v]) ? -1 : 0))
+    for (int64_t v = 0; v < N; v++) { index[v] = -1; if (region) region[v] = (mask && !mask[v]) ? -1 : 0; comp[v] = -1; }
+    /* todo: triples (region, first root position in roots, number of roots); without P_init the
+       roots are every node, ascending (first position -1: no copy of them is made) */
+    if (P_init)
+        for (int64_t i = 0; i < P_ninit; i++) if (!push32(&roots, &croots, i, P_init[i])) goto oom;
+    if (!push32(&todo, &ctodo, ntodo++, 0) || !push32(&todo, &ctodo, ntodo++, P_init ? 0 : -1) ||
+        !push32(&todo, &ctodo, ntodo++, (int32_t)(P_init ? P_ninit : N))) goto oom;
+    int64_t nroots = P_init ? P_ninit : 0;
     while (ntodo > 0) {
         int32_t rn = todo[ntodo - 1], r0 = todo[ntodo - 2], reg = todo[ntodo - 3];
         ntodo -= 3;
-        for (int32_t ri = r0; ri < r0 + rn; ri++) {
-            int32_t r = roots[ri];
-            if (index[r] != -1 || region[r] != reg) continue;
+        for (int32_t ri = 0; ri < rn; ri++) {
+            int32_t r = r0 < 0 ? ri : roots[r0 + ri];
+            if (index[r] != -1 || REGION(r) != reg) continue;
             int64_t sp = 0, wp = 0;
             index[r] = low[r] = (int32_t)counter++;
             stack[sp++] = r; onstack[r] = 1;
@@ -183,7 +189,7 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
                 int pushed = 0;
                 while (wpos[wp - 1] < P_off[CL(v) + 1]) {
                     int32_t w = P_adj[wpos[wp - 1]++];
-                    if (region[w] != reg) continue;
+                    if (REGION(w) != reg) continue;
                     if (index[w] == -1) {
                         index[w] = low[w] = (int32_t)counter++;
                         stack[sp++] = w; onstack[w] = 1;
@@ -251,6 +257,7 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
             }
         }
     }
+#undef REGION
     free(index); free(low); free(region); free(stack); free(work); free(wpos); free(onstack); free(badj);
     free(todo); free(roots);
     return nfair;

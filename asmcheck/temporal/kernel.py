@@ -275,14 +275,13 @@ def fair_comp(K, s: bytearray, justice, compassion):
         return None
     n = K.n
     cls, off, adj = _csr(K)
-    roots = _arr("i", (i for i in range(n) if s[i]))
-    nroots = s.count(1)
     mask = bytearray(s) if len(s) else bytearray(1)
     just = bytearray().join(justice) or bytearray(1)
     cp = bytearray().join(p for p, _ in compassion) or bytearray(1)
     cq = bytearray().join(q for _, q in compassion) or bytearray(1)
     comp = array("i", bytes(4 * max(n, 1)))
-    nfair = dll.kn_fair_graph(n, _addr(cls), _addr(off), _addr(adj), nroots, _addr(roots), _addr(mask),
+    # the roots: every node of s, ascending (passed as none)
+    nfair = dll.kn_fair_graph(n, _addr(cls), _addr(off), _addr(adj), n, 0, _addr(mask),
                               len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
     if nfair < 0:
         return None

@@ -568,7 +568,7 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 vecs.append(vec)
                 K.halt[v] = (src, picks, ix)
                 halt_nodes.append(v)
-        K.n = n = len(sid)
+        K.n = len(sid)
         K.sid, K.tgt, K.picks, K.vec = sid, tgt, picks_l, vecs
         if isinstance(picks_l, _PicksOfSteps):
             picks_l.sid = sid
