@@ -28,8 +28,12 @@ twin T63 K250 (4,245,995 states; ``--native-twin T K`` for another) in this proc
 engine, ``--native-repeat`` times each, alternating: 1 worker (the one-thread search), 2 workers
 (the threaded search), and the threaded search on 1 thread (what the threaded code gains or loses
 on its own, apart from the second core).  Search time (wall and this process's CPU), best and
-median, and the speed-up of 2 workers over 1; the twin with ``--bug`` is checked to give the same
-report (trace included) with 1 and 2 workers.  ``--out DIR`` also writes the output to
+median, and the speed-up of 2 workers over 1; the threads' CPU time (spinning not counted), the
+barriers (two a chunk of a level), how many waits ended in a futex sleep and how long the threads
+waited; the twin with ``--bug`` is checked to give the same report (trace included) with 1 and 2
+workers.  On a machine whose cores other jobs use, the wall times say little (a waiting thread
+waits for one that has no core): the best of several alternating runs, the CPU times and the load
+average printed with them are what to read.  ``--out DIR`` also writes the output to
 ``DIR/bench_parallel-DATE.md``.
 """
 import argparse
@@ -150,7 +154,9 @@ def native_rows(shared, t, k, repeat, say):
                 adapted.append(ex.thread_stats()["one_thread_slices"])
             if name == "2 workers, always 2 threads":
                 st = ex.thread_stats()
-                idle.append(max(st["thread_cpu"]) + st["merge_cpu"] + st["one_thread_cpu"])
+                # thread 0's CPU holds what it does alone (chunks on one thread, walks); thread 1
+                # waits meanwhile
+                idle.append(max(st["thread_cpu"][0], st["thread_cpu"][1] + st["one_thread_cpu"]))
                 split.append(st)
             counts[name] = (r.states, r.transitions, r.depth, r.verdict)
             ex.close()
@@ -190,11 +196,14 @@ def native_rows(shared, t, k, repeat, say):
     say(f"'2 workers' is what `--workers 2` does: it runs on one thread the slices (0.25 s) where a probe "
         f"found one thread faster (a busy machine); slices so run, per run: {', '.join(map(str, adapted))}. "
         f"'Always 2 threads' turns that off. The estimate is, for the latter, the CPU time of the busier "
-        f"thread in the parallel phases plus thread 0's one-thread parts (merge, chunks done on one "
-        f"thread): what the run takes when no thread waits for a core; barrier waits are not in it. Best "
-        f"run: threads {st['thread_cpu'][0]:.3f} s and {st['thread_cpu'][1]:.3f} s, merge "
-        f"{st['merge_cpu']:.3f} s, one-thread chunks {st['one_thread_cpu']:.3f} s, "
-        f"{st['parallel_chunks']} chunks on the threads.")
+        f"thread, spinning at barriers not counted (thread 0's includes what it does alone: chunks on one "
+        f"thread, chunks it walks in order): what the run takes when no thread waits for a core. Best "
+        f"run: threads {st['thread_cpu'][0]:.3f} s and {st['thread_cpu'][1]:.3f} s of CPU, "
+        f"{st['parallel_chunks']} chunks on the threads, {st['walked_chunks']} walked by thread 0, "
+        f"{st['serial_chunks']} sent back to one thread, {st['table_growths']} table growths; "
+        f"{st['barriers']} barriers (two a chunk), {st['sleeps']} of the threads' waits ended in a futex "
+        f"sleep (a wait longer than the thread's spin, 2 to 50 us), {st['barrier_wait'][0]:.3f} s and "
+        f"{st['barrier_wait'][1]:.3f} s waited at barriers by threads 0 and 1.")
     say("")
     say(f"Twin T{t} K{k} --bug: the same report with 1 and 2 workers, the shortest trace of {trace_len} states.")
     say("")

@@ -3378,6 +3378,7 @@ _SYMBOLS = {
     "asm_memory_bytes": (_i64, []),
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
     "asm_par_min_chunk": (None, [_i64]),
+    "asm_par_max_chunk": (None, [_i64]),
     "asm_par_adapt": (None, [_i64]),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
@@ -3399,8 +3400,8 @@ def build_library(src: str):
 # elements and the search counter (atomic), the table of search contexts (compare-and-swap).
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
-    states nstates cap_states parents table tmask tcount ctx_static sbuf smask cap_sbuf global_epoch
-    interrupted W nworkers bar_n posnum cap_posnum nfirst_of ptime grow_failed
+    states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
+    interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succ_set succ_cap succ_stamp
 """.split())
@@ -3558,14 +3559,18 @@ class NativeExplorer:
     def thread_stats(self) -> dict:
         """What the threaded search did since the last call (benchmarks, tests): chunks of a level
         done on the threads, chunks sent back to one thread (a value not yet in the value table, a
-        run-time condition), seconds in the parallel phases, CPU seconds of the merge, of the chunks
-        done on one thread (small or sent back), and of threads 0 and 1 in the parallel phases;
-        the slices (calls) run on one thread because that was faster (a busy machine)."""
-        o = (ctypes.c_double * 8)()
+        run-time condition), chunks walked by thread 0 (something to record, a limit), growths of
+        the table inside a chunk; seconds in the threaded chunks, CPU seconds of thread 0 alone
+        (walks, counters), of the chunks done on one thread (small or sent back), and of threads 0
+        and 1 (spinning at barriers not counted); the barriers thread 0 met, the futex sleeps of
+        all threads, the seconds threads 0 and 1 waited at barriers; the slices (calls) run on one
+        thread because that was faster (a busy machine)."""
+        o = (ctypes.c_double * 14)()
         self.dll.asm_par_stats(o)
-        return {"parallel_chunks": int(o[2]), "serial_chunks": int(o[1]), "parallel_seconds": o[0],
-                "one_thread_slices": int(o[4]),
-                "merge_cpu": o[5], "one_thread_cpu": o[3], "thread_cpu": (o[6], o[7])}
+        return {"parallel_chunks": int(o[2]), "serial_chunks": int(o[1]), "walked_chunks": int(o[8]),
+                "table_growths": int(o[9]), "parallel_seconds": o[0], "one_thread_slices": int(o[4]),
+                "merge_cpu": o[5], "one_thread_cpu": o[3], "thread_cpu": (o[6], o[7]),
+                "barriers": int(o[10]), "sleeps": int(o[11]), "barrier_wait": (o[12], o[13])}
 
     def _table_bound(self) -> int:
         """Bytes the search's tables may take (-1: no bound)."""
@@ -3617,6 +3622,8 @@ class NativeExplorer:
         self.dll.asm_limit_memory(self._table_bound())
         # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
         self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
+        # and of more states split (ASMCHECK_THREAD_MAX_CHUNK: tests; at most 65,536)
+        self.dll.asm_par_max_chunk(int(os.environ.get("ASMCHECK_THREAD_MAX_CHUNK", "65536") or 65536))
         self.dll.asm_par_adapt(1 if self.adapt else 0)
         if self.workers > 1 and self.thread_unsafe:
             msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "

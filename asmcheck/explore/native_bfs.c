@@ -119,8 +119,6 @@ static void make_post(Ctx *c) {
         else c->post[s] = slot_decode(s, c->upd_code[i]);
     }
 }
-static uint64_t *sbuf = 0, *smask = 0;
-static int64_t cap_sbuf = 0;
 static int64_t global_epoch = 0;     /* never reset: choose caches compare against it */
 
 static double now_seconds(void) {
@@ -228,6 +226,36 @@ static int over_memory(int64_t n);
 static volatile sig_atomic_t interrupted = 0;
 static void on_sigint(int sig) { (void)sig; interrupted = 1; }
 
+/* ------------------------------------------------------------------ the successors of a state
+ * Both searches (asm_run, and every thread of asm_run_par) expand a state with expand(): the step
+ * runs for every sequence of choices (the same enumeration as the Python explorer); each successor
+ * that satisfies INVAR is packed (and made canonical) into b, with its step-property masks (bit k
+ * of m[0]: property k fails; of m[1]: it is in error).  Returns EXP_OK (with *steperr when the step
+ * failed: then no successor), or why the search cannot go on from here: EXP_HARD (a condition the
+ * native search does not handle: *err, *site), EXP_HARD0 (the same, at site 0), EXP_MEM, EXP_STOP (Ctrl-C
+ * or the time limit: the caller tells which), EXP_MISSED (a value not in the value table while it is
+ * frozen: the threaded search expands the chunk again on one thread).
+ */
+typedef struct { uint64_t *w, *m; int64_t n, cap; } Succ;
+enum { EXP_OK, EXP_HARD, EXP_HARD0, EXP_MEM, EXP_STOP, EXP_MISSED };
+static Succ sb0;                     /* asm_run's */
+static volatile int stop_all = 0;    /* the threaded search: a thread saw the time limit */
+static inline int hard_error(int e) { return e == E_UNSUPPORTED || e == E_CHOICES || e == E_MEMORY; }
+#define MISSED() (vt_frozen && vt_missed)
+
+static int succ_grow(Succ *b) {
+    int64_t nc = b->cap ? b->cap * 2 : 64;
+    uint64_t *x = (uint64_t *)realloc(b->w, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
+    if (!x) return 0;
+    b->w = x;
+    x = (uint64_t *)realloc(b->m, nc * 2 * sizeof(uint64_t));
+    if (!x) return 0;
+    b->m = x;
+    b->cap = nc;
+    return 1;
+}
+
+
 /* The distinct successors of the state being expanded (a transition is a pair of states): a set
    of state numbers by open addressing, emptied in O(1) per state by a new stamp. */
 static uint64_t *succ_set = 0;
@@ -261,13 +289,13 @@ static inline int succ_first(int64_t tid) {
 
 #if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0
 #define MC_TAIL_ON 1
-/* The run of the step just stored (its successor the last of sbuf, nbuf of them) ends with choice
+/* The run of the step just stored (its successor the last of b, b->n of them) ends with choice
    points that are all merged chooses (mc_note), each at its first alternative.  When no other
    update of the step touches a location any of their alternatives updates, and no two of them
    share one, the rest of the step does not depend on their alternatives (only the update buffer
    would tell them apart): every other combination of them is the successor of a probe run (the
    same choices, those alternatives left out) with their updates written in, in the enumeration's
-   order.  They are added to sbuf, the choice points set to their last alternatives, and their
+   order.  They are added to b, the choice points set to their last alternatives, and their
    number returned (0: the conditions do not hold, nothing done; -1: out of memory). */
 static void mc_patch(const MPoint *p, int32_t from, int32_t to, const uint64_t *old, uint64_t *w) {
     const MChoose *m = p->m;
@@ -286,7 +314,8 @@ static void mc_patch(const MPoint *p, int32_t from, int32_t to, const uint64_t *
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
     }
 }
-static int64_t mc_tail(Ctx *c, const uint64_t *old, int64_t nbuf) {
+static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
+    int64_t nbuf = b->n;
     static _Thread_local MPoint tp[MAXCH];
     static _Thread_local int32_t sidx[MAXCH], scnt[MAXCH], cur[MAXCH];
     static _Thread_local uint32_t stamp_of[NSLOTS > 0 ? NSLOTS : 1], stamp = 0;
@@ -348,24 +377,14 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, int64_t nbuf) {
         store_state(c, old, w);
         for (int32_t t = 0; t < nt; t++) mc_patch(&tp[t], 0, 0, old, w);
         /* the run already stored is the first combination */
-        if (memcmp(w, sbuf + (nbuf - 1) * NWORDS, NWORDS * sizeof(uint64_t)) != 0) ok = 0;
+        if (memcmp(w, b->w + (nbuf - 1) * NWORDS, NWORDS * sizeof(uint64_t)) != 0) ok = 0;
     }
     c->err = 0;
     c->pos = pos;
     memcpy(c->idx, sidx, (size_t)pos * sizeof(int32_t));
     memcpy(c->cnt, scnt, (size_t)pos * sizeof(int32_t));
     if (!ok) return 0;
-    if (nbuf - 1 + total > cap_sbuf) {
-        int64_t nc = cap_sbuf ? cap_sbuf : 64;
-        while (nc < nbuf - 1 + total) nc *= 2;
-        uint64_t *x = (uint64_t *)realloc(sbuf, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
-        if (!x) return -1;
-        sbuf = x;
-        uint64_t *y = (uint64_t *)realloc(smask, nc * 2 * sizeof(uint64_t));
-        if (!y) return -1;
-        smask = y;
-        cap_sbuf = nc;
-    }
+    while (nbuf - 1 + total > b->cap) if (!succ_grow(b)) return -1;
     /* each alternative as the words it changes (xor) from the first combination */
     static _Thread_local uint64_t *dx = 0;
     static _Thread_local int64_t cap_dx = 0;
@@ -401,14 +420,101 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, int64_t nbuf) {
             for (int q = 0; q < NWORDS; q++) w[q] ^= d0[q] ^ d1[q];
         }
         cur[t]++;
-        memcpy(sbuf + (nbuf + k) * NWORDS, w, NWORDS * sizeof(uint64_t));
-        smask[2 * (nbuf + k)] = smask[2 * (nbuf + k) + 1] = 0;
+        memcpy(b->w + (nbuf + k) * NWORDS, w, NWORDS * sizeof(uint64_t));
+        b->m[2 * (nbuf + k)] = b->m[2 * (nbuf + k) + 1] = 0;
         k++;
     }
     for (int32_t t = 0; t < nt; t++) c->idx[j0 + t] = scnt[j0 + t] - 1;
     return k;
 }
 #endif
+
+static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site) {
+    c->plen = 0;
+    b->n = 0;
+    *steperr = 0;
+    for (;;) {
+        c->pos = 0;
+        c->nupd = 0;
+        c->nlog = 0;
+        c->seqstart = -1;
+        c->curstep = 0;
+        c->self = UNDEF;
+        c->nvs = 0;
+        c->gen++;
+        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+        c->err = 0;
+        step_main(c);
+        if (MISSED()) return EXP_MISSED;
+        if (c->err) {
+            if (hard_error(c->err)) { *err = c->err; *site = c->err_site; return EXP_HARD; }
+            *steperr = c->err;
+            b->n = 0;
+            return EXP_OK;
+        }
+#if NSTEP > 0 || NINVAR > 0
+        if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
+        if (MISSED()) return EXP_MISSED;
+#endif
+#if NINVAR > 0
+        {   /* INVAR: a successor that breaks one does not exist */
+            int ok = 1;
+            c->rd = c->post;
+            for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
+            c->rd = c->cur;
+            if (MISSED()) return EXP_MISSED;
+            if (c->err == E_UNSUPPORTED) { *err = c->err; return EXP_HARD0; }
+            c->err = 0;
+            if (!ok) goto next_choice;
+        }
+#endif
+        if (b->n >= b->cap && !succ_grow(b)) return EXP_MEM;
+        {
+            uint64_t *m = b->m + 2 * b->n;
+            m[0] = m[1] = 0;
+#if NSTEP > 0
+            for (int k = 0; k < NSTEP; k++) {
+                if (S.violated[NINV + 2 + k]) continue;
+                c->err = 0;
+                V v = check_step_prop(c, k);
+                if (MISSED()) return EXP_MISSED;
+                if (c->err == E_UNSUPPORTED || c->err == E_CHOICES) { *err = c->err; return EXP_HARD0; }
+                if (c->err || v == UNDEF) m[1] |= 1ULL << k;
+                if (c->err || v != 1) m[0] |= 1ULL << k;
+            }
+            c->err = 0;
+#endif
+            uint64_t *nw = b->w + b->n * NWORDS;
+            store_state(c, src, nw);
+            if (MISSED()) return EXP_MISSED;
+#if CN_NDYN > 0
+            if (canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+#endif
+        }
+        b->n++;
+#ifdef MC_TAIL_ON
+        if (b->n < MAX_SUCC) {  /* the other combinations of the merged chooses the run ends with */
+            int64_t more = mc_tail(c, src, b);
+            if (more < 0) return EXP_MEM;
+            if (MISSED()) return EXP_MISSED;
+            b->n += more;
+        }
+#endif
+        if (b->n >= MAX_SUCC) { *steperr = E_TOOMANY; b->n = 0; return EXP_OK; }
+        if ((b->n & 4095) == 0) {
+            if (interrupted || stop_all) return EXP_STOP;
+            if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) return EXP_STOP;
+        }
+    next_choice: ;
+        /* the next sequence of choices */
+        int j = c->pos - 1;
+        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
+        if (j < 0) return EXP_OK;
+        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
+        c->prefix[j] = c->idx[j] + 1;
+        c->plen = j + 1;
+    }
+}
 
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
@@ -419,7 +525,6 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
     sigemptyset(&sa.sa_mask);
     interrupted = 0;
     sigaction(SIGINT, &sa, &old);
-    uint64_t nw[NWORDS > 0 ? NWORDS : 1];
     double ts = now_seconds();
     int status = S.status == -1 ? 0 : S.status;
     if (S.status != -1) goto done;
@@ -454,98 +559,22 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         if (S.max_depth >= 0 && S.depth >= S.max_depth) { S.depth_hit = 1; continue; }
         /* successors: every sequence of choices, kept aside until the whole step has run
            (a run-time error leaves the state without successors, as in the Python explorer) */
-        c->plen = 0;
-        int64_t nbuf = 0;
-        int steperr = 0;
-        for (;;) {
-            c->pos = 0;
-            c->nupd = 0;
-            c->nlog = 0;
-            c->seqstart = -1;
-            c->curstep = 0;
-            c->self = UNDEF;
-            c->nvs = 0;
-            c->gen++;
-            if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
-            c->err = 0;
-            step_main(c);
-            if (c->err) {
-                if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
-                    out[4] = c->err; out[5] = sid; out[6] = c->err_site; out[10] = c->clash_slot;
-                    status = 4; goto finish;
-                }
-                steperr = c->err;
-                break;
-            }
-#if NSTEP > 0 || NINVAR > 0
-            if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
-#endif
-#if NINVAR > 0
-            {   /* INVAR: a successor that breaks one does not exist */
-                int ok = 1;
-                c->rd = c->post;
-                for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
-                c->rd = c->cur;
-                if (c->err == E_UNSUPPORTED) { out[4] = c->err; out[5] = sid; out[6] = 0; status = 4; goto finish; }
-                c->err = 0;
-                if (!ok) goto next_choice;
-            }
-#endif
-            if (nbuf >= cap_sbuf) {
-                int64_t nc = cap_sbuf ? cap_sbuf * 2 : 64;
-                uint64_t *x = (uint64_t *)realloc(sbuf, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
-                if (!x) { status = 5; goto finish; }
-                sbuf = x;
-                uint64_t *y = (uint64_t *)realloc(smask, nc * 2 * sizeof(uint64_t));
-                if (!y) { status = 5; goto finish; }
-                smask = y;
-                cap_sbuf = nc;
-            }
-            smask[2 * nbuf] = smask[2 * nbuf + 1] = 0;
-#if NSTEP > 0
-            for (int k = 0; k < NSTEP; k++) {
-                if (S.violated[NINV + 2 + k]) continue;
-                c->err = 0;
-                V v = check_step_prop(c, k);
-                if (c->err == E_UNSUPPORTED || c->err == E_CHOICES) {
-                    out[4] = c->err; out[5] = sid; out[6] = 0; status = 4; goto finish;
-                }
-                if (c->err || v == UNDEF) smask[2 * nbuf + 1] |= 1ULL << k;
-                if (c->err || v != 1) smask[2 * nbuf] |= 1ULL << k;
-            }
-            c->err = 0;
-#endif
-            store_state(c, states + sid * NWORDS, sbuf + nbuf * NWORDS);
-#if CN_NDYN > 0
-            if (canon_state(c, sbuf + nbuf * NWORDS)) { out[4] = E_UNSUPPORTED; out[5] = sid; out[6] = 0; status = 4; goto finish; }
-#endif
-            nbuf++;
-#ifdef MC_TAIL_ON
-            if (nbuf < MAX_SUCC) {
-                int64_t more = mc_tail(c, states + sid * NWORDS, nbuf);
-                if (more < 0) { status = 5; goto finish; }
-                nbuf += more;
-            }
-#endif
-            if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
-            if ((nbuf & 4095) == 0) {
-                if (interrupted) { status = 7; goto finish; }
-                if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { status = 3; goto finish; }
-            }
-        next_choice: ;
-            /* the next sequence of choices */
-            int j = c->pos - 1;
-            while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
-            if (j < 0) break;
-            for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
-            c->prefix[j] = c->idx[j] + 1;
-            c->plen = j + 1;
+        int steperr = 0, xe = 0, xsite = 0;
+        int xr = expand_state(c, states + sid * NWORDS, &sb0, &steperr, &xe, &xsite);
+        if (xr == EXP_HARD) {
+            out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
+            status = 4; goto finish;
         }
+        if (xr == EXP_HARD0) { out[4] = xe; out[5] = sid; out[6] = 0; status = 4; goto finish; }
+        if (xr == EXP_MEM) { status = 5; goto finish; }
+        if (xr == EXP_STOP) { status = interrupted ? 7 : 3; goto finish; }
         if (steperr) {
             if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = steperr; }
             S.step_failed = 1;
             continue;
         }
+        int64_t nbuf = sb0.n;
+        const uint64_t *sbuf = sb0.w, *smask = sb0.m;
         int only_self = 1;
         if (!succ_reset(nbuf)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
@@ -647,7 +676,7 @@ int64_t asm_values(void) { return nvals; }
 
 void asm_free(void) {
     vt_free();
-    free(sbuf); sbuf = 0; free(smask); smask = 0; cap_sbuf = 0;
+    free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
@@ -685,69 +714,122 @@ static int over_memory(int64_t n) { return P.max_bytes >= 0 && memory_bytes(n) >
 int64_t asm_memory_bytes(void) { return memory_bytes(nstates); }
 
 /* ------------------------------------------------------------------ parallel search
- * asm_run_par() is asm_run() on several threads, with the same results: the same state numbers,
- * parents, counts, edges, violations and stopping state.  The frontier is cut into chunks (a
- * level, or part of a big one); for each chunk:
- *   A  each thread expands a contiguous slice of the chunk into its own buffer (successors in
- *      order, with their hash and step-property masks) and looks each successor up in the table,
- *      which nobody writes meanwhile;
- *   B  the successors not found are inserted by all threads at once (compare-and-swap on the
- *      table's entries); an entry made here holds the position, in the chunk's order, of a
- *      successor, and ends up holding the first (smallest) position among the equal ones;
- *   C  the first occurrences are numbered in chunk order (so the numbers are those the
- *      one-thread search gives), stored, and every successor gets its state number;
- *   D  one thread walks the chunk in order and does what asm_run does after the expansion of a
- *      state: transitions, edges, violations, deadlock, limits (dropping the states numbered
- *      after the state where the search stops).
- * What phase A cannot do without writing shared data (a value not yet in the value table) or
- * what ends the search (a run-time condition the native search does not handle) sends the whole
- * chunk to asm_run itself (P.until marks the chunk's end).  Phase A repeats the expansion of
- * asm_run: the two must stay in step.
+ * asm_run_par() is asm_run() on several threads, with the same results whatever the threads'
+ * timing: the same state numbers, parents, counts, edges, violations and stopping state.  The
+ * frontier is cut into chunks (a level, or CHUNK_STATES states of a big one) and each chunk into
+ * blocks.  For each chunk:
+ *   1  each thread expands the states of its blocks (expand_state, as asm_run) and inserts their
+ *      successors into the one hash table, all threads at once (compare-and-swap on the entries).
+ *      A new state gets a provisional entry that points to its words in the chunk's arena, and
+ *      the least of its discovery keys (the number of the state expanded << 32 | the successor's
+ *      position in that state's step), kept by an atomic minimum: the one-thread search numbers
+ *      a new state where it first meets it, at its least key.  Each thread counts the
+ *      transitions of its states and notes whether any needs recording (a property violated, a
+ *      failed step, a deadlock);
+ *      -- barrier --
+ *   2  the threads count, block by block, the successors whose key is the least of their state
+ *      (the first discoveries), and publish each count; thread 0 makes room for the new states;
+ *   3  the sum of the counts of the blocks before it gives each block the number of its first new
+ *      state (a count not published yet is awaited): the threads number the first discoveries
+ *      of each block in order, store them with their parents and make their table entries final;
+ *      -- barrier --
+ * (in each phase the threads take the blocks in turn from a counter: a thread that has no core
+ * for a while holds the others up for one block only).
+ * When something needs recording or a limit (states, memory) is reached in the chunk, thread 0
+ * then walks the chunk in order and does what asm_run does after each state (transitions, edges,
+ * violations, deadlock, limits; the states numbered after the one where the search stops are
+ * dropped), the others waiting.  Otherwise each thread works out the next chunk from the counts
+ * and goes on: two barriers a chunk.  A thread that cannot reserve room in the table (or the
+ * arena) for a block's successors makes the threads meet at the first barrier; thread 0 grows
+ * them and the expansion goes on.  What a thread cannot do without writing shared data (a value
+ * not yet in the value table), a run-time condition the native search does not handle, or memory
+ * running out sends the whole chunk to asm_run itself (P.until marks its end), once the
+ * provisional entries are out of the table.
  */
 #include <pthread.h>
 #include <sched.h>
+#include <linux/futex.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #define MAXTHREADS 64
 #define CHUNK_STATES 65536
+#define MAXBLOCKS (CHUNK_STATES / 8 + 1)
+#define PROV 0x80000000u
+#define EMPTY 0xffffffffffffffffULL
+#define ARENA_BATCH 64           /* arena positions a thread takes at once */
 
 typedef struct {
     Ctx *c;
-    /* successors, in order: words, hash, step-property masks, state number (or slot) */
-    uint64_t *cw, *ch, *cm;
-    int64_t *ctid;
-    int64_t ncand, cap_cand;
-    /* per state of the slice: first successor, count, failed invariants, invariants in error,
-       run-time error of the step */
-    int64_t *sfirst, *scount;
-    uint64_t *sfail, *serr;
-    int32_t *ssteperr;
-    int64_t cap_st;
-    int64_t lo, hi;              /* the slice */
-    int64_t base;                /* position of the first successor in the chunk's order */
-    int64_t nfirst, firstbase;   /* first occurrences, and the number of the first one */
-    int64_t *own[MAXTHREADS];    /* the positions of the successors not found, by owning thread */
-    int64_t nown[MAXTHREADS], cap_own[MAXTHREADS];
-    double busy;                 /* seconds in the phases */
-    int irregular;               /* needs asm_run */
-    int timeout;
-} Worker;
+    Succ b;                       /* one state's successors */
+    /* the successors of its blocks, in order: hash, then state number (>= 0) or -1 - arena
+       position, and step-property masks; the words of the block being inserted */
+    uint64_t *ch, *cm, *cw;
+    int64_t *ref;
+    int64_t ncand, cap_cand, cap_cw;
+    int64_t blk, bq0;             /* the block expanded and waiting for room (-1: none), its first successor */
+    int64_t spare, spare_end;     /* arena positions taken and not used yet */
+    int64_t epoch, epoch_end;     /* numbers of expansions (choose caches), taken from global_epoch */
+    int64_t events;               /* states of the chunk with something to record */
+    int irregular, timeout;
+    V lo[2][NSLOTS > 0 ? NSLOTS : 1], hi[2][NSLOTS > 0 ? NSLOTS : 1];   /* wide slots, by chunk parity */
+    double spin, wait, cpu;       /* seconds spinning and waiting at barriers, CPU seconds */
+    double spin_limit;            /* how long it spins at a barrier before it sleeps */
+    int64_t waits, sleeps;
+    uint64_t *sset;               /* the successors of one state told apart (wset_first) */
+    int64_t scap;
+    uint32_t sstamp;
+} __attribute__((aligned(64))) Worker;
 
 static Worker W[MAXTHREADS];
 static int nworkers = 0;
 
-/* the barrier: a short spin (the phases are short), then a futex wait (the machine may have
-   fewer free cores than threads: a waiting thread must not take the core of a working one) */
-#include <linux/futex.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-static struct {
-    int count, sense, sleepers;
-} B;
-static int bar_n;
+/* the chunk: counters the threads share (atomic), the arena of new states, blocks, states */
+#define LINE __attribute__((aligned(64)))    /* a cache line of its own: written by every thread */
+typedef struct {
+    LINE int64_t next_block;
+    LINE int64_t next_count;
+    LINE int64_t next_number;
+    LINE int64_t an;
+    LINE int64_t reserved;
+    LINE int64_t lim;
+    uint64_t *aw, *akey;          /* arena: words, least discovery key */
+    int64_t *aslot, *anum;        /* its table entry (-1: none), its number */
+    int64_t acap;
+    int32_t *bthr;                /* by block: the thread that expanded it, its first successor, */
+    int64_t *bq0, *bcount, *btrans;   /* first discoveries, transitions, */
+    volatile int64_t *bdone;      /* the chunk whose count it holds */
+    volatile int64_t states_ready;    /* the chunk for whose new states there is room */
+    int64_t *sfirst, *scount;     /* by state: first successor (in its thread's), successors, */
+    uint64_t *sfail, *serr;       /* invariants failed, in error, */
+    int32_t *ssteperr;            /* run-time error of the step */
+    volatile int grow, stopreq;
+    /* the chunk (its number) that a thread could not expand, where room ran out: a thread
+       reads them after a barrier, when thread 0 may already have gone on alone */
+    volatile int64_t abort_seq, failed_seq;
+    int64_t seqnext;              /* the number of the next chunk (thread 0) */
+    double slice_end;             /* when the slice ends (thread 0) */
+} Chunk;
+static Chunk C;
 
-static void barrier(int64_t *local_sense) {
-    int s = 1 - (int)*local_sense;
+/* what a thread knows of the search: the chunk (numbered from one slice to the next), the level,
+   the states, the chunks left to one thread (P.serial_skip, as thread 0 last set it) */
+typedef struct { int64_t c0, c1, level_end, depth, nstates, chunkno, blksz, nblocks, serial_skip; int only_inv; } Plan;
+static struct { volatile int cmd; Plan plan; } J;     /* set by thread 0 before the start barrier */
+
+/* the barrier: a short spin, then a futex wait (the machine may have fewer free cores than
+   threads: a waiting thread must not hold the core of a working one).  Each thread spins up to
+   its own limit, 2 to 50 us: longer after a wait the spin ended, shorter after one it did not
+   (another job has the cores: the threads' waits are long). */
+static struct { int count, sense, sleepers; } B;
+static int bar_n;
+#define SPIN_MIN 2e-6
+#define SPIN_MAX 50e-6
+
+static void barrier(Worker *w, int *local_sense) {
+    int s = 1 - *local_sense;
     *local_sense = s;
+    w->waits++;
     if (__atomic_add_fetch(&B.count, 1, __ATOMIC_ACQ_REL) == bar_n) {
         __atomic_store_n(&B.count, 0, __ATOMIC_RELAXED);
         __atomic_store_n(&B.sense, s, __ATOMIC_SEQ_CST);
@@ -755,288 +837,27 @@ static void barrier(int64_t *local_sense) {
             syscall(SYS_futex, &B.sense, FUTEX_WAKE_PRIVATE, 0x7fffffff, 0, 0, 0);
         return;
     }
-    for (int spins = 0; spins < 300; spins++) {
-        if (__atomic_load_n(&B.sense, __ATOMIC_ACQUIRE) == s) return;
+    double t0 = now_seconds(), t = t0;
+    for (int spins = 1;; spins++) {
+        if (__atomic_load_n(&B.sense, __ATOMIC_ACQUIRE) == s) {
+            if (spins > 64) t = now_seconds();
+            w->spin += t - t0; w->wait += t - t0;
+            w->spin_limit = w->spin_limit + 5e-6 > SPIN_MAX ? SPIN_MAX : w->spin_limit + 5e-6;
+            return;
+        }
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
+        if ((spins & 63) == 0 && (t = now_seconds()) - t0 > w->spin_limit) break;
     }
+    w->spin += t - t0;
+    w->sleeps++;
+    w->spin_limit = w->spin_limit / 2 < SPIN_MIN ? SPIN_MIN : w->spin_limit / 2;
     __atomic_add_fetch(&B.sleepers, 1, __ATOMIC_SEQ_CST);
     while (__atomic_load_n(&B.sense, __ATOMIC_SEQ_CST) != s)
         syscall(SYS_futex, &B.sense, FUTEX_WAIT_PRIVATE, 1 - s, 0, 0, 0);
     __atomic_sub_fetch(&B.sleepers, 1, __ATOMIC_SEQ_CST);
-}
-
-/* what the threads do next (set by thread 0 between barriers) */
-static struct {
-    volatile int cmd;            /* 0 expand, 1 insert, 2 count, 3 number, 4 resolve, 9 quit */
-    int64_t c0, c1;              /* the chunk */
-    int expand_only_inv;         /* depth limit reached: invariants only */
-    int64_t snapshot_n;          /* nstates when the chunk began */
-    volatile int stop;           /* time limit or Ctrl-C while expanding */
-} J;
-
-static int worker_grow_cand(Worker *w) {
-    int64_t nc = w->cap_cand ? w->cap_cand * 2 : 1024;
-    uint64_t *x = (uint64_t *)realloc(w->cw, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
-    if (!x) return 0;
-    w->cw = x;
-    x = (uint64_t *)realloc(w->ch, nc * sizeof(uint64_t));
-    if (!x) return 0;
-    w->ch = x;
-    x = (uint64_t *)realloc(w->cm, nc * 2 * sizeof(uint64_t));
-    if (!x) return 0;
-    w->cm = x;
-    int64_t *y = (int64_t *)realloc(w->ctid, nc * sizeof(int64_t));
-    if (!y) return 0;
-    w->ctid = y;
-    w->cap_cand = nc;
-    return 1;
-}
-
-static int worker_grow_states(Worker *w, int64_t n) {
-    if (n <= w->cap_st) return 1;
-    int64_t nc = w->cap_st ? w->cap_st : 1024;
-    while (nc < n) nc *= 2;
-    int64_t *a = (int64_t *)realloc(w->sfirst, nc * sizeof(int64_t));
-    if (!a) return 0;
-    w->sfirst = a;
-    a = (int64_t *)realloc(w->scount, nc * sizeof(int64_t));
-    if (!a) return 0;
-    w->scount = a;
-    uint64_t *b = (uint64_t *)realloc(w->sfail, nc * sizeof(uint64_t));
-    if (!b) return 0;
-    w->sfail = b;
-    b = (uint64_t *)realloc(w->serr, nc * sizeof(uint64_t));
-    if (!b) return 0;
-    w->serr = b;
-    int32_t *c = (int32_t *)realloc(w->ssteperr, nc * sizeof(int32_t));
-    if (!c) return 0;
-    w->ssteperr = c;
-    w->cap_st = nc;
-    return 1;
-}
-
-static inline int hard_error(int e) { return e == E_UNSUPPORTED || e == E_CHOICES || e == E_MEMORY; }
-
-/* the number of the state equal to w in the table (read only), or -1 */
-static inline int64_t lookup(const uint64_t *w, uint64_t hh) {
-    uint32_t fp = (uint32_t)(hh >> 32);
-    uint64_t h = hh & tmask;
-    while (table[h].id != 0xffffffffu) {
-        if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * NWORDS, w, NWORDS * sizeof(uint64_t)) == 0)
-            return table[h].id;
-        h = (h + 1) & tmask;
-    }
-    return -1;
-}
-
-/* phase A for one thread: expand states lo..hi-1 (as asm_run does) */
-static void phase_expand(Worker *w) {
-    Ctx *c = w->c;
-    w->ncand = 0;
-    for (int t = 0; t < nworkers; t++) w->nown[t] = 0;
-    w->irregular = 0;
-    w->timeout = 0;
-    vt_missed = 0;
-    if (!worker_grow_states(w, w->hi - w->lo)) { w->irregular = 1; return; }
-    for (int64_t sid = w->lo; sid < w->hi; sid++) {
-        int64_t i = sid - w->lo;
-        if ((i & 255) == 255) {
-            if (interrupted || J.stop) { w->timeout = 1; return; }
-            if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { w->timeout = 1; J.stop = 1; return; }
-        }
-        load_state(c, states + sid * NWORDS);
-        c->self = UNDEF;
-        c->epoch = __atomic_add_fetch(&global_epoch, 1, __ATOMIC_RELAXED);
-        uint64_t fails = 0, errs = 0;
-        for (int k = 0; k < NINV; k++) {
-            if (S.violated[k]) continue;
-            c->err = 0;
-            V v = check_invariant(c, k);
-            if (hard_error(c->err) || vt_missed) { w->irregular = 1; return; }
-            if (c->err || v == UNDEF) errs |= 1ULL << k;
-            if (c->err || v == UNDEF || !v) fails |= 1ULL << k;
-        }
-        w->sfail[i] = fails;
-        w->serr[i] = errs;
-        w->sfirst[i] = w->ncand;
-        w->ssteperr[i] = 0;
-        if (J.expand_only_inv) { w->scount[i] = 0; continue; }
-        c->plen = 0;
-        int64_t nbuf = 0;
-        int steperr = 0;
-        for (;;) {
-            c->pos = 0;
-            c->nupd = 0;
-            c->nlog = 0;
-            c->seqstart = -1;
-            c->curstep = 0;
-            c->self = UNDEF;
-            c->nvs = 0;
-            c->gen++;
-            if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
-            c->err = 0;
-            step_main(c);
-            if (vt_missed) { w->irregular = 1; return; }
-            if (c->err) {
-                if (hard_error(c->err)) { w->irregular = 1; return; }
-                steperr = c->err;
-                break;
-            }
-#if NSTEP > 0 || NINVAR > 0
-            if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
-#endif
-            if (vt_missed) { w->irregular = 1; return; }
-#if NINVAR > 0
-            {
-                int ok = 1;
-                c->rd = c->post;
-                for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
-                c->rd = c->cur;
-                if (c->err == E_UNSUPPORTED || vt_missed) { w->irregular = 1; return; }
-                c->err = 0;
-                if (!ok) goto next_choice;
-            }
-#endif
-            if (w->ncand >= w->cap_cand && !worker_grow_cand(w)) { w->irregular = 1; return; }
-            {
-                uint64_t *m = w->cm + 2 * w->ncand;
-                m[0] = m[1] = 0;
-#if NSTEP > 0
-                for (int k = 0; k < NSTEP; k++) {
-                    if (S.violated[NINV + 2 + k]) continue;
-                    c->err = 0;
-                    V v = check_step_prop(c, k);
-                    if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || vt_missed) { w->irregular = 1; return; }
-                    if (c->err || v == UNDEF) m[1] |= 1ULL << k;
-                    if (c->err || v != 1) m[0] |= 1ULL << k;
-                }
-                c->err = 0;
-#endif
-                uint64_t *nw = w->cw + w->ncand * NWORDS;
-                store_state(c, states + sid * NWORDS, nw);
-                if (vt_missed) { w->irregular = 1; return; }
-#if CN_NDYN > 0
-                if (canon_state(c, nw) || vt_missed) { w->irregular = 1; return; }
-#endif
-                uint64_t hh = hash_state(nw);
-                w->ch[w->ncand] = hh;
-                __builtin_prefetch(&table[hh & tmask]);
-                w->ncand++;
-            }
-            nbuf++;
-            if (nbuf >= MAX_SUCC) { steperr = E_TOOMANY; break; }
-            if ((nbuf & 4095) == 0) {
-                if (interrupted || J.stop) { w->timeout = 1; return; }
-                if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { w->timeout = 1; J.stop = 1; return; }
-            }
-        next_choice: ;
-            int j = c->pos - 1;
-            while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
-            if (j < 0) break;
-            for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
-            c->prefix[j] = c->idx[j] + 1;
-            c->plen = j + 1;
-        }
-        if (steperr) {
-            /* as asm_run: a failed step leaves the state without successors */
-            w->ncand = w->sfirst[i];
-            w->ssteperr[i] = steperr;
-        }
-        w->scount[i] = w->ncand - w->sfirst[i];
-    }
-    /* the look-ups, the table's entries fetched ahead; the successors not found go to the thread
-       that owns their hash */
-    const int AHEAD = 12;
-    for (int64_t q = 0; q < w->ncand; q++) {
-        if (q + AHEAD < w->ncand) __builtin_prefetch(&table[w->ch[q + AHEAD] & tmask]);
-        uint64_t hh = w->ch[q];
-        int64_t id = lookup(w->cw + q * NWORDS, hh);
-        w->ctid[q] = id;
-        if (id < 0) {
-            int o = (int)((uint32_t)(hh >> 32) % (uint32_t)nworkers);
-            if (w->nown[o] >= w->cap_own[o]) {
-                int64_t nc = w->cap_own[o] ? 2 * w->cap_own[o] : 1024;
-                int64_t *x = (int64_t *)realloc(w->own[o], nc * sizeof(int64_t));
-                if (!x) { w->irregular = 1; return; }
-                w->own[o] = x;
-                w->cap_own[o] = nc;
-            }
-            w->own[o][w->nown[o]++] = q;
-        }
-    }
-}
-
-#define PROV 0x80000000u
-#define NOTFIRST (INT64_MIN / 2)     /* ctid of a successor met before in the chunk: NOTFIRST + its position */
-static int64_t *posnum = 0, cap_posnum = 0;     /* the number of the state first met at each position */
-static int64_t nfirst_of[MAXTHREADS][MAXTHREADS];   /* [inserting thread][slice]: first occurrences */
-
-/* the words of the successor at position q of the chunk */
-static inline const uint64_t *cand_words(int64_t q, const int64_t *bases) {
-    int t = 0;
-    while (t + 1 < nworkers && bases[t + 1] <= q) t++;
-    return W[t].cw + (q - bases[t]) * NWORDS;
-}
-
-/* phase B: thread t inserts the successors not found whose hash it owns, in the chunk's order, so
-   the first occurrence of each new state is the one inserted.  ctid becomes -1 - the table slot
-   for a first occurrence, NOTFIRST + the position of the first one for the others. */
-static void phase_insert(int t, const int64_t *bases) {
-    uint64_t *tab = (uint64_t *)table;
-    for (int u = 0; u < nworkers; u++) {
-        Worker *w = &W[u];
-        int64_t nf = 0;
-        const int64_t *mine_q = w->own[t];
-        for (int64_t r = 0; r < w->nown[t]; r++) {
-            int64_t q = mine_q[r];
-            if (r + 8 < w->nown[t]) __builtin_prefetch(&table[w->ch[mine_q[r + 8]] & tmask]);
-            uint64_t hh = w->ch[q];
-            uint32_t fp = (uint32_t)(hh >> 32);
-            const uint64_t *cw = w->cw + q * NWORDS;
-            uint64_t mine = ((uint64_t)fp << 32) | (PROV | (uint32_t)(bases[u] + q));
-            uint64_t h = hh & tmask;
-            for (;;) {
-                uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
-                if ((uint32_t)e == 0xffffffffu) {
-                    if (__atomic_compare_exchange_n(&tab[h], &e, mine, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) {
-                        w->ctid[q] = -1 - (int64_t)h;
-                        nf++;
-                        break;
-                    }
-                    continue;        /* another thread took it: look at it again */
-                }
-                uint32_t id = (uint32_t)e;
-                if ((uint32_t)(e >> 32) == fp && (id & PROV) &&
-                    memcmp(cand_words(id & ~PROV, bases), cw, NWORDS * sizeof(uint64_t)) == 0) {
-                    w->ctid[q] = NOTFIRST + (int64_t)(id & ~PROV);
-                    break;
-                }
-                h = (h + 1) & tmask;
-            }
-        }
-        nfirst_of[t][u] = nf;
-    }
-}
-
-/* phase C: thread u numbers the first occurrences of its slice (in order, from firstbase) and
-   stores them */
-static void phase_number(Worker *w, int64_t base, int64_t firstbase) {
-    int64_t num = firstbase;
-    int64_t si = 0;
-    for (int64_t q = 0; q < w->ncand; q++) {
-        int64_t x = w->ctid[q];
-        if (x >= 0 || x < NOTFIRST / 2) continue;
-        int64_t slot = -1 - x;
-        while (si + 1 < w->hi - w->lo && w->sfirst[si + 1] <= q) si++;
-        memcpy(states + num * NWORDS, w->cw + q * NWORDS, NWORDS * sizeof(uint64_t));
-        parents[num] = (uint32_t)(w->lo + si);
-        table[slot].id = (uint32_t)num;
-        posnum[base + q] = num;
-        w->ctid[q] = num;
-        num++;
-    }
+    w->wait += now_seconds() - t0;
 }
 
 static double cpu_seconds(void) {
@@ -1045,22 +866,451 @@ static double cpu_seconds(void) {
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-/* what thread 0 knew when the chunk began (the threads decide from it alike) */
-static struct { int64_t nstates, tcount, tcap, cap_states, cap_posnum; } K;
-/* for benchmarks (asm_par_stats): [0] seconds in the parallel phases, [1] chunks sent back to one
+/* for benchmarks (asm_par_stats): [0] seconds in the threaded chunks, [1] chunks sent back to one
    thread, [2] chunks done on the threads, [3] CPU seconds of the chunks done on one thread,
-   [4] slices run on one thread (faster on a busy machine), [5] CPU seconds merging */
-static double ptime[8];
+   [4] slices run on one thread (faster on a busy machine), [5] CPU seconds of thread 0 alone
+   (the walks of chunks with something to record, the bookkeeping), [8] chunks walked by thread 0,
+   [9] table growths in a chunk */
+static double ptime[12];
 
-/* grow the table and the position array (thread 0, the others waiting) */
-static int grow_for(int64_t miss, int64_t ncand) {
-    while ((tcount + miss + 1) * 4 > (int64_t)(tmask + 1) * 3) if (!grow_table()) return 0;
-    if (ncand > cap_posnum) {
-        int64_t *x = (int64_t *)realloc(posnum, ncand * sizeof(int64_t));
-        if (!x) return 0;
-        posnum = x;
-        cap_posnum = ncand;
+static int64_t next_epoch(Worker *w) {
+    if (w->epoch >= w->epoch_end) {
+        w->epoch = __atomic_fetch_add(&global_epoch, 4096, __ATOMIC_RELAXED) + 1;
+        w->epoch_end = w->epoch + 4096;
     }
+    return w->epoch++;
+}
+
+static int grow_cand(Worker *w, int64_t n) {
+    if (n <= w->cap_cand) return 1;
+    int64_t nc = w->cap_cand ? w->cap_cand : 1024;
+    while (nc < n) nc *= 2;
+    uint64_t *x = (uint64_t *)realloc(w->ch, nc * sizeof(uint64_t));
+    if (!x) return 0;
+    w->ch = x;
+    x = (uint64_t *)realloc(w->cm, nc * 2 * sizeof(uint64_t));
+    if (!x) return 0;
+    w->cm = x;
+    int64_t *y = (int64_t *)realloc(w->ref, nc * sizeof(int64_t));
+    if (!y) return 0;
+    w->ref = y;
+    w->cap_cand = nc;
+    return 1;
+}
+
+static int grow_cw(Worker *w, int64_t n) {
+    if (n <= w->cap_cw) return 1;
+    int64_t nc = w->cap_cw ? w->cap_cw : 256;
+    while (nc < n) nc *= 2;
+    uint64_t *x = (uint64_t *)realloc(w->cw, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
+    if (!x) return 0;
+    w->cw = x;
+    w->cap_cw = nc;
+    return 1;
+}
+
+static inline uint64_t dkey(int64_t sid, int64_t b) { return ((uint64_t)sid << 32) | (uint64_t)b; }
+
+/* phase 1, expansion of block i: its states' invariants and successors (words in cw) */
+static int expand_block(Worker *w, const Plan *pl, int64_t i) {
+    Ctx *c = w->c;
+    int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz;
+    if (s1 > pl->c1) s1 = pl->c1;
+    C.bthr[i] = (int32_t)(w - W);
+    C.bq0[i] = w->bq0 = w->ncand;
+    for (int64_t sid = s0; sid < s1; sid++) {
+        int64_t li = sid - pl->c0;
+        if ((sid & 15) == 0) {
+            if (interrupted || stop_all) { w->timeout = 1; return 0; }
+            if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) { w->timeout = 1; stop_all = 1; return 0; }
+        }
+        load_state(c, states + sid * NWORDS);
+        c->self = UNDEF;
+        c->epoch = next_epoch(w);
+        uint64_t fails = 0, errs = 0;
+        for (int k = 0; k < NINV; k++) {
+            if (S.violated[k]) continue;
+            c->err = 0;
+            V v = check_invariant(c, k);
+            if (hard_error(c->err) || MISSED()) { w->irregular = 1; return 0; }
+            if (c->err || v == UNDEF) errs |= 1ULL << k;
+            if (c->err || v == UNDEF || !v) fails |= 1ULL << k;
+        }
+        C.sfail[li] = fails;
+        C.serr[li] = errs;
+        C.sfirst[li] = w->ncand;
+        C.scount[li] = 0;
+        C.ssteperr[li] = 0;
+        if (fails | errs) w->events++;
+        if (pl->only_inv) continue;
+        int steperr = 0, xe = 0, xsite = 0;
+        int r = expand_state(c, states + sid * NWORDS, &w->b, &steperr, &xe, &xsite);
+        if (r == EXP_STOP) { w->timeout = 1; if (!interrupted) stop_all = 1; return 0; }
+        if (r != EXP_OK) { w->irregular = 1; return 0; }
+        if (steperr) { C.ssteperr[li] = steperr; w->events++; continue; }
+        int64_t n = w->b.n;
+        if (!grow_cand(w, w->ncand + n) || !grow_cw(w, w->ncand + n - w->bq0)) { w->irregular = 1; return 0; }
+        memcpy(w->cw + (w->ncand - w->bq0) * NWORDS, w->b.w, n * NWORDS * sizeof(uint64_t));
+        memcpy(w->cm + 2 * w->ncand, w->b.m, n * 2 * sizeof(uint64_t));
+        for (int64_t q = 0; q < n; q++) {
+            uint64_t hh = hash_state(w->b.w + q * NWORDS);
+            w->ch[w->ncand + q] = hh;
+            __builtin_prefetch(&table[hh & tmask]);
+        }
+        C.scount[li] = n;
+        w->ncand += n;
+    }
+    return 1;
+}
+
+/* a thread's set of the successors of one state (as succ_reset, succ_first) */
+static int wset_reset(Worker *w, int64_t n) {
+    if (2 * n > w->scap) {
+        int64_t nc = w->scap ? w->scap : 1024;
+        while (nc < 2 * n) nc *= 2;
+        uint64_t *x = (uint64_t *)realloc(w->sset, (size_t)nc * sizeof(uint64_t));
+        if (!x) return 0;
+        w->sset = x;
+        w->scap = nc;
+        memset(w->sset, 0, (size_t)nc * sizeof(uint64_t));
+        w->sstamp = 0;
+    }
+    if (++w->sstamp == 0) { memset(w->sset, 0, (size_t)w->scap * sizeof(uint64_t)); w->sstamp = 1; }
+    return 1;
+}
+static inline int wset_first(Worker *w, int64_t tid) {
+    uint64_t msk = (uint64_t)w->scap - 1, h = mix64((uint64_t)tid) & msk;
+    uint64_t want = ((uint64_t)w->sstamp << 32) | (uint32_t)tid;
+    for (;;) {
+        uint64_t x = w->sset[h];
+        if ((uint32_t)(x >> 32) != w->sstamp) { w->sset[h] = want; return 1; }
+        if (x == want) return 0;
+        h = (h + 1) & msk;
+    }
+}
+
+/* phase 1, insertion of block i's successors: 1 done, 0 when there is no room (the block
+   waits), -1 out of memory */
+static int insert_block(Worker *w, const Plan *pl, int64_t i) {
+    int64_t n = w->ncand - w->bq0;
+    int64_t r = __atomic_fetch_add(&C.reserved, n, __ATOMIC_RELAXED);
+    if (r + n > __atomic_load_n(&C.lim, __ATOMIC_RELAXED)) {
+        __atomic_fetch_sub(&C.reserved, n, __ATOMIC_RELAXED);
+        return 0;
+    }
+    uint64_t *tab = (uint64_t *)table;
+    int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz;
+    if (s1 > pl->c1) s1 = pl->c1;
+    int64_t nnew = 0, trans = 0;
+    for (int64_t sid = s0; sid < s1; sid++) {
+        int64_t li = sid - pl->c0;
+        int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
+        for (int64_t q = q0; q < q1; q++) {
+            if (q + 8 < w->ncand) __builtin_prefetch(&table[w->ch[q + 8] & tmask]);
+            uint64_t hh = w->ch[q];
+            uint32_t fp = (uint32_t)(hh >> 32);
+            const uint64_t *cw = w->cw + (q - w->bq0) * NWORDS;
+            uint64_t key = dkey(sid, q - q0);
+            uint64_t h = hh & tmask;
+            for (;;) {
+                uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
+                if (e == EMPTY) {
+                    if (w->spare >= w->spare_end) {       /* ARENA_BATCH positions more */
+                        w->spare = __atomic_fetch_add(&C.an, ARENA_BATCH, __ATOMIC_RELAXED);
+                        w->spare_end = w->spare + ARENA_BATCH;
+                        for (int64_t x = w->spare; x < w->spare_end; x++) C.aslot[x] = -1;
+                    }
+                    int64_t p = w->spare;
+                    memcpy(C.aw + p * NWORDS, cw, NWORDS * sizeof(uint64_t));
+                    C.akey[p] = key;
+                    uint64_t mine = ((uint64_t)fp << 32) | (PROV | (uint32_t)p);
+                    if (__atomic_compare_exchange_n(&tab[h], &e, mine, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) {
+                        C.aslot[p] = (int64_t)h;
+                        w->spare++;
+                        w->ref[q] = -1 - p;
+                        nnew++;
+                        break;
+                    }
+                    continue;        /* another thread took the entry: look at it again */
+                }
+                uint32_t id = (uint32_t)e;
+                if ((uint32_t)(e >> 32) == fp) {
+                    if (id & PROV) {
+                        int64_t p = id & ~PROV;
+                        if (memcmp(C.aw + p * NWORDS, cw, NWORDS * sizeof(uint64_t)) == 0) {
+                            uint64_t cur = __atomic_load_n(&C.akey[p], __ATOMIC_RELAXED);
+                            while (key < cur && !__atomic_compare_exchange_n(&C.akey[p], &cur, key, 1, __ATOMIC_RELAXED,
+                                                                             __ATOMIC_RELAXED)) ;
+                            w->ref[q] = -1 - p;
+                            break;
+                        }
+                    } else if (memcmp(states + (int64_t)id * NWORDS, cw, NWORDS * sizeof(uint64_t)) == 0) {
+                        w->ref[q] = id;
+                        break;
+                    }
+                }
+                h = (h + 1) & tmask;
+            }
+        }
+        /* as asm_run: the distinct successors (a few compared with those before, more in the
+           thread's set), a deadlock, the step properties */
+        int only_self = 1, few = q1 - q0 <= 16;
+        uint64_t bad = 0;
+        if (!few && !wset_reset(w, q1 - q0)) { w->irregular = 1; return -1; }
+        for (int64_t q = q0; q < q1; q++) {
+            int64_t tid = w->ref[q];
+            if (few) {
+                int seen = 0;
+                for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
+                trans += !seen;
+            } else trans += wset_first(w, tid);
+            if (tid != sid) only_self = 0;
+            bad |= w->cm[2 * q];
+        }
+        if (bad || (S.deadlock && only_self && !pl->only_inv && !S.violated[NINV] && !C.ssteperr[li])) w->events++;
+    }
+    __atomic_fetch_sub(&C.reserved, n - nnew, __ATOMIC_RELAXED);
+    C.btrans[i] = trans;
+    return 1;
+}
+
+/* phase 1 for one thread: blocks until none is left, or a thread needs room, or stops */
+static void phase_expand(Worker *w, const Plan *pl) {
+    for (;;) {
+        if (w->blk < 0) {
+            if (C.grow || C.abort_seq == pl->chunkno) return;
+            int64_t i = __atomic_fetch_add(&C.next_block, 1, __ATOMIC_RELAXED);
+            if (i >= pl->nblocks) return;
+            if (!expand_block(w, pl, i)) { C.abort_seq = pl->chunkno; return; }
+            w->blk = i;
+        }
+        int r = insert_block(w, pl, w->blk);
+        if (r < 0) { C.abort_seq = pl->chunkno; return; }
+        if (r == 0) { C.grow = 1; return; }
+        w->blk = -1;
+    }
+}
+
+/* phase 2: the first discoveries of each block, the blocks taken in turn (a thread that has no
+   core for a while holds up the others for one block only) */
+static void phase_count(const Plan *pl) {
+    for (;;) {
+        int64_t i = __atomic_fetch_add(&C.next_count, 1, __ATOMIC_RELAXED);
+        if (i >= pl->nblocks) return;
+        const Worker *w = &W[C.bthr[i]];
+        int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz, cnt = 0;
+        if (s1 > pl->c1) s1 = pl->c1;
+        for (int64_t sid = s0; sid < s1; sid++) {
+            int64_t li = sid - pl->c0, q0 = C.sfirst[li], q1 = q0 + C.scount[li];
+            for (int64_t q = q0; q < q1; q++) {
+                int64_t x = w->ref[q];
+                if (x < 0 && C.akey[-1 - x] == dkey(sid, q - q0)) cnt++;
+            }
+        }
+        C.bcount[i] = cnt;
+        __atomic_store_n(&C.bdone[i], pl->chunkno, __ATOMIC_RELEASE);
+    }
+}
+
+/* wait until *x is v (a count another thread publishes, thread 0's room for the new states): a
+   spin, then short sleeps */
+static void wait_for(Worker *w, volatile int64_t *x, int64_t v) {
+    if (__atomic_load_n(x, __ATOMIC_ACQUIRE) == v) return;
+    double t0 = now_seconds(), ts = -1;
+    for (int spins = 1; __atomic_load_n(x, __ATOMIC_ACQUIRE) != v; spins++) {
+        if (spins < 2000) {
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        } else {               /* the thread awaited has no core: give this one away */
+            if (ts < 0) ts = now_seconds();
+            struct timespec nap = { 0, 20000 };
+            nanosleep(&nap, 0);
+        }
+    }
+    double t1 = now_seconds();
+    w->wait += t1 - t0;
+    w->spin += (ts < 0 ? t1 : ts) - t0;      /* the CPU time spent spinning (not yielding) */
+}
+
+/* phase 3: number, store and enter the first discoveries of each block, the blocks taken in turn
+   (in increasing order: the number of a block's first new state is the sum of the counts before
+   it, each awaited if not published yet); once thread 0 has made room for the states */
+static void phase_number(int t, const Plan *pl) {
+    Worker *me = &W[t];
+    wait_for(me, &C.states_ready, pl->chunkno);
+    if (C.failed_seq == pl->chunkno) return;
+    uint64_t *tab = (uint64_t *)table;
+    int par = (int)(pl->chunkno & 1);
+    V *lo = me->lo[par], *hi = me->hi[par];
+    for (int s = 0; s < NSLOTS; s++) { lo[s] = INT64_MAX; hi[s] = INT64_MIN + 1; }
+    int64_t num = pl->nstates, j = 0;        /* num: the first number of block j */
+    for (;;) {
+        int64_t i = __atomic_fetch_add(&C.next_number, 1, __ATOMIC_RELAXED);
+        if (i >= pl->nblocks) return;
+        for (; j < i; j++) { wait_for(me, &C.bdone[j], pl->chunkno); num += C.bcount[j]; }
+        const Worker *w = &W[C.bthr[i]];
+        int64_t s0 = pl->c0 + i * pl->blksz, s1 = s0 + pl->blksz, n = num;
+        if (s1 > pl->c1) s1 = pl->c1;
+        for (int64_t sid = s0; sid < s1; sid++) {
+            int64_t li = sid - pl->c0, q0 = C.sfirst[li], q1 = q0 + C.scount[li];
+            for (int64_t q = q0; q < q1; q++) {
+                int64_t x = w->ref[q];
+                if (x >= 0) continue;
+                int64_t p = -1 - x;
+                if (C.akey[p] != dkey(sid, q - q0)) continue;
+                uint64_t *dst = states + n * NWORDS;
+                memcpy(dst, C.aw + p * NWORDS, NWORDS * sizeof(uint64_t));
+                parents[n] = (uint32_t)sid;
+                C.anum[p] = n;
+                __atomic_store_n(&tab[C.aslot[p]], (w->ch[q] & 0xffffffff00000000ULL) | (uint64_t)n, __ATOMIC_RELAXED);
+                for (int s = 0; s < NSLOTS; s++) {
+                    if (SLOT_BITS[s] != 64) continue;
+                    V v = (V)dst[SLOT_WORD[s]];
+                    if (v == UNDEF) continue;
+                    if (v < lo[s]) lo[s] = v;
+                    if (v > hi[s]) hi[s] = v;
+                }
+                n++;
+            }
+        }
+    }
+}
+
+/* take the provisional entries out of the table (a chunk not numbered) */
+static void unprovide(void) {
+    uint64_t *tab = (uint64_t *)table;
+    for (int64_t p = 0; p < C.an; p++) if (C.aslot[p] >= 0) tab[C.aslot[p]] = EMPTY;
+}
+
+static int grow_arena(int64_t n) {
+    if (n <= C.acap) return 1;
+    int64_t nc = C.acap ? C.acap : 4096;
+    while (nc < n) nc *= 2;
+    uint64_t *x = (uint64_t *)realloc(C.aw, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
+    if (!x) return 0;
+    C.aw = x;
+    x = (uint64_t *)realloc(C.akey, nc * sizeof(uint64_t));
+    if (!x) return 0;
+    C.akey = x;
+    int64_t *y = (int64_t *)realloc(C.aslot, nc * sizeof(int64_t));
+    if (!y) return 0;
+    C.aslot = y;
+    y = (int64_t *)realloc(C.anum, nc * sizeof(int64_t));
+    if (!y) return 0;
+    C.anum = y;
+    C.acap = nc;
+    return 1;
+}
+
+/* the room for successors reserved in phase 1: the table at most 3/4 full, an arena position
+   for each (and the positions a thread took and has not used yet) */
+static void set_lim(int64_t nstates_now, int nt) {
+    int64_t a = (int64_t)(tmask + 1) * 3 / 4 - nstates_now, b = C.acap - (int64_t)nt * ARENA_BATCH - 1;
+    C.lim = a < b ? a : b;
+}
+
+/* room for `need` more successors: a bigger arena, and a bigger table (provisional entries
+   included), filled by every thread at once (rehash_part, then grow_finish) */
+static uint64_t *newtab = 0, newmask = 0;
+
+static int grow_plan(int64_t nstates_now, int64_t need, int nt) {
+    if (!grow_arena(need + (int64_t)nt * ARENA_BATCH + 1)) return 0;
+    uint64_t ncap = tmask + 1;
+    while ((nstates_now + need + 1) * 4 > (int64_t)ncap * 3) ncap *= 2;
+    if (ncap != tmask + 1) {
+        newtab = (uint64_t *)malloc(ncap * sizeof(uint64_t));
+        if (!newtab) return 0;
+        newmask = ncap - 1;
+    }
+    return 1;
+}
+
+/* thread t of nt: part 0 empties its share of the new table, part 1 enters its share of the old
+   table's entries in it */
+static void rehash_part(int t, int nt, int part) {
+    if (part == 0) {
+        uint64_t lo = (newmask + 1) * t / nt, hi = (newmask + 1) * (t + 1) / nt;
+        memset(newtab + lo, 0xff, (hi - lo) * sizeof(uint64_t));
+        return;
+    }
+    uint64_t *old = (uint64_t *)table, lo = (tmask + 1) * t / nt, hi = (tmask + 1) * (t + 1) / nt;
+    for (uint64_t h = lo; h < hi; h++) {
+        uint64_t e = old[h];
+        if (e == EMPTY) continue;
+        uint32_t id = (uint32_t)e;
+        const uint64_t *wd = (id & PROV) ? C.aw + (int64_t)(id & ~PROV) * NWORDS : states + (int64_t)id * NWORDS;
+        uint64_t g = hash_state(wd) & newmask;
+        for (;;) {
+            uint64_t x = EMPTY;
+            if (__atomic_load_n(&newtab[g], __ATOMIC_RELAXED) == EMPTY &&
+                __atomic_compare_exchange_n(&newtab[g], &x, e, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) break;
+            g = (g + 1) & newmask;
+        }
+        if (id & PROV) C.aslot[id & ~PROV] = (int64_t)g;
+    }
+}
+
+static void grow_finish(int64_t nstates_now, int nt) {
+    if (newtab) {
+        free(table);
+        table = (Entry *)newtab;
+        tmask = newmask;
+        newtab = 0;
+    }
+    set_lim(nstates_now, nt);
+}
+
+/* the same on this thread alone */
+static int grow_room(int64_t nstates_now, int64_t need, int nt) {
+    if (!grow_plan(nstates_now, need, nt)) return 0;
+    if (newtab) { rehash_part(0, 1, 0); rehash_part(0, 1, 1); }
+    grow_finish(nstates_now, nt);
+    return 1;
+}
+
+/* the per-state and per-block arrays, for chunks of up to CHUNK_STATES states */
+static int chunk_alloc(void) {
+    if (C.sfirst) return 1;
+    C.bthr = (int32_t *)malloc(MAXBLOCKS * sizeof(int32_t));
+    C.bq0 = (int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
+    C.bcount = (int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
+    C.btrans = (int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
+    C.bdone = (volatile int64_t *)malloc(MAXBLOCKS * sizeof(int64_t));
+    C.scount = (int64_t *)malloc(CHUNK_STATES * sizeof(int64_t));
+    C.sfail = (uint64_t *)malloc(CHUNK_STATES * sizeof(uint64_t));
+    C.serr = (uint64_t *)malloc(CHUNK_STATES * sizeof(uint64_t));
+    C.ssteperr = (int32_t *)malloc(CHUNK_STATES * sizeof(int32_t));
+    C.sfirst = (int64_t *)malloc(CHUNK_STATES * sizeof(int64_t));
+    if (!C.bthr || !C.bq0 || !C.bcount || !C.btrans || !C.bdone || !C.scount || !C.sfail || !C.serr || !C.ssteperr || !C.sfirst) {
+        free(C.bthr); free(C.bq0); free(C.bcount); free(C.btrans); free((void *)C.bdone); free(C.scount); free(C.sfail); free(C.serr);
+        free(C.ssteperr); free(C.sfirst);
+        C.sfirst = 0;
+        return 0;
+    }
+    for (int64_t i = 0; i < MAXBLOCKS; i++) C.bdone[i] = -1;
+    return grow_arena(4096);
+}
+
+/* chunks of at most this many states (CHUNK_STATES; tests use fewer) */
+static int64_t max_chunk = CHUNK_STATES;
+void asm_par_max_chunk(int64_t n) { max_chunk = n < 1 ? 1 : n > CHUNK_STATES ? CHUNK_STATES : n; }
+
+/* the next chunk, from the plan alone (every thread works it out alike): 1 when it runs on the
+   threads, 0 when thread 0 takes over (the search ends, or the chunk is small: one thread) */
+static int plan_next(Plan *pl, int nt) {
+    if (pl->c0 >= pl->nstates) return 0;
+    if (pl->c0 == pl->level_end) { pl->depth++; pl->level_end = pl->nstates; }
+    int64_t c1 = pl->level_end;
+    if (c1 - pl->c0 > max_chunk) c1 = pl->c0 + max_chunk;
+    if (c1 - pl->c0 < P.min_chunk * nt || pl->serial_skip > 0) return 0;
+    pl->c1 = c1;
+    int64_t n = c1 - pl->c0, bs = (n + 32 * nt - 1) / (32 * nt);
+    if (bs < 8) bs = 8;
+    if (bs > 256) bs = 256;
+    pl->blksz = bs;
+    pl->nblocks = (n + bs - 1) / bs;
+    pl->only_inv = S.max_depth >= 0 && pl->depth >= S.max_depth;
     return 1;
 }
 
@@ -1078,71 +1328,117 @@ static int grow_states(int64_t n) {
     return 1;
 }
 
-static volatile int grow_failed = 0;
+/* how a chunk ends for the threads */
+enum { CH_FAST, CH_ABORT, CH_WALK, CH_SYNC };
 
-/* the parallel phases of a chunk, run by every thread (t): 1 when done, 0 when the chunk must
-   be done on one thread (or the search stops: time, Ctrl-C, memory), which thread 0 does.
-   Between two barriers each thread computes the positions and numbers it needs from what all
-   wrote before the barrier; only thread 0 allocates, with a barrier either side. */
-static int chunk_par(int t, int64_t *sense, int64_t *nfirst_out) {
+static int64_t chunk_new = 0, chunk_trans = 0;     /* thread 0: the last chunk's new states, transitions */
+
+/* one chunk on every thread (t): CH_FAST when the threads go on to the next chunk (pl holds it),
+   else thread 0 takes over and the others wait at the start barrier: CH_ABORT (nothing of the
+   chunk kept: C.abort_seq, C.failed_seq or a thread's irregular or timeout tell why), CH_WALK (the
+   chunk numbered; thread 0 walks it), CH_SYNC (the chunk numbered and counted) */
+static int chunk_par(int t, Plan *pl, int *sense) {
     Worker *w = &W[t];
     int nt = nworkers;
-    double c0 = cpu_seconds();
-    phase_expand(w);
-    w->busy += cpu_seconds() - c0;
-    barrier(sense);
-    for (int u = 0; u < nt; u++) if (W[u].irregular || W[u].timeout) return 0;
-    int64_t bases[MAXTHREADS + 1], miss = 0;
-    bases[0] = 0;
-    for (int u = 0; u < nt; u++) {
-        bases[u + 1] = bases[u] + W[u].ncand;
-        for (int o = 0; o < nt; o++) miss += W[u].nown[o];
+    w->ncand = 0;
+    w->events = 0;
+    w->irregular = w->timeout = 0;
+    w->blk = -1;
+    w->spare = w->spare_end = 0;
+    vt_missed = 0;
+    for (;;) {
+        phase_expand(w, pl);
+        barrier(w, sense);
+        if (C.abort_seq == pl->chunkno || stop_all) return CH_ABORT;
+        if (!C.grow) break;
+        barrier(w, sense);        /* everyone has seen C.grow: thread 0 makes room */
+        if (t == 0) {
+            int64_t need = C.reserved;
+            for (int u = 0; u < nt; u++) if (W[u].blk >= 0) need += W[u].ncand - W[u].bq0;
+            if (!grow_plan(pl->nstates, 2 * need + 1024, nt)) C.failed_seq = pl->chunkno;
+            ptime[9] += 1;
+        }
+        barrier(w, sense);
+        if (C.failed_seq == pl->chunkno) return CH_ABORT;
+        if (newtab) {             /* a bigger table: the threads fill it */
+            rehash_part(t, nt, 0);
+            barrier(w, sense);
+            rehash_part(t, nt, 1);
+            barrier(w, sense);
+        }
+        if (t == 0) {
+            grow_finish(pl->nstates, nt);
+            C.grow = 0;
+        }
+        barrier(w, sense);
     }
-    if (bases[nt] >= (int64_t)PROV || K.nstates + miss >= (int64_t)PROV) return 0;
-    if ((K.tcount + miss + 1) * 4 > K.tcap * 3 || bases[nt] > K.cap_posnum) {
-        barrier(sense);
-        if (t == 0 && !grow_for(miss, bases[nt])) grow_failed = 1;
-        barrier(sense);
-        if (grow_failed) return 0;
+    if (t == 0) {             /* room for the new states (the others count meanwhile) */
+        int64_t an = C.an;
+        if (pl->nstates + an >= (int64_t)PROV || !grow_states(pl->nstates + an)) C.failed_seq = pl->chunkno;
+        else C.next_block = C.an = C.reserved = 0;    /* the next chunk's (none uses them now) */
+        __atomic_store_n(&C.states_ready, pl->chunkno, __ATOMIC_RELEASE);
     }
-    c0 = cpu_seconds();
-    phase_insert(t, bases);
-    w->busy += cpu_seconds() - c0;
-    barrier(sense);
-    int64_t firstbase = K.nstates, nfirst = 0;
-    for (int u = 0; u < nt; u++) {
-        if (u == t) firstbase += nfirst;
-        for (int o = 0; o < nt; o++) nfirst += nfirst_of[o][u];
+    int64_t events = 0;       /* read now: a thread clears its own when it begins the next chunk */
+    for (int u = 0; u < nt; u++) events += W[u].events;
+    phase_count(pl);
+    phase_number(t, pl);
+    if (t == 0) {             /* the next chunk's room; time, Ctrl-C, the end of the slice */
+        int64_t nnew = 0, trans = 0;
+        for (int64_t i = 0; i < pl->nblocks; i++) {
+            wait_for(w, &C.bdone[i], pl->chunkno);
+            nnew += C.bcount[i];
+            trans += C.btrans[i];
+        }
+        set_lim(pl->nstates + nnew, nt);
+        chunk_new = nnew;
+        chunk_trans = trans;
+        double tnow = now_seconds();
+        C.stopreq = interrupted ? 7 : (S.max_seconds >= 0 && tnow - S.t0 >= S.max_seconds) ? 3
+            : tnow >= C.slice_end ? 6 : 0;
     }
-    if (K.nstates + nfirst > K.cap_states) {
-        barrier(sense);
-        if (t == 0 && !grow_states(K.nstates + nfirst)) grow_failed = 1;
-        barrier(sense);
-        if (grow_failed) return 0;
-    }
-    c0 = cpu_seconds();
-    phase_number(w, bases[t], firstbase);
-    w->busy += cpu_seconds() - c0;
-    barrier(sense);
-    *nfirst_out = nfirst;
-    return 1;
+    barrier(w, sense);
+    if (t == 0) C.next_count = C.next_number = 0;  /* none uses them before the next chunk's first barrier */
+    if (C.failed_seq == pl->chunkno) return CH_ABORT;
+    int64_t nnew = 0;
+    for (int64_t i = 0; i < pl->nblocks; i++) nnew += C.bcount[i];
+    int walk = events > 0 || S.keep_graph || (S.max_states >= 0 && pl->nstates + nnew >= S.max_states)
+        || over_memory(pl->nstates + nnew);
+    int stop = C.stopreq;
+    if (walk) return CH_WALK;
+    pl->c0 = pl->c1;
+    pl->nstates += nnew;
+    pl->chunkno++;
+    if (stop || !plan_next(pl, nt)) return CH_SYNC;
+    return CH_FAST;
 }
 
 static void *worker_main(void *arg) {
     int t = (int)(intptr_t)arg;
-    int64_t sense = 0, nf;
+    Worker *w = &W[t];
+    int sense = 0;
+    double c0 = cpu_seconds();
     for (;;) {
-        barrier(&sense);
-        if (J.cmd == 9) return 0;
-        chunk_par(t, &sense, &nf);
+        barrier(w, &sense);
+        if (J.cmd == 9) break;
+        Plan pl = J.plan;
+        while (chunk_par(t, &pl, &sense) == CH_FAST) ;
     }
+    w->cpu += cpu_seconds() - c0;
+    return 0;
 }
 
-/* the figures since the last call: [0]-[2], [5] above, [6] and [7] CPU seconds of threads 0 and 1 */
+/* the figures since the last call: [0]-[5], [8], [9] above; [6] and [7] CPU seconds of threads
+   0 and 1 in the threaded chunks, not counting spinning at barriers; [10] barrier waits of thread
+   0, [11] futex sleeps (all threads), [12] and [13] seconds threads 0 and 1 waited at barriers */
 void asm_par_stats(double *o) {
     for (int i = 0; i < 6; i++) { o[i] = ptime[i]; ptime[i] = 0; }
-    o[6] = W[0].busy; o[7] = W[1].busy;
-    W[0].busy = W[1].busy = 0;
+    o[6] = W[0].cpu - W[0].spin; o[7] = W[1].cpu - W[1].spin;
+    o[8] = ptime[8]; o[9] = ptime[9]; ptime[8] = ptime[9] = 0;
+    o[10] = (double)W[0].waits;
+    o[11] = 0;
+    for (int u = 0; u < MAXTHREADS; u++) o[11] += (double)W[u].sleeps;
+    o[12] = W[0].wait; o[13] = W[1].wait;
+    for (int u = 0; u < MAXTHREADS; u++) { W[u].cpu = W[u].spin = W[u].wait = 0; W[u].waits = W[u].sleeps = 0; }
 }
 
 /* the table again, from the states kept (after a stop inside a chunk) */
@@ -1170,61 +1466,60 @@ static void fill_out(int64_t *out, int status) {
     for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
 }
 
-/* phase D: what asm_run does after expanding each state, in order.  Returns -1, or the status
-   the search ends with. */
-static int phase_merge(int nthreads, int64_t n0) {
+/* thread 0 alone: what asm_run does after expanding each state of the chunk, in order (the
+   chunk numbered, nstates counting its new states).  Returns -1, or the status the search ends
+   with. */
+static int walk_chunk(const Plan *pl, int64_t n0) {
     int64_t run_n = n0;
     int nprops = NINV + NSTEP + (S.deadlock ? 1 : 0);
-    for (int t = 0; t < nthreads; t++) {
-        Worker *w = &W[t];
-        for (int64_t sid = w->lo; sid < w->hi; sid++) {
-            int64_t i = sid - w->lo;
-            int status = -1;
-            for (int k = 0; k < NINV; k++) {
-                if (S.violated[k]) continue;
-                if (w->serr[i] >> k & 1) S.inv_err[k] = 1;
-                if (w->sfail[i] >> k & 1) record(k, sid, -1);
+    for (int64_t sid = pl->c0; sid < pl->c1; sid++) {
+        int64_t li = sid - pl->c0;
+        Worker *w = &W[C.bthr[li / pl->blksz]];
+        int status = -1;
+        for (int k = 0; k < NINV; k++) {
+            if (S.violated[k]) continue;
+            if (C.serr[li] >> k & 1) S.inv_err[k] = 1;
+            if (C.sfail[li] >> k & 1) record(k, sid, -1);
+        }
+        if (pl->only_inv) { S.depth_hit = 1; continue; }
+        if (C.ssteperr[li]) {
+            if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = C.ssteperr[li]; }
+            S.step_failed = 1;
+            continue;
+        }
+        int only_self = 1;
+        int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
+        if (!succ_reset(q1 - q0)) return 5;
+        for (int64_t q = q0; q < q1; q++) {
+            int64_t tid = w->ref[q];
+            if (tid < 0) tid = C.anum[-1 - tid];
+            if (tid == run_n) {
+                run_n++;
+                if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
+                note_range(states + tid * NWORDS, S.depth + 1);
             }
-            if (S.max_depth >= 0 && S.depth >= S.max_depth) { S.depth_hit = 1; continue; }
-            if (w->ssteperr[i]) {
-                if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = w->ssteperr[i]; }
-                S.step_failed = 1;
-                continue;
+            if (succ_first(tid)) {
+                S.transitions++;
+                if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; break; }
             }
-            int only_self = 1;
-            int64_t q0 = w->sfirst[i], q1 = q0 + w->scount[i];
-            if (!succ_reset(q1 - q0)) return 5;
-            for (int64_t q = q0; q < q1; q++) {
-                int64_t tid = w->ctid[q];
-                if (tid < 0) tid = posnum[tid - NOTFIRST];
-                if (tid == run_n) {
-                    run_n++;
-                    if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
-                    note_range(states + tid * NWORDS, S.depth + 1);
+            if (tid != sid) only_self = 0;
+            uint64_t bad = w->cm[2 * q];
+            for (int k = 0; bad && k < NSTEP; k++)
+                if (bad >> k & 1) {
+                    if (!S.violated[NINV + 2 + k] && (w->cm[2 * q + 1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
+                    record(NINV + 2 + k, tid, sid);
                 }
-                if (succ_first(tid)) {
-                    S.transitions++;
-                    if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; break; }
-                }
-                if (tid != sid) only_self = 0;
-                uint64_t bad = w->cm[2 * q];
-                for (int k = 0; bad && k < NSTEP; k++)
-                    if (bad >> k & 1) {
-                        if (!S.violated[NINV + 2 + k] && (w->cm[2 * q + 1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
-                        record(NINV + 2 + k, tid, sid);
-                    }
-            }
-            if (status < 0) {
-                if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
-                if (!S.keep_graph && nprops > 0 && S.nviol >= nprops) status = S.depth_hit ? 2 : 0;
-                else if (S.max_states >= 0 && run_n >= S.max_states) status = 1;
-                else if (over_memory(run_n)) status = 8;
-            }
-            if (status >= 0) {
-                S.sid = sid + 1;
-                if (run_n < nstates) { nstates = run_n; rebuild_table(); }
-                return status;
-            }
+        }
+        if (status < 0) {
+            if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
+            if (!S.keep_graph && nprops > 0 && S.nviol >= nprops) status = S.depth_hit ? 2 : 0;
+            else if (S.max_states >= 0 && run_n >= S.max_states) status = 1;
+            else if (over_memory(run_n)) status = 8;
+        }
+        if (status >= 0) {
+            S.sid = sid + 1;
+            if (run_n < nstates) { nstates = run_n; rebuild_table(); }
+            return status;
         }
     }
     return -1;
@@ -1236,12 +1531,32 @@ static void ctx_init(Ctx *c) {
     c->rd = c->cur;
 }
 
+/* thread 0, after a chunk numbered on the threads and not walked: the search's counters */
+static void chunk_done(const Plan *pl, int nt) {
+    int par = (int)((pl->chunkno - 1) & 1);
+    nstates += chunk_new;
+    tcount += chunk_new;
+    S.transitions += chunk_trans;
+    if (chunk_new > 0) {
+        if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
+        for (int s = 0; s < NSLOTS; s++) {
+            if (SLOT_BITS[s] != 64) continue;
+            for (int u = 0; u < nt; u++) {
+                if (W[u].lo[par][s] < S.lo[s]) { S.lo[s] = W[u].lo[par][s]; S.grew[s] = S.depth + 1; }
+                if (W[u].hi[par][s] > S.hi[s]) { S.hi[s] = W[u].hi[par][s]; S.grew[s] = S.depth + 1; }
+            }
+        }
+    }
+}
+
 /* asm_run on nthreads threads (the same results); out and the status as asm_run's */
 int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     int force = nthreads < 0;        /* -n: the threaded search even on one thread (benchmarks) */
     if (force) nthreads = -nthreads;
     if (nthreads > MAXTHREADS) nthreads = MAXTHREADS;
-    if ((nthreads <= 1 && !force) || NINV > 64 || S.status != -1) return asm_run(slice_seconds, out);
+    if ((nthreads <= 1 && !force) || NINV > 64 || NSTEP > 64 || S.status != -1) return asm_run(slice_seconds, out);
+    if (!chunk_alloc()) return asm_run(slice_seconds, out);
+    for (int t = 0; t < nthreads; t++) if (W[t].spin_limit == 0) W[t].spin_limit = 30e-6;
     for (int t = 0; t < nthreads; t++) {
         if (W[t].c) continue;
         if (t == 0) W[t].c = &ctx_static;
@@ -1267,26 +1582,31 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     sa.sa_handler = on_sigint;
     sigemptyset(&sa.sa_mask);
     interrupted = 0;
+    stop_all = 0;
+    C.abort_seq = C.failed_seq = C.states_ready = -1;
     sigaction(SIGINT, &sa, &old);
     B.count = 0; B.sense = 0; B.sleepers = 0; bar_n = nt;
-    J.stop = 0;
     nworkers = nt;
+    J.cmd = 0;
     pthread_t th[MAXTHREADS];
     int started = 1;
     for (int t = 1; t < nt; t++) {
         if (pthread_create(&th[t], 0, worker_main, (void *)(intptr_t)t) != 0) break;
         started++;
     }
+    Worker *w0 = &W[0];
+    int sense = 0;
     if (started < nt) {          /* no threads: stop those started, run on one */
         J.cmd = 9; bar_n = started;
-        int64_t sense0 = 0;
-        barrier(&sense0);
+        barrier(w0, &sense);
         for (int t = 1; t < started; t++) pthread_join(th[t], 0);
         sigaction(SIGINT, &old, 0);
         return asm_run(slice_seconds, out);
     }
-    int64_t sense = 0;
-    double ts = now_seconds();
+    double ts = now_seconds(), cpu0 = cpu_seconds();
+    C.slice_end = ts + slice_seconds;
+    /* the room in the table for the first chunk's successors */
+    if (!grow_room(nstates, 1024, nt)) { S.status = 5; goto quit; }
     int status = -1;
     for (;;) {
         if (S.sid >= nstates) { status = S.depth_hit ? 2 : 0; break; }
@@ -1294,70 +1614,86 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         double tnow = now_seconds();
         if (S.max_seconds >= 0 && tnow - S.t0 >= S.max_seconds) { status = 3; break; }
         if (tnow - ts >= slice_seconds) { status = 6; break; }
-        if (S.sid == S.level_end) { S.depth++; S.level_end = nstates; }
-        int64_t c0 = S.sid, c1 = S.level_end;
-        if (c1 - c0 > CHUNK_STATES) c1 = c0 + CHUNK_STATES;
+        Plan pl = { S.sid, 0, S.level_end, S.depth, nstates, C.seqnext, 0, 0, P.serial_skip, 0 };
+        int on_threads = plan_next(&pl, nt);
+        S.depth = pl.depth; S.level_end = pl.level_end;
+        int64_t c1 = pl.level_end < pl.c0 + max_chunk ? pl.level_end : pl.c0 + max_chunk;
         int skipped = P.serial_skip > 0;     /* a chunk of a stretch that needed one thread */
-        int serial = c1 - c0 < P.min_chunk * nt || skipped;
-        if (!serial) {
-            J.expand_only_inv = S.max_depth >= 0 && S.depth >= S.max_depth;
-            for (int t = 0; t < nt; t++) { W[t].lo = c0 + (c1 - c0) * t / nt; W[t].hi = c0 + (c1 - c0) * (t + 1) / nt; }
-            K.nstates = nstates; K.tcount = tcount; K.tcap = (int64_t)(tmask + 1);
-            K.cap_states = cap_states; K.cap_posnum = cap_posnum;
-            grow_failed = 0;
+        if (on_threads) {
+            set_lim(nstates, nt);
+            C.next_block = C.next_count = C.next_number = C.an = C.reserved = 0;
+            C.grow = 0;
             vt_frozen = 1;
-            J.cmd = 0;
-            int64_t nfirst = 0;
+            J.plan = pl;
             double tw = now_seconds();
-            barrier(&sense);
-            int done = chunk_par(0, &sense, &nfirst);
-            vt_frozen = 0;
-            ptime[0] += now_seconds() - tw;
-            int timeout = 0, irregular = 0;
-            for (int t = 0; t < nt; t++) { timeout |= W[t].timeout; irregular |= W[t].irregular; }
-            if (timeout) { status = interrupted ? 7 : 3; break; }
-            if (grow_failed) { status = 5; break; }
-            if (!done) {
-                ptime[1] += 1;
-                serial = 1;
-                if (irregular) {
-                    P.serial_next = P.serial_next ? (P.serial_next * 2 > 64 ? 64 : P.serial_next * 2) : 1;
-                    P.serial_skip = P.serial_next;
-                }
-            } else {
-                P.serial_next = 0;
+            barrier(w0, &sense);
+            int r;
+            for (;;) {
+                Plan cur = pl;
+                r = chunk_par(0, &pl, &sense);
+                if (r != CH_FAST && r != CH_SYNC) { pl = cur; break; }
                 ptime[2] += 1;
-                int64_t n0 = nstates;
-                nstates += nfirst;
-                tcount += nfirst;
                 double tm = cpu_seconds();
-                status = phase_merge(nt, n0);
+                chunk_done(&pl, nt);
+                S.sid = pl.c0; S.depth = pl.depth; S.level_end = pl.level_end;
+                if (pl.only_inv && cur.c1 > cur.c0) S.depth_hit = 1;
                 ptime[5] += cpu_seconds() - tm;
-                if (status >= 0) break;
-                S.sid = c1;
+                if (r == CH_SYNC) break;
+            }
+            vt_frozen = 0;
+            C.seqnext = pl.chunkno + 1;
+            ptime[0] += now_seconds() - tw;
+            if (r == CH_SYNC) {
+                if (C.stopreq) { status = C.stopreq; break; }
                 continue;
             }
-        }
-        if (serial) {
-            if (skipped) P.serial_skip--;
-            P.until = c1;
-            double tm = cpu_seconds();
-            int st = (int)asm_run(1e300, out);
-            ptime[3] += cpu_seconds() - tm;
-            P.until = INT64_MAX;
-            if (st != 9) { status = st; break; }
-        }
+            if (r == CH_WALK) {
+                ptime[2] += 1;
+                ptime[8] += 1;
+                double tm = cpu_seconds();
+                P.serial_next = 0;
+                int64_t n0 = nstates;
+                nstates += chunk_new;
+                tcount += chunk_new;
+                status = walk_chunk(&pl, n0);
+                ptime[5] += cpu_seconds() - tm;
+                if (status >= 0) break;
+                S.sid = pl.c1;
+                if (C.stopreq) { status = C.stopreq; break; }
+                continue;
+            }
+            /* CH_ABORT: nothing of the chunk kept */
+            unprovide();
+            int timeout = 0, irregular = 0;
+            for (int t = 0; t < nt; t++) { timeout |= W[t].timeout; irregular |= W[t].irregular; }
+            if (timeout || stop_all) { status = interrupted ? 7 : 3; break; }
+            if (C.failed_seq == pl.chunkno) { status = 5; break; }
+            ptime[1] += 1;
+            if (irregular) {
+                P.serial_next = P.serial_next ? (P.serial_next * 2 > 64 ? 64 : P.serial_next * 2) : 1;
+                P.serial_skip = P.serial_next;
+            }
+        } else if (skipped) P.serial_skip--;
+        /* the chunk on this thread */
+        P.until = c1;
+        double tm = cpu_seconds();
+        int st = (int)asm_run(1e300, out);
+        ptime[3] += cpu_seconds() - tm;
+        P.until = INT64_MAX;
+        if (st != 9) { status = st; break; }
     }
+    if (status != 6 && status != 9 && S.status == -1) S.status = status;
+quit:
     J.cmd = 9;
-    barrier(&sense);
+    barrier(w0, &sense);
     for (int t = 1; t < nt; t++) pthread_join(th[t], 0);
+    w0->cpu += cpu_seconds() - cpu0;
     if (nthreads > 1) {
         double rate = (double)(S.transitions - tr0) / (now_seconds() - tstart + 1e-9);
         if (probe == 0) P.rate_many = rate;
         else if (probe == 1) P.rate_one = rate;
         P.round++;
     }
-    if (status != 6 && status != 9 && S.status == -1) S.status = status;
     if (S.status != -1) status = S.status;
     fill_out(out, status);
     sigaction(SIGINT, &old, 0);
