@@ -3433,10 +3433,7 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
     c->plen = 0;
     c->in_prop = 0;
     for (;;) {
-        c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
-        c->gen++;
-        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
-        c->err = 0;
+        begin_run(c);
         step_main(c);
         if (c->err) return -1;
         int ok = 1;

@@ -5,6 +5,15 @@
  * Python explorer), packs each successor and looks it up.
  */
 
+/* a run of the step starts from an empty update set, no choice taken yet and a new
+   generation of the working-state marks */
+static inline void begin_run(Ctx *c) {
+    c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+    c->gen++;
+    if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
+    c->err = 0;
+}
+
 static uint64_t *states = 0;
 static int64_t nstates = 0, cap_states = 0;
 static uint32_t *parents = 0;
@@ -345,10 +354,7 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
     /* the probe */
     memcpy(c->prefix, c->idx, (size_t)pos * sizeof(int32_t));
     c->plen = pos;
-    c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
-    c->gen++;
-    if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
-    c->err = 0;
+    begin_run(c);
     mc_skip_from = j0;
     step_main(c);
     mc_skip_from = MAXCH;
@@ -434,16 +440,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
     b->n = 0;
     *steperr = 0;
     for (;;) {
-        c->pos = 0;
-        c->nupd = 0;
-        c->nlog = 0;
-        c->seqstart = -1;
-        c->curstep = 0;
-        c->self = UNDEF;
-        c->nvs = 0;
-        c->gen++;
-        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
-        c->err = 0;
+        begin_run(c);
         step_main(c);
         if (MISSED()) return EXP_MISSED;
         if (c->err) {
@@ -1735,16 +1732,7 @@ int64_t asm_x_expand(const uint64_t *w, const uint8_t *skip, int64_t succ_too, i
     c->plen = 0;
     int64_t n = 0;
     for (;;) {
-        c->pos = 0;
-        c->nupd = 0;
-        c->nlog = 0;
-        c->seqstart = -1;
-        c->curstep = 0;
-        c->self = UNDEF;
-        c->nvs = 0;
-        c->gen++;
-        if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
-        c->err = 0;
+        begin_run(c);
         step_main(c);
         if (c->err) {
             if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
