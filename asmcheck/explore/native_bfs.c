@@ -676,7 +676,9 @@ static int64_t table_bytes(int64_t n) {
 
 static int64_t memory_bytes(int64_t n) {
     return n * (int64_t)(NWORDS * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n)
-        + S.nedges * 2 * (int64_t)sizeof(uint32_t)
+        /* an edge is two ends here, and again in the arrays Python copies them into (with a
+           bytes object of one array's size while it fills) before these are freed */
+        + S.nedges * 5 * (int64_t)sizeof(uint32_t)
         + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);
 }
 
