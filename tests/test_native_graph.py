@@ -228,8 +228,10 @@ def test_graph_repository_specs(tmp_path, capsys, name):
     assert g["native"][1:] == g["python"][1:]
 
 
+# m2.asm: two functions named f (its own and its module's), printed in the order of the functions
 CORPUS = ["examples/darts.asm", "examples/slotMachine.asm", "examples/cards.asm", "stereoacuity/certifierRaff1.asm",
-          "stereoacuity/certifierRaff4.asm"]
+          "stereoacuity/certifierRaff4.asm", "test/simulator/domains/test04/m2.asm",
+          "examples/filosofiEciliegie/filosofiEciliegieAgentsJustLeft.asm"]
 
 
 @pytest.mark.parametrize("rel", CORPUS)

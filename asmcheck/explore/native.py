@@ -1194,10 +1194,7 @@ class Generator:
         domains when no domain grows and their numbers follow their names."""
         r = T.root(typ)
         if isinstance(r, T.Domain) and r.kind == "abstract":
-            from ..semantics.values import vkey
-            els = list(self.codec.abstract_ids)
-            return not any(isinstance(d, T.Domain) and d.dynamic for d in self.spec.domains) and \
-                sorted(els, key=vkey) == sorted(els, key=self.codec.to_c)
+            return self.abstract_codes_sorted(r)
         return r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or (isinstance(r, T.Domain) and r.kind == "enum")
 
     def in_value_order(self, x: str, typ) -> str | None:
@@ -1229,6 +1226,18 @@ class Generator:
             i += 1
         return "".join(out)
 
+    def split_regex(self, t, args) -> str:
+        """``split(s, re)`` by a constant regular expression: its program (``regex_program``) in a
+        table, run by str_split_re (native_rt.c)."""
+        sep = t.args[1]
+        if not (isinstance(sep, ir.Const) and type(sep.value) is str):
+            raise Unsupported("split on String by a regular expression computed in the state")
+        prog = regex_program(sep.value)
+        if prog is None:
+            raise Unsupported("split on String by a regular expression outside the translated subset (a capturing "
+                              "group, a look-around, a back-reference, flags, a repeat of what may match the empty text, ...)")
+        return f"str_split_re(c, {args[0]}, {self.table(prog)})"
+
     def library_call(self, t, args, kind):
         """The StandardLibrary functions on strings, bags, map values and the conversions between
         collections (None: not one of them)."""
@@ -1257,7 +1266,7 @@ class Generator:
                 sep = t.args[1]
                 lit = self.regex_literal(sep.value) if isinstance(sep, ir.Const) and type(sep.value) is str else None
                 if not lit:
-                    raise Unsupported("split on String by a regular expression other than a literal text")
+                    return self.split_regex(t, args)
                 return f"str_split(c, {args[0]}, {self.codec.literal(lit)})"
             return None
         if name == "chooseone" and n == 1 and kind in ("Seq", "Powerset", "Bag") and (
@@ -1507,7 +1516,7 @@ class Generator:
             d = r.domain
             if self.dyn_values(d):
                 return self.dyn_values(d)
-            if isinstance(d, T.Domain) and d.dynamic and (d.kind == "abstract" or (
+            if isinstance(d, T.Domain) and d.dynamic and self.grows(d) and (d.kind == "abstract" or (
                     d.kind == "subset" and isinstance(T.root(d), T.Domain) and T.root(d).kind == "abstract")):
                 raise Unsupported(f"ranging over the dynamic domain {d}")
             return self.values_of(d)
@@ -1550,8 +1559,7 @@ class Generator:
             value = self.term(rg, env) if sorter is None else f"{sorter}(c, {self.term(rg, env)})"
             return (f"V {rv} = {value}; if ({rv} == UNDEF) fail(c, E_MODEL, 0); "
                     f"for (int {q} = 0; {rv} != UNDEF && {q} < v_len({rv}); {q}++) {{ V {name} = v_elems({rv})[{q}];")
-        tab = self.table(vals)
-        return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+        return self.range_head(rg, vals, q, name)
 
     def vkey_cmp(self, typ):
         """The name of a C function comparing two codes of type ``typ`` as ``vkey`` compares
@@ -1636,23 +1644,38 @@ class Generator:
             return True
         if isinstance(r, T.Domain) and r.kind == "enum":
             return True
-        if isinstance(r, T.Domain) and r.kind == "abstract" and not r.dynamic:
-            els = list(self.m.static_elements.get(r, ()))
-            if not all(e in self.codec.abstract_ids for e in els):
-                return False
-            return sorted(els, key=vkey) == sorted(els, key=lambda e: self.codec.abstract_ids[e])
+        if isinstance(r, T.Domain) and r.kind == "abstract":
+            return self.abstract_codes_sorted(r)
         return False
+
+    def abstract_codes_sorted(self, r) -> bool:
+        """Do the codes of the elements of the abstract domain ``r`` and of the domains inside it
+        sort as ``vkey`` sorts them?  ``vkey`` orders by the domain's name, then the serial (0 for a
+        named element, k for the k-th element made by extend), then the name; the codes put every
+        named element (numbered by domain name, then in declaration order) before every element
+        made by extend (numbered by domain name, then serial).  Both agree when the named elements'
+        numbers follow ``vkey`` and no domain extended at run time sorts before the domain of a
+        named element (an element of a domain not declared in the spec counts as inside ``r``)."""
+        from ..semantics.analysis import is_subdomain
+        from ..semantics.values import vkey
+        root = T.root(r)
+        names = {d.name for d in self.spec.domains if isinstance(d, T.Domain)}
+        inside = {d.name for d in self.spec.domains if isinstance(d, T.Domain) and is_subdomain(d, root)}
+        inside.add(root.name)
+        named = [e for e in self.codec.abstract_ids if e.domain in inside or e.domain not in names]
+        if sorted(named, key=vkey) != sorted(named, key=lambda e: self.codec.abstract_ids[e]):
+            return False
+        grown = [d for d in self.dyn if d in inside]
+        return not any(a < e.domain for a in grown for e in named)
 
     def t_DomainTerm(self, t, env):
         d = t.domain
         if self.dyn_values(d):
             vals = self.dyn_values(d)
-            arr = self.fresh("e")
-            tab = self.table(vals)
-            n = self.range_len(t, vals)
-            return (f"({{ V {arr}[{len(vals)}]; for (int q = 0; q < {n}; q++) {arr}[q] = {tab}[q]; "
-                    f"set_make(c, {arr}, {n}); }})")
-        if isinstance(d, T.Domain) and d.dynamic:
+            arr, m, q, x = self.fresh("e"), self.fresh("m"), self.fresh("q"), self.fresh("x")
+            return (f"({{ V {arr}[{len(vals)}]; int {m} = 0; {self.range_head(t, vals, q, x)} {arr}[{m}++] = {x}; }} "
+                    f"set_make(c, {arr}, {m}); }})")
+        if isinstance(d, T.Domain) and d.dynamic and self.grows(d):
             raise Unsupported(f"the dynamic domain {d} as a value")
         vals = self.values_of(d)
         if not self.composite(T.Struct("Powerset", (d,))):
@@ -1727,6 +1750,13 @@ class Generator:
     def r_Skip(self, r, env):
         return ";"
 
+    def r_LocalRule(self, r, env):
+        # A local function lives in the working state of its rule only, one per call (a recursive
+        # turbo rule has one per level), and its updates stay in the rule: the native state has no
+        # slots for it.  The Python engine runs such specs.
+        raise Unsupported(f"the local function {r.func.name} at {r.span.short() if r.span else '?'} (a location of "
+                          f"one call of its rule, which the native state has no slot for)")
+
     def r_Update(self, r, env):
         f = r.func
         if f.index in getattr(self, "lazy_init", ()):
@@ -1761,7 +1791,17 @@ class Generator:
         # state as it is in the Python engine too (unless a step property may ask whether it was updated)
         keep = f"{v} != UNDEF" if not self.step_props else "1"
         return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
-                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, 0); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+                f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, {self.outside_site(f)}); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
+
+    def outside_site(self, f) -> int:
+        """The run-time refusal of an update of ``f`` at arguments outside the layout: the Python
+        engine keeps such a location (an argument undef or outside its domain) in the state."""
+        sites = self.__dict__.setdefault("_outside_sites", {})
+        if f.index not in sites:
+            sites[f.index] = self.runtime_site(
+                f"an update of {f.name} at an argument undef or outside its domain (the Python engine keeps "
+                f"such a location in the state; the native layout has slots for the domains' elements only)")
+        return sites[f.index]
 
     def update_location(self, f, args: list, value: str) -> str:
         """The update of the location ``f(args)`` (the arguments' and the value's C code)."""
@@ -2000,7 +2040,7 @@ class Generator:
             env2[v.uid] = name
             names.append(name)
             sizes *= max(len(vals), 1)
-            heads.append(f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];")
+            heads.append(self.range_head(rg, vals, q, name))
         if sizes > MAX_CANDIDATES:
             raise Unsupported("a choose over too many candidates")
         k = len(names)
@@ -2613,30 +2653,76 @@ class Generator:
                 raise Unsupported(f"the monitored function {f.name} over a domain extended at run time")
 
     def dyn_values(self, dom) -> list | None:
-        """The values of an extended domain: its named elements, then element slots 1..cn_k;
-        None for other domains (a domain holding an extended one is refused)."""
+        """The values of a domain that holds elements made by extend: its named elements, then
+        element slots 1..cn_k of each extended domain inside it (``dyn_segments``); None for
+        other domains (a domain that holds extended ones the Python engine does not list is refused)."""
         if not self.dyn or not isinstance(dom, T.Domain):
             return None
-        if dom.name in self.dyn and self.dyn_doms[self.dyn[dom.name]] is dom:
+        segs = self.dyn_segments(dom)
+        if segs:
             try:
                 named = list(self.m.domain_values(dom, None, None))
             except Undetermined:
                 raise Unsupported(f"the infinite domain {dom}")
             for v in named:
                 self.codec.to_c(v)
-            return named + [fresh_value(dom.name, k) for k in range(1, self.cn_k + 1)]
+            return named + [fresh_value(self.dyn_doms[d].name, k) for d in segs for k in range(1, self.cn_k + 1)]
         for d in self.dyn_doms:
-            if d is not dom and self._dyn_sub(d, dom):
+            if self._dyn_sub(d, dom):
                 raise Unsupported(f"the domain {dom}, which holds the elements extend adds to {d}")
         return None
+
+    def grows(self, dom) -> bool:
+        """Can the domain ``dom`` gain elements in a run (an extend of it or of a domain inside
+        it)?  A dynamic domain nothing extends keeps its named elements (extend is the only rule
+        that adds elements to a domain)."""
+        from ..semantics.analysis import is_subdomain
+        doms = getattr(self, "dyn_doms", None)
+        return doms is None or any(is_subdomain(d, dom) for d in doms)
+
+    def dyn_segments(self, dom) -> list:
+        """The numbers of the extended domains whose elements the Python engine lists among the
+        values of ``dom`` (after the named ones), in its order: the order of the spec's domains
+        (``Machine._abstract_values``).  Empty where it lists none."""
+        if not self.dyn or not isinstance(dom, T.Domain):
+            return []
+        root = dom.root()
+        if not (dom.kind == "abstract" or (dom.kind == "subset" and dom.definition is None and
+                                           isinstance(root, T.Domain) and root.kind == "abstract")):
+            return []
+        segs = [self.dyn[d.name] for d in self.spec.domains
+                if isinstance(d, T.Domain) and d.dynamic and d.name in self.dyn
+                and self.dyn_doms[self.dyn[d.name]] is d and self._dyn_sub(d, dom)]
+        if len(segs) != sum(1 for d in self.dyn_doms if self._dyn_sub(d, dom)):
+            raise Unsupported(f"the domain {dom}, which holds the elements extend adds to a domain not declared")
+        return segs
 
     def range_len(self, rg, vals) -> str:
         """The C expression for how many of ``vals`` (the range ``rg``'s values) to walk: for an
         extended domain its named elements and the elements it has now."""
         if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain):
-            d = self.dyn[rg.domain.name]
+            (d,) = self.dyn_segments(rg.domain)
             return f"({len(vals) - self.cn_k} + cn_count(c, {d}))"
         return str(len(vals))
+
+    def range_head(self, rg, vals, q: str, name: str) -> str:
+        """The C loop header binding ``name`` to each of ``vals`` (the constant range ``rg``'s
+        values, in the Python engine's order): for a domain holding the elements of several
+        extended domains, the slots of elements not made yet are skipped."""
+        tab = self.table(vals)
+        segs = self.dyn_segments(rg.domain) if isinstance(rg, ir.DomainTerm) and self.dyn_values(rg.domain) else []
+        if not segs:
+            return f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ V {name} = {tab}[{q}];"
+        named = len(vals) - len(segs) * self.cn_k
+        # inside a seq block the elements finished steps made are seen, which need not be the
+        # next numbers (an element made by a parallel branch is not): each slot is asked
+        if len(segs) == 1:
+            return (f"for (int {q} = 0; {q} < {self.range_len(rg, vals)}; {q}++) {{ if ({q} >= {named} && "
+                    f"!cn_vis(c, {segs[0]}, {q} - {named} + 1)) continue; V {name} = {tab}[{q}];")
+        doms = ", ".join(map(str, segs))
+        return (f"for (int {q} = 0; {q} < {len(vals)}; {q}++) {{ if ({q} >= {named} && !cn_vis(c, "
+                f"((const int[]){{{doms}}})[({q} - {named}) / {self.cn_k}], ({q} - {named}) % {self.cn_k} + 1)) continue; "
+                f"V {name} = {tab}[{q}];")
 
     def dyn_slots(self) -> None:
         """One slot per extended domain: its number of elements (0..cn_k)."""
@@ -2700,6 +2786,8 @@ class Generator:
             node = [2]                          # rule values: texts from the atom table
         elif r is T.STRING:
             node = [3]
+        elif r is T.REAL:
+            node = [8]                          # Python's repr of the double (cn_real)
         elif isinstance(r, T.Struct) and r.kind in ("Seq", "Powerset") and self.composite(typ):
             node = [4 if r.kind == "Seq" else 6, self.cn_type(r.args[0], tys, memo)]
         elif isinstance(r, T.Struct) and r.kind == "Prod" and self.composite(typ):
@@ -2709,6 +2797,22 @@ class Generator:
         memo[key] = len(tys)
         tys.extend(node)
         return memo[key]
+
+    def canon_map_slot(self, f, tys, memo, fn_ids, slot_fn, slot_vty, slot_nargs, slot_arg, slot_base) -> None:
+        """The tables of native_canon.c for the slot holding the locations of ``f`` as a map whose
+        keys or values may hold elements made by extend: each entry is a location f(args)=value,
+        renamed by rebuilding the map (type node T_LMAP: arity, key type, value type)."""
+        if f.index in getattr(self, "lazy_init", ()):
+            raise Unsupported(f"the lazily initialised function {f.name} over extended domains")
+        key_t = f.domain[0] if len(f.domain) == 1 else T.Struct("Prod", tuple(f.domain))
+        kt = self.cn_type(key_t, tys, memo)
+        vt = self.cn_type(f.codomain, tys, memo)
+        node = len(tys)
+        tys.extend([7, len(f.domain), kt, vt])
+        if f.index not in fn_ids:
+            fn_ids[f.index] = len(fn_ids)
+        slot_fn.append(fn_ids[f.index]); slot_vty.append(node); slot_nargs.append(0); slot_arg.append(0)
+        slot_base.append(-1)
 
     def canon_code(self) -> str:
         """The tables of native_canon.c and the file itself (nothing without extend)."""
@@ -2734,7 +2838,8 @@ class Generator:
             if isinstance(typ, tuple):          # a map slot
                 f = typ[1]
                 if self.cn_may_hold(f.codomain) or any(self.cn_may_hold(d) for d in f.domain):
-                    raise Unsupported(f"the function {f.name} over an infinite domain and extended domains")
+                    self.canon_map_slot(f, tys, memo, fn_ids, slot_fn, slot_vty, slot_nargs, slot_arg, slot_base)
+                    continue
                 key = None
             if key is None or (type(key) is tuple and key[0] == "#dom"):
                 slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
@@ -2849,6 +2954,219 @@ def _has_extend(rule) -> bool:
         elif isinstance(x, (list, tuple)):
             stack.extend(x)
     return False
+
+
+# ----------------------------------------------------------------- split by a regular expression
+RX_CHAR, RX_CLASS, RX_SPLIT, RX_JMP, RX_BOL, RX_EOL, RX_MATCH = 1, 2, 3, 4, 5, 6, 7
+RX_MAX_INSTR = 4096
+_RX_CLASS_ESC = "dDwWsS"
+_RX_CHAR_ESC = {"n": "\n", "t": "\t", "r": "\r", "f": "\f", "v": "\v"}
+
+
+class _RxRefused(Exception):
+    pass
+
+
+def regex_program(p: str):
+    """The regular expression ``p`` (Python's ``re``, as the Python engine's split uses it) as a
+    program of the backtracking matcher of native_rt.c (``str_split_re``): a list of int64, the
+    number of instructions first, then (op, a, b) per instruction, then the character classes
+    (bits of the characters 0..127 in two words, then 0 / 1: no / every other character matches,
+    2: another character is refused at run time).  None outside the subset translated: literal
+    characters and escapes, ``.``, classes ``[...]`` and ``\\d \\w \\s`` (their members computed by
+    ``re`` itself), ``^ $``, alternatives, non-capturing groups, and the greedy and lazy quantifiers
+    ``* + ? {m} {m,} {,n} {m,n}`` on parts that cannot match the empty text (a capturing group
+    would put its text among the parts; an empty loop follows ``re``'s own rule)."""
+    import warnings
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            if re.compile(p).groups:
+                return None
+        ast, pos = _rx_alt(p, 0)
+        if pos != len(p):
+            return None
+        code: list = []
+        data: list = []
+        _rx_emit(ast, code, data)
+        code.append([RX_MATCH, 0, 0])
+    except (_RxRefused, re.error, Warning, RecursionError):
+        return None
+    if len(code) > RX_MAX_INSTR:
+        return None
+    base = 1 + 3 * len(code)
+    out = [len(code)]
+    for op, a, b in code:
+        out += [op, base + a if op == RX_CLASS else a, b]
+    return out + data
+
+
+def _rx_alt(p, i):
+    seqs = []
+    seq, i = _rx_seq(p, i)
+    seqs.append(seq)
+    while i < len(p) and p[i] == "|":
+        seq, i = _rx_seq(p, i + 1)
+        seqs.append(seq)
+    return (("alt", seqs) if len(seqs) > 1 else seqs[0]), i
+
+
+def _rx_seq(p, i):
+    items = []
+    while i < len(p) and p[i] not in "|)":
+        atom, i = _rx_atom(p, i)
+        atom, i = _rx_quant(p, i, atom)
+        items.append(atom)
+    return ("seq", items), i
+
+
+def _rx_class_node(text: str, hi: int):
+    bits = [0, 0]
+    for ch in range(128):
+        if re.fullmatch(text, chr(ch)):
+            bits[ch >> 6] |= 1 << (ch & 63)
+    return ("class", tuple(b - (1 << 64) if b >= 1 << 63 else b for b in bits) + (hi,))
+
+
+def _rx_atom(p, i):
+    ch = p[i]
+    if ch == "(":
+        if not p.startswith("(?:", i):
+            raise _RxRefused
+        node, j = _rx_alt(p, i + 3)
+        if j >= len(p) or p[j] != ")":
+            raise _RxRefused
+        return node, j + 1
+    if ch == "[":
+        j = i + 1
+        if j < len(p) and p[j] == "^":
+            j += 1
+        if j < len(p) and p[j] == "]":
+            j += 1
+        while j < len(p) and p[j] != "]":
+            if p[j] == "[":
+                raise _RxRefused
+            j += 2 if p[j] == "\\" else 1
+        if j >= len(p):
+            raise _RxRefused
+        text = p[i:j + 1]
+        inner = text[1:-1]
+        simple = all(ord(x) < 128 for x in inner) and not re.search(r"\\[A-Za-z0-9]", inner.replace("\\\\", ""))
+        hi = (1 if inner.startswith("^") else 0) if simple else 2
+        return _rx_class_node(text, hi), j + 1
+    if ch == ".":
+        return _rx_class_node(".", 1), i + 1
+    if ch == "^":
+        return ("bol",), i + 1
+    if ch == "$":
+        return ("eol",), i + 1
+    if ch == "\\":
+        if i + 1 >= len(p):
+            raise _RxRefused
+        x = p[i + 1]
+        if x in _RX_CLASS_ESC:
+            return _rx_class_node(p[i:i + 2], 2), i + 2
+        if x in _RX_CHAR_ESC:
+            return ("char", ord(_RX_CHAR_ESC[x])), i + 2
+        if x.isascii() and x.isalnum():
+            raise _RxRefused
+        return ("char", ord(x)), i + 2
+    if ch in "*+?{}]":
+        raise _RxRefused
+    return ("char", ord(ch)), i + 1
+
+
+def _rx_quant(p, i, atom):
+    if i >= len(p) or p[i] not in "*+?{":
+        return atom, i
+    if p[i] == "{":
+        m = re.compile(r"\{(\d*)(,?)(\d*)\}").match(p, i)
+        if m is None or (not m.group(1) and not m.group(3) and m.group(2)) or (not m.group(2) and not m.group(1)):
+            raise _RxRefused
+        lo = int(m.group(1)) if m.group(1) else 0
+        hi = int(m.group(3)) if m.group(3) else (None if m.group(2) else lo)
+        if lo > RX_MAX_INSTR or (hi is not None and (hi > RX_MAX_INSTR or hi < lo)):
+            raise _RxRefused
+        i = m.end()
+    else:
+        lo, hi = {"*": (0, None), "+": (1, None), "?": (0, 1)}[p[i]]
+        i += 1
+    lazy = i < len(p) and p[i] == "?"
+    if lazy:
+        i += 1
+    if i < len(p) and p[i] in "*+?{":
+        raise _RxRefused         # a possessive quantifier, or a repeat of a repeat
+    if atom[0] in ("bol", "eol") or _rx_nullable(atom):
+        raise _RxRefused
+    return ("rep", atom, lo, hi, lazy), i
+
+
+def _rx_nullable(node) -> bool:
+    kind = node[0]
+    if kind in ("char", "class"):
+        return False
+    if kind in ("bol", "eol"):
+        return True
+    if kind == "seq":
+        return all(_rx_nullable(x) for x in node[1])
+    if kind == "alt":
+        return any(_rx_nullable(x) for x in node[1])
+    return node[2] == 0 or _rx_nullable(node[1])
+
+
+def _rx_emit(node, code: list, data: list) -> None:
+    if len(code) > RX_MAX_INSTR:
+        raise _RxRefused
+    kind = node[0]
+    if kind == "char":
+        code.append([RX_CHAR, node[1], 0])
+    elif kind == "class":
+        code.append([RX_CLASS, len(data), 0])
+        data.extend(node[1])
+    elif kind == "bol":
+        code.append([RX_BOL, 0, 0])
+    elif kind == "eol":
+        code.append([RX_EOL, 0, 0])
+    elif kind == "seq":
+        for x in node[1]:
+            _rx_emit(x, code, data)
+    elif kind == "alt":
+        jumps = []
+        alts = node[1]
+        for k, x in enumerate(alts):
+            if k < len(alts) - 1:
+                split = [RX_SPLIT, len(code) + 1, 0]
+                code.append(split)
+                _rx_emit(x, code, data)
+                jumps.append([RX_JMP, 0, 0])
+                code.append(jumps[-1])
+                split[2] = len(code)
+            else:
+                _rx_emit(x, code, data)
+        for j in jumps:
+            j[1] = len(code)
+    else:
+        _, body, lo, hi, lazy = node
+        for _ in range(lo):
+            _rx_emit(body, code, data)
+        if hi is None:
+            top = len(code)
+            split = [RX_SPLIT, 0, 0]
+            code.append(split)
+            _rx_emit(body, code, data)
+            code.append([RX_JMP, top, 0])
+            body_at, end = top + 1, len(code)
+            split[1], split[2] = (end, body_at) if lazy else (body_at, end)
+        else:
+            splits = []
+            for _ in range(hi - lo):
+                split = [RX_SPLIT, 0, 0]
+                code.append(split)
+                splits.append((split, len(code)))
+                _rx_emit(body, code, data)
+            end = len(code)
+            for split, body_at in splits:
+                split[1], split[2] = (end, body_at) if lazy else (body_at, end)
 
 
 def _holds_real(typ) -> bool:

@@ -26,6 +26,10 @@
 #define T_SEQ 4
 #define T_TUPLE 5
 #define T_SET 6
+#define T_LMAP 7
+#define T_REAL 8        /* a Real's code: its text is Python's repr of the double */        /* the locations of a function held as a map: arity, key type, value type */
+/* locations where elements occur: the slots, and the entries of the functions held as maps */
+#define CN_NLOC ((NSLOTS > 0 ? NSLOTS : 1) + 4096)
 
 /* ---------------------------------------------------------------- one worker's tables
  * Each search context (one per thread of a parallel search) has its own: looked up once per
@@ -33,7 +37,7 @@
 typedef struct { char *p; int n, cap; } CnBuf;
 typedef struct { int off, len; } CnSpan;
 typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
-typedef struct { int slot; int nel; int el[8]; int cnt[8]; } CnLoc;
+typedef struct { int slot; int ent; int nel; int el[8]; int cnt[8]; } CnLoc;
 typedef struct {
     uint32_t dgen[CN_NDYN];          /* the run of the step (c->gen) that made elements of d */
     int dnext[CN_NDYN];              /* the number of d's next element in that run */
@@ -44,8 +48,18 @@ typedef struct {
     CnBuf tb; CnSpan *sp; int nsp, capsp;                    /* the texts of this round */
     V *dpool; int64_t dn, dused, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept */
     int64_t my_search;
-    CnLoc locs[NSLOTS > 0 ? NSLOTS : 1];
-    int eloc[(NSLOTS > 0 ? NSLOTS : 1) * 8];
+    /* the elements made in this run of the step (fgen): domain, number, the seq step that made
+       them (restamped to the enclosing step when a seq block ends, as updates are); the ones a
+       finished step of an open seq block made are visible (vis, bit k - 1), undone through vlog */
+    uint32_t fgen;
+    int fn, vn;
+    int fdom[CN_MAXE > 0 ? CN_MAXE : 1], fnum[CN_MAXE > 0 ? CN_MAXE : 1];
+    int32_t fstamp[CN_MAXE > 0 ? CN_MAXE : 1];
+    uint64_t vis[CN_NDYN];
+    int vdom[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
+    uint64_t vold[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
+    CnLoc locs[CN_NLOC];
+    int eloc[CN_NLOC * 8];
 } CnW;
 static int64_t cn_search = 0;               /* counts the searches started (asm_canon_reset) */
 
@@ -100,8 +114,18 @@ static void cn_why(int why, int d) {
 
 /* the number of each domain's next element in this run of the step */
 
-static V fresh_elem(Ctx *c, int d) {
+/* the tables of this run of the step's elements, started again in a new run */
+static CnW *cn_wf(Ctx *c) {
     CnW *W = cn_w(c);
+    if (W && W->fgen != c->gen) {
+        W->fgen = c->gen; W->fn = 0; W->vn = 0;
+        memset(W->vis, 0, sizeof(W->vis));
+    }
+    return W;
+}
+
+static V fresh_elem(Ctx *c, int d) {
+    CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return UNDEF; }
     if (W->dgen[d] != c->gen) {
         W->dgen[d] = c->gen;
@@ -113,22 +137,70 @@ static V fresh_elem(Ctx *c, int d) {
         fail(c, E_UNSUPPORTED, 0);
         return UNDEF;
     }
+    W->fdom[W->fn] = d; W->fnum[W->fn] = k; W->fstamp[W->fn] = c->curstep; W->fn++;
+    c->cn_made = c->gen;
     return cn_code(d, k);
 }
 
-/* How many elements domain d has where terms are read: in the state expanded, or in the
- * successor (INVAR, next()): those of the state and the ones this step made.  Inside a seq
- * block after an extend of d the Python step function sees the new elements: not followed. */
+/* Seq blocks: the elements the step just finished made join the working state (as the Python
+ * step function adds them to its domains); when the block ends they leave it, and the elements
+ * made inside count as made by the enclosing step. */
+static void cn_seq_begin(Ctx *c, SeqFrame *f) {
+    if (c->cn_made != c->gen) { f->cn_fmark = 0; f->cn_vmark = 0; return; }   /* none made in this run yet */
+    CnW *W = cn_wf(c);
+    f->cn_fmark = W ? W->fn : 0;
+    f->cn_vmark = W ? W->vn : 0;
+}
+static void cn_seq_step_end(Ctx *c) {
+    if (c->cn_made != c->gen) return;
+    CnW *W = cn_wf(c);
+    if (!W) { fail(c, E_MEMORY, 0); return; }
+    for (int i = 0; i < W->fn; i++) {
+        if (W->fstamp[i] != c->curstep) continue;
+        int d = W->fdom[i];
+        uint64_t bit = 1ULL << (W->fnum[i] - 1);
+        if (W->vis[d] & bit) continue;
+        if (W->vn >= 4 * CN_MAXE) { fail(c, E_UNSUPPORTED, 0); return; }
+        W->vdom[W->vn] = d; W->vold[W->vn] = W->vis[d]; W->vn++;
+        W->vis[d] |= bit;
+    }
+}
+static void cn_seq_end(Ctx *c, SeqFrame *f) {
+    if (c->cn_made != c->gen) return;
+    CnW *W = cn_wf(c);
+    if (!W) return;
+    while (W->vn > f->cn_vmark) { W->vn--; W->vis[W->vdom[W->vn]] = W->vold[W->vn]; }
+    for (int i = f->cn_fmark; i < W->fn; i++) W->fstamp[i] = c->curstep;
+}
+
+/* Is element k of domain d in the state where terms are read: in the state expanded (and, inside
+ * a seq block, the elements finished steps made), or in the successor (INVAR, next()): those of
+ * the state and the ones this step made. */
+static int cn_vis_(Ctx *c, int d, int k) {
+    if (c->cn_made != c->gen) return 0;
+    int n = (int)c->cur[CN_COUNT_SLOT[d]];
+    CnW *W = cn_wf(c);
+    if (!W) { fail(c, E_MEMORY, 0); return 0; }
+    int extended = W->dgen[d] == c->gen;
+    if (c->rd == c->post) return k <= (extended ? W->dnext[d] - 1 : n);
+    if (k <= (int)c->rd[CN_COUNT_SLOT[d]]) return 1;
+    return extended && k <= CN_K && ((W->vis[d] >> (k - 1)) & 1);
+}
+/* (the elements of the state expanded are seen wherever terms are read) */
+static inline int cn_vis(Ctx *c, int d, int k) { return k <= (int)c->cur[CN_COUNT_SLOT[d]] || cn_vis_(c, d, k); }
+/* the number of element slots of d to look at (the highest element that may be visible) */
 static int cn_count(Ctx *c, int d) {
-    CnW *W = cn_w(c);
+    if (c->cn_made != c->gen) return (int)c->cur[CN_COUNT_SLOT[d]];   /* none made in this run */
+    CnW *W = cn_wf(c);
     if (!W) { fail(c, E_MEMORY, 0); return 0; }
     int extended = W->dgen[d] == c->gen;
     if (c->rd == c->post) return extended ? W->dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
-    if (extended && c->seqstart >= 0) {
-        cn_why(CN_SEQ, d);
-        fail(c, E_UNSUPPORTED, 0);
+    int n = (int)c->rd[CN_COUNT_SLOT[d]];
+    if (extended && W->vis[d]) {
+        int hi = 64 - __builtin_clzll(W->vis[d]);
+        if (hi > n) n = hi;
     }
-    return (int)c->rd[CN_COUNT_SLOT[d]];
+    return n;
 }
 
 /* ---------------------------------------------------------------- texts */
@@ -199,6 +271,43 @@ static void cn_sort_spans(const char *base, CnSpan *sp, int n) {
     }
 }
 
+/* Python's repr of the double of code v: the shortest digits that read back as it, fixed
+   notation when the decimal point falls within -4 < position <= 16, else d.ddde+XX */
+static int cn_real(CnBuf *b, V v) {
+    if (v == R_NAN) return cn_put(b, "nan", 3);
+    double x = r_d(v);
+    if (isinf(x)) return x > 0 ? cn_put(b, "inf", 3) : cn_put(b, "-inf", 4);
+    char t[48], dig[24], out[64];
+    int p;
+    for (p = 1; p <= 17; p++) {
+        snprintf(t, sizeof t, "%.*e", p - 1, x);
+        if (strtod(t, 0) == x) break;
+    }
+    int neg = t[0] == '-', i = neg, nd = 0;
+    for (; t[i] && t[i] != 'e'; i++) if (t[i] != '.') dig[nd++] = t[i];
+    if (t[i] != 'e') return 0;
+    int e10 = atoi(t + i + 1), decpt = e10 + 1, k = 0;
+    if (neg) out[k++] = '-';
+    if (decpt > -4 && decpt <= 16) {
+        if (decpt <= 0) {
+            out[k++] = '0'; out[k++] = '.';
+            for (int j = 0; j < -decpt; j++) out[k++] = '0';
+            for (int j = 0; j < nd; j++) out[k++] = dig[j];
+        } else if (decpt >= nd) {
+            for (int j = 0; j < nd; j++) out[k++] = dig[j];
+            for (int j = nd; j < decpt; j++) out[k++] = '0';
+            out[k++] = '.'; out[k++] = '0';
+        } else {
+            for (int j = 0; j < nd; j++) { if (j == decpt) out[k++] = '.'; out[k++] = dig[j]; }
+        }
+    } else {
+        out[k++] = dig[0];
+        if (nd > 1) { out[k++] = '.'; for (int j = 1; j < nd; j++) out[k++] = dig[j]; }
+        k += snprintf(out + k, sizeof out - k, "e%+03d", e10);
+    }
+    return cn_put(b, out, k);
+}
+
 static int cn_text(CnW *W, CnBuf *b, V v, int ty) {
     if (v == UNDEF) return cn_put(b, "None", 4);
     if (cn_is_fresh(v)) {
@@ -212,6 +321,7 @@ static int cn_text(CnW *W, CnBuf *b, V v, int ty) {
     switch (CN_TY[ty]) {
     case T_INT: { char t[32]; return cn_put(b, t, cn_itoa(t, v)); }
     case T_BOOL: return v ? cn_put(b, "True", 4) : cn_put(b, "False", 5);
+    case T_REAL: return cn_real(b, v);
     case T_ATOM: return cn_atom(b, v);
     case T_STR: {
         /* Python's repr of a string of printable ASCII without quotes or backslashes */
@@ -268,7 +378,35 @@ static void cn_walk(V v, int ty, int *list, int *nl) {
     switch (CN_TY[ty]) {
     case T_SEQ: case T_SET: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 1], list, nl); break; }
     case T_TUPLE: { const V *e = v_elems(v); for (int i = 0; i < v_len(v); i++) cn_walk(e[i], CN_TY[ty + 2 + i], list, nl); break; }
+    case T_LMAP: {
+        const V *e = v_elems(v);
+        for (int i = 0; i + 1 < v_len(v); i += 2) { cn_walk(e[i], CN_TY[ty + 2], list, nl); cn_walk(e[i + 1], CN_TY[ty + 3], list, nl); }
+        break;
     }
+    }
+}
+
+static V cn_rename(Ctx *c, V v, int ty, const int *map);
+static int cn_pair_cmp(const void *a, const void *b) {
+    V x = ((const V *)a)[0], y = ((const V *)b)[0];
+    return x < y ? -1 : x > y;
+}
+/* the locations of a function held as a map with their keys and values renamed (keys sorted again) */
+static V cn_rename_map(Ctx *c, V v, int ty, const int *map) {
+    int n = v_len(v);
+    V *e = (V *)malloc((n > 0 ? n : 1) * sizeof(V));
+    if (!e) { fail(c, E_MEMORY, 0); return v; }
+    int changed = 0;
+    for (int i = 0; i + 1 < n; i += 2) {
+        V k = v_elems(v)[i], x = v_elems(v)[i + 1];
+        e[i] = cn_rename(c, k, CN_TY[ty + 2], map);
+        e[i + 1] = cn_rename(c, x, CN_TY[ty + 3], map);
+        if (e[i] != k || e[i + 1] != x) changed = 1;
+    }
+    V r = v;
+    if (changed) { qsort(e, n / 2, 2 * sizeof(V), cn_pair_cmp); r = v_intern(c, K_MAP, e, n); }
+    free(e);
+    return r;
 }
 
 /* v with the elements renamed by map (element index -> new number) */
@@ -276,6 +414,7 @@ static V cn_rename(Ctx *c, V v, int ty, const int *map) {
     if (v == UNDEF) return v;
     if (cn_is_fresh(v)) return cn_code(cn_dom(v), map[cn_eidx(v)]);
     int k = CN_TY[ty];
+    if (k == T_LMAP) return cn_rename_map(c, v, ty, map);
     if (k != T_SEQ && k != T_SET && k != T_TUPLE) return v;
     int n = v_len(v);
     V *e = (V *)malloc((n > 0 ? n : 1) * sizeof(V));
@@ -308,6 +447,18 @@ static int cn_text_loc(CnW *W, CnBuf *b, int s) {
     }
     if (!cn_put(b, "=", 1)) return 0;
     return cn_text(W, b, W->val[s], CN_SLOT_VTY[s]);
+}
+
+/* the text of entry i of the function held as a map in slot s: f(args)=value */
+static int cn_text_ent(CnW *W, CnBuf *b, int s, int i) {
+    int ty = CN_SLOT_VTY[s];
+    V key = v_elems(W->val[s])[2 * i], val = v_elems(W->val[s])[2 * i + 1];
+    if (!cn_chars(b, CN_FN_OFF[CN_SLOT_FN[s]])) return 0;
+    if (CN_TY[ty + 1] == 1) {
+        if (!cn_put(b, "(", 1) || !cn_text(W, b, key, CN_TY[ty + 2]) || !cn_put(b, ")", 1)) return 0;
+    } else if (!cn_text(W, b, key, CN_TY[ty + 2])) return 0;
+    if (!cn_put(b, "=", 1)) return 0;
+    return cn_text(W, b, val, CN_TY[ty + 3]);
 }
 
 /* Texts of round 0 (every element colour 0) depend only on the location, its value and the
@@ -508,22 +659,33 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
         if (W->val[s] == UNDEF) continue;
-        int list[256], nl = 0;
-        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], list, &nl);
-        cn_walk(W->val[s], CN_SLOT_VTY[s], list, &nl);
-        if (nl < 0) return CN_TEXT;
-        if (!nl) continue;
-        CnLoc *L = &W->locs[nloc++];
-        L->slot = s; L->nel = 0;
-        for (int i = 0; i < nl; i++) {
-            int e = list[i], x = 0;
-            while (x < L->nel && L->el[x] != e) x++;
-            if (x == L->nel) {
-                if (L->nel >= 8) return CN_TEXT;
-                L->el[x] = e; L->cnt[x] = 0; L->nel++;
+        int lmap = CN_TY[CN_SLOT_VTY[s]] == T_LMAP;
+        int nent = lmap ? v_len(W->val[s]) / 2 : 1;
+        for (int ent = 0; ent < nent; ent++) {
+            int list[256], nl = 0;
+            if (lmap) {
+                int ty = CN_SLOT_VTY[s];
+                cn_walk(v_elems(W->val[s])[2 * ent], CN_TY[ty + 2], list, &nl);
+                cn_walk(v_elems(W->val[s])[2 * ent + 1], CN_TY[ty + 3], list, &nl);
+            } else {
+                for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], list, &nl);
+                cn_walk(W->val[s], CN_SLOT_VTY[s], list, &nl);
             }
-            L->cnt[x]++;
-            occ[e]++;
+            if (nl < 0) return CN_TEXT;
+            if (!nl) continue;
+            if (nloc >= CN_NLOC) return CN_TEXT;
+            CnLoc *L = &W->locs[nloc++];
+            L->slot = s; L->ent = lmap ? ent : -1; L->nel = 0;
+            for (int i = 0; i < nl; i++) {
+                int e = list[i], x = 0;
+                while (x < L->nel && L->el[x] != e) x++;
+                if (x == L->nel) {
+                    if (L->nel >= 8) return CN_TEXT;
+                    L->el[x] = e; L->cnt[x] = 0; L->nel++;
+                }
+                L->cnt[x]++;
+                occ[e]++;
+            }
         }
     }
     /* the elements kept (unreferenced ones leave domains nobody ranges over) */
@@ -579,7 +741,8 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                     int cnt = 0;
                     for (int x = 0; x < L->nel; x++) if (L->el[x] == e) cnt = L->cnt[x];
                     int off = W->tb.n;
-                    if (!(r == 0 ? cn_text_loc0(W, &W->tb, L->slot, W->val[L->slot], e) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
+                    if (!(L->ent >= 0 ? cn_text_ent(W, &W->tb, L->slot, L->ent) :
+                          r == 0 ? cn_text_loc0(W, &W->tb, L->slot, W->val[L->slot], e) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
                     for (int x = 0; x < cnt; x++) if (!cn_add_span(W, off, W->tb.n - off)) return CN_TEXT;
                 }
                 els[q].sig_n = W->nsp - els[q].sig_off;

@@ -44,6 +44,7 @@ typedef struct {
     int32_t uprev[MAXUPD];
     int32_t nupd;
     int32_t seqstart, curstep, stepctr;
+    uint32_t cn_made;                        /* the run of the step (gen) that last made an element by extend */
     int32_t rlog_slot[MAXUPD];
     V rlog_val[MAXUPD];
     int32_t nlog;
@@ -172,11 +173,20 @@ static inline void upd(Ctx *c, int slot, V code, int site) {
     c->nupd++;
 }
 
-typedef struct { int32_t start, outer_start, outer_step, logmark; } SeqFrame;
+typedef struct { int32_t start, outer_start, outer_step, logmark, cn_fmark, cn_vmark; } SeqFrame;
+#if CN_NDYN > 0
+/* elements made by extend in seq blocks (native_canon.c) */
+static void cn_seq_begin(Ctx *c, SeqFrame *f);
+static void cn_seq_step_end(Ctx *c);
+static void cn_seq_end(Ctx *c, SeqFrame *f);
+#endif
 
 static inline void seq_begin(Ctx *c, SeqFrame *f) {
     f->start = c->nupd; f->outer_start = c->seqstart; f->outer_step = c->curstep; f->logmark = c->nlog;
     c->seqstart = c->nupd;
+#if CN_NDYN > 0
+    cn_seq_begin(c, f);
+#endif
 }
 static inline void seq_step_begin(Ctx *c) { c->curstep = ++c->stepctr; }
 /* the updates of the step just run become visible to the next ones */
@@ -194,6 +204,9 @@ static inline void seq_step_end(Ctx *c, SeqFrame *f) {
         c->rlog_slot[c->nlog] = s; c->rlog_val[c->nlog] = c->cur[s]; c->nlog++;
         c->cur[s] = slot_decode(s, c->upd_code[i]);
     }
+#if CN_NDYN > 0
+    cn_seq_step_end(c);
+#endif
 }
 /* iterate: did the step just run change nothing?  (then its updates are dropped) */
 static inline int seq_step_idle(Ctx *c, SeqFrame *f, int32_t mark) {
@@ -209,6 +222,9 @@ static void seq_end(Ctx *c, SeqFrame *f) {
     while (c->nlog > f->logmark) { c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }
     c->seqstart = f->outer_start;
     c->curstep = f->outer_step;
+#if CN_NDYN > 0
+    cn_seq_end(c, f);
+#endif
     if (c->err) return;
     int32_t w = f->start;
     for (int32_t i = f->start; i < c->nupd; i++) {
@@ -785,6 +801,96 @@ static V str_split(Ctx *c, V s, V sep) {
     parts[np++] = v_intern(c, K_STRING, a + start, n - start);
     while (np > 1 && v_len(parts[np - 1]) == 0) np--;
     return v_intern(c, K_SEQ, parts, np);
+}
+/* Split by a regular expression: the program the generator made of it (regex_program in
+ * native.py: the number of instructions, then (op, a, b) each, then the character classes) run by a
+ * backtracking matcher that tries the alternatives in the order Python's re tries them.  The
+ * parts are those of re.split (an empty match splits too, but not right after an empty match at
+ * the same place), then the Python engine's clean-up: no leading empty part when the text starts
+ * with an empty match, no trailing empty parts, [""] for "". */
+#define RX_CHAR 1
+#define RX_CLASS 2
+#define RX_SPLIT 3
+#define RX_JMP 4
+#define RX_BOL 5
+#define RX_EOL 6
+#define RX_MATCH 7
+#define RX_STACK (1 << 14)
+/* the end of the first match at p of the program, -1 if none, -2 when refused (c->err set);
+   with must_advance an empty match does not count */
+static int rx_match(Ctx *c, const V *prog, const V *a, int n, int p, int must_advance) {
+    static _Thread_local int bt_pc[RX_STACK], bt_pos[RX_STACK];
+    int sp = 0, pc = 0, pos = p;
+    long steps = 0;
+    for (;;) {
+        if (++steps > 50000000L) { fail(c, E_UNSUPPORTED, 0); return -2; }
+        const V *ins = prog + 1 + 3 * pc;
+        switch ((int)ins[0]) {
+        case RX_CHAR:
+            if (pos < n && a[pos] == ins[1]) { pos++; pc++; continue; }
+            break;
+        case RX_CLASS:
+            if (pos < n) {
+                V ch = a[pos];
+                const V *cl = prog + ins[1];
+                int ok;
+                if (ch >= 0 && ch < 128) ok = (int)(((uint64_t)cl[ch >> 6] >> (ch & 63)) & 1);
+                else if (cl[2] == 2) { fail(c, E_UNSUPPORTED, 0); return -2; }
+                else ok = (int)cl[2];
+                if (ok) { pos++; pc++; continue; }
+            }
+            break;
+        case RX_SPLIT:
+            if (sp >= RX_STACK) { fail(c, E_UNSUPPORTED, 0); return -2; }
+            bt_pc[sp] = (int)ins[2]; bt_pos[sp] = pos; sp++;
+            pc = (int)ins[1];
+            continue;
+        case RX_JMP:
+            pc = (int)ins[1];
+            continue;
+        case RX_BOL:
+            if (pos == 0) { pc++; continue; }
+            break;
+        case RX_EOL:
+            if (pos == n || (pos == n - 1 && a[pos] == '\n')) { pc++; continue; }
+            break;
+        case RX_MATCH:
+            if (!(must_advance && pos == p)) return pos;
+            break;
+        default:
+            fail(c, E_UNSUPPORTED, 0); return -2;
+        }
+        if (sp == 0) return -1;
+        sp--; pc = bt_pc[sp]; pos = bt_pos[sp];
+    }
+}
+static V str_split_re(Ctx *c, V s, const V *prog) {
+    if (s == UNDEF) return UNDEF;
+    static _Thread_local V rx_parts[1 << 14];
+    int n = v_len(s), np = 0, last = 0, start = 0, must = 0;
+    if (n == 0) { rx_parts[0] = v_intern(c, K_STRING, v_elems(s), 0); return v_intern(c, K_SEQ, rx_parts, 1); }
+    for (;;) {
+        int ms = -1, me = -1;
+        for (int p = start; p <= n; p++) {
+            int e = rx_match(c, prog, v_elems(s), n, p, must && p == start);
+            if (e == -2) return UNDEF;
+            if (e >= 0) { ms = p; me = e; break; }
+        }
+        if (ms < 0) break;
+        if (np >= (1 << 14) - 1) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
+        rx_parts[np++] = v_intern(c, K_STRING, v_elems(s) + last, ms - last);
+        must = me == ms;
+        last = start = me;
+    }
+    rx_parts[np++] = v_intern(c, K_STRING, v_elems(s) + last, n - last);
+    int from = 0;
+    if (np > 1 && v_len(rx_parts[0]) == 0) {
+        int e = rx_match(c, prog, v_elems(s), n, 0, 0);
+        if (e == -2) return UNDEF;
+        if (e == 0) from = 1;
+    }
+    while (np - from > 1 && v_len(rx_parts[np - 1]) == 0) np--;
+    return v_intern(c, K_SEQ, rx_parts + from, np - from);
 }
 /* the interval lo..hi by step (an undef bound or a step <= 0 is the Python engine's error) */
 static V range_make(Ctx *c, int kind, V lo, V hi, V st) {

@@ -50,7 +50,7 @@ def state_graph(explorer, highlight=None):
     depth_of, parent = explorer.depth_of, explorer.parent
     for sid in range(explorer.n_states):
         st = explorer.state(sid)
-        g.add_node(sid, label="\n".join(state_lines(m, st)), depth=int(depth_of[sid]),
+        g.add_node(sid, label="\n".join(state_lines(m, st, sorted(st, key=_function_order))), depth=int(depth_of[sid]),
                    initial=parent[sid] == -1, counterexample=sid in states)
     # an engine whose edge arrays hold each pair of states once gives every step apart
     every = getattr(explorer, "graph_edges", None)
@@ -58,6 +58,14 @@ def state_graph(explorer, highlight=None):
         g.add_edge(src, dst, key=f"e{i}", choices=edge_label(m, explorer.state(src), picks, chooses),
                    counterexample=(src, dst) in steps)
     return g
+
+
+def _function_order(key) -> int:
+    """The number of a location's function: two functions of one name (from two modules) print
+    their locations in this order, whatever the order of the state's entries."""
+    if type(key) is int:
+        return key
+    return key[0] if type(key[0]) is int else -1
 
 
 def highlight_of(explorer, violations) -> tuple[set, set]:

@@ -13,6 +13,8 @@ from array import array
 from importlib import resources
 from itertools import accumulate, chain
 
+from .classes import Classes
+
 ENABLED = True                 # tests switch the kernel off to compare with the Python code
 
 _i64, _p = ctypes.c_int64, ctypes.c_void_p
@@ -133,7 +135,6 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         adj = array("i", bytes(4 * max(na, 1)))
         init = array("i", bytes(4 * max(ni, 1)))
         dll.kn_succ(_addr(off), _addr(adj), _addr(init))
-        from .kripke import Classes
         succ = Classes(off, adj[:max(na, 1)])      # a product node's successors, made when a path asks
         groups: dict = {}
         for v in range(N):
