@@ -245,7 +245,6 @@ def test_clash_with_a_sibling(tmp_path):
     assert found[0] == found[1] == ("violated", [("error", 5, "inconsistent update of f: 2 and 3")])
 
 
-@pytest.mark.slow
 def test_parking_runs_native():
     """ASMETA's parking example: 15 places, each occupied one leaves along a choose over 100
     probabilities with two effects.  Every subset of free places is reached; from a state with k

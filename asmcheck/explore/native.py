@@ -2164,7 +2164,7 @@ class Generator:
                    f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                    f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
         outcomes = (f"int32_t mk_{e} = c->nupd, st_{e} = c->curstep, ss_{e} = c->seqstart; "
-                    f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = ++c->stepctr; c->seqstart = -1; "
+                    f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = MC_STAMP; c->seqstart = -1; "
                     f"{{ {pick} {body} }} if (c->err) return; c->curstep = st_{e}; c->seqstart = ss_{e}; "
                     f"if (!mc_outcome(c, m_{e}, {e}, mk_{e})) return; }}")
         return ("{ " + f"static _Thread_local MChoose {mc}; static _Thread_local V *{cand} = 0; "
@@ -3201,6 +3201,9 @@ typedef struct {
     uint32_t resets;                 /* how many times the entries were forgotten */
 } MChoose;
 
+/* the seq step a body runs in while its outcomes are computed: no other update has it (the
+   others have 0 or a seq step's number), and its updates are taken back before the next run */
+#define MC_STAMP (-2)
 static inline uint64_t mc_mix(uint64_t z) {
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;

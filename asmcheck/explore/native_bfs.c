@@ -410,24 +410,30 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
             mc_patch(&tp[t], 0, o, old, d);
             for (int q = 0; q < NWORDS; q++) d[q] ^= w[q];
         }
-    for (int32_t t = 0; t < nt; t++) cur[t] = 0;
+    /* the thread's arrays read through plain pointers in the loop (a thread-local variable of a
+       shared library is looked up by a call) */
+    int32_t *cu = cur, *cn = scnt + j0;
+    const uint64_t *dxl = dx;
+    const int64_t *db = dbase;
+    uint64_t *out = b->w + nbuf * NWORDS, *om = b->m + 2 * nbuf;
+    for (int32_t t = 0; t < nt; t++) cu[t] = 0;
     int64_t k = 0;
     for (;;) {
         int32_t t = nt - 1;
-        while (t >= 0 && cur[t] + 1 >= scnt[j0 + t]) t--;
+        while (t >= 0 && cu[t] + 1 >= cn[t]) t--;
         if (t < 0) break;
         for (int32_t u = t + 1; u < nt; u++) {
-            const uint64_t *d = dx + dbase[u] + (int64_t)cur[u] * NWORDS;
+            const uint64_t *d = dxl + db[u] + (int64_t)cu[u] * NWORDS;
             for (int q = 0; q < NWORDS; q++) w[q] ^= d[q];
-            cur[u] = 0;
+            cu[u] = 0;
         }
         {
-            const uint64_t *d0 = dx + dbase[t] + (int64_t)cur[t] * NWORDS, *d1 = d0 + NWORDS;
+            const uint64_t *d0 = dxl + db[t] + (int64_t)cu[t] * NWORDS, *d1 = d0 + NWORDS;
             for (int q = 0; q < NWORDS; q++) w[q] ^= d0[q] ^ d1[q];
         }
-        cur[t]++;
-        memcpy(b->w + (nbuf + k) * NWORDS, w, NWORDS * sizeof(uint64_t));
-        b->m[2 * (nbuf + k)] = b->m[2 * (nbuf + k) + 1] = 0;
+        cu[t]++;
+        memcpy(out + k * NWORDS, w, NWORDS * sizeof(uint64_t));
+        om[2 * k] = om[2 * k + 1] = 0;
         k++;
     }
     for (int32_t t = 0; t < nt; t++) c->idx[j0 + t] = scnt[j0 + t] - 1;
@@ -702,7 +708,9 @@ static int64_t table_bytes(int64_t n) {
 
 static int64_t memory_bytes(int64_t n) {
     return n * (int64_t)(NWORDS * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n)
-        + S.nedges * 2 * (int64_t)sizeof(uint32_t)
+        /* an edge is two ends here, and again in the arrays Python copies them into (with a
+           bytes object of one array's size while it fills) before these are freed */
+        + S.nedges * 5 * (int64_t)sizeof(uint32_t)
         + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);
 }
 
