@@ -2101,6 +2101,10 @@ class Generator:
         variable, no turbo return, no loop); no variable in scope may be passed by name."""
         if not getattr(self.m, "dedupe", True):
             return False
+        if self.step_chooses() < 2:
+            # one choose a run: its candidates are the sequences of choices, with no product to
+            # keep small, and the search's table merges the successors with the same effect
+            return False
         if any(isinstance(v, ByName) or not isinstance(v, str) for v in env.values()):
             return False
         if self.makes_choices(r.body):
@@ -2131,6 +2135,47 @@ class Generator:
             elif isinstance(x, (ir.LetRule, ir.Forall)):
                 todo.append(x.body)
         return True
+
+    def step_chooses(self) -> int:
+        """How many chooses one run of the step can pass: 0, 1, or 2 for two or more (a choose
+        in a loop, a forall or another choose's body, in two branches of a block, or behind a
+        rule value)."""
+        got = getattr(self, "_step_chooses", None)
+        if got is not None:
+            return got
+        active: set = set()
+
+        def runs(x) -> int:
+            if x is None or isinstance(x, (ir.Skip, ir.Update, ir.UpdateVar)):
+                return 0
+            if isinstance(x, ir.Choose):
+                return min(2, 1 + runs(x.body) + runs(x.ifnone))
+            if isinstance(x, (ir.Forall, ir.Loop)):
+                return 2 if runs(x.body) else 0
+            if isinstance(x, ir.Block):
+                return min(2, sum(runs(y) for y in x.rules))
+            if isinstance(x, ir.If):
+                return max(runs(x.then), runs(x.other))
+            if isinstance(x, ir.SwitchRule):
+                return max([runs(b) for _, b in x.cases] + [runs(x.other)])
+            if isinstance(x, (ir.LetRule, ir.Extend)):
+                return runs(x.body)
+            if isinstance(x, ir.LocalRule):
+                return min(2, runs(x.init) + runs(x.body))
+            if isinstance(x, ir.TurboReturn):
+                return runs(x.call)
+            if isinstance(x, ir.CallRule):
+                if x.rule in active:
+                    return 2          # a recursive call: as many runs of its body as it likes
+                active.add(x.rule)
+                try:
+                    return runs(x.rule.body)
+                finally:
+                    active.discard(x.rule)
+            return 2                  # a rule value (an agent's program), or a form not listed
+        main = self.spec.main
+        self._step_chooses = runs(main.body) if main is not None else 0
+        return self._step_chooses
 
     def choose_merged(self, r, env):
         """A choose whose alternatives are its body's distinct effects, in the order first met,
