@@ -2187,14 +2187,7 @@ class Generator:
         if "mchoose" not in self.defined_done:
             self.defined_done.add("mchoose")
             self.funcs.append(_MERGE_C)
-        env2 = dict(env)
-        heads = []
-        names = []
-        for v, rg in r.bindings:
-            q, name = self.fresh("q"), self.fresh("x")
-            heads.append(self.loop_head(rg, env2, name, q, False))
-            env2[v.uid] = name
-            names.append(name)
+        env2, heads, names = self.run_time_heads(r, env)
         k = len(names)
         mc, cand, cap, n, g, i, e = (self.fresh(x) for x in ("mc", "cand", "cap", "n", "g", "i", "e"))
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
@@ -2222,9 +2215,9 @@ class Generator:
                 f"(no_{e} > 1 ? choice(c, no_{e}) : 0); int32_t at_{e} = c->nupd; if (c->pos - 1 < mc_skip_from || no_{e} < 2) mc_apply(c, m_{e}, o_{e}); if (c->err) return; "
                 f"if (no_{e} > 1 && c->seqstart < 0 && c->pos <= MAXCH) mc_note(c, m_{e}, {e}, o_{e}, at_{e}); }} }} }}")
 
-    def choose_at_run_time(self, r, env):
-        """A choose whose ranges are computed in the state (or from variables bound before): the
-        candidates are collected, in the Python engine's order, into a buffer that grows."""
+    def run_time_heads(self, r, env):
+        """The loop heads that walk a choose's ranges as computed at run time (in the Python
+        engine's order), with the environment that binds its variables and their C names."""
         env2 = dict(env)
         heads = []
         names = []
@@ -2233,6 +2226,12 @@ class Generator:
             heads.append(self.loop_head(rg, env2, name, q, False))
             env2[v.uid] = name
             names.append(name)
+        return env2, heads, names
+
+    def choose_at_run_time(self, r, env):
+        """A choose whose ranges are computed in the state (or from variables bound before): the
+        candidates are collected, in the Python engine's order, into a buffer that grows."""
+        env2, heads, names = self.run_time_heads(r, env)
         k = len(names)
         cand, cap, n, g, i = self.fresh("cand"), self.fresh("cap"), self.fresh("n"), self.fresh("g"), self.fresh("i")
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
