@@ -3450,7 +3450,7 @@ _SHARED_STATICS = frozenset("""
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
-    succ_set succ_cap succ_stamp
+    succs
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")

@@ -266,31 +266,31 @@ static int succ_grow(Succ *b) {
 
 
 /* The distinct successors of the state being expanded (a transition is a pair of states): a set
-   of state numbers by open addressing, emptied in O(1) per state by a new stamp. */
-static uint64_t *succ_set = 0;
-static int64_t succ_cap = 0;
-static uint32_t succ_stamp = 0;
-static int succ_reset(int64_t n) {
-    if (2 * n > succ_cap) {
-        int64_t nc = succ_cap ? succ_cap : 1024;
+   of state numbers by open addressing, emptied in O(1) per state by a new stamp.  The search has
+   one (succs); each thread of the threaded search has its own. */
+typedef struct { uint64_t *set; int64_t cap; uint32_t stamp; } SuccSet;
+static SuccSet succs;
+static int sset_reset(SuccSet *z, int64_t n) {
+    if (2 * n > z->cap) {
+        int64_t nc = z->cap ? z->cap : 1024;
         while (nc < 2 * n) nc *= 2;
-        uint64_t *x = (uint64_t *)realloc(succ_set, (size_t)nc * sizeof(uint64_t));
+        uint64_t *x = (uint64_t *)realloc(z->set, (size_t)nc * sizeof(uint64_t));
         if (!x) return 0;
-        succ_set = x;
-        succ_cap = nc;
-        memset(succ_set, 0, (size_t)nc * sizeof(uint64_t));
-        succ_stamp = 0;
+        z->set = x;
+        z->cap = nc;
+        memset(z->set, 0, (size_t)nc * sizeof(uint64_t));
+        z->stamp = 0;
     }
-    if (++succ_stamp == 0) { memset(succ_set, 0, (size_t)succ_cap * sizeof(uint64_t)); succ_stamp = 1; }
+    if (++z->stamp == 0) { memset(z->set, 0, (size_t)z->cap * sizeof(uint64_t)); z->stamp = 1; }
     return 1;
 }
-/* 1 the first time tid is met since succ_reset */
-static inline int succ_first(int64_t tid) {
-    uint64_t msk = (uint64_t)succ_cap - 1, h = mix64((uint64_t)tid) & msk;
-    uint64_t want = ((uint64_t)succ_stamp << 32) | (uint32_t)tid;
+/* 1 the first time tid is met since sset_reset */
+static inline int sset_first(SuccSet *z, int64_t tid) {
+    uint64_t msk = (uint64_t)z->cap - 1, h = mix64((uint64_t)tid) & msk;
+    uint64_t want = ((uint64_t)z->stamp << 32) | (uint32_t)tid;
     for (;;) {
-        uint64_t x = succ_set[h];
-        if ((uint32_t)(x >> 32) != succ_stamp) { succ_set[h] = want; return 1; }
+        uint64_t x = z->set[h];
+        if ((uint32_t)(x >> 32) != z->stamp) { z->set[h] = want; return 1; }
         if (x == want) return 0;
         h = (h + 1) & msk;
     }
@@ -579,7 +579,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         int64_t nbuf = sb0.n;
         const uint64_t *sbuf = sb0.w, *smask = sb0.m;
         int only_self = 1;
-        if (!succ_reset(nbuf)) { status = 5; goto finish; }
+        if (!sset_reset(&succs, nbuf)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
@@ -589,7 +589,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
                 note_range(wb, S.depth + 1);
             }
-            if (succ_first(tid)) {
+            if (sset_first(&succs, tid)) {
                 S.transitions++;
                 if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; goto finish; }
             }
@@ -781,9 +781,7 @@ typedef struct {
     double spin, wait, cpu;       /* seconds spinning and waiting at barriers, CPU seconds */
     double spin_limit;            /* how long it spins at a barrier before it sleeps */
     int64_t waits, sleeps;
-    uint64_t *sset;               /* the successors of one state told apart (wset_first) */
-    int64_t scap;
-    uint32_t sstamp;
+    SuccSet ss;                   /* the successors of one state told apart */
 } __attribute__((aligned(64))) Worker;
 
 static Worker W[MAXTHREADS];
@@ -968,32 +966,6 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
     return 1;
 }
 
-/* a thread's set of the successors of one state (as succ_reset, succ_first) */
-static int wset_reset(Worker *w, int64_t n) {
-    if (2 * n > w->scap) {
-        int64_t nc = w->scap ? w->scap : 1024;
-        while (nc < 2 * n) nc *= 2;
-        uint64_t *x = (uint64_t *)realloc(w->sset, (size_t)nc * sizeof(uint64_t));
-        if (!x) return 0;
-        w->sset = x;
-        w->scap = nc;
-        memset(w->sset, 0, (size_t)nc * sizeof(uint64_t));
-        w->sstamp = 0;
-    }
-    if (++w->sstamp == 0) { memset(w->sset, 0, (size_t)w->scap * sizeof(uint64_t)); w->sstamp = 1; }
-    return 1;
-}
-static inline int wset_first(Worker *w, int64_t tid) {
-    uint64_t msk = (uint64_t)w->scap - 1, h = mix64((uint64_t)tid) & msk;
-    uint64_t want = ((uint64_t)w->sstamp << 32) | (uint32_t)tid;
-    for (;;) {
-        uint64_t x = w->sset[h];
-        if ((uint32_t)(x >> 32) != w->sstamp) { w->sset[h] = want; return 1; }
-        if (x == want) return 0;
-        h = (h + 1) & msk;
-    }
-}
-
 /* phase 1, insertion of block i's successors: 1 done, 0 when there is no room (the block
    waits), -1 out of memory */
 static int insert_block(Worker *w, const Plan *pl, int64_t i) {
@@ -1061,14 +1033,14 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
            thread's set), a deadlock, the step properties */
         int only_self = 1, few = q1 - q0 <= 16;
         uint64_t bad = 0;
-        if (!few && !wset_reset(w, q1 - q0)) { w->irregular = 1; return -1; }
+        if (!few && !sset_reset(&w->ss, q1 - q0)) { w->irregular = 1; return -1; }
         for (int64_t q = q0; q < q1; q++) {
             int64_t tid = w->ref[q];
             if (few) {
                 int seen = 0;
                 for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
                 trans += !seen;
-            } else trans += wset_first(w, tid);
+            } else trans += sset_first(&w->ss, tid);
             if (tid != sid) only_self = 0;
             bad |= w->cm[2 * q];
         }
@@ -1494,7 +1466,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
         }
         int only_self = 1;
         int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
-        if (!succ_reset(q1 - q0)) return 5;
+        if (!sset_reset(&succs, q1 - q0)) return 5;
         for (int64_t q = q0; q < q1; q++) {
             int64_t tid = w->ref[q];
             if (tid < 0) tid = C.anum[-1 - tid];
@@ -1503,7 +1475,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
                 if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
                 note_range(states + tid * NWORDS, S.depth + 1);
             }
-            if (succ_first(tid)) {
+            if (sset_first(&succs, tid)) {
                 S.transitions++;
                 if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; break; }
             }
