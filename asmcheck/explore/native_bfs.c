@@ -519,6 +519,50 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
     }
 }
 
+static void fill_out(int64_t *out, int status) {
+    out[0] = nstates;
+    out[1] = S.transitions;
+    out[2] = S.maxd;
+    out[3] = status;
+    out[7] = S.nviol;
+    out[8] = S.depth;
+    out[9] = S.nedges;
+    out[11] = S.step_failed;
+    for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
+}
+
+/* the bookkeeping of successor tid of state sid (in the enumeration's order; isnew: first met
+   here; w its words, mask its step-property masks): depth and ranges, the transition and its edge,
+   the step properties it violates.  0: out of memory */
+static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint64_t *w, const uint64_t *mask) {
+    if (isnew) {
+        if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
+        note_range(w, S.depth + 1);
+    }
+    if (sset_first(&succs, tid)) {
+        S.transitions++;
+        if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) return 0;
+    }
+    uint64_t bad = mask[0];
+    for (int k = 0; bad && k < NSTEP; k++)
+        if (bad >> k & 1) {
+            if (!S.violated[NINV + 2 + k] && (mask[1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
+            record(NINV + 2 + k, tid, sid);
+        }
+    return 1;
+}
+
+/* after a state's successors, with n states stored: the status the search stops with (every
+   property violated already: nothing more to learn, as in the Python explorer; the state limit;
+   the memory bound), or -1 */
+static int stop_after(int64_t n) {
+    int nprops = NINV + NSTEP + (S.deadlock ? 1 : 0);
+    if (!S.keep_graph && nprops > 0 && S.nviol >= nprops) return S.depth_hit ? 2 : 0;
+    if (S.max_states >= 0 && n >= S.max_states) return 1;
+    if (over_memory(n)) return 8;
+    return -1;
+}
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
     /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
@@ -584,44 +628,18 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
             int64_t tid = intern(wb, (uint32_t)sid, &isnew);
-            if (tid < 0) { status = 5; goto finish; }
-            if (isnew) {
-                if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
-                note_range(wb, S.depth + 1);
-            }
-            if (sset_first(&succs, tid)) {
-                S.transitions++;
-                if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; goto finish; }
-            }
+            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b)) { status = 5; goto finish; }
             if (tid != sid) only_self = 0;
-            uint64_t bad = smask[2 * b];
-            for (int k = 0; bad && k < NSTEP; k++)
-                if (bad >> k & 1) {
-                    if (!S.violated[NINV + 2 + k] && (smask[2 * b + 1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
-                    record(NINV + 2 + k, tid, sid);
-                }
         }
         if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
-        /* every property violated already: nothing more to learn (as the Python explorer does) */
-        if (!S.keep_graph && NINV + NSTEP + (S.deadlock ? 1 : 0) > 0 && S.nviol >= NINV + NSTEP + (S.deadlock ? 1 : 0)) {
-            S.sid++; status = S.depth_hit ? 2 : 0; goto finish;
-        }
-        if (S.max_states >= 0 && nstates >= S.max_states) { S.sid++; status = 1; goto finish; }
-        if (over_memory(nstates)) { S.sid++; status = 8; goto finish; }
+        int stop = stop_after(nstates);
+        if (stop >= 0) { S.sid++; status = stop; goto finish; }
     }
     status = S.depth_hit ? 2 : 0;
 finish:
     S.status = status;
 done:
-    out[0] = nstates;
-    out[1] = S.transitions;
-    out[2] = S.maxd;
-    out[3] = status;
-    out[7] = S.nviol;
-    out[8] = S.depth;
-    out[9] = S.nedges;
-    out[11] = S.step_failed;
-    for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
+    fill_out(out, status);
     sigaction(SIGINT, &old, 0);
     return status;
 }
@@ -1431,24 +1449,11 @@ static void rebuild_table(void) {
     tcount = nstates;
 }
 
-static void fill_out(int64_t *out, int status) {
-    out[0] = nstates;
-    out[1] = S.transitions;
-    out[2] = S.maxd;
-    out[3] = status;
-    out[7] = S.nviol;
-    out[8] = S.depth;
-    out[9] = S.nedges;
-    out[11] = S.step_failed;
-    for (int64_t i = 0; i < 3 * S.nviol; i++) out[OUT_VIOL + i] = S.viol[i];
-}
-
 /* thread 0 alone: what asm_run does after expanding each state of the chunk, in order (the
    chunk numbered, nstates counting its new states).  Returns -1, or the status the search ends
    with. */
 static int walk_chunk(const Plan *pl, int64_t n0) {
     int64_t run_n = n0;
-    int nprops = NINV + NSTEP + (S.deadlock ? 1 : 0);
     for (int64_t sid = pl->c0; sid < pl->c1; sid++) {
         int64_t li = sid - pl->c0;
         Worker *w = &W[C.bthr[li / pl->blksz]];
@@ -1470,28 +1475,14 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
         for (int64_t q = q0; q < q1; q++) {
             int64_t tid = w->ref[q];
             if (tid < 0) tid = C.anum[-1 - tid];
-            if (tid == run_n) {
-                run_n++;
-                if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
-                note_range(states + tid * NWORDS, S.depth + 1);
-            }
-            if (sset_first(&succs, tid)) {
-                S.transitions++;
-                if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) { status = 5; break; }
-            }
+            int isnew = tid == run_n;
+            if (isnew) run_n++;
+            if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q)) { status = 5; break; }
             if (tid != sid) only_self = 0;
-            uint64_t bad = w->cm[2 * q];
-            for (int k = 0; bad && k < NSTEP; k++)
-                if (bad >> k & 1) {
-                    if (!S.violated[NINV + 2 + k] && (w->cm[2 * q + 1] >> k & 1)) S.inv_err[NINV + 2 + k] = 1;
-                    record(NINV + 2 + k, tid, sid);
-                }
         }
         if (status < 0) {
             if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
-            if (!S.keep_graph && nprops > 0 && S.nviol >= nprops) status = S.depth_hit ? 2 : 0;
-            else if (S.max_states >= 0 && run_n >= S.max_states) status = 1;
-            else if (over_memory(run_n)) status = 8;
+            status = stop_after(run_n);
         }
         if (status >= 0) {
             S.sid = sid + 1;
