@@ -247,7 +247,7 @@ static void on_sigint(int sig) { (void)sig; interrupted = 1; }
  */
 typedef struct { uint64_t *w, *m; int64_t n, cap; } Succ;
 enum { EXP_OK, EXP_HARD, EXP_HARD0, EXP_MEM, EXP_STOP, EXP_MISSED };
-static Succ sb0;                     /* asm_run's */
+static Succ sb0;                     /* asm_run's (and asm_x_expand's: no search runs beside it) */
 static volatile int stop_all = 0;    /* the threaded search: a thread saw the time limit */
 static inline int hard_error(int e) { return e == E_UNSUPPORTED || e == E_CHOICES || e == E_MEMORY; }
 #define MISSED() (vt_frozen && vt_missed)
@@ -441,7 +441,8 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
 }
 #endif
 
-static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site) {
+static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
+                        const uint8_t *skip) {
     c->plen = 0;
     b->n = 0;
     *steperr = 0;
@@ -477,7 +478,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             m[0] = m[1] = 0;
 #if NSTEP > 0
             for (int k = 0; k < NSTEP; k++) {
-                if (S.violated[NINV + 2 + k]) continue;
+                if (skip ? skip[k] : S.violated[NINV + 2 + k]) continue;
                 c->err = 0;
                 V v = check_step_prop(c, k);
                 if (MISSED()) return EXP_MISSED;
@@ -504,7 +505,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         }
 #endif
         if (b->n >= MAX_SUCC) { *steperr = E_TOOMANY; b->n = 0; return EXP_OK; }
-        if ((b->n & 4095) == 0) {
+        if (!skip && (b->n & 4095) == 0) {
             if (interrupted || stop_all) return EXP_STOP;
             if (S.max_seconds >= 0 && now_seconds() - S.t0 >= S.max_seconds) return EXP_STOP;
         }
@@ -607,7 +608,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         /* successors: every sequence of choices, kept aside until the whole step has run
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
-        int xr = expand_state(c, states + sid * NWORDS, &sb0, &steperr, &xe, &xsite);
+        int xr = expand_state(c, states + sid * NWORDS, &sb0, &steperr, &xe, &xsite, 0);
         if (xr == EXP_HARD) {
             out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
             status = 4; goto finish;
@@ -965,7 +966,7 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
         if (fails | errs) w->events++;
         if (pl->only_inv) continue;
         int steperr = 0, xe = 0, xsite = 0;
-        int r = expand_state(c, states + sid * NWORDS, &w->b, &steperr, &xe, &xsite);
+        int r = expand_state(c, states + sid * NWORDS, &w->b, &steperr, &xe, &xsite, 0);
         if (r == EXP_STOP) { w->timeout = 1; if (!interrupted) stop_all = 1; return 0; }
         if (r != EXP_OK) { w->irregular = 1; return 0; }
         if (steperr) { C.ssteperr[li] = steperr; w->events++; continue; }
@@ -1700,64 +1701,19 @@ int64_t asm_x_expand(const uint64_t *w, const uint8_t *skip, int64_t succ_too, i
         else if (!v) sfail[k] = 1;
     }
     if (!succ_too) return 0;
-    c->plen = 0;
-    int64_t n = 0;
-    for (;;) {
-        begin_run(c);
-        step_main(c);
-        if (c->err) {
-            if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
-                info[0] = c->err; info[1] = c->err_site; info[2] = c->clash_slot;
-                return -2;
-            }
-            info[0] = c->err;
-            return -1;
-        }
-#if NSTEP > 0 || NINVAR > 0
-        if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
-#endif
-#if NINVAR > 0
-        {
-            int ok = 1;
-            c->rd = c->post;
-            for (int k = 0; k < NINVAR && ok; k++) { V v = check_invar(c, k); if (c->err || v != 1) ok = 0; }
-            c->rd = c->cur;
-            if (c->err == E_UNSUPPORTED) { info[0] = c->err; info[1] = 0; info[2] = 0; return -2; }
-            c->err = 0;
-            if (!ok) goto next_choice;
-        }
-#endif
-        if (n >= cap) return -3;
-        masks[2 * n] = masks[2 * n + 1] = 0;
-#if NSTEP > 0
-        for (int k = 0; k < NSTEP; k++) {
-            if (skip[NINV + k]) continue;
-            c->err = 0;
-            V v = check_step_prop(c, k);
-            if (c->err == E_UNSUPPORTED || c->err == E_CHOICES) {
-                info[0] = c->err; info[1] = 0; info[2] = 0;
-                return -2;
-            }
-            if (c->err || v == UNDEF) masks[2 * n + 1] |= 1ULL << k;
-            if (c->err || v != 1) masks[2 * n] |= 1ULL << k;
-        }
-        c->err = 0;
-#endif
-        store_state(c, w, succ + n * NWORDS);
-#if CN_NDYN > 0
-        if (canon_state(c, succ + n * NWORDS)) { info[0] = E_UNSUPPORTED; info[1] = 0; info[2] = 0; return -2; }
-#endif
-        n++;
-        if (n >= MAX_SUCC) { info[0] = E_TOOMANY; return -1; }
-    next_choice: ;
-        int j = c->pos - 1;
-        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
-        if (j < 0) break;
-        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
-        c->prefix[j] = c->idx[j] + 1;
-        c->plen = j + 1;
+    Succ *xb = &sb0;
+    int steperr = 0, e = 0, site = 0;
+    switch (expand_state(c, w, xb, &steperr, &e, &site, skip + NINV)) {
+    case EXP_HARD: info[0] = e; info[1] = site; info[2] = c->clash_slot; return -2;
+    case EXP_HARD0: info[0] = e; info[1] = 0; info[2] = 0; return -2;
+    case EXP_MEM: info[0] = E_MEMORY; info[1] = 0; info[2] = 0; return -2;
+    default: break;
     }
-    return n;
+    if (steperr) { info[0] = steperr; return -1; }
+    if (xb->n > cap) return -3;
+    memcpy(succ, xb->w, (size_t)xb->n * NWORDS * sizeof(uint64_t));
+    memcpy(masks, xb->m, (size_t)xb->n * 2 * sizeof(uint64_t));
+    return xb->n;
 }
 
 /* the number of the composite value (kind, e[0..n-1]) in this process's value table, adding it
