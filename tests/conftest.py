@@ -87,3 +87,21 @@ def asmcheck_engine(request, monkeypatch):
     else:
         monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     return value
+
+
+# a local Ray instance for the tests of one module (tests/test_cluster*.py), started if none runs
+@pytest.fixture(scope="module")
+def ray_local():
+    try:
+        import ray
+    except ImportError:
+        pytest.skip("Ray is not installed (pip install 'asmcheck[cluster]')")
+    started = False
+    if not ray.is_initialized():
+        # two workers, a small object store: this machine is shared
+        ray.init(num_cpus=2, object_store_memory=96 * 1024 * 1024, include_dashboard=False, log_to_driver=False,
+                 configure_logging=False, runtime_env={"env_vars": {"PYTHONPATH": str(ROOT)}})
+        started = True
+    yield ray
+    if started:
+        ray.shutdown()

@@ -19,23 +19,6 @@ pytestmark = pytest.mark.engines("python")
 ROOT = Path(__file__).resolve().parent.parent
 
 
-@pytest.fixture(scope="module")
-def ray_local():
-    try:
-        import ray
-    except ImportError:
-        pytest.skip("Ray is not installed (pip install 'asmcheck[cluster]')")
-    started = False
-    if not ray.is_initialized():
-        # two workers, a small object store: this machine is shared
-        ray.init(num_cpus=2, object_store_memory=96 * 1024 * 1024, include_dashboard=False, log_to_driver=False,
-                 configure_logging=False, runtime_env={"env_vars": {"PYTHONPATH": str(ROOT)}})
-        started = True
-    yield ray
-    if started:
-        ray.shutdown()
-
-
 def on_ray(path, workers, **kw):
     m, sp, stp = load(path)
     ex, r = explore_partitioned(m, workers=workers, backend="ray", recipe=Recipe(str(Path(path).resolve())),

@@ -227,22 +227,6 @@ def test_the_default_memory_share_divides_among_the_workers_of_one_machine():
 
 
 # ------------------------------------------------------------------ Ray
-@pytest.fixture(scope="module")
-def ray_local():
-    try:
-        import ray
-    except ImportError:
-        pytest.skip("Ray is not installed (pip install 'asmcheck[cluster]')")
-    started = False
-    if not ray.is_initialized():
-        ray.init(num_cpus=2, object_store_memory=96 * 1024 * 1024, include_dashboard=False, log_to_driver=False,
-                 configure_logging=False, runtime_env={"env_vars": {"PYTHONPATH": str(ROOT)}})
-        started = True
-    yield ray
-    if started:
-        ray.shutdown()
-
-
 def on_ray(path, workers, **kw):
     m, sp, stp = load(path)
     ex, r = explore_partitioned(m, workers=workers, backend="ray", recipe=Recipe(str(Path(path).resolve())),
