@@ -393,3 +393,160 @@ void kn_in_comp(int64_t n, const int32_t *comp, uint8_t *out) {
 void kn_bit8(int64_t n, const uint8_t *vec, int64_t k, uint8_t *out) {
     for (int64_t i = 0; i < n; i++) out[i] = (uint8_t)((vec[i] >> k) & 1u);
 }
+
+/* ------------------------------------------------------------------ the bisimulation quotient
+ * The nodes of a structure whose nodes are steps: m nodes (src[i], dst[i], vec[i] or vec8[i]: the
+ * values of the atoms that read monitored functions, both null: none).  Every node leaving a
+ * state has the same successors (the nodes leaving its target), so two nodes with the same
+ * (sig[src]: the state atoms of the source and whether it is initial, vec, dst) are bisimilar and
+ * have the same labels: one node of the quotient.  Nodes whose source has ok[] unset are dropped.
+ * Quotient nodes are numbered by their first node; off (n + 1 entries) and adj (room for m) get,
+ * for each state, the quotient nodes of the nodes leaving it, in their order.  Returns the number
+ * of quotient nodes (their first nodes: kn_quotient_first), -1 when out of memory. */
+static int32_t *Q_first = 0;
+static int64_t Q_n = 0;
+
+static inline uint64_t mix64(uint64_t x) {
+    x ^= x >> 33; x *= 0xff51afd7ed558ccdULL; x ^= x >> 33; x *= 0xc4ceb9fe1a85ec53ULL; x ^= x >> 33;
+    return x;
+}
+
+typedef struct { uint64_t *a, *b; int32_t *h; int64_t n, cap, hcap; } KeyTab;
+
+/* the number of the pair (a, b) in t (added when new); -1 when out of memory */
+static int64_t key_id(KeyTab *t, uint64_t a, uint64_t b) {
+    if (!t->h) {
+        t->hcap = 256; t->cap = 64;
+        t->h = (int32_t *)malloc(t->hcap * sizeof(int32_t));
+        t->a = (uint64_t *)malloc(t->cap * sizeof(uint64_t));
+        t->b = (uint64_t *)malloc(t->cap * sizeof(uint64_t));
+        if (!t->h || !t->a || !t->b) return -1;
+        for (int64_t j = 0; j < t->hcap; j++) t->h[j] = -1;
+    }
+    uint64_t msk = (uint64_t)(t->hcap - 1);
+    uint64_t h = mix64(a * 0x9e3779b97f4a7c15ULL ^ b) & msk;
+    while (t->h[h] >= 0) {
+        int32_t k = t->h[h];
+        if (t->a[k] == a && t->b[k] == b) return k;
+        h = (h + 1) & msk;
+    }
+    if (t->n == t->cap) {
+        t->cap *= 2;
+        uint64_t *x = (uint64_t *)realloc(t->a, t->cap * sizeof(uint64_t));
+        if (!x) return -1;
+        t->a = x;
+        x = (uint64_t *)realloc(t->b, t->cap * sizeof(uint64_t));
+        if (!x) return -1;
+        t->b = x;
+    }
+    int64_t k = t->n++;
+    t->a[k] = a; t->b[k] = b;
+    t->h[h] = (int32_t)k;
+    if (t->n * 2 > t->hcap) {
+        int64_t hc2 = t->hcap * 4;
+        int32_t *h2 = (int32_t *)malloc(hc2 * sizeof(int32_t));
+        if (!h2) return -1;
+        for (int64_t j = 0; j < hc2; j++) h2[j] = -1;
+        for (int64_t j = 0; j < t->n; j++) {
+            uint64_t g = mix64(t->a[j] * 0x9e3779b97f4a7c15ULL ^ t->b[j]) & (uint64_t)(hc2 - 1);
+            while (h2[g] >= 0) g = (g + 1) & (uint64_t)(hc2 - 1);
+            h2[g] = (int32_t)j;
+        }
+        free(t->h); t->h = h2; t->hcap = hc2;
+    }
+    return k;
+}
+
+static void key_free(KeyTab *t) { free(t->a); free(t->b); free(t->h); memset(t, 0, sizeof(*t)); }
+
+int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *dst, const uint64_t *vec,
+                    const uint8_t *vec8, const uint64_t *sig, const uint8_t *ok, int32_t *off, int32_t *adj) {
+    free(Q_first); Q_first = 0; Q_n = 0;
+    KeyTab kt = {0}, nt = {0};
+    int32_t *tab = 0, *first = 0, *pos = 0;
+    int64_t rc = -1, nq = 0, qcap = 0;
+    int novec = !vec && !vec8;
+    /* pass 1: the nodes leaving each state, and the source keys (sig, vec) numbered densely */
+    for (int64_t v = 0; v <= n; v++) off[v] = 0;
+    int64_t last = -1;
+    for (int64_t i = 0; i < m; i++) {
+        uint32_t s = src[i];
+        if (!ok[s]) continue;
+        off[s + 1]++;
+        if (novec && (int64_t)s == last) continue;
+        last = s;
+        if (key_id(&kt, sig[s], vec ? vec[i] : (vec8 ? vec8[i] : 0)) < 0) goto out;
+    }
+    for (int64_t v = 0; v < n; v++) off[v + 1] += off[v];
+    pos = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    if (!pos) goto out;
+    memcpy(pos, off, (n + 1) * sizeof(int32_t));
+    /* pass 2: the quotient node of (key, dst): from a table key-major when it is small (a state's
+       nodes then look up one row), else a hash table */
+    int64_t nk = kt.n;
+    int dense = (double)nk * (double)n <= (double)(m > (1 << 22) ? m : (1 << 22));
+    if (dense) {
+        tab = (int32_t *)malloc((size_t)(nk * n + 1) * sizeof(int32_t));
+        if (!tab) goto out;
+        memset(tab, 0xff, (size_t)(nk * n + 1) * sizeof(int32_t));
+    }
+    last = -1;
+    int64_t k = 0;
+    for (int64_t i = 0; i < m; i++) {
+        uint32_t s = src[i];
+        if (!ok[s]) continue;
+        if (!novec || (int64_t)s != last) {
+            k = key_id(&kt, sig[s], vec ? vec[i] : (vec8 ? vec8[i] : 0));
+            last = s;
+        }
+        int32_t q;
+        if (dense) {
+            int32_t *slot = &tab[k * n + dst[i]];
+            q = *slot;
+            if (q < 0) q = *slot = (int32_t)nq;
+        } else {
+            int64_t got = key_id(&nt, (uint64_t)k, dst[i]);
+            if (got < 0) goto out;
+            q = (int32_t)got;
+        }
+        if (q == nq) {
+            if (nq == qcap) {
+                qcap = qcap ? qcap * 2 : 1024;
+                int32_t *x = (int32_t *)realloc(first, qcap * sizeof(int32_t));
+                if (!x) goto out;
+                first = x;
+            }
+            first[nq++] = (int32_t)i;
+        }
+        adj[pos[s]++] = q;
+    }
+    {
+        /* a step recorded twice (the same source, target and values) is one entry of the list */
+        int32_t *stamp = (int32_t *)malloc((nq + 1) * sizeof(int32_t));
+        if (!stamp) goto out;
+        for (int64_t q = 0; q < nq; q++) stamp[q] = -1;
+        int64_t o = 0;
+        for (int64_t v = 0; v < n; v++) {
+            int32_t a = off[v], b = off[v + 1];
+            off[v] = (int32_t)o;
+            for (int32_t e = a; e < b; e++) {
+                int32_t q = adj[e];
+                if (stamp[q] == (int32_t)v) continue;
+                stamp[q] = (int32_t)v;
+                adj[o++] = q;
+            }
+        }
+        off[n] = (int32_t)o;
+        free(stamp);
+    }
+    Q_first = first; first = 0; Q_n = nq;
+    rc = nq;
+out:
+    key_free(&kt); key_free(&nt); free(tab); free(first); free(pos);
+    return rc;
+}
+
+void kn_quotient_first(int32_t *out) {
+    if (Q_n) memcpy(out, Q_first, Q_n * sizeof(int32_t));
+    free(Q_first); Q_first = 0; Q_n = 0;
+}

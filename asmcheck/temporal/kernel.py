@@ -37,6 +37,8 @@ _SYMBOLS = {
     "kn_ex": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
     "kn_group": (_i64, [_i64, _i64, _p, _p, _p]),
     "kn_in_comp": (None, [_i64, _p, _p]),
+    "kn_quotient": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_quotient_first": (None, [_p]),
 }
 _dll = None
 _failed = False
@@ -334,3 +336,76 @@ def eu(K, f: bytearray, start: bytearray):
     if dll.kn_eu(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), _addr(fb), _addr(sb), _addr(y)) != 0:
         return None
     return y
+
+
+def quotient(n: int, src, dst, vec, sig, ok: bytearray):
+    """The bisimulation quotient of a structure whose nodes are steps: node i is ``(src[i],
+    dst[i], vec[i])`` (``vec`` None: no atom reads a monitored function; else an array('B') or
+    array('q') of atom bits), nodes leaving one state have the same successors, and ``sig[s]``
+    (array('Q')) is what a node's label and initial flag read of its source s.  Nodes with the same
+    ``(sig[src], vec, dst)`` are one node; nodes whose source has ``ok`` unset are dropped.
+    Returns ``(first, off, adj)``: the first node of each quotient node (ascending), and for each
+    of the n states the quotient nodes of the nodes leaving it, in their order
+    (``adj[off[s]:off[s + 1]]``).  Compiled code when there is a compiler, else Python."""
+    m = len(src)
+    dll = library()
+    if dll is not None and m and n:
+        s, d = _u32(src), _u32(dst)
+        sg = sig if isinstance(sig, array) and sig.typecode == "Q" else array("Q", sig)
+        okb = bytearray(ok)
+        v64 = vec if isinstance(vec, array) and vec.typecode == "q" else None
+        v8 = vec if isinstance(vec, array) and vec.typecode == "B" else None
+        if vec is not None and v64 is None and v8 is None:
+            v64 = array("q", vec)
+        off = array("i", bytes(4 * (n + 1)))
+        adj = array("i", bytes(4 * m))
+        nq = dll.kn_quotient(n, m, _addr(s), _addr(d), _addr(v64) if v64 is not None else 0,
+                             _addr(v8) if v8 is not None else 0, _addr(sg), _addr(okb), _addr(off), _addr(adj))
+        if nq >= 0:
+            first = array("i", bytes(4 * max(nq, 1)))
+            dll.kn_quotient_first(_addr(first))
+            del first[nq:]
+            del adj[off[n]:]
+            return first, off, adj
+    ids: dict = {}
+    first = array("i")
+    lists: list = [[] for _ in range(n)]
+    for i in range(m):
+        a = src[i]
+        if not ok[a]:
+            continue
+        key = (sig[a], vec[i] if vec is not None else 0, dst[i])
+        q = ids.get(key)
+        if q is None:
+            q = ids[key] = len(first)
+            first.append(i)
+        lists[a].append(q)
+    off = array("i", [0])
+    adj = array("i")
+    for lst in lists:
+        adj.extend(lst)
+        off.append(len(adj))
+    return first, off, adj
+
+
+def signatures(n: int, labs: list) -> array:
+    """array('Q'): bit j of entry s is ``labs[j][s]`` (at most 64 state sets)."""
+    sig = array("Q", bytes(8 * max(n, 1)))
+    dll = library()
+    if dll is not None and n and labs:
+        labels = bytearray().join(bytes(lab) for lab in labs)
+        bits = array("Q", [1 << j for j in range(len(labs))])
+        dll.kn_sig(n, len(labs), _addr(labels), _addr(bits), _addr(sig))
+    else:
+        for j, lab in enumerate(labs):
+            b = 1 << j
+            for s in range(n):
+                if lab[s]:
+                    sig[s] |= b
+    del sig[n:]
+    return sig
+
+
+def take(a, idx, typecode: str) -> array:
+    """array(typecode, (a[i] for i in idx))."""
+    return array(typecode, (a[i] for i in idx))
