@@ -204,9 +204,8 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
     results = []
     # every state has a successor (a step without updates loops): a state without one is
     # where a step failed, and paths through it would be cut short
-    has_out = bytearray(explorer.n_states)
-    for src in explorer.edge_arrays()[0]:
-        has_out[src] = 1
+    from . import kernel
+    has_out = kernel.mark(explorer.n_states, explorer.edge_arrays()[0])
     error_edges = list(getattr(explorer, "error_edges", None) or ())
     halts = []
     for ix, (src, picks, e) in enumerate(error_edges):

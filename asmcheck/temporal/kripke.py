@@ -299,16 +299,21 @@ class EdgePicks:
         self.explorer = explorer
         self.src = src
         self.dst = dst
-        # an explorer that records its edges in another order (a random walk's) is looked up
-        # through an index of the first edge of each pair
         self.index = None
-        if any(src[i] > src[i + 1] for i in range(len(src) - 1)):
-            self.index = {}
-            for i in range(len(src)):
-                self.index.setdefault((src[i], dst[i]), i)
+        self.checked = False
 
     def __getitem__(self, key):
         a, b = key
+        if not self.checked:
+            # an explorer that records its edges in another order (a random walk's) is looked up
+            # through an index of the first edge of each pair (made when a trace first asks)
+            from . import kernel
+            self.checked = True
+            if not kernel.ascending(self.src):
+                self.index = {}
+                src, dst = self.src, self.dst
+                for i in range(len(src)):
+                    self.index.setdefault((src[i], dst[i]), i)
         if self.index is not None:
             i = self.index.get((a, b))
             if i is None:
