@@ -178,6 +178,14 @@ def _csr(K):
     return got
 
 
+def _identity(K, cls) -> bool:
+    """Whether node v's class is v (a state graph's), found once per structure."""
+    got = getattr(K, "_kernel_ident", None)
+    if got is None:
+        got = K._kernel_ident = cls == array("i", range(len(cls)))
+    return got
+
+
 def _u32(a) -> array:
     return a if isinstance(a, array) and a.typecode == "I" else array("I", a)
 
@@ -287,8 +295,11 @@ def fair_comp(K, s: bytearray, justice, compassion):
     cp = bytearray().join(p for p, _ in compassion) or bytearray(1)
     cq = bytearray().join(q for _, q in compassion) or bytearray(1)
     comp = array("i", bytes(4 * max(n, 1)))
-    # the roots: every node of s, ascending (passed as none)
-    nfair = dll.kn_fair_graph(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), n, 0, _addr(mask),
+    # the roots: every node of s, ascending (passed as none); a state graph's classes are its
+    # nodes (no relay vertices)
+    relay = not _identity(K, cls)
+    nfair = dll.kn_fair_graph(n, len(off) - 1 if relay else 0, _addr(cls) if relay else 0, _addr(off), _addr(adj),
+                              n, 0, _addr(mask),
                               len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
     if nfair < 0:
         return None

@@ -513,7 +513,7 @@ def _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids, ok_state
     elif isinstance(picks_l, _PicksOfSteps):
         picks_q = _PicksOfSteps(explorer, mon_items, sid_q, tgt_q, vec_q)
     else:
-        picks_q = _PicksOfKeys(picks_l, dict(key_ix), tgt_q, vec_q, sid_q)
+        picks_q = _PicksOfKeys(picks_l, key_ix, tgt_q, vec_q, sid_q)
     return sid_q, tgt_q, picks_q, vec_q, off, adj
 
 
