@@ -170,3 +170,39 @@ def test_parking_ctl():
     last = "\n".join(temporal_text(bad, model.machine))
     assert "step 2: r_Main chooses $r = 1, $c = 3; reads newCar = true" in last
     assert "step 3: r_Main chooses $r = 1, $c = 4, $p = 11; reads newCar = true" in last
+
+
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_cc), False], ids=["compiled", "python"])
+def test_quotient_arrays(monkeypatch, compiled):
+    """kernel.quotient on steps given out of source order and in order, a step recorded twice, two
+    sources with the same signature (states 1 and 2) and atom values that keep steps apart."""
+    from array import array
+    from asmcheck.temporal import kernel
+    monkeypatch.setattr(kernel, "ENABLED", compiled)
+    sig = array("Q", [1, 0, 0])
+    ok = bytearray(b"\x01\x01\x01")
+    # out of order: nodes 1 and 4 are the same step (0 -> 1); 3 and 5 merge (sources 2 and 1)
+    first, off, adj = kernel.quotient(3, array("I", [1, 0, 0, 2, 0, 1]), array("I", [2, 1, 2, 0, 1, 0]), None, sig, ok)
+    assert (list(first), list(off), list(adj)) == ([0, 1, 2, 3], [0, 2, 4, 5], [1, 2, 0, 3, 3])
+    # in order
+    first, off, adj = kernel.quotient(3, array("I", [0, 0, 0, 1, 1, 2]), array("I", [1, 2, 1, 2, 0, 0]), None, sig, ok)
+    assert (list(first), list(off), list(adj)) == ([0, 1, 3, 4], [0, 2, 4, 5], [0, 1, 2, 3, 3])
+    # atom values: the steps 1 -> 0 and 2 -> 0 differ in them, state 2 is left out
+    vec = array("B", [0, 0, 0, 1, 0, 0])
+    first, off, adj = kernel.quotient(3, array("I", [0, 0, 0, 1, 1, 2]), array("I", [1, 2, 1, 2, 0, 0]), vec, sig,
+                                      bytearray(b"\x01\x01\x00"))
+    assert (list(first), list(off), list(adj)) == ([0, 1, 3, 4], [0, 2, 4, 4], [0, 1, 2, 3])
+    vec = array("B", [0, 0, 0, 0, 1, 0])
+    first, off, adj = kernel.quotient(3, array("I", [0, 0, 0, 1, 1, 2]), array("I", [1, 2, 1, 2, 0, 0]), vec, sig, ok)
+    assert (list(first), list(off), list(adj)) == ([0, 1, 3, 4, 5], [0, 2, 4, 5], [0, 1, 2, 3, 4])
+
+
+def test_without_compiled_kernel(tmp_path, monkeypatch):
+    """The Python code of the quotient, the fixpoints and the paths gives what the compiled
+    kernel gives."""
+    from asmcheck.temporal import kernel
+    path = write(tmp_path, NOISE)
+    with_kernel = printed(path, "python", True)
+    monkeypatch.setattr(kernel, "ENABLED", False)
+    assert printed(path, "python", True) == with_kernel
+    assert printed(path, "python", False) == [row[:3] + (24,) for row in with_kernel]

@@ -489,14 +489,16 @@ int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *d
                     const uint8_t *vec8, const uint64_t *sig, const uint8_t *ok, int32_t *off, int32_t *adj) {
     free(Q_first); Q_first = 0; Q_n = 0;
     KeyTab kt = {0}, nt = {0};
-    int32_t *tab = 0, *first = 0, *pos = 0;
+    int32_t *tab = 0, *first = 0, *pos = 0, *stamp = 0;
     int64_t rc = -1, nq = 0, qcap = 0;
     int novec = !vec && !vec8;
     /* pass 1: the nodes leaving each state, and the source keys (sig, vec) numbered densely */
     for (int64_t v = 0; v <= n; v++) off[v] = 0;
     int64_t last = -1;
+    int asc = 1;
     for (int64_t i = 0; i < m; i++) {
         uint32_t s = src[i];
+        if (i && s < src[i - 1]) asc = 0;
         if (!ok[s]) continue;
         off[s + 1]++;
         if (novec && (int64_t)s == last) continue;
@@ -517,7 +519,7 @@ int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *d
         memset(tab, 0xff, (size_t)(nk * n + 1) * sizeof(int32_t));
     }
     last = -1;
-    int64_t k = 0;
+    int64_t k = 0, cur = -1, o = 0;
     for (int64_t i = 0; i < m; i++) {
         uint32_t s = src[i];
         if (!ok[s]) continue;
@@ -541,34 +543,51 @@ int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *d
                 int32_t *x = (int32_t *)realloc(first, qcap * sizeof(int32_t));
                 if (!x) goto out;
                 first = x;
+                if (asc) {
+                    x = (int32_t *)realloc(stamp, qcap * sizeof(int32_t));
+                    if (!x) goto out;
+                    stamp = x;
+                }
             }
+            if (asc) stamp[nq] = -1;
             first[nq++] = (int32_t)i;
         }
-        adj[pos[s]++] = q;
+        if (asc) {
+            /* sources ascending: each state's list written in place, a step recorded twice once */
+            if ((int64_t)s != cur) {
+                for (int64_t v = cur + 1; v <= (int64_t)s; v++) off[v] = (int32_t)o;
+                cur = s;
+            }
+            if (stamp[q] == (int32_t)s) continue;
+            stamp[q] = (int32_t)s;
+            adj[o++] = q;
+        } else adj[pos[s]++] = q;
     }
-    {
+    if (asc) {
+        for (int64_t v = cur + 1; v <= n; v++) off[v] = (int32_t)o;
+    } else {
         /* a step recorded twice (the same source, target and values) is one entry of the list */
-        int32_t *stamp = (int32_t *)malloc((nq + 1) * sizeof(int32_t));
-        if (!stamp) goto out;
-        for (int64_t q = 0; q < nq; q++) stamp[q] = -1;
-        int64_t o = 0;
+        int32_t *seen = (int32_t *)malloc((nq + 1) * sizeof(int32_t));
+        if (!seen) goto out;
+        for (int64_t q = 0; q < nq; q++) seen[q] = -1;
+        int64_t w = 0;
         for (int64_t v = 0; v < n; v++) {
             int32_t a = off[v], b = off[v + 1];
-            off[v] = (int32_t)o;
+            off[v] = (int32_t)w;
             for (int32_t e = a; e < b; e++) {
                 int32_t q = adj[e];
-                if (stamp[q] == (int32_t)v) continue;
-                stamp[q] = (int32_t)v;
-                adj[o++] = q;
+                if (seen[q] == (int32_t)v) continue;
+                seen[q] = (int32_t)v;
+                adj[w++] = q;
             }
         }
-        off[n] = (int32_t)o;
-        free(stamp);
+        off[n] = (int32_t)w;
+        free(seen);
     }
     Q_first = first; first = 0; Q_n = nq;
     rc = nq;
 out:
-    key_free(&kt); key_free(&nt); free(tab); free(first); free(pos);
+    key_free(&kt); key_free(&nt); free(tab); free(first); free(pos); free(stamp);
     return rc;
 }
 

@@ -411,7 +411,7 @@ def quotient(n: int, src, dst, vec, sig, ok: bytearray):
     off = array("i", [0])
     adj = array("i")
     for lst in lists:
-        adj.extend(lst)
+        adj.extend(dict.fromkeys(lst))       # a step recorded twice is one entry
         off.append(len(adj))
     return first, off, adj
 
