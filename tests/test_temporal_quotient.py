@@ -57,11 +57,14 @@ default init s0:
 
 # the same counter with a second input, noise, that the rule does not read but an atom does:
 # every step comes with both values (24 nodes); merged by (labels of the source, noise, target):
-# 4 (from 0) + 10 (from 1..4: targets 1..5, both values) + 4 (from 5) = 18
+# 4 (from 0) + 10 (from 1..4: targets 1..5, both values) + 4 (from 5) = 18.  Its LTL properties read
+# noise too: their structure is the same quotient
 NOISE = COUNT.replace("asm Count", "asm Noise").replace(
     "\tmonitored inc: Boolean\n", "\tmonitored inc: Boolean\n\tmonitored noise: Boolean\n").replace(
     "\tCTLSPEC ag(ef(x = 0))\n", "\tCTLSPEC ag(ef(x = 0 and noise))\n\tCTLSPEC ag(noise implies ax(not(x = 5)))\n"
-    "\tCTLSPEC ef(x = 5 and not noise and ex(x = 0 and noise))\n")
+    "\tCTLSPEC ef(x = 5 and not noise and ex(x = 0 and noise))\n"
+    "\tLTLSPEC g(noise implies x(not(x = 5)))\n\tLTLSPEC g(f(x = 0 and noise))\n").replace(
+    "import CTLLibrary\n", "import CTLLibrary\nimport LTLLibrary\n")
 
 # fairness as a label: JUSTICE x = 5 (every fair path counts to 5 again and again)
 FAIR = COUNT.replace("asm Count", "asm FairCount").replace(
@@ -77,7 +80,7 @@ def structure(path: str, engine: str, quotient: bool):
     builder = Builder(m, atoms, ex.state(0))
     used: set = set()
     for p in api.load(path).temporal:
-        atoms_of(builder.build(p.body, "ctl"), used)
+        atoms_of(builder.build(p.body, p.kind), used)
     return build_kripke(ex, atoms, used, [], [], [], [], step=True, quotient=quotient)
 
 
