@@ -71,6 +71,14 @@ FAIR = COUNT.replace("asm Count", "asm FairCount").replace(
     "\tCTLSPEC ag(ef(x = 0))\n", "\tJUSTICE x = 5\n\tCTLSPEC ag(ef(x = 0))\n\tCTLSPEC af(x = 5)\n")
 
 
+# an INVAR that reads the monitored input: the steps from 5 with noise are no nodes
+INVAR = NOISE.replace("asm Noise", "asm InvarNoise").replace(
+    "\tCTLSPEC ag(ef(x = 0 and noise))\n", "\tINVAR not(x = 5 and noise)\n\tCTLSPEC ag(ef(x = 0 and noise))\n")
+
+# a step that fails (5 counts to 6, outside Cnt): the paths through it end in a halt node
+HALT = COUNT.replace("asm Count", "asm HaltCount").replace("else x := 0 endif", "else x := x + 1 endif")
+
+
 def structure(path: str, engine: str, quotient: bool):
     run = api.load(path).explore(engine=engine)
     assert run.result.engine == engine
@@ -112,7 +120,7 @@ def test_node_counts(tmp_path, engine, text, unmerged, merged):
 
 
 @pytest.mark.parametrize("engine", ENGINES)
-@pytest.mark.parametrize("text", [COUNT, NOISE, FAIR], ids=["count", "noise", "justice"])
+@pytest.mark.parametrize("text", [COUNT, NOISE, FAIR, INVAR], ids=["count", "noise", "justice", "invar"])
 def test_same_verdicts_and_paths(tmp_path, engine, text):
     path = write(tmp_path, text)
     merged = printed(path, engine, True)
@@ -127,6 +135,20 @@ def test_same_verdicts_and_paths(tmp_path, engine, text):
     if row is not None:
         text_lines = "\n".join(row[2])
         assert "x = 1" in text_lines
+
+
+def test_halt_nodes(tmp_path):
+    """A step that fails (the Python engine explores around it): the halt node stays as it is, and
+    the verdicts (relative to the error) and paths are those of one node per step."""
+    path = write(tmp_path, HALT)
+    merged = printed(path, "python", True)
+    unmerged = printed(path, "python", False)
+    assert [row[:3] for row in merged] == [row[:3] for row in unmerged]
+    assert [row[1] for row in merged] == ["violated", "holds", "violated", "holds", "violated", "violated",
+                                          "violated", "holds"]
+    # 8 nodes of steps (from 5 only the step that stays is well defined) and one halt node; 11 + 1 unmerged
+    assert (merged[0][3], unmerged[0][3]) == (9, 12)
+    assert "relative to the run-time error" in merged[0][2][0]
 
 
 def test_both_engines_agree(tmp_path):
