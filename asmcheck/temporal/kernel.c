@@ -727,3 +727,12 @@ out:
 void kn_mark(int64_t m, const uint32_t *src, uint8_t *out) {
     for (int64_t i = 0; i < m; i++) out[src[i]] = 1;
 }
+
+/* 1 when the class of every one of the n nodes has a successor (a non-empty list) */
+int64_t kn_all_succ(int64_t n, const int32_t *cls, const int32_t *off) {
+    for (int64_t v = 0; v < n; v++) {
+        int32_t c = cls ? cls[v] : (int32_t)v;
+        if (off[c + 1] == off[c]) return 0;
+    }
+    return 1;
+}

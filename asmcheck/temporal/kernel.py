@@ -44,6 +44,7 @@ _SYMBOLS = {
     "kn_eu_rev": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
     "kn_bfs": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _p, _p, _i64, _p]),
     "kn_mark": (None, [_i64, _p, _p]),
+    "kn_all_succ": (_i64, [_i64, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -481,3 +482,12 @@ def mark(n: int, src) -> bytearray:
         for s in src:
             out[s] = 1
     return out[:n] if n else bytearray()
+
+
+def all_succ(K) -> bool:
+    """Whether every node of the structure has a successor."""
+    dll = library()
+    if dll is not None and K.n:
+        cls, off, _adj = _csr(K)
+        return bool(dll.kn_all_succ(K.n, _addr(cls), _addr(off)))
+    return all(K.succ(v) for v in range(K.n))
