@@ -482,7 +482,7 @@ def _signatures(S: int, labs: list, init_sids) -> array:
     return sig
 
 
-def _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids, ok_state, explorer, mon_items, key_ix):
+def _quotient(K, S, steps, slab, st_atoms, init_sids, ok_state, explorer, mon_items, key_ix):
     """The bisimulation quotient of the step nodes (sid[i], tgt[i], vecs[i]).  Every node leaving a
     state has the same successors (the nodes leaving its target), so nodes with the same target,
     the same atom values (of the state atoms of their source and of the monitored atoms) and
@@ -491,8 +491,11 @@ def _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids, ok_state
     breadth-first search finds, node for node (numbered by their first step, each state's
     successors in the order of its steps).  The source of a node on a path is the target of the
     node before it; the first node's, an initial state with its labels (the node's own source).
+    ``steps``: [sid, tgt, picks, vecs] of the step nodes, emptied (the only reference to them).
     Returns (sid, tgt, picks, vecs, off, adj) of the quotient."""
     from . import kernel
+    sid, tgt, picks_l, vecs = steps
+    steps.clear()
     sig = _signatures(S, [slab[i] for i in st_atoms], init_sids)
     vb = None
     if mon_items:
@@ -507,6 +510,7 @@ def _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids, ok_state
         vec_q = Vectors(kernel.take(vb, first, vb.typecode), len(mon_items))
     else:
         vec_q = Vectors(None, 0, len(first))
+    del first, sid, tgt, vb, vecs      # the steps' arrays are freed here
     if isinstance(picks_l, _EdgePicksOf):
         picks_l.sid, picks_l.tgt = sid_q, tgt_q
         picks_q = picks_l
@@ -649,6 +653,7 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 rv = array(rv.typecode, [rv[i] for i in keep])
             sid, tgt, vecs = rs, rd, Vectors(rv, len(mon_items))
             picks_l = _PicksOfSteps(explorer, mon_items, sid, tgt, vecs)
+            recs = rs = rd = rv = True         # the arrays live on as sid, tgt, vecs only
         elif mon_items:
             vecs = Vectors(None, len(mon_items), 0)
         for src, dst, picks, mon in (_every_step(explorer, ok_state) if mon_items and recs is None else ()):
@@ -679,8 +684,10 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 picks_l.append(picks)
                 vecs.append(vec)
         if merge:
-            sid, tgt, picks_l, vecs, off, adj = _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids,
-                                                          ok_state, explorer, mon_items, key_ix)
+            steps = [sid, tgt, picks_l, vecs]
+            sid = tgt = picks_l = vecs = None          # the steps' arrays are freed once merged
+            sid, tgt, picks_l, vecs, off, adj = _quotient(K, S, steps, slab, st_atoms, init_sids, ok_state,
+                                                          explorer, mon_items, key_ix)
         else:
             # the nodes leaving each explored state (its successor class)
             off, adj = kernel.group(S, sid)
