@@ -231,3 +231,22 @@ def test_without_compiled_kernel(tmp_path, monkeypatch):
     monkeypatch.setattr(kernel, "ENABLED", False)
     assert printed(path, "python", True) == with_kernel
     assert printed(path, "python", False) == [row[:3] + (24,) for row in with_kernel]
+
+
+@needs_cc
+def test_quotient_by_source_arrays():
+    """The quotient of steps handed over source by source: the lists of kernel.quotient, and the
+    source, target and bits of each node's first step; steps without the bits of ``need`` left out."""
+    from array import array
+    from asmcheck.temporal import kernel
+    sig = array("Q", [1, 0, 0])
+    src, dst, vec = [0, 0, 0, 1, 1, 2], [1, 2, 1, 2, 0, 0], [0, 0, 0, 1, 1, 1]
+    by_source = [(s, sum(1 for x in src if x == s),
+                  array("q", [y for i, x in enumerate(src) if x == s for y in (dst[i], vec[i])])) for s in range(3)]
+    fsrc, fdst, fvec, off, adj = kernel.quotient_by_source(3, sig, iter(by_source))
+    first, off2, adj2 = kernel.quotient(3, array("I", src), array("I", dst), array("B", vec), sig,
+                                        bytearray(b"\x01\x01\x01"))
+    assert (list(off), list(adj)) == (list(off2), list(adj2)) == ([0, 2, 4, 5], [0, 1, 2, 3, 3])
+    assert [(fsrc[q], fdst[q], fvec[q]) for q in range(len(fsrc))] == [(src[i], dst[i], vec[i]) for i in first]
+    fsrc, fdst, fvec, off, adj = kernel.quotient_by_source(3, sig, iter(by_source), need=1)
+    assert (list(fsrc), list(fdst), list(off), list(adj)) == ([1, 1], [2, 0], [0, 0, 2, 3], [0, 1, 1])

@@ -3975,6 +3975,25 @@ class NativeExplorer:
         order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        each = self.step_atoms_each(items, ok_state)
+        if each is None:
+            return None
+        rs, rd, rv = array("I"), array("i"), array("B" if len(items) <= 8 else "q")
+        for src, n, buf in each:
+            rd.extend(buf[0:2 * n:2].tolist())
+            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
+            rs.extend(array("I", [src]) * n)
+        if each.failed:
+            return None
+        return rs, rd, rv
+
+    def step_atoms_each(self, items, ok_state):
+        """:meth:`step_atoms` source by source, without keeping the steps: an iterator of
+        ``(src, n, buf)`` for every stored state with ``ok_state`` set, ascending -- the first 2n
+        entries of ``buf`` (an array('q'), reused from one source to the next) are the (dst, bits)
+        pairs of src's steps; after the iteration ``.failed`` tells whether the compiled code
+        failed on a state (then the steps given are not all of them).  None when the compiled code
+        cannot (an atom not translated, more than 64 atoms)."""
         index = getattr(self, "_label_index", None)
         if index is None:
             self.state_labels([])
@@ -3987,26 +4006,7 @@ class NativeExplorer:
             ks.append(k)
         if not ks or len(ks) > 64:
             return None
-        karr = (ctypes.c_int64 * len(ks))(*ks)
-        rs, rd, rv = array("I"), array("i"), array("B" if len(ks) <= 8 else "q")
-        cap = 1024
-        buf = array("q", bytes(16 * cap))
-        nk = len(ks)
-        for src in range(self.nstates):
-            if not ok_state[src]:
-                continue
-            while True:
-                n = self.dll.asm_step_atoms(src, karr, nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
-                if n != -2:
-                    break
-                cap *= 4
-                buf = array("q", bytes(16 * cap))
-            if n < 0:
-                return None
-            rd.extend(buf[0:2 * n:2].tolist())
-            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
-            rs.extend(array("I", [src]) * n)
-        return rs, rd, rv
+        return _StepAtoms(self, (ctypes.c_int64 * len(ks))(*ks), len(ks), ok_state)
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""
@@ -4098,6 +4098,32 @@ def _env_key(env) -> tuple:
         return items
     except TypeError:
         return repr(items)
+
+
+class _StepAtoms:
+    """The iterator of :meth:`NativeExplorer.step_atoms_each`."""
+
+    def __init__(self, ex, karr, nk: int, ok_state):
+        self.ex, self.karr, self.nk, self.ok = ex, karr, nk, ok_state
+        self.failed = False
+
+    def __iter__(self):
+        dll = self.ex.dll
+        cap = 1024
+        buf = array("q", bytes(16 * cap))
+        for src in range(self.ex.nstates):
+            if not self.ok[src]:
+                continue
+            while True:
+                n = dll.asm_step_atoms(src, self.karr, self.nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
+                if n != -2:
+                    break
+                cap *= 4
+                buf = array("q", bytes(16 * cap))
+            if n < 0:
+                self.failed = True
+                return
+            yield src, n, buf
 
 
 class _NativeEdges:

@@ -45,6 +45,11 @@ _SYMBOLS = {
     "kn_bfs": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _p, _p, _i64, _p]),
     "kn_mark": (None, [_i64, _p, _p]),
     "kn_all_succ": (_i64, [_i64, _p, _p]),
+    "kn_qs_begin": (_i64, [_i64, _p]),
+    "kn_qs_add": (_i64, [_i64, _i64, _p, ctypes.c_uint64, _p]),
+    "kn_qs_end": (_i64, []),
+    "kn_qs_len": (_i64, []),
+    "kn_qs_take": (None, [_p, _p, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -491,3 +496,39 @@ def all_succ(K) -> bool:
         cls, off, _adj = _csr(K)
         return bool(dll.kn_all_succ(K.n, _addr(cls), _addr(off)))
     return all(K.succ(v) for v in range(K.n))
+
+
+def quotient_by_source(n: int, sig, sources, need: int = 0):
+    """:func:`quotient` for steps given source by source: ``sources`` yields ``(src, k, recs)`` (the
+    sources ascending, each once; recs an array('q') whose first 2k entries are (target, atom
+    bits) pairs), none of them kept; steps whose bits miss one of ``need`` are left out.  Returns
+    ``(fsrc, fdst, fvec, off, adj)`` -- the source, target and bits of each quotient node's first
+    step, and the lists -- or None when there is no compiled code (or memory)."""
+    dll = library()
+    if dll is None:
+        return None
+    sg = sig if isinstance(sig, array) and sig.typecode == "Q" else array("Q", sig)
+    if not len(sg):
+        sg = array("Q", [0])
+    if dll.kn_qs_begin(n, _addr(sg)) < 0:
+        return None
+    adj = array("i")
+    out = array("i", [0])
+    for src, k, recs in sources:
+        if len(out) < k:
+            out = array("i", bytes(4 * k))
+        got = dll.kn_qs_add(src, k, _addr(recs), need, _addr(out))
+        if got < 0:
+            dll.kn_qs_end()
+            return None
+        adj.extend(out[:got])
+    nq = dll.kn_qs_end()
+    if nq < 0:
+        return None
+    off = array("i", bytes(4 * (n + 1)))
+    fsrc = array("I", bytes(4 * max(nq, 1)))
+    fdst = array("i", bytes(4 * max(nq, 1)))
+    fvec = array("q", bytes(8 * max(nq, 1)))
+    dll.kn_qs_take(_addr(off), _addr(fsrc), _addr(fdst), _addr(fvec))
+    del fsrc[nq:], fdst[nq:], fvec[nq:]
+    return fsrc, fdst, fvec, off, adj

@@ -521,6 +521,24 @@ def _quotient(K, S, steps, slab, st_atoms, init_sids, ok_state, explorer, mon_it
     return sid_q, tgt_q, picks_q, vec_q, off, adj
 
 
+def _quotient_by_source(explorer, S, mon_items, ok_state, need, slab, st_atoms, init_sids):
+    """:func:`_quotient` of the steps the native explorer gives source by source (the atoms that
+    read monitored functions evaluated by its compiled code), merged as they come without keeping
+    them: (sid, tgt, vecs, off, adj), or None when the explorer or the kernel cannot."""
+    from . import kernel
+    each_fn = getattr(explorer, "step_atoms_each", None)
+    each = each_fn(mon_items, ok_state) if each_fn is not None else None
+    if each is None:
+        return None
+    sig = _signatures(S, [slab[i] for i in st_atoms], init_sids)
+    got = kernel.quotient_by_source(S, sig, each, need)
+    if got is None or each.failed:
+        return None
+    fsrc, fdst, fvec, off, adj = got
+    bits = fvec if len(mon_items) > 8 else array("B", fvec)
+    return fsrc, fdst, Vectors(bits, len(mon_items)), off, adj
+
+
 def _hkey(v):
     try:
         hash(v)
@@ -638,14 +656,21 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 del seen
             picks_l = _PicksOfEdges(explorer, eix)
             vecs = Vectors(None, 0, len(sid))
-        fast = getattr(explorer, "step_atoms", None) if mon_items else None
+        need = 0
+        for k in mon_inv:
+            need |= 1 << k
+        streamed = _quotient_by_source(explorer, S, mon_items, ok_state, need, slab, st_atoms,
+                                       init_sids) if merge and mon_items else None
+        fast = getattr(explorer, "step_atoms", None) if mon_items and streamed is None else None
         recs = fast(mon_items, ok_state) if fast is not None else None
-        if recs is not None:
+        if streamed is not None:
+            # the compiled code merged the steps as it gave them (source by source)
+            sid, tgt, vecs, off, adj = streamed
+            picks_l = _PicksOfSteps(explorer, mon_items, sid, tgt, vecs)
+            recs = True
+        elif recs is not None:
             # the compiled code gave (src, dst, atom values) for every step, each once
             rs, rd, rv = recs
-            need = 0
-            for k in mon_inv:
-                need |= 1 << k
             if need:
                 keep = [i for i in range(len(rs)) if rv[i] & need == need]
                 rs = array("I", [rs[i] for i in keep])
@@ -683,7 +708,9 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 tgt.append(dst)
                 picks_l.append(picks)
                 vecs.append(vec)
-        if merge:
+        if streamed is not None:
+            pass
+        elif merge:
             steps = [sid, tgt, picks_l, vecs]
             sid = tgt = picks_l = vecs = None          # the steps' arrays are freed once merged
             sid, tgt, picks_l, vecs, off, adj = _quotient(K, S, steps, slab, st_atoms, init_sids, ok_state,
