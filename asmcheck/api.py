@@ -555,7 +555,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.native_refused = refused
         interrupted = getattr(result, "interrupted", False)
     if max_seconds is not None and result.reason.startswith("time limit"):
-        result.reason = f"time limit {max_seconds} s reached"
+        # the whole command's limit (the search had what was left of it); what the search was
+        # doing when it stopped stays
+        rest = result.reason.split(" reached", 1)[1] if " reached" in result.reason else ""
+        result.reason = f"time limit {max_seconds} s reached{rest}"
     temporal_results = []
     temporal_note = ""
     temporal_error = ""

@@ -9,6 +9,7 @@
    generation of the working-state marks */
 static inline void begin_run(Ctx *c) {
     c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+    c->stepctr = 0;    /* the stamps of seq steps are compared within one run only (no overflow) */
     c->gen++;
     if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
     c->err = 0;
