@@ -350,7 +350,7 @@ def _every_step(explorer, ok_state):
         if not ok_state[src]:
             continue
         try:
-            steps = m.successors(explorer.state(src))
+            steps = m.successors(explorer.state(src), errors=[])     # a failing branch is no edge
         except AsmError as e:
             raise AtomError(None, f"the step from state {src} cannot be computed: {e.message}") from None
         for log, _ups, nxt, mon in steps:
@@ -388,7 +388,7 @@ class _PicksOfSteps:
         ex = self.explorer
         m = ex.m
         st = ex.state(src)
-        for log, _ups, nxt, mon in m.successors(st):
+        for log, _ups, nxt, mon in m.successors(st, errors=[]):
             if _find(ex, nxt) == self.tgt[v] and self.vecs[v] in joint_values(m, self.items, st, mon):
                 return tuple(c.pick for c in log)
         raise AtomError(None, f"no step from state {src} to state {self.tgt[v]} gives the atoms' values")
