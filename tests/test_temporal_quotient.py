@@ -250,3 +250,31 @@ def test_quotient_by_source_arrays():
     assert [(fsrc[q], fdst[q], fvec[q]) for q in range(len(fsrc))] == [(src[i], dst[i], vec[i]) for i in first]
     fsrc, fdst, fvec, off, adj = kernel.quotient_by_source(3, sig, iter(by_source), need=1)
     assert (list(fsrc), list(fdst), list(off), list(adj)) == ([1, 1], [2, 0], [0, 0, 2, 3], [0, 1, 1])
+
+
+@pytest.mark.parametrize("n", [1000, 70_000], ids=["16-bit classes", "32-bit classes"])
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_cc), False], ids=["compiled", "python"])
+def test_backward_search_sizes(monkeypatch, n, compiled):
+    """E[f U start] over a chain 0 -> 1 -> ... -> n-1 (which loops): the backward lists keep the
+    classes in 16 bits below 65,536 classes, in 32 above."""
+    from array import array
+    from asmcheck.temporal import kernel
+    from asmcheck.temporal.classes import Classes
+    from asmcheck.temporal.ctl import CTL
+    from asmcheck.temporal.kripke import Kripke
+    monkeypatch.setattr(kernel, "ENABLED", compiled)
+    K = Kripke()
+    K.mode = "step"
+    K.n = n
+    K.cls = array("i", [min(v + 1, n - 1) for v in range(n)])      # node v's successors: class v + 1
+    K.cls_succ = Classes(array("i", range(n + 1)), array("i", range(n)))
+    K.init = [0]
+    K.label = {0: bytearray(b"\x01") * n}
+    K.label[0][n // 2] = 0
+    start = bytearray(n)
+    start[n - 1] = 1
+    ctl = CTL(K)
+    y = ctl._eu(K.label[0], start)
+    assert y == bytearray(v > n // 2 for v in range(n))
+    if compiled:
+        assert K._kernel_rev[1].typecode == ("H" if n < 65536 else "i")

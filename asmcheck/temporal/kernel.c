@@ -605,47 +605,53 @@ int64_t kn_ascending(int64_t n, const uint32_t *a) {
 /* The backward lists of a graph of successor classes (n nodes, ncls classes; node v's successors:
  * the list of class cls[v], off/adj): moff/madj (n + 1, off[ncls]) the classes whose list holds
  * each node, noff/nadj (ncls + 1, n) the nodes of each class.  kn_eu_rev then searches with them,
- * as kn_eu does (which makes them for one search). */
-void kn_rev(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
-            int32_t *moff, int32_t *madj, int32_t *noff, int32_t *nadj) {
-    int64_t ne = off[ncls];
-    for (int64_t v = 0; v <= n; v++) moff[v] = 0;
-    for (int64_t c = 0; c <= ncls; c++) noff[c] = 0;
-    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;
-    for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];
-    for (int64_t c = 0; c < ncls; c++)
-        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (int32_t)c;
-    for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];
-    moff[0] = 0;
-    for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;
-    for (int64_t c = 0; c < ncls; c++) noff[c + 1] += noff[c];
-    for (int64_t v = 0; v < n; v++) nadj[noff[cls[v]]++] = (int32_t)v;
-    for (int64_t c = ncls; c > 0; c--) noff[c] = noff[c - 1];
-    noff[0] = 0;
+ * as kn_eu does (which makes them for one search).  The _16 forms keep madj in 16 bits (fewer
+ * than 65,536 classes). */
+#define REV_FNS(SUFFIX, MT)                                                                               \
+void kn_rev##SUFFIX(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,  \
+                    int32_t *moff, MT *madj, int32_t *noff, int32_t *nadj) {                              \
+    int64_t ne = off[ncls];                                                                               \
+    for (int64_t v = 0; v <= n; v++) moff[v] = 0;                                                         \
+    for (int64_t c = 0; c <= ncls; c++) noff[c] = 0;                                                      \
+    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;                                                  \
+    for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];                                               \
+    for (int64_t c = 0; c < ncls; c++)                                                                    \
+        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (MT)c;                        \
+    for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];                                                \
+    moff[0] = 0;                                                                                          \
+    for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;                                                   \
+    for (int64_t c = 0; c < ncls; c++) noff[c + 1] += noff[c];                                            \
+    for (int64_t v = 0; v < n; v++) nadj[noff[cls[v]]++] = (int32_t)v;                                    \
+    for (int64_t c = ncls; c > 0; c--) noff[c] = noff[c - 1];                                             \
+    noff[0] = 0;                                                                                          \
+}                                                                                                         \
+                                                                                                          \
+int64_t kn_eu_rev##SUFFIX(int64_t n, int64_t ncls, const int32_t *moff, const MT *madj, const int32_t *noff, \
+                          const int32_t *nadj, const uint8_t *f, const uint8_t *start, uint8_t *y) {      \
+    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));                                        \
+    uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);                                                       \
+    if (!queue || !done) { free(queue); free(done); return -1; }                                          \
+    int64_t qh = 0, qt = 0;                                                                               \
+    for (int64_t v = 0; v < n; v++) { y[v] = start[v] ? 1 : 0; if (y[v]) queue[qt++] = (int32_t)v; }      \
+    while (qh < qt) {                                                                                     \
+        int32_t w = queue[qh++];                                                                          \
+        for (int32_t a = moff[w]; a < moff[w + 1]; a++) {                                                 \
+            int64_t c = madj[a];                                                                          \
+            if (done[c]) continue;                                                                        \
+            done[c] = 1;                                                                                  \
+            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {                                             \
+                int32_t v = nadj[b];                                                                      \
+                if (f[v] && !y[v]) { y[v] = 1; queue[qt++] = v; }                                         \
+            }                                                                                             \
+        }                                                                                                 \
+    }                                                                                                     \
+    free(queue); free(done);                                                                              \
+    return 0;                                                                                             \
 }
 
-int64_t kn_eu_rev(int64_t n, int64_t ncls, const int32_t *moff, const int32_t *madj, const int32_t *noff,
-                  const int32_t *nadj, const uint8_t *f, const uint8_t *start, uint8_t *y) {
-    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));
-    uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);
-    if (!queue || !done) { free(queue); free(done); return -1; }
-    int64_t qh = 0, qt = 0;
-    for (int64_t v = 0; v < n; v++) { y[v] = start[v] ? 1 : 0; if (y[v]) queue[qt++] = (int32_t)v; }
-    while (qh < qt) {
-        int32_t w = queue[qh++];
-        for (int32_t a = moff[w]; a < moff[w + 1]; a++) {
-            int32_t c = madj[a];
-            if (done[c]) continue;
-            done[c] = 1;
-            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
-                int32_t v = nadj[b];
-                if (f[v] && !y[v]) { y[v] = 1; queue[qt++] = v; }
-            }
-        }
-    }
-    free(queue); free(done);
-    return 0;
-}
+REV_FNS(, int32_t)
+REV_FNS(_16, uint16_t)
+#undef REV_FNS
 
 /* A shortest path from one of the nsrc sources to a node with target[] set, breadth first over
  * the successor classes (node v's successors: the list of class cls[v]), moving only out of nodes

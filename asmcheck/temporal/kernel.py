@@ -42,6 +42,8 @@ _SYMBOLS = {
     "kn_ascending": (_i64, [_i64, _p]),
     "kn_rev": (None, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
     "kn_eu_rev": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_rev_16": (None, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_eu_rev_16": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
     "kn_bfs": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _p, _p, _i64, _p]),
     "kn_mark": (None, [_i64, _p, _p]),
     "kn_all_succ": (_i64, [_i64, _p, _p]),
@@ -358,16 +360,19 @@ def eu(K, f: bytearray, start: bytearray):
     y = bytearray(n)
     rev = getattr(K, "_kernel_rev", None)
     if rev is None:
-        # the backward lists, made once for the structure's searches
+        # the backward lists, made once for the structure's searches (the classes in 16 bits
+        # when there are fewer than 65,536 of them)
+        short = ncls < 65536
         moff = array("i", bytes(4 * (n + 1)))
-        madj = array("i", bytes(4 * max(off[ncls], 1)))
+        madj = array("H" if short else "i", bytes((2 if short else 4) * max(off[ncls], 1)))
         noff = array("i", bytes(4 * (ncls + 1)))
         nadj = array("i", bytes(4 * max(n, 1)))
-        dll.kn_rev(n, ncls, _addr(cls), _addr(off), _addr(adj), _addr(moff), _addr(madj), _addr(noff), _addr(nadj))
+        (dll.kn_rev_16 if short else dll.kn_rev)(n, ncls, _addr(cls), _addr(off), _addr(adj), _addr(moff),
+                                                  _addr(madj), _addr(noff), _addr(nadj))
         rev = K._kernel_rev = (moff, madj, noff, nadj)
     moff, madj, noff, nadj = rev
-    if dll.kn_eu_rev(n, ncls, _addr(moff), _addr(madj), _addr(noff), _addr(nadj), _addr(fb), _addr(sb),
-                     _addr(y)) != 0:
+    search = dll.kn_eu_rev_16 if madj.typecode == "H" else dll.kn_eu_rev
+    if search(n, ncls, _addr(moff), _addr(madj), _addr(noff), _addr(nadj), _addr(fb), _addr(sb), _addr(y)) != 0:
         return None
     return y
 
