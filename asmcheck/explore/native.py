@@ -3873,10 +3873,12 @@ class NativeExplorer:
                                   f"({exc.message})") from None
             if not errors:
                 raise Unsupported("a run-time error of the native search that the Python step function does not make")
-            got = [self.find(nxt) for _picks, _ups, _raw, nxt, _mon in succ]
             # each successor once, in the order first made (a choose whose alternatives have the same
-            # effect is one alternative in the Python step function, not always in the native one)
-            if list(dict.fromkeys(got)) != list(dict.fromkeys(buf[:m])):
+            # effect is one alternative in the Python step function, not always in the native one),
+            # compared as the Python explorer tells states apart
+            got = list(dict.fromkeys(py.layout.freeze(nxt) for _picks, _ups, _raw, nxt, _mon in succ))
+            want = list(dict.fromkeys(buf[:m]))
+            if len(got) != len(want) or any(py.layout.freeze(self.state(t)) != g for t, g in zip(want, got)):
                 raise Unsupported("the well-defined successors of a state where a step fails differ "
                                   "between the engines")
             out[sid] = errors
