@@ -378,3 +378,41 @@ def test_the_survey_counts_the_engine_that_ran(monkeypatch, tmp_path):
     assert text.splitlines()[1:] == ["    1  fallback: a reason", "         X.asm"]
     reports["native"] = dict(reports["python"], engine="native")
     assert survey.compare(spec) == ("native", "3 states")
+
+
+def too_many() -> str:
+    """A failing branch in the initial state, then a state whose step reads 20 monitored booleans:
+    2^20 sequences of choices, more than the search follows from one state."""
+    mons = "\n".join(f"\tmonitored b{i}: Boolean\n\tcontrolled f{i}: Boolean" for i in range(20))
+    ups = "\n".join(f"\t\t\t\t\tf{i} := b{i}" for i in range(20))
+    return f"""asm TooMany
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	monitored go: Boolean
+{mons}
+definitions:
+	domain Small = {{0 : 1}}
+	main rule r_main =
+		if n = 0 then
+			par
+				n := 1
+				if go then n := 0 endif
+			endpar
+		else
+			par
+{ups}
+			endpar
+		endif
+default init s0:
+	function n = 0
+"""
+
+
+def test_a_state_with_too_many_choices_after_an_error_goes_to_the_python_engine(tmp_path):
+    # the Python explorer stops at that state (incomplete, naming the choices that multiply) and
+    # counts a choose's alternatives after merging those with the same effect: not the native count
+    _, m = load_machine(write(tmp_path, too_many()))
+    with pytest.raises(Unsupported, match=r"more than 1,000,000 sequences of choices from one state"):
+        NativeExplorer(m).run()

@@ -3721,6 +3721,10 @@ class NativeExplorer:
                               f"a run-time condition the native search does not handle (code {code})")
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
+        if out[11]:
+            # a state with more sequences of choices than the search follows (the Python explorer
+            # stops there, incomplete, and counts after merging a choose's alternatives)
+            self._step_error(-1, 9, PseudoProperty, Violation)
         if self.keep_graph:
             self._take_edges(out[9])
         failed = self._failed_steps()
