@@ -416,3 +416,78 @@ def test_a_state_with_too_many_choices_after_an_error_goes_to_the_python_engine(
     _, m = load_machine(write(tmp_path, too_many()))
     with pytest.raises(Unsupported, match=r"more than 1,000,000 sequences of choices from one state"):
         NativeExplorer(m).run()
+
+
+# ----------------------------------------------------------------- local functions
+# a local function per call of a recursive turbo rule (the factorial through x), two local
+# functions of one rule updated in seq steps and in parallel (x := 7 beside a := x), and an
+# inconsistent update of a local function where the monitored clash is true in n = 3
+LOCALS = """asm Locals
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled fact: Integer
+	controlled a: Integer
+	controlled b: Integer
+	monitored clash: Boolean
+definitions:
+	domain Small = {1 : 4}
+	turbo rule r_fact($k in Integer) in Integer =
+		local x : Integer [ x := 1 ]
+		if $k <= 1 then result := 1
+		else seq
+			x <- r_fact($k - 1)
+			result := $k * x
+		endseq endif
+	rule r_two =
+		local x : Integer [ x := n ]
+		local y : Integer [ y := 2 ]
+		seq
+			x := x + y
+			par
+				a := x
+				x := 7
+				if clash and n = 3 then x := 8 endif
+			endpar
+			b := x
+		endseq
+	main rule r_main =
+		par
+			fact <- r_fact(n)
+			r_two[]
+			if n < 4 then n := n + 1 else n := 1 endif
+		endpar
+default init s0:
+	function n = 1
+	function fact = 0
+	function a = 0
+	function b = 0
+"""
+
+
+def test_local_functions_run_native(tmp_path):
+    m, py, pres, nat, nres = engines(tmp_path, LOCALS, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions, nres.depth) == (5, 5, 4)
+    names = {f.index: f.name for f in m.spec.functions}
+    got = [{names[k]: v for k, v in nat.state(i).items()} for i in range(nres.states)]
+    # the local functions are no locations of the states; fact is n! (and so is the location
+    # result the main rule's call leaves), a is n + 2, b is 7
+    assert got == [{"n": 1, "fact": 0, "a": 0, "b": 0}, {"n": 2, "fact": 1, "a": 3, "b": 7, "result": 1},
+                   {"n": 3, "fact": 2, "a": 4, "b": 7, "result": 2}, {"n": 4, "fact": 6, "a": 5, "b": 7, "result": 6},
+                   {"n": 1, "fact": 24, "a": 6, "b": 7, "result": 24}]
+    assert failing(nat) == failing(py)
+    assert [(s, p, msg) for s, p, msg, _ in failing(nat)] == [(2, (1,), "inconsistent update of x: 7 and 8")]
+    assert list(zip(*nat.edge_arrays())) == distinct_edges(py.edges)
+
+
+@pytest.mark.corpus
+def test_the_recursive_factorial_with_a_local_function_runs_native():
+    need_asmeta()
+    _, m = load_machine(str(ASMETA / "asm_examples/test/errors/rpns/r/fattoriale_ricorsivo.asm"))
+    py, nat = Explorer(m), NativeExplorer(m)
+    pres, nres = py.run(), nat.run()
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions) == (2, 2)
+    assert sorted(nat.state(1).values()) == [5, 120]
