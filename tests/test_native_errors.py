@@ -491,3 +491,40 @@ def test_the_recursive_factorial_with_a_local_function_runs_native():
     same_search(py, pres, nat, nres)
     assert (nres.states, nres.transitions) == (2, 2)
     assert sorted(nat.state(1).values()) == [5, 120]
+
+
+# ----------------------------------------------------------------- a location at an undef argument
+# pick is undef until go: seen(pick) := true updates seen at an undef argument, a location the
+# Python engine keeps in the state (its key's argument None), and seen(pick) reads it back
+UNDEF_ARG = """asm UndefArg
+import StandardLibrary
+signature:
+	enum domain Color = {RED | GREEN}
+	controlled pick: Color
+	controlled seen: Color -> Boolean
+	controlled hits: Integer
+	monitored go: Boolean
+definitions:
+	main rule r_main =
+		par
+			if go then pick := RED endif
+			seen(pick) := true
+			if seen(pick) = true and hits < 3 then hits := hits + 1 endif
+		endpar
+default init s0:
+	function hits = 0
+"""
+
+
+def test_a_location_at_an_undef_argument_runs_native(tmp_path):
+    m, py, pres, nat, nres = engines(tmp_path, UNDEF_ARG, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions, nres.depth) == (13, 18, 5)
+    seen = next(f for f in m.spec.functions if f.name == "seen").index
+    # the search ran again on a layout with seen(undef): the states hold that location
+    assert seen in nat.gen.undef_args
+    assert nat.state(1)[(seen, (None,))] is True
+    # seen(pick) = true read back at the undef argument: hits counts while pick is undef
+    hits = next(f for f in m.spec.functions if f.name == "hits").index
+    assert [nat.state(i)[hits] for i in range(nres.states)] == [0, 0, 0, 1, 1, 0, 2, 2, 1, 3, 3, 2, 3]
+    assert list(zip(*nat.edge_arrays())) == distinct_edges(py.edges)

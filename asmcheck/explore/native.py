@@ -504,6 +504,8 @@ class Generator:
                 if f.index in self.agent_loose_functions() and self.map_function(f):
                     raise Unsupported(f"{f.name} updated at agents outside its domain")
                 arg_values = [self.values_of(d) for d in f.domain]
+                if f.index in getattr(self, "undef_args", ()):
+                    arg_values = [vals + [None] for vals in arg_values]     # see NativeExplorer._undef_arg_slots
             except Unsupported as e:
                 if not self.map_function(f):
                     if self.unused(f):
@@ -3784,6 +3786,11 @@ class NativeExplorer:
             self.failed_state = out[5]     # the state whose step or property was refused
             site = out[6] - 1000
             if code == 4 and 0 <= site < len(g.site_reasons):
+                fi = next((i for i, x in getattr(g, "_outside_sites", {}).items() if x == site + 1000), None)
+                # (not where the canonical form renames the arguments: elements made by extend)
+                if fi is not None and fi not in getattr(g, "undef_args", ()) and not (
+                        g.dyn and any(g.cn_may_hold(d) for d in self.m.spec.functions[fi].domain)):
+                    return self._undef_arg_slots(fi)
                 raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
                               "more choices in one step than the native search follows" if code == 6 else
@@ -3880,6 +3887,30 @@ class NativeExplorer:
         dll = build_library(src)
         gen.codec.dll = dll
         self.close()
+        self.gen, self.dll = gen, dll
+        self.compile_seconds += native_build.last_compile_seconds
+        self._states = {}
+        self._parent = None
+        self._picks_cache = None
+        return self.run()
+
+    def _undef_arg_slots(self, fi: int):
+        """The search again, on an engine whose layout also has the locations of the function
+        numbered ``fi`` at undef arguments (the Python engine keeps such a location in the state,
+        with its key's argument None: an update at an argument that is undef).  An argument
+        outside its domain still ends the search (the reason is the same)."""
+        gen = Generator(self.m, self.state_props)
+        gen.step_props = self.gen.step_props
+        gen.invars = self.gen.invars
+        gen.label_atoms = getattr(self.gen, "label_atoms", None)
+        gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.cn_k = self.gen.cn_k
+        gen.undef_args = set(getattr(self.gen, "undef_args", ())) | {fi}
+        src = gen.generate()
+        dll = build_library(src)
+        gen.codec.dll = dll
+        self.close()
+        self.thread_unsafe = thread_unsafe(src)
         self.gen, self.dll = gen, dll
         self.compile_seconds += native_build.last_compile_seconds
         self._states = {}
