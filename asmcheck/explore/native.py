@@ -504,6 +504,8 @@ class Generator:
                 if f.index in self.agent_loose_functions() and self.map_function(f):
                     raise Unsupported(f"{f.name} updated at agents outside its domain")
                 arg_values = [self.values_of(d) for d in f.domain]
+                if f.index in getattr(self, "undef_args", ()):
+                    arg_values = [vals + [None] for vals in arg_values]     # see NativeExplorer._undef_arg_slots
             except Unsupported as e:
                 if not self.map_function(f):
                     if self.unused(f):
@@ -535,6 +537,7 @@ class Generator:
                 raise Unsupported("more than a million locations")
         self.dyn_slots()
         self.layout_result()
+        self.layout_local()
         self.constant_slots()
         self.initial_values_outside()
         for st in self.init_states:
@@ -1750,12 +1753,80 @@ class Generator:
     def r_Skip(self, r, env):
         return ";"
 
+    def layout_local(self) -> None:
+        """A slot for each 0-ary local function (``local x : D [init] body`` in a rule; see
+        r_LocalRule): its updates never leave the rule, so the stored states hold it undef, and
+        the working state holds the value of the call running."""
+        if self.dyn:
+            return
+        for f in getattr(self.spec, "local_functions", ()) or ():
+            if f.arity != 0 or T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
+                continue
+            try:
+                cod = self.codomain_values(f)
+            except Unsupported:
+                continue
+            base = len(self.slots)
+            self.slot_of[f.index] = base
+            self.slots.append(f.index)
+            self.slot_values.append(cod)
+            self.slot_types.append(f.codomain)
+            self.fn_base[f.index] = (base, [], cod)
+
+    def local_drop(self) -> str:
+        """C: take the updates of slot ``slot`` made at or after ``mark`` out of the update buffer
+        (a local function's updates stay in its rule), the others moved up in order."""
+        if "local_drop" not in self.defined_done:
+            self.defined_done.add("local_drop")
+            self.funcs.append(
+                "static void local_drop(Ctx *c, int32_t mark, int slot) {\n"
+                "    static _Thread_local int32_t moved[MAXUPD];\n"
+                "    int32_t w = mark;\n"
+                "    for (int32_t i = mark; i < c->nupd; i++) {\n"
+                "        int s = c->upd_slot[i];\n"
+                "        if (s == slot) { moved[i - mark] = -1; continue; }\n"
+                "        int32_t q = c->uprev[i];\n"
+                "        if (q >= mark) q = moved[q - mark];\n"
+                "        moved[i - mark] = w;\n"
+                "        c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->ustamp[w] = c->ustamp[i];\n"
+                "        c->uprev[w] = q; c->uagent[w] = c->uagent[i];\n"
+                "        c->wpos[s] = w; w++;\n"
+                "    }\n"
+                "    c->nupd = w;\n"
+                "}")
+        return "local_drop"
+
     def r_LocalRule(self, r, env):
-        # A local function lives in the working state of its rule only, one per call (a recursive
-        # turbo rule has one per level), and its updates stay in the rule: the native state has no
-        # slots for it.  The Python engine runs such specs.
-        raise Unsupported(f"the local function {r.func.name} at {r.span.short() if r.span else '?'} (a location of "
-                          f"one call of its rule, which the native state has no slot for)")
+        """``local x : D [x := init] body``: as the Python engine runs it, the body runs on a working
+        state where x holds the value init gives (and the value the body's seq steps give it
+        after), its updates of x are dropped when it ends, and the value the caller's x had is back
+        (a recursive rule has one x per call).  A 0-ary local function with an initial update of its
+        own; the others are refused."""
+        f = r.func
+        init = r.init
+        if (f.index not in self.fn_base or not isinstance(init, ir.Update) or init.func is not f or init.args
+                or self.dyn):
+            raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
+                              f"one call of its rule, which the native state has no slot for)")
+        s = self.slot_of[f.index]
+        v = self.fresh("lr")
+        enc = self.encoder(f)
+        drop = self.local_drop()
+        gen = f"lr_gen{f.index}"
+        if gen not in self.defined_done:
+            self.defined_done.add(gen)
+            self.funcs.append(f"static _Thread_local uint32_t {gen} = 0;   /* the run of the step that last entered it */")
+        value = self.term(init.value, env)
+        # the first call of a run finds x undef, as every stored state holds it (a run that failed
+        # inside the rule left its value in the working state)
+        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; c->cur[{s}] = UNDEF; }} "
+                f"V cv_{v} = c->cur[{s}]; uint32_t wg_{v} = c->wgen[{s}]; int32_t wp_{v} = c->wpos[{s}]; "
+                f"int32_t mk_{v} = c->nupd; c->wgen[{s}] = c->gen - 1; "
+                f"{{ V iv_{v} = {value}; if (c->err) return; V ic_{v} = (V){enc}(c, iv_{v}, 0); if (c->err) return; "
+                f"c->cur[{s}] = slot_decode({s}, ic_{v}); }} "
+                f"{{ {self.rule(r.body, env)} }} "
+                f"c->cur[{s}] = cv_{v}; {drop}(c, mk_{v}, {s}); c->wgen[{s}] = wg_{v}; c->wpos[{s}] = wp_{v}; "
+                f"if (c->err) return; }}")
 
     def r_Update(self, r, env):
         f = r.func
@@ -3715,12 +3786,21 @@ class NativeExplorer:
             self.failed_state = out[5]     # the state whose step or property was refused
             site = out[6] - 1000
             if code == 4 and 0 <= site < len(g.site_reasons):
+                fi = next((i for i, x in getattr(g, "_outside_sites", {}).items() if x == site + 1000), None)
+                # (not where the canonical form renames the arguments: elements made by extend)
+                if fi is not None and fi not in getattr(g, "undef_args", ()) and not (
+                        g.dyn and any(g.cn_may_hold(d) for d in self.m.spec.functions[fi].domain)):
+                    return self._undef_arg_slots(fi)
                 raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
                               "more choices in one step than the native search follows" if code == 6 else
                               f"a run-time condition the native search does not handle (code {code})")
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
+        if out[11]:
+            # a state with more sequences of choices than the search follows (the Python explorer
+            # stops there, incomplete, and counts after merging a choose's alternatives)
+            self._step_error(-1, 9, PseudoProperty, Violation)
         if self.keep_graph:
             self._take_edges(out[9])
         failed = self._failed_steps()
@@ -3814,6 +3894,30 @@ class NativeExplorer:
         self._picks_cache = None
         return self.run()
 
+    def _undef_arg_slots(self, fi: int):
+        """The search again, on an engine whose layout also has the locations of the function
+        numbered ``fi`` at undef arguments (the Python engine keeps such a location in the state,
+        with its key's argument None: an update at an argument that is undef).  An argument
+        outside its domain still ends the search (the reason is the same)."""
+        gen = Generator(self.m, self.state_props)
+        gen.step_props = self.gen.step_props
+        gen.invars = self.gen.invars
+        gen.label_atoms = getattr(self.gen, "label_atoms", None)
+        gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.cn_k = self.gen.cn_k
+        gen.undef_args = set(getattr(self.gen, "undef_args", ())) | {fi}
+        src = gen.generate()
+        dll = build_library(src)
+        gen.codec.dll = dll
+        self.close()
+        self.thread_unsafe = thread_unsafe(src)
+        self.gen, self.dll = gen, dll
+        self.compile_seconds += native_build.last_compile_seconds
+        self._states = {}
+        self._parent = None
+        self._picks_cache = None
+        return self.run()
+
     def _norm(self, st: dict) -> tuple:
         """The canonical form of a successor the Python step function made, and the renaming."""
         if not self.gen.dyn:
@@ -3873,10 +3977,12 @@ class NativeExplorer:
                                   f"({exc.message})") from None
             if not errors:
                 raise Unsupported("a run-time error of the native search that the Python step function does not make")
-            got = [self.find(nxt) for _picks, _ups, _raw, nxt, _mon in succ]
             # each successor once, in the order first made (a choose whose alternatives have the same
-            # effect is one alternative in the Python step function, not always in the native one)
-            if list(dict.fromkeys(got)) != list(dict.fromkeys(buf[:m])):
+            # effect is one alternative in the Python step function, not always in the native one),
+            # compared as the Python explorer tells states apart
+            got = list(dict.fromkeys(py.layout.freeze(nxt) for _picks, _ups, _raw, nxt, _mon in succ))
+            want = list(dict.fromkeys(buf[:m]))
+            if len(got) != len(want) or any(py.layout.freeze(self.state(t)) != g for t, g in zip(want, got)):
                 raise Unsupported("the well-defined successors of a state where a step fails differ "
                                   "between the engines")
             out[sid] = errors
