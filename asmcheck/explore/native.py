@@ -916,6 +916,13 @@ class Generator:
         lines = ["int64_t off = 0;"]
         for vals, p in zip(arg_values, params):
             tab = self.table(vals)
+            codes = [self.codec.to_c(v) for v in vals]
+            if codes and len(set(codes)) == len(codes) and codes == list(range(codes[0], codes[0] + len(codes))):
+                # consecutive codes (an enum or abstract domain, an integer range): the position
+                # is the difference (unsigned: undef and the codes below wrap to big numbers)
+                lines.append(f"{{ uint64_t j = (uint64_t){p} - (uint64_t){codes[0]}LL; if (j >= {len(vals)}u) return -1;"
+                             f" off = off * {len(vals)} + (int64_t)j; }}")
+                continue
             lines.append(f"{{ int j = -1; for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == {p}) {{ j = q; break; }}"
                          f" if (j < 0) return -1; off = off * {len(vals)} + j; }}")
         return lines

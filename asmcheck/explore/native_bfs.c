@@ -30,11 +30,28 @@ static inline uint64_t mix64(uint64_t z) {
     return z ^ (z >> 31);
 }
 
-static inline uint64_t hash_state(const uint64_t *w) {
-    uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (int i = 0; i < NWORDS; i++) h = mix64(h ^ w[i]);
-    return h;
+/* four independent lanes (xxHash64's round), so that the multiplications of a long state
+   overlap, then mix64 over the lanes; the table's position is taken from the high 32 bits
+   (HPOS), the same bits an entry keeps (fp), so that a bigger table is filled from the entries
+   alone, without reading a state or hashing it again */
+#define HP1 0x9e3779b185ebca87ULL
+#define HP2 0xc2b2ae3d27d4eb4fULL
+static inline uint64_t hround(uint64_t acc, uint64_t x) {
+    acc += x * HP2;
+    acc = (acc << 31) | (acc >> 33);
+    return acc * HP1;
 }
+static inline uint64_t hash_state(const uint64_t *w) {
+    uint64_t a = 0x9e3779b97f4a7c15ULL, b = HP2, c = 0x165667b19e3779f9ULL, d = HP1;
+    int i = 0;
+    for (; i + 4 <= NWORDS; i += 4) {
+        a = hround(a, w[i]); b = hround(b, w[i + 1]); c = hround(c, w[i + 2]); d = hround(d, w[i + 3]);
+    }
+    uint64_t h = mix64(a) ^ mix64(b + 1) ^ mix64(c + 2) ^ mix64(d + 3);
+    for (; i < NWORDS; i++) h = mix64(h ^ w[i]);
+    return mix64(h + (uint64_t)NWORDS);
+}
+#define HPOS(hh) ((uint64_t)(hh) >> 32)
 
 static int grow_table(void) {
     uint64_t ncap = tmask ? (tmask + 1) * 2 : 1024;
@@ -42,12 +59,11 @@ static int grow_table(void) {
     if (!nt) return 0;
     memset(nt, 0xff, ncap * sizeof(Entry));
     uint64_t nmask = ncap - 1;
-    for (int64_t s = 0; s < nstates; s++) {
-        uint64_t hh = hash_state(states + s * NWORDS);
-        uint64_t h = hh & nmask;
+    for (uint64_t e = 0; tmask && e <= tmask; e++) {
+        if (table[e].id == 0xffffffffu) continue;
+        uint64_t h = table[e].fp & nmask;
         while (nt[h].id != 0xffffffffu) h = (h + 1) & nmask;
-        nt[h].id = (uint32_t)s;
-        nt[h].fp = (uint32_t)(hh >> 32);
+        nt[h] = table[e];
     }
     free(table);
     table = nt;
@@ -62,7 +78,7 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
     }
     uint64_t hh = hash_state(w);
     uint32_t fp = (uint32_t)(hh >> 32);
-    uint64_t h = hh & tmask;
+    uint64_t h = HPOS(hh) & tmask;
     while (table[h].id != 0xffffffffu) {
         if (table[h].fp == fp) {
             const uint64_t *o = states + (int64_t)table[h].id * NWORDS;
@@ -654,7 +670,7 @@ int64_t asm_find(const uint64_t *w) {
     if (!table) return -1;
     uint64_t hh = hash_state(w);
     uint32_t fp = (uint32_t)(hh >> 32);
-    uint64_t h = hh & tmask;
+    uint64_t h = HPOS(hh) & tmask;
     while (table[h].id != 0xffffffffu) {
         if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * NWORDS, w, NWORDS * sizeof(uint64_t)) == 0)
             return table[h].id;
@@ -977,7 +993,7 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
         for (int64_t q = 0; q < n; q++) {
             uint64_t hh = hash_state(w->b.w + q * NWORDS);
             w->ch[w->ncand + q] = hh;
-            __builtin_prefetch(&table[hh & tmask]);
+            __builtin_prefetch(&table[HPOS(hh) & tmask]);
         }
         C.scount[li] = n;
         w->ncand += n;
@@ -1002,12 +1018,12 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
         int64_t li = sid - pl->c0;
         int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
         for (int64_t q = q0; q < q1; q++) {
-            if (q + 8 < w->ncand) __builtin_prefetch(&table[w->ch[q + 8] & tmask]);
+            if (q + 8 < w->ncand) __builtin_prefetch(&table[HPOS(w->ch[q + 8]) & tmask]);
             uint64_t hh = w->ch[q];
             uint32_t fp = (uint32_t)(hh >> 32);
             const uint64_t *cw = w->cw + (q - w->bq0) * NWORDS;
             uint64_t key = dkey(sid, q - q0);
-            uint64_t h = hh & tmask;
+            uint64_t h = HPOS(hh) & tmask;
             for (;;) {
                 uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
                 if (e == EMPTY) {
@@ -1235,8 +1251,7 @@ static void rehash_part(int t, int nt, int part) {
         uint64_t e = old[h];
         if (e == EMPTY) continue;
         uint32_t id = (uint32_t)e;
-        const uint64_t *wd = (id & PROV) ? C.aw + (int64_t)(id & ~PROV) * NWORDS : states + (int64_t)id * NWORDS;
-        uint64_t g = hash_state(wd) & newmask;
+        uint64_t g = (e >> 32) & newmask;
         for (;;) {
             uint64_t x = EMPTY;
             if (__atomic_load_n(&newtab[g], __ATOMIC_RELAXED) == EMPTY &&
@@ -1442,7 +1457,7 @@ static void rebuild_table(void) {
     memset(table, 0xff, (tmask + 1) * sizeof(Entry));
     for (int64_t s = 0; s < nstates; s++) {
         uint64_t hh = hash_state(states + s * NWORDS);
-        uint64_t h = hh & tmask;
+        uint64_t h = HPOS(hh) & tmask;
         while (table[h].id != 0xffffffffu) h = (h + 1) & tmask;
         table[h].id = (uint32_t)s;
         table[h].fp = (uint32_t)(hh >> 32);

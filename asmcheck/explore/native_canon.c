@@ -550,8 +550,17 @@ static inline V slot_decode(int s, V code);
 #define CN_KL (CN_NKW + CN_NDYN)
 
 static uint64_t cn_key_hash(const V *k) {
-    uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (int i = 0; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
+    /* four lanes, so that the multiplications overlap (as hash_state) */
+    uint64_t a = 0x9e3779b97f4a7c15ULL, b = 0xc2b2ae3d27d4eb4fULL, c = 0x165667b19e3779f9ULL, d = 0x9e3779b185ebca87ULL;
+    int i = 0;
+    for (; i + 4 <= CN_KL; i += 4) {
+        a = (a ^ (uint64_t)k[i]) * 0x9e3779b185ebca87ULL; a ^= a >> 29;
+        b = (b ^ (uint64_t)k[i + 1]) * 0x9e3779b185ebca87ULL; b ^= b >> 29;
+        c = (c ^ (uint64_t)k[i + 2]) * 0x9e3779b185ebca87ULL; c ^= c >> 29;
+        d = (d ^ (uint64_t)k[i + 3]) * 0x9e3779b185ebca87ULL; d ^= d >> 29;
+    }
+    uint64_t h = cn_mix(a) ^ cn_mix(b + 1) ^ cn_mix(c + 2) ^ cn_mix(d + 3);
+    for (; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
     return h;
 }
 static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
