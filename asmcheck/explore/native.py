@@ -3584,7 +3584,8 @@ class NativeExplorer:
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
-        self.thread_unsafe = thread_unsafe(src)
+        self._src = src                  # thread_unsafe(src): worked out when threads are asked for
+        self._thread_unsafe = None
         self.dll = build_library(src)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
@@ -3612,6 +3613,18 @@ class NativeExplorer:
         self.packed = True           # False: the plain store even on one thread (tests, benchmarks)
         self.max_memory = max_memory
         self.table_memory = table_memory
+
+    @property
+    def thread_unsafe(self) -> list:
+        """The static variables of the generated C the threads would share unknowingly."""
+        if self._thread_unsafe is None:
+            self._thread_unsafe = thread_unsafe(self._src)
+            self._src = None
+        return self._thread_unsafe
+
+    @thread_unsafe.setter
+    def thread_unsafe(self, names: list) -> None:
+        self._thread_unsafe = list(names)
 
     def thread_stats(self) -> dict:
         """What the threaded search did since the last call (benchmarks, tests): chunks of a level

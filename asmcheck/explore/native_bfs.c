@@ -130,7 +130,7 @@ typedef struct { uint64_t v; uint32_t j, code; } PkEnt;
 static PkEnt *pk_tab = 0;                        /* (word, value) -> code */
 static uint64_t pk_mask = 0;
 static int64_t pk_count = 0;
-static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW];
+static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW];
 static int pk_par_ok = 0;
 
 /* 1: the next search (asm_start) keeps the packed store, when it runs on one thread */
@@ -241,6 +241,7 @@ static int pk_widen(void) {
     states = ns;
     for (int j = 0; j < NWORDS; j++)
         if (pk_raw[j] && !oraw[j]) pk_par_c[j] = pk_par_w[j];     /* the parent's code: the word */
+    pk_pack(pk_par_c, pk_par_rec);
     memset(table, 0xff, (tmask + 1) * sizeof(Entry));
     for (int64_t s = 0; s < nstates; s++) {
         uint64_t hh = hash_words(states + s * PW, PW);
@@ -269,6 +270,25 @@ static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
 static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
     uint64_t codes[PK_NW], rec[PK_NW];
     int wide = 0;
+    if (pk_par_ok) {    /* the parent's record with the fields of the words that differ written over */
+        memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
+        int j = 0;
+        for (; j < NWORDS; j++) {
+            uint64_t x = w[j];
+            if (x == pk_par_w[j]) continue;
+            uint64_t k = x;
+            if (!pk_raw[j]) {
+                int64_t q = pk_lookup((uint32_t)j, x, 1);
+                if (q < 0) return -1;
+                k = (uint64_t)q;
+            }
+            int b = pk_bits[j];
+            if (b == 64) { rec[pk_at[j]] = k; continue; }
+            if (k >> b) break;            /* the field is too narrow: the whole way below */
+            rec[pk_at[j]] = (rec[pk_at[j]] & ~(((1ULL << b) - 1) << pk_sh[j])) | (k << pk_sh[j]);
+        }
+        if (j == NWORDS) return intern_words(rec, PW, parent, isnew);
+    }
     if (pk_codes(w, codes, 1, &wide) < 0) return -1;
     if (wide) {
         if (!pk_widen()) return -1;
@@ -289,6 +309,7 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
 static const uint64_t *state_words(int64_t sid) {
     if (!pk_on) return states + sid * NWORDS;
     pk_decode(states + sid * PW, pk_par_w, pk_par_c);
+    memcpy(pk_par_rec, states + sid * PW, PW * sizeof(uint64_t));
     pk_par_ok = 1;
     return pk_par_w;
 }
