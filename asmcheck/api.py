@@ -537,18 +537,6 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
             ex = None
             refused = str(e)
-        if ex is not None and not interrupted and any(v.prop.name == "error" for v in result.violations):
-            # the native search stops at a state where a step fails; the Python engine keeps its
-            # well-defined successors and checks the properties relative to the error (also with
-            # engine="native": the native engine ran, and its answer would be a different one)
-            why = ("the search ended on a run-time error, and the Python engine explores the well-defined "
-                   "successors of a failing state (the verdicts are relative to the error)")
-            ex = None
-            refused = why
-            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
-            # with several workers too: the sequential explorer's report (the partitioned search does
-            # not check LTL/CTL relative to a run-time error)
-            native_threads = False
     if ex is None and native_threads:
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
@@ -567,7 +555,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.native_refused = refused
         interrupted = getattr(result, "interrupted", False)
     if max_seconds is not None and result.reason.startswith("time limit"):
-        result.reason = f"time limit {max_seconds} s reached"
+        # the whole command's limit (the search had what was left of it); what the search was
+        # doing when it stopped stays
+        rest = result.reason.split(" reached", 1)[1] if " reached" in result.reason else ""
+        result.reason = f"time limit {max_seconds} s reached{rest}"
     temporal_results = []
     temporal_note = ""
     temporal_error = ""

@@ -229,6 +229,40 @@ def test_max_seconds_bounds_the_whole_command_even_inside_one_step(tmp_path):
     assert wall < 2 + 4, wall                 # the step alone runs for minutes
 
 
+WIDE_INPUTS = """asm WideInputs
+import StandardLibrary
+signature:
+	domain D subsetof Integer
+	controlled x: Integer
+	monitored a: D
+	monitored b: D
+definitions:
+	domain D = {0 : 2000}
+	invariant inv_x over x: x >= 0
+	main rule r_main = x := a + b
+default init s0:
+	function x = 0
+"""
+
+
+@pytest.mark.engines("python")
+def test_a_time_limit_inside_a_wide_branching_names_the_inputs_that_multiply(tmp_path):
+    # 2,001 x 2,001 sequences of inputs from the initial state: the limit stops the search
+    # inside that one state's enumeration, and the report says so, with the way to bound them
+    path = write(tmp_path, WIDE_INPUTS)
+    res = run_cli("explore", path, "--max-seconds", "2", "--engine", "python")
+    clean(res.stdout + res.stderr)
+    assert res.returncode == 3
+    line = next(ln for ln in res.stdout.splitlines() if ln.startswith("incomplete:"))
+    import re
+    m = re.fullmatch(r"incomplete: time limit 2\.0 s reached, while enumerating the successors of state 0 "
+                     r"\(([\d,]+) sequences of choices so far; its step chooses among a \(2,001 values\)"
+                     r"(, b \(2,001 values\))?\); bound the monitored inputs with --monitored NAME=LO\.\.HI "
+                     r"or NAME=V1,V2", line)
+    assert m, line
+    assert int(m.group(1).replace(",", "")) >= 1000
+
+
 def test_a_limit_keeps_every_property_in_every_report(tmp_path, capsys):
     path = write(tmp_path, LTL)
     assert main(["explore", path, "--max-states", "5"]) == 3

@@ -228,8 +228,8 @@ def test_agents_keep_their_outcomes_apart(tmp_path, capsys):
 
 def test_clash_with_a_sibling(tmp_path):
     """A step error in a merged alternative: the native search reports it at the state and with
-    the message the Python engine gives (the CLI hands such a spec to the Python engine, which
-    also explores the well-defined successors of the failing state)."""
+    the message the Python engine gives, and explores the well-defined successors of the failing
+    state as it does."""
     from asmcheck.explore.bfs import Explorer
     from asmcheck.explore.native import NativeExplorer
     from asmcheck.explore.native_build import compiler

@@ -114,8 +114,10 @@ def compare(path: Path) -> tuple[str, str]:
 
 def _compare(path: Path, more: list[str]) -> tuple[str, str]:
     """(outcome, detail): outcome is 'skip' (the Python explorer does not finish within the
-    bound, or refuses the spec), 'native' (same report), 'refused' (the native engine refuses
-    it; detail is its reason) or 'differs' (detail says how)."""
+    bound, or refuses the spec), 'native' (same report, and the native engine made it), 'refused'
+    (the native engine refuses it; detail is its reason), 'fallback' (the report is the Python
+    engine's: the native engine handed the run over; detail is the reason the report gives) or
+    'differs' (detail says how)."""
     base = ["explore", str(path), "--format", "json", "--max-states", str(MAX_STATES), *extra_args(path), *more]
     code, out, err = run_cli(base + ["--engine", "python", "--max-seconds", str(MAX_SECONDS)], MAX_SECONDS + 3)
     if code is None:
@@ -138,6 +140,11 @@ def _compare(path: Path, more: list[str]) -> tuple[str, str]:
         first = next((ln for ln in err_n.splitlines() if ln.strip()), "")
         return "differs", f"exit code {code_n} (python {code}): {first[:200]}"
     nat = json.loads(out_n)
+    if nat.get("engine") != "native":
+        # the report names the engine that ran: a run the native engine handed to the Python engine
+        # is not a native run, however equal the reports
+        note = nat.get("engine_note") or f"the report names the engine {nat.get('engine')!r}"
+        return "fallback", note.removeprefix("native engine not used: ")
     if DEADLOCK_MESSAGE_DIFFERS and _strip(nat) != _strip(py) and _strip(_same_message(nat, py)) == _strip(py):
         message_only.append(str(path))
         nat = _same_message(nat, py)

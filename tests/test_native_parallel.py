@@ -312,12 +312,12 @@ default init s0:
 
 
 def test_a_search_that_ends_on_a_run_time_error_gives_the_report_of_one_worker(tmp_path):
-    # the native search hands a run-time error to the Python engine; with workers too, the report
-    # is that of one worker (the error's trace, the CTL verdict relative to the error)
+    # the native search goes on past a run-time error; with workers too (the threaded search), the
+    # report is that of one worker (the error's trace, the CTL verdict relative to the error)
     path = tmp_path / "Clash.asm"
     path.write_text(CLASH)
     code1, one = report(path, workers=1)
-    assert code1 == 1 and one["engine"] == "python"
+    assert code1 == 1 and one["engine"] == "native"
     assert [(r["property"], r["verdict"]) for r in one["properties"]] == [("error", "violated"), ("ctl_1", "violated")]
     code2, two = report(path, workers=2)
     two.pop("workers", None)

@@ -257,3 +257,18 @@ def test_an_inconsistent_update_of_a_local_function_names_it(tmp_path):
     with pytest.raises(InconsistentUpdate) as info:
         run(m)
     assert info.value.message == "inconsistent update of x: 7 and 8"
+
+
+def test_a_product_domain_follows_a_factor_that_extend_grows(tmp_path):
+    # the values of Prod(Item, Boolean) are kept between reads; an extend of Item gives new ones
+    m = machine(tmp_path, spec("\tdynamic abstract domain Item\n\tmonitored pick: Prod(Item, Boolean)\n"
+                               "\tcontrolled flag: Boolean",
+                               "\tmain rule r_main = par extend Item with $a do skip "
+                               "if size(Item) > 0 then flag := second(pick) endif endpar"))
+    st = m.initial_states()[0][1]
+    counts = []
+    for _ in range(4):
+        succ = m.successors(st)
+        counts.append(len(succ))
+        st = succ[0][2]
+    assert counts == [1, 2, 4, 6]

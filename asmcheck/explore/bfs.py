@@ -66,10 +66,8 @@ class PseudoProperty:
 DEADLOCK = PseudoProperty("deadlock", "deadlock")
 
 
-def too_many_reason(machine: Machine, err) -> str:
-    """Why a state's successors could not all be enumerated: the limit, and the choices of the
-    step with the most alternatives (a monitored function or a choose over a large range), with
-    the way to bound them."""
+def _choice_points(err) -> tuple[str, str]:
+    """(the choices of ``err``'s step with the most alternatives, the way to bound them)."""
     points = sorted((c for c in (getattr(err, "choices", None) or ()) if c.n > 1), key=lambda c: -c.n)[:3]
     what = ", ".join(f"{c.label} ({c.n:,} values)" for c in points)
     hint = ""
@@ -77,7 +75,31 @@ def too_many_reason(machine: Machine, err) -> str:
         hint = "; bound the monitored inputs with --monitored NAME=LO..HI or NAME=V1,V2"
     elif points:
         hint = "; bound the ranges of the chooses (a smaller domain, or --int-range)"
+    return what, hint
+
+
+def too_many_reason(machine: Machine, err) -> str:
+    """Why a state's successors could not all be enumerated: the limit, and the choices of the
+    step with the most alternatives (a monitored function or a choose over a large range), with
+    the way to bound them."""
+    what, hint = _choice_points(err)
     return f"{err.message}" + (f": the step chooses among {what}" if what else "") + hint
+
+
+#: from this many sequences of choices of one state's step, a search stopped inside the
+#: enumeration says so (the branching, not the number of states, is what took the time)
+SLOW_ENUMERATION = 1_000
+
+
+def stopped_inside(exc, sid: int | None) -> str:
+    """What a search stopped by ``exc`` (a time limit, an interrupt) was doing, when it was deep
+    in the enumeration of one state's successors: '' otherwise."""
+    n = getattr(exc, "enumerated", None) or 0
+    if n < SLOW_ENUMERATION or sid is None:
+        return ""
+    what, hint = _choice_points(exc)
+    return (f", while enumerating the successors of state {sid} ({n:,} sequences of choices so far"
+            + (f"; its step chooses among {what}" if what else "") + ")" + hint)
 
 
 class Explorer:
@@ -197,10 +219,12 @@ class Explorer:
         incomplete = False
         last_report = t0
         interrupted = False
+        current = None
         try:
             while frontier:
                 next_frontier = []
                 for sid in frontier:
+                    current = sid
                     st = self.state(sid)
                     # state properties
                     for prop in self.state_props:
@@ -318,10 +342,11 @@ class Explorer:
                 frontier = next_frontier
         except KeyboardInterrupt as exc:
             incomplete = interrupted = True
-            reason = interrupt_reason(exc)
-        except (TimeUp, DeadlineReached):
+            reason = interrupt_reason(exc) + stopped_inside(exc, current)
+        except (TimeUp, DeadlineReached) as exc:
             incomplete = True
             reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
+            reason += stopped_inside(exc, current)
         except MemoryError:
             incomplete = True
             reason = "out of memory"

@@ -3438,6 +3438,8 @@ _SYMBOLS = {
     "asm_packed_words": (_i64, []),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
+    "asm_err_states": (_i64, [_i64p]),
+    "asm_err_succ": (_i64, [_i64, _i64p, _i64]),
 }
 
 
@@ -3750,10 +3752,14 @@ class NativeExplorer:
             raise AsmError(None, "out of memory in the native search")
         if self.keep_graph:
             self._take_edges(out[9])
+        failed = self._failed_steps()
         violations = []
         for i in range(out[7]):
             k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
-            if k == nprops + 1:
+            if k == nprops + 1 and sid in failed:
+                e = failed[sid][0]
+                violations.append(Violation(PseudoProperty("error", "error", e.span), sid, message=e.message, error=e))
+            elif k == nprops + 1:
                 violations.append(self._step_error(sid, self._err_code, PseudoProperty, Violation))
             elif k == nprops:
                 none = not any(True for _ in self.m.successors(self.state(sid)))
@@ -3854,7 +3860,7 @@ class NativeExplorer:
         of the Python step function gives the choices (and the message, when it cannot be evaluated)."""
         st = self.state(src)
         want = self.state(dst)
-        for log, ups, nxt, mon in self.m.successors(st):
+        for log, ups, nxt, mon in self.m.successors(st, errors=[]):
             if self._norm(nxt)[0] != want:
                 continue
             picks = tuple(c.pick for c in log)
@@ -3866,6 +3872,48 @@ class NativeExplorer:
                 return Violation(prop, dst, src, picks)
         raise Unsupported(f"a violation of {prop.name} found by the native search that the Python step "
                           f"function does not make")
+
+    def _failed_steps(self) -> dict:
+        """The states where a branch of the step fails, as the native search recorded them (it went
+        on with their well-defined successors): for each, the errors of its failing branches as the
+        Python step function makes them (state id -> [AsmError], the first one its violation).  The
+        Python step function runs from each such state, and must make the successors the native
+        search made (the same, first made in the same order), else Unsupported.  With
+        keep_graph the failing branches are also ``error_edges`` (state, choices, error), as the
+        Python explorer records them for asmcheck.temporal."""
+        from .bfs import Explorer
+        self.error_edges = []
+        n = self.dll.asm_err_states(None)
+        if n <= 0:
+            return {}
+        sids = (ctypes.c_int64 * n)()
+        self.dll.asm_err_states(sids)
+        py = Explorer(self.m)          # its admitted_successors: the INVAR constraints, canonical names
+        out: dict = {}
+        for i, sid in enumerate(sids):
+            m = self.dll.asm_err_succ(i, None, 0)
+            buf = (ctypes.c_int64 * max(m, 1))()
+            self.dll.asm_err_succ(i, buf, m)
+            errors: list = []
+            try:
+                succ = py.admitted_successors(self.state(sid), errors)
+            except AsmError as exc:
+                raise Unsupported(f"the steps from a state where a step fails cannot be enumerated "
+                                  f"({exc.message})") from None
+            if not errors:
+                raise Unsupported("a run-time error of the native search that the Python step function does not make")
+            got = [self.find(nxt) for _picks, _ups, _raw, nxt, _mon in succ]
+            # each successor once, in the order first made (a choose whose alternatives have the same
+            # effect is one alternative in the Python step function, not always in the native one)
+            if list(dict.fromkeys(got)) != list(dict.fromkeys(buf[:m])):
+                raise Unsupported("the well-defined successors of a state where a step fails differ "
+                                  "between the engines")
+            out[sid] = errors
+            if self.keep_graph:
+                for e in errors:
+                    e.__traceback__ = None      # its frames would hold on to the step's data
+                    self.error_edges.append((sid, tuple(c.pick for c in (e.choices or ())), e))
+        return out
 
     def _step_error(self, sid, code, PseudoProperty, Violation):
         """The run-time error of a step from ``sid``, as the Python step function reports it."""
@@ -3937,8 +3985,9 @@ class NativeExplorer:
         (source, target, choices) for every sequence of choices the step function enumerates from
         each state (several per pair of states when different choices lead to the same state),
         sources ascending, in the step function's order.  The step function enumerates the steps;
-        the native edge arrays say where each must lead (Unsupported when they disagree, or a step
-        fails: then the Python engine writes the graph)."""
+        the native edge arrays say where each must lead (Unsupported when they disagree: then the
+        Python engine writes the graph).  A branch whose step fails is no edge, as in the Python
+        explorer."""
         got = getattr(self, "_graph_edges", None)
         if got is not None:
             return got
@@ -3958,8 +4007,6 @@ class NativeExplorer:
                 succ = py.admitted_successors(self.state(src), failed)
             except AsmError as exc:
                 raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated ({exc.message})") from None
-            if failed:
-                raise Unsupported(f"--graph: a step from state {src} fails")
             got_dst = set()
             for picks, _ups, _raw, nxt, _mon in succ:
                 dst = self.find(nxt)
@@ -4053,7 +4100,7 @@ class NativeExplorer:
         cache = self._picks_cache
         if cache is None or cache[0] != src:
             by_dst: dict = {}
-            for log, ups, nxt, mon in self.m.successors(self.state(src)):
+            for log, ups, nxt, mon in self.m.successors(self.state(src), errors=[]):
                 sid = self.find(self._norm(nxt)[0])
                 if sid is not None and sid not in by_dst:
                     by_dst[sid] = tuple(c.pick for c in log)
@@ -4102,7 +4149,7 @@ class NativeExplorer:
                 if nxt == want:
                     found = (nxt, ch.log, ups, ctx.mon, raw, mapping)
             else:
-                for log, ups, raw, mon in m.successors(cur):
+                for log, ups, raw, mon in m.successors(cur, errors=[]):
                     nxt, mapping = self._norm(raw)
                     if nxt == want:
                         found = (nxt, log, ups, mon, raw, mapping)

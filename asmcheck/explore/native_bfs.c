@@ -9,6 +9,7 @@
    generation of the working-state marks */
 static inline void begin_run(Ctx *c) {
     c->pos = 0; c->nupd = 0; c->nlog = 0; c->seqstart = -1; c->curstep = 0; c->self = UNDEF; c->nvs = 0;
+    c->stepctr = 0;    /* the stamps of seq steps are compared within one run only (no overflow) */
     c->gen++;
     if (c->gen == 0) { memset(c->wgen, 0, sizeof(c->wgen)); memset(c->mgen, 0, sizeof(c->mgen)); c->gen = 1; }
     c->err = 0;
@@ -700,9 +701,10 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         if (MISSED()) return EXP_MISSED;
         if (c->err) {
             if (hard_error(c->err)) { *err = c->err; *site = c->err_site; return EXP_HARD; }
-            *steperr = c->err;
-            b->n = 0;
-            return EXP_OK;
+            /* a branch whose step fails: noted (the first error's code), and the enumeration goes
+               on past it, as the Python explorer's does (its choices so far are its log) */
+            if (!*steperr) *steperr = c->err;
+            goto next_choice;
         }
 #if NSTEP > 0 || NINVAR > 0
         if (c->nupd > 0 || NINVAR > 0 || NSTEP > 0) make_post(c);
@@ -806,10 +808,65 @@ static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint
    the memory bound), or -1 */
 static int stop_after(int64_t n) {
     int nprops = NINV + NSTEP + (S.deadlock ? 1 : 0);
-    if (!S.keep_graph && nprops > 0 && S.nviol >= nprops) return S.depth_hit ? 2 : 0;
+    if (!S.keep_graph && nprops > 0 && S.nviol - S.violated[NINV + 1] >= nprops) return S.depth_hit ? 2 : 0;
     if (S.max_states >= 0 && n >= S.max_states) return 1;
     if (over_memory(n)) return 8;
     return -1;
+}
+
+/* ------------------------------------------------------------------ the states where a step fails
+ * A branch of a state's step that fails (a run-time error) is noted (expand_state's steperr) and the
+ * state's other branches are explored as usual.  Each such state is recorded in search order with
+ * the numbers of its successors (every successful branch, in the enumeration's order, duplicates
+ * kept): Python recovers the errors through its own step function and checks that it makes the
+ * same successors (asm_err_states, asm_err_succ). */
+static struct { int64_t *sid, *off; int64_t n, cap; int64_t *tid; int64_t ntid, captid; } EF;
+static void ef_free(void) { free(EF.sid); free(EF.off); free(EF.tid); memset(&EF, 0, sizeof(EF)); }
+static int ef_state(int64_t sid) {
+    if (EF.n >= EF.cap) {
+        int64_t nc = EF.cap ? EF.cap * 2 : 64;
+        int64_t *x = (int64_t *)realloc(EF.sid, nc * sizeof(int64_t));
+        if (!x) return 0;
+        EF.sid = x;
+        x = (int64_t *)realloc(EF.off, (nc + 1) * sizeof(int64_t));
+        if (!x) return 0;
+        EF.off = x;
+        EF.cap = nc;
+    }
+    EF.sid[EF.n] = sid;
+    EF.off[EF.n] = EF.ntid;
+    EF.n++;
+    EF.off[EF.n] = EF.ntid;
+    return 1;
+}
+static int ef_succ(int64_t tid) {
+    if (EF.ntid >= EF.captid) {
+        int64_t nc = EF.captid ? EF.captid * 2 : 256;
+        int64_t *x = (int64_t *)realloc(EF.tid, nc * sizeof(int64_t));
+        if (!x) return 0;
+        EF.tid = x;
+        EF.captid = nc;
+    }
+    EF.tid[EF.ntid++] = tid;
+    EF.off[EF.n] = EF.ntid;
+    return 1;
+}
+/* the states where a step fails, in search order (out: their numbers); returns how many */
+int64_t asm_err_states(int64_t *out) { if (out && EF.n) memcpy(out, EF.sid, EF.n * sizeof(int64_t)); return EF.n; }
+/* the successors of the i-th of them (out: their numbers, at most cap); returns how many */
+int64_t asm_err_succ(int64_t i, int64_t *out, int64_t cap) {
+    if (i < 0 || i >= EF.n) return -1;
+    int64_t n = EF.off[i + 1] - EF.off[i];
+    if (out) memcpy(out, EF.tid + EF.off[i], (n < cap ? n : cap) * sizeof(int64_t));
+    return n;
+}
+/* the search's record of a state sid whose step failed with code steperr: the error violation (the
+   first one), and the state in EF.  1: its successors are explored as usual (each then goes to
+   ef_succ), 0: it has none (more successors than the search follows, as before), -1: out of memory */
+static int step_failed_at(int64_t sid, int steperr) {
+    if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = steperr; }
+    if (steperr == E_TOOMANY) { S.step_failed = 1; return 0; }
+    return ef_state(sid) ? 1 : -1;
 }
 
 int64_t asm_run(double slice_seconds, int64_t *out) {
@@ -865,10 +922,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         if (xr == EXP_HARD0) { out[4] = xe; out[5] = sid; out[6] = 0; status = 4; goto finish; }
         if (xr == EXP_MEM) { status = 5; goto finish; }
         if (xr == EXP_STOP) { status = interrupted ? 7 : 3; goto finish; }
+        int failing = 0;
         if (steperr) {
-            if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = steperr; }
-            S.step_failed = 1;
-            continue;
+            failing = step_failed_at(sid, steperr);
+            if (failing < 0) { status = 5; goto finish; }
+            if (!failing) continue;
         }
         int64_t nbuf = sb0.n;
         const uint64_t *sbuf = sb0.w, *smask = sb0.m;
@@ -879,9 +937,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             int isnew;
             int64_t tid = intern(wb, (uint32_t)sid, &isnew);
             if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b)) { status = 5; goto finish; }
+            if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid) only_self = 0;
         }
-        if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
+        /* a state where a step fails is not a deadlock: the error is reported */
+        if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
         int stop = stop_after(nstates);
         if (stop >= 0) { S.sid++; status = stop; goto finish; }
     }
@@ -973,6 +1033,7 @@ void asm_free(void) {
     pk_free();
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
+    ef_free();
     P.serial_skip = P.serial_next = 0;
     P.round = 0; P.rate_many = P.rate_one = 0;
 }
@@ -1240,7 +1301,7 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
         int r = expand_state(c, states + sid * NWORDS, &w->b, &steperr, &xe, &xsite, 0);
         if (r == EXP_STOP) { w->timeout = 1; if (!interrupted) stop_all = 1; return 0; }
         if (r != EXP_OK) { w->irregular = 1; return 0; }
-        if (steperr) { C.ssteperr[li] = steperr; w->events++; continue; }
+        if (steperr) { C.ssteperr[li] = steperr; w->events++; }    /* walked by thread 0 (walk_chunk) */
         int64_t n = w->b.n;
         if (!grow_cand(w, w->ncand + n) || !grow_cw(w, w->ncand + n - w->bq0)) { w->irregular = 1; return 0; }
         memcpy(w->cw + (w->ncand - w->bq0) * NWORDS, w->b.w, n * NWORDS * sizeof(uint64_t));
@@ -1735,10 +1796,11 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             if (C.sfail[li] >> k & 1) record(k, sid, -1);
         }
         if (pl->only_inv) { S.depth_hit = 1; continue; }
+        int failing = 0;
         if (C.ssteperr[li]) {
-            if (!S.violated[NINV + 1]) { record(NINV + 1, sid, -1); S.err_code = C.ssteperr[li]; }
-            S.step_failed = 1;
-            continue;
+            failing = step_failed_at(sid, C.ssteperr[li]);
+            if (failing < 0) { S.sid = sid + 1; if (run_n < nstates) { nstates = run_n; rebuild_table(); } return 5; }
+            if (!failing) continue;
         }
         int only_self = 1;
         int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
@@ -1749,10 +1811,11 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             int isnew = tid == run_n;
             if (isnew) run_n++;
             if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q)) { status = 5; break; }
+            if (failing && !ef_succ(tid)) { status = 5; break; }
             if (tid != sid) only_self = 0;
         }
         if (status < 0) {
-            if (S.deadlock && only_self && !S.violated[NINV]) record(NINV, sid, -1);
+            if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
             status = stop_after(run_n);
         }
         if (status >= 0) {

@@ -166,11 +166,22 @@ class Machine(TermEvaluator, RuleExecutor):
         if isinstance(dom, T.Struct):
             if dom.kind == "Prod":
                 parts = [self.domain_values(a, ctx, span) for a in dom.args]
+                # a product is read again at every read of a monitored location over it: kept
+                # for the same factors (an abstract factor may have grown since)
+                try:
+                    key = ("Prod", dom, tuple(tuple(p) for p in parts))
+                    cached = self._domain_cache.get(key)
+                except TypeError:
+                    key = cached = None
+                if cached is not None:
+                    return cached
                 tick = self.tick
                 out = []
                 for p in itertools.product(*parts):
                     tick()
                     out.append(tuple(p))
+                if key is not None and len(self._domain_cache) < 4096:
+                    self._domain_cache[key] = out
                 return out
             if dom.kind == "Powerset":
                 base = self.domain_values(dom.args[0], ctx, span)
@@ -382,30 +393,44 @@ class Machine(TermEvaluator, RuleExecutor):
         prefix: list[int] = []
         out = []
         memo: dict = {}
-        while True:
-            self.tick()
-            ch = Enumerator(prefix, fixed, parse)
-            ch.memo = memo
-            try:
-                ups, nxt, ctx = self.step(state, ch, prune)
-                out.append((ch.log, ups, nxt, ctx.mon))
-            except Prune:
-                pass
-            except AsmError as e:
-                # the inputs and choices of the failing step, for its trace
-                if getattr(e, "choices", None) is None:
-                    e.choices = list(ch.log)
-                if errors is None or isinstance(e, (Undetermined, TooManySuccessors)):
-                    raise
-                errors.append(e)
-            if len(out) >= limit:
-                err = TooManySuccessors(None, f"more than {limit:,} successors of one state")
-                err.choices = list(ch.log)
-                raise err
-            # next prefix: the last choice point with an untried alternative
-            prefix = next_prefix(ch.log)
-            if prefix is None:
-                return out
+        ch = None
+        runs = 0
+        try:
+            while True:
+                self.tick()
+                ch = Enumerator(prefix, fixed, parse)
+                runs += 1
+                ch.memo = memo
+                try:
+                    ups, nxt, ctx = self.step(state, ch, prune)
+                    out.append((ch.log, ups, nxt, ctx.mon))
+                except Prune:
+                    pass
+                except AsmError as e:
+                    # the inputs and choices of the failing step, for its trace
+                    if getattr(e, "choices", None) is None:
+                        e.choices = list(ch.log)
+                    if errors is None or isinstance(e, (Undetermined, TooManySuccessors)):
+                        raise
+                    errors.append(e)
+                if len(out) >= limit:
+                    err = TooManySuccessors(None, f"more than {limit:,} successors of one state")
+                    err.choices = list(ch.log)
+                    raise err
+                # next prefix: the last choice point with an untried alternative
+                prefix = next_prefix(ch.log)
+                if prefix is None:
+                    return out
+        except BaseException as exc:
+            # stopped from outside (a time limit, an interrupt) while enumerating: say how far the
+            # enumeration of this state's step got, and through which choices
+            if not isinstance(exc, AsmError) and getattr(exc, "enumerated", None) is None:
+                try:
+                    exc.enumerated = runs
+                    exc.choices = list(ch.log) if ch is not None else []
+                except AttributeError:
+                    pass
+            raise
 
     def sample_successors(self, state: dict, samples: int, seed: int = 0, fixed=None, parse=None):
         """Successors along random sequences of choices (for branchings too big to enumerate)."""

@@ -96,14 +96,16 @@ def _replay(explorer, K, nodes, loop):
             steps.append((K.edge_picks[(sids[-1], sids[loop])], sids[loop]))
         inputs_step = False
     else:
-        sids = [K.sid[v] for v in nodes]
-        steps = [(K.picks[v], K.tgt[v]) for v in nodes[:-1]]
+        # a node's step is taken from the target of the node before it (the first node's from
+        # its own source, an initial state)
+        sids = [K.sid[nodes[0]]] + [K.tgt[v] for v in nodes[:-1]]
+        steps = [(K.picks_from(v, a), K.tgt[v]) for v, a in zip(nodes[:-1], sids)]
         last = nodes[-1]
         # a node is a state with the inputs of its step: a lasso closes with the last
         # node's step; a finite path shows it too when atoms read monitored values
         inputs_step = loop is None and bool(K.mon_atoms) and failing is None
         if loop is not None or inputs_step:
-            steps.append((K.picks[last], K.tgt[last]))
+            steps.append((K.picks_from(last, sids[-1]), K.tgt[last]))
     replayed = [(st, log, ups, raw, mapping)
                 for st, log, ups, _, raw, mapping in explorer.replay_steps(sids[0], steps)]
     tsteps = trace_steps(replayed)
@@ -155,9 +157,11 @@ def label_atoms(machine, props, state) -> list:
     return [(a.term, a.env) for a in atoms.items]
 
 
-def check_temporal(explorer, props, fair=(), on_error: str = "halt"):
+def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: bool = True):
     """``on_error``: what a step that fails is on the paths, ``halt`` (a transition to a node that
-    stays in the state for ever) or ``drop`` (no transition; a state left without any halts)."""
+    stays in the state for ever) or ``drop`` (no transition; a state left without any halts).
+    ``quotient``: a structure whose nodes are steps is checked as its bisimulation quotient (the
+    same verdicts and paths; False: one node per step, for the tests that compare both)."""
     t_start = time.perf_counter()
     machine = explorer.m
     spec = machine.spec
@@ -200,9 +204,8 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt"):
     results = []
     # every state has a successor (a step without updates loops): a state without one is
     # where a step failed, and paths through it would be cut short
-    has_out = bytearray(explorer.n_states)
-    for src in explorer.edge_arrays()[0]:
-        has_out[src] = 1
+    from . import kernel
+    has_out = kernel.mark(explorer.n_states, explorer.edge_arrays()[0])
     error_edges = list(getattr(explorer, "error_edges", None) or ())
     halts = []
     for ix, (src, picks, e) in enumerate(error_edges):
@@ -224,7 +227,7 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt"):
     def kripke(step: bool):
         if step not in structures:
             structures[step] = build_kripke(explorer, atoms, used, invars, justice, compassion, fair, step=step,
-                                            cache=cache, halts=halts)
+                                            cache=cache, halts=halts, quotient=quotient)
         return structures[step]
     try:
         if any(kind != "ltl" and f is not None for _, kind, f, _ in checks):

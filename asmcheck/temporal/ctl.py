@@ -178,7 +178,7 @@ class CTL:
                 bs = b_and(self.sat(b), self.fair)
                 sa = self.sat(a)
                 eu = self.sat(f)
-                path = bfs_path(K.succ, [v], lambda x: bs[x] == 1, lambda x: sa[x] == 1 and eu[x] == 1)
+                path = self._path([v], bs, b_and(sa, eu))
                 if path is None:
                     return [v], None
                 return self._then(path[:-1], self.explain(b, path[-1], True, budget - 1))
@@ -187,7 +187,7 @@ class CTL:
             na_nb = b_and(b_not(self.sat(a)), b_not(self.sat(b)))
             a_nb = b_and(self.sat(a), b_not(self.sat(b)))
             target = b_and(na_nb, self.fair)
-            path = bfs_path(K.succ, [v], lambda x: target[x] == 1, lambda x: a_nb[x] == 1)
+            path = self._path([v], target, a_nb)
             if path is not None:
                 return path, None
             return self._lasso(v, b_not(self.sat(b)))
@@ -197,11 +197,26 @@ class CTL:
                 return self._lasso(v, self.sat(g))
             # EG g false: every fair path meets !g: show the nearest !g node
             ng = b_and(b_not(self.sat(g)), self.fair)
-            path = bfs_path(K.succ, [v], lambda x: ng[x] == 1, lambda x: self.fair[x] == 1)
+            path = self._path([v], ng, self.fair)
             if path is None:
                 return [v], None
             return self._then(path[:-1], self.explain(g, path[-1], False, budget - 1))
         return [v], None
+
+    def _bfs(self, sources, target, allowed, keep, skip):
+        """bfs_path over node sets (the compiled search when there is one)."""
+        from . import kernel
+        got = kernel.bfs(self.K, sources, target, allowed, keep, skip)
+        if got is not False:
+            return got
+        succ = self.K.succ
+        if keep is not None:
+            succ = lambda x: [w for w in self.K.succ(x) if keep[w]]   # noqa: E731
+        return bfs_path(succ, sources, lambda x: target[x] == 1,
+                        (lambda x: allowed[x] == 1) if allowed is not None else None, skip_sources=skip)
+
+    def _path(self, sources, target, allowed):
+        return self._bfs(sources, target, allowed, None, False)
 
     def _then(self, prefix: list, rest):
         nodes, loop = rest
@@ -221,7 +236,7 @@ class CTL:
             for x in comp:
                 inside[x] = 1
                 owner[x] = i
-        path = bfs_path(K.succ, [v], lambda x: inside[x] == 1, lambda x: s[x] == 1)
+        path = self._path([v], inside, s)
         if path is None:
             return [v], None
         entry = path[-1]
@@ -233,7 +248,7 @@ class CTL:
         for p, q in self.compassion:
             if any(p[x] for x in comp):
                 required.append(q)
-        cycle = cover_cycle(K.succ, entry, cmask, required)
+        cycle = cover_cycle(K.succ, entry, cmask, required, bfs=self._bfs)
         return path[:-1] + cycle, len(path) - 1
 
 

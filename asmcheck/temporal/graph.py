@@ -181,9 +181,11 @@ def bfs_path(succ, sources, target, allowed=None, skip_sources=False):
     return None
 
 
-def cover_cycle(succ, start: int, comp_mask: bytearray, required: list) -> list[int]:
+def cover_cycle(succ, start: int, comp_mask: bytearray, required: list, bfs=None) -> list[int]:
     """A cycle [start, ..., x] (x -> start is an edge) inside the component ``comp_mask`` that
-    meets every set in ``required`` (bytearrays; each must meet the component)."""
+    meets every set in ``required`` (bytearrays; each must meet the component).  ``bfs(sources,
+    target, allowed, keep, skip)``: a search over node sets that gives bfs_path's paths (None:
+    bfs_path itself)."""
     inside = lambda v: comp_mask[v] == 1   # noqa: E731
     isucc = lambda v: [w for w in succ(v) if comp_mask[w]]   # noqa: E731
     path = [start]
@@ -191,12 +193,20 @@ def cover_cycle(succ, start: int, comp_mask: bytearray, required: list) -> list[
     for req in required:
         if any(req[v] for v in path):
             continue
-        seg = bfs_path(isucc, [cur], lambda v, r=req: r[v] == 1, inside)
+        if bfs is not None:
+            seg = bfs([cur], req, comp_mask, comp_mask, False)
+        else:
+            seg = bfs_path(isucc, [cur], lambda v, r=req: r[v] == 1, inside)
         if seg is None:
             raise AssertionError("a fairness set cannot be reached inside its component")
         path.extend(seg[1:])
         cur = path[-1]
-    seg = bfs_path(isucc, [cur], lambda v: v == start, inside, skip_sources=True)
+    if bfs is not None:
+        back = bytearray(len(comp_mask))
+        back[start] = 1
+        seg = bfs([cur], back, comp_mask, comp_mask, True)
+    else:
+        seg = bfs_path(isucc, [cur], lambda v: v == start, inside, skip_sources=True)
     if seg is None:
         raise AssertionError("no cycle back inside a component")
     path.extend(seg[1:-1])

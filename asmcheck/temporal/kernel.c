@@ -129,44 +129,59 @@ void kn_map(int64_t by_q, const uint8_t *bytes, uint8_t *out) {
  * and, for each of the nc compassion pairs (p, q: rows of P_n bytes), q if p.  comp[v] gets
  * the number of v's fair component (-1: in none).  Returns the number of fair components,
  * -1 when out of memory. */
-static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
                          int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
                          int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
                          int32_t *comp);
 
 int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
-    return fair_core(P_n, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
+    return fair_core(P_n, 0, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
 }
 
 /* the same on a graph given by the caller: the successors of node v are the list of its class
- * cls[v] (off/adj); only nodes with mask[v] count; roots: where the search starts (null: every
- * node of the mask, ascending) */
-int64_t kn_fair_graph(int64_t N, const int32_t *cls, const int32_t *off, const int32_t *adj, int64_t nroots,
-                      const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just, int64_t nc,
-                      const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
-    return fair_core(N, cls, off, adj, nroots, roots, mask, nj, just, nc, cp, cq, comp);
+ * cls[v] (off/adj, ncls classes); only nodes with mask[v] count; roots: where the search starts
+ * (null: every node of the mask, ascending) */
+int64_t kn_fair_graph(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+                      int64_t nroots, const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just,
+                      int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
+    return fair_core(N, ncls, cls, off, adj, nroots, roots, mask, nj, just, nc, cp, cq, comp);
 }
 
-static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+/* With classes (cls not null) the search runs on the graph whose vertices are the N nodes and the
+ * ncls classes (vertex N + c): node v -> class cls[v] -> the nodes of the class's list, so that a
+ * list shared by many nodes is walked once; the components restricted to the nodes are the
+ * components of the nodes' graph, and a component of two vertices or more has a cycle. */
+static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
                          int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
                          int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
                          int32_t *comp) {
-    int32_t *index = (int32_t *)malloc((N + 1) * sizeof(int32_t));
-    int32_t *low = (int32_t *)malloc((N + 1) * sizeof(int32_t));
-    /* the region of each node: the set it is searched in (-1: none); without compassion there is no
-       refinement, and the region is the mask itself (no array) */
-    int32_t *region = nc > 0 ? (int32_t *)malloc((N + 1) * sizeof(int32_t)) : 0;
-    int32_t *stack = (int32_t *)malloc((N + 1) * sizeof(int32_t));
-    int32_t *work = (int32_t *)malloc((N + 1) * sizeof(int32_t));
-    int32_t *wpos = (int32_t *)malloc((N + 1) * sizeof(int32_t));
-    uint8_t *onstack = (uint8_t *)calloc(N + 1, 1);
+    int relay = cls != 0;
+    int64_t V = relay ? N + ncls : N;
+    int32_t *index = (int32_t *)malloc((V + 1) * sizeof(int32_t));
+    int32_t *low = (int32_t *)malloc((V + 1) * sizeof(int32_t));
+    /* the region of each vertex: the set it is searched in (-1: none); without compassion there is
+       no refinement, and the region is the mask itself (no array) */
+    int32_t *region = nc > 0 ? (int32_t *)malloc((V + 1) * sizeof(int32_t)) : 0;
+    int32_t *stack = (int32_t *)malloc((V + 1) * sizeof(int32_t));
+    int32_t *work = (int32_t *)malloc((V + 1) * sizeof(int32_t));
+    int32_t *wpos = (int32_t *)malloc((V + 1) * sizeof(int32_t));
+    uint8_t *onstack = (uint8_t *)calloc(V + 1, 1);
     uint8_t *badj = (uint8_t *)calloc(nc + 1, 1);
     int32_t *todo = 0, *roots = 0;
     int64_t ctodo = 0, ntodo = 0, croots = 0;
     int64_t nfair = 0, counter = 0, nregions = 1;
     if (!index || !low || (nc > 0 && !region) || !stack || !work || !wpos || !onstack || !badj) goto oom;
-#define REGION(v) (region ? region[v] : ((mask && !mask[v]) ? -1 : 0))
-    for (int64_t v = 0; v < N; v++) { index[v] = -1; if (region) region[v] = (mask && !mask[v]) ? -1 : 0; comp[v] = -1; }
+#define REGION(v) (region ? region[v] : ((mask && (v) < N && !mask[v]) ? -1 : 0))
+    /* a vertex's successors: positions BEG(x) .. END(x) - 1, the one at position p SUCC(x, p) (a
+       node with classes: its class, at position -1) */
+#define BEG(x) (relay ? ((x) < N ? -1 : P_off[(x) - N]) : P_off[x])
+#define END(x) (relay ? ((x) < N ? 0 : P_off[(x) - N + 1]) : P_off[(x) + 1])
+#define SUCC(x, p) (relay && (x) < N ? (int32_t)(N + cls[x]) : P_adj[p])
+    for (int64_t v = 0; v < V; v++) {
+        index[v] = -1;
+        if (region) region[v] = (mask && v < N && !mask[v]) ? -1 : 0;
+        if (v < N) comp[v] = -1;
+    }
     /* todo: triples (region, first root position in roots, number of roots); without P_init the
        roots are every node, ascending (first position -1: no copy of them is made) */
     if (P_init)
@@ -183,17 +198,18 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
             int64_t sp = 0, wp = 0;
             index[r] = low[r] = (int32_t)counter++;
             stack[sp++] = r; onstack[r] = 1;
-            work[wp] = r; wpos[wp] = P_off[CL(r)]; wp++;
+            work[wp] = r; wpos[wp] = BEG(r); wp++;
             while (wp > 0) {
                 int32_t v = work[wp - 1];
                 int pushed = 0;
-                while (wpos[wp - 1] < P_off[CL(v) + 1]) {
-                    int32_t w = P_adj[wpos[wp - 1]++];
+                while (wpos[wp - 1] < END(v)) {
+                    int32_t w = SUCC(v, wpos[wp - 1]);
+                    wpos[wp - 1]++;
                     if (REGION(w) != reg) continue;
                     if (index[w] == -1) {
                         index[w] = low[w] = (int32_t)counter++;
                         stack[sp++] = w; onstack[w] = 1;
-                        work[wp] = w; wpos[wp] = P_off[CL(w)]; wp++;
+                        work[wp] = w; wpos[wp] = BEG(w); wp++;
                         pushed = 1;
                         break;
                     }
@@ -211,12 +227,13 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
                 int ok = 1;
                 if (size == 1) {
                     ok = 0;
-                    for (int32_t e = P_off[CL(v)]; e < P_off[CL(v) + 1]; e++) if (P_adj[e] == v) { ok = 1; break; }
+                    if (!relay)
+                        for (int32_t e = P_off[v]; e < P_off[v + 1]; e++) if (P_adj[e] == v) { ok = 1; break; }
                 }
                 for (int64_t j = 0; ok && j < nj; j++) {
                     const uint8_t *J = just + j * N;
                     int hit = 0;
-                    for (int64_t x = base; x < sp && !hit; x++) hit = J[stack[x]];
+                    for (int64_t x = base; x < sp && !hit; x++) hit = stack[x] < N && J[stack[x]];
                     if (!hit) ok = 0;
                 }
                 int bad = 0;
@@ -224,25 +241,31 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
                     for (int64_t j = 0; j < nc; j++) {
                         const uint8_t *p = cp + j * N, *q = cq + j * N;
                         int hp = 0, hq = 0;
-                        for (int64_t x = base; x < sp; x++) { hp |= p[stack[x]]; hq |= q[stack[x]]; }
+                        for (int64_t x = base; x < sp; x++) {
+                            int32_t y = stack[x];
+                            if (y < N) { hp |= p[y]; hq |= q[y]; }
+                        }
                         badj[j] = hp && !hq;
                         if (badj[j]) bad = 1;
                     }
                 }
                 if (ok && bad) {
-                    /* refine: the nodes of the component outside every bad p form a new region */
+                    /* refine: the vertices of the component outside every bad p form a new region
+                       (searched again from its nodes) */
                     int32_t nreg = (int32_t)nregions++;
                     int64_t start = nroots, kept = 0;
                     for (int64_t x = base; x < sp; x++) {
                         int32_t y = stack[x];
                         int drop = 0;
-                        for (int64_t j = 0; j < nc && !drop; j++)
+                        for (int64_t j = 0; y < N && j < nc && !drop; j++)
                             if (badj[j] && cp[j * N + y]) drop = 1;
                         region[y] = drop ? -1 : nreg;
                         if (!drop) {
                             index[y] = -1;
-                            if (!push32(&roots, &croots, nroots++, y)) goto oom;
-                            kept++;
+                            if (y < N) {
+                                if (!push32(&roots, &croots, nroots++, y)) goto oom;
+                                kept++;
+                            }
                         }
                     }
                     if (kept) {
@@ -250,7 +273,7 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
                             !push32(&todo, &ctodo, ntodo++, (int32_t)kept)) goto oom;
                     }
                 } else if (ok) {
-                    for (int64_t x = base; x < sp; x++) comp[stack[x]] = (int32_t)nfair;
+                    for (int64_t x = base; x < sp; x++) if (stack[x] < N) comp[stack[x]] = (int32_t)nfair;
                     nfair++;
                 }
                 sp = base;
@@ -258,6 +281,9 @@ static int64_t fair_core(int64_t N, const int32_t *cls, const int32_t *P_off, co
         }
     }
 #undef REGION
+#undef BEG
+#undef END
+#undef SUCC
     free(index); free(low); free(region); free(stack); free(work); free(wpos); free(onstack); free(badj);
     free(todo); free(roots);
     return nfair;
@@ -392,4 +418,293 @@ void kn_in_comp(int64_t n, const int32_t *comp, uint8_t *out) {
 /* out[i] = bit k of vec[i] (one byte a vector) */
 void kn_bit8(int64_t n, const uint8_t *vec, int64_t k, uint8_t *out) {
     for (int64_t i = 0; i < n; i++) out[i] = (uint8_t)((vec[i] >> k) & 1u);
+}
+
+/* ------------------------------------------------------------------ the bisimulation quotient
+ * The nodes of a structure whose nodes are steps: m nodes (src[i], dst[i], vec[i] or vec8[i]: the
+ * values of the atoms that read monitored functions, both null: none).  Every node leaving a
+ * state has the same successors (the nodes leaving its target), so two nodes with the same
+ * (sig[src]: the state atoms of the source and whether it is initial, vec, dst) are bisimilar and
+ * have the same labels: one node of the quotient.  Nodes whose source has ok[] unset are dropped.
+ * Quotient nodes are numbered by their first node; off (n + 1 entries) and adj (room for m) get,
+ * for each state, the quotient nodes of the nodes leaving it, in their order.  Returns the number
+ * of quotient nodes (their first nodes: kn_quotient_first), -1 when out of memory. */
+static int32_t *Q_first = 0;
+static int64_t Q_n = 0;
+
+static inline uint64_t mix64(uint64_t x) {
+    x ^= x >> 33; x *= 0xff51afd7ed558ccdULL; x ^= x >> 33; x *= 0xc4ceb9fe1a85ec53ULL; x ^= x >> 33;
+    return x;
+}
+
+typedef struct { uint64_t *a, *b; int32_t *h; int64_t n, cap, hcap; } KeyTab;
+
+/* the number of the pair (a, b) in t (added when new); -1 when out of memory */
+static int64_t key_id(KeyTab *t, uint64_t a, uint64_t b) {
+    if (!t->h) {
+        t->hcap = 256; t->cap = 64;
+        t->h = (int32_t *)malloc(t->hcap * sizeof(int32_t));
+        t->a = (uint64_t *)malloc(t->cap * sizeof(uint64_t));
+        t->b = (uint64_t *)malloc(t->cap * sizeof(uint64_t));
+        if (!t->h || !t->a || !t->b) return -1;
+        for (int64_t j = 0; j < t->hcap; j++) t->h[j] = -1;
+    }
+    uint64_t msk = (uint64_t)(t->hcap - 1);
+    uint64_t h = mix64(a * 0x9e3779b97f4a7c15ULL ^ b) & msk;
+    while (t->h[h] >= 0) {
+        int32_t k = t->h[h];
+        if (t->a[k] == a && t->b[k] == b) return k;
+        h = (h + 1) & msk;
+    }
+    if (t->n == t->cap) {
+        t->cap *= 2;
+        uint64_t *x = (uint64_t *)realloc(t->a, t->cap * sizeof(uint64_t));
+        if (!x) return -1;
+        t->a = x;
+        x = (uint64_t *)realloc(t->b, t->cap * sizeof(uint64_t));
+        if (!x) return -1;
+        t->b = x;
+    }
+    int64_t k = t->n++;
+    t->a[k] = a; t->b[k] = b;
+    t->h[h] = (int32_t)k;
+    if (t->n * 2 > t->hcap) {
+        int64_t hc2 = t->hcap * 4;
+        int32_t *h2 = (int32_t *)malloc(hc2 * sizeof(int32_t));
+        if (!h2) return -1;
+        for (int64_t j = 0; j < hc2; j++) h2[j] = -1;
+        for (int64_t j = 0; j < t->n; j++) {
+            uint64_t g = mix64(t->a[j] * 0x9e3779b97f4a7c15ULL ^ t->b[j]) & (uint64_t)(hc2 - 1);
+            while (h2[g] >= 0) g = (g + 1) & (uint64_t)(hc2 - 1);
+            h2[g] = (int32_t)j;
+        }
+        free(t->h); t->h = h2; t->hcap = hc2;
+    }
+    return k;
+}
+
+static void key_free(KeyTab *t) { free(t->a); free(t->b); free(t->h); memset(t, 0, sizeof(*t)); }
+
+int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *dst, const uint64_t *vec,
+                    const uint8_t *vec8, const uint64_t *sig, const uint8_t *ok, int32_t *off, int32_t *adj) {
+    free(Q_first); Q_first = 0; Q_n = 0;
+    KeyTab kt = {0}, nt = {0};
+    int32_t *tab = 0, *first = 0, *pos = 0;
+    int64_t rc = -1, nq = 0, qcap = 0;
+    int novec = !vec && !vec8;
+    /* pass 1: the nodes leaving each state, and the source keys (sig, vec) numbered densely */
+    for (int64_t v = 0; v <= n; v++) off[v] = 0;
+    int64_t last = -1;
+    for (int64_t i = 0; i < m; i++) {
+        uint32_t s = src[i];
+        if (!ok[s]) continue;
+        off[s + 1]++;
+        if (novec && (int64_t)s == last) continue;
+        last = s;
+        if (key_id(&kt, sig[s], vec ? vec[i] : (vec8 ? vec8[i] : 0)) < 0) goto out;
+    }
+    for (int64_t v = 0; v < n; v++) off[v + 1] += off[v];
+    pos = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    if (!pos) goto out;
+    memcpy(pos, off, (n + 1) * sizeof(int32_t));
+    /* pass 2: the quotient node of (key, dst): from a table key-major when it is small (a state's
+       nodes then look up one row), else a hash table */
+    int64_t nk = kt.n;
+    int dense = (double)nk * (double)n <= (double)(m > (1 << 22) ? m : (1 << 22));
+    if (dense) {
+        tab = (int32_t *)malloc((size_t)(nk * n + 1) * sizeof(int32_t));
+        if (!tab) goto out;
+        memset(tab, 0xff, (size_t)(nk * n + 1) * sizeof(int32_t));
+    }
+    last = -1;
+    int64_t k = 0;
+    for (int64_t i = 0; i < m; i++) {
+        uint32_t s = src[i];
+        if (!ok[s]) continue;
+        if (!novec || (int64_t)s != last) {
+            k = key_id(&kt, sig[s], vec ? vec[i] : (vec8 ? vec8[i] : 0));
+            last = s;
+        }
+        int32_t q;
+        if (dense) {
+            int32_t *slot = &tab[k * n + dst[i]];
+            q = *slot;
+            if (q < 0) q = *slot = (int32_t)nq;
+        } else {
+            int64_t got = key_id(&nt, (uint64_t)k, dst[i]);
+            if (got < 0) goto out;
+            q = (int32_t)got;
+        }
+        if (q == nq) {
+            if (nq == qcap) {
+                qcap = qcap ? qcap * 2 : 1024;
+                int32_t *x = (int32_t *)realloc(first, qcap * sizeof(int32_t));
+                if (!x) goto out;
+                first = x;
+            }
+            first[nq++] = (int32_t)i;
+        }
+        adj[pos[s]++] = q;
+    }
+    {
+        /* a step recorded twice (the same source, target and values) is one entry of the list */
+        int32_t *stamp = (int32_t *)malloc((nq + 1) * sizeof(int32_t));
+        if (!stamp) goto out;
+        for (int64_t q = 0; q < nq; q++) stamp[q] = -1;
+        int64_t o = 0;
+        for (int64_t v = 0; v < n; v++) {
+            int32_t a = off[v], b = off[v + 1];
+            off[v] = (int32_t)o;
+            for (int32_t e = a; e < b; e++) {
+                int32_t q = adj[e];
+                if (stamp[q] == (int32_t)v) continue;
+                stamp[q] = (int32_t)v;
+                adj[o++] = q;
+            }
+        }
+        off[n] = (int32_t)o;
+        free(stamp);
+    }
+    Q_first = first; first = 0; Q_n = nq;
+    rc = nq;
+out:
+    key_free(&kt); key_free(&nt); free(tab); free(first); free(pos);
+    return rc;
+}
+
+void kn_quotient_first(int32_t *out) {
+    if (Q_n) memcpy(out, Q_first, Q_n * sizeof(int32_t));
+    free(Q_first); Q_first = 0; Q_n = 0;
+}
+
+/* 1 when a[0] <= a[1] <= ... <= a[n - 1] */
+int64_t kn_ascending(int64_t n, const uint32_t *a) {
+    for (int64_t i = 1; i < n; i++) if (a[i - 1] > a[i]) return 0;
+    return 1;
+}
+
+/* The backward lists of a graph of successor classes (n nodes, ncls classes; node v's successors:
+ * the list of class cls[v], off/adj): moff/madj (n + 1, off[ncls]) the classes whose list holds
+ * each node, noff/nadj (ncls + 1, n) the nodes of each class.  kn_eu_rev then searches with them,
+ * as kn_eu does (which makes them for one search). */
+void kn_rev(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+            int32_t *moff, int32_t *madj, int32_t *noff, int32_t *nadj) {
+    int64_t ne = off[ncls];
+    for (int64_t v = 0; v <= n; v++) moff[v] = 0;
+    for (int64_t c = 0; c <= ncls; c++) noff[c] = 0;
+    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;
+    for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];
+    for (int64_t c = 0; c < ncls; c++)
+        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (int32_t)c;
+    for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];
+    moff[0] = 0;
+    for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;
+    for (int64_t c = 0; c < ncls; c++) noff[c + 1] += noff[c];
+    for (int64_t v = 0; v < n; v++) nadj[noff[cls[v]]++] = (int32_t)v;
+    for (int64_t c = ncls; c > 0; c--) noff[c] = noff[c - 1];
+    noff[0] = 0;
+}
+
+int64_t kn_eu_rev(int64_t n, int64_t ncls, const int32_t *moff, const int32_t *madj, const int32_t *noff,
+                  const int32_t *nadj, const uint8_t *f, const uint8_t *start, uint8_t *y) {
+    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);
+    if (!queue || !done) { free(queue); free(done); return -1; }
+    int64_t qh = 0, qt = 0;
+    for (int64_t v = 0; v < n; v++) { y[v] = start[v] ? 1 : 0; if (y[v]) queue[qt++] = (int32_t)v; }
+    while (qh < qt) {
+        int32_t w = queue[qh++];
+        for (int32_t a = moff[w]; a < moff[w + 1]; a++) {
+            int32_t c = madj[a];
+            if (done[c]) continue;
+            done[c] = 1;
+            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
+                int32_t v = nadj[b];
+                if (f[v] && !y[v]) { y[v] = 1; queue[qt++] = v; }
+            }
+        }
+    }
+    free(queue); free(done);
+    return 0;
+}
+
+/* A shortest path from one of the nsrc sources to a node with target[] set, breadth first over
+ * the successor classes (node v's successors: the list of class cls[v]), moving only out of nodes
+ * with allowed[] set (null: every node) and only into nodes with keep[] set (null: every node), as
+ * temporal/graph.py's bfs_path does (with skip: the path has a step at least; sources are not
+ * marked as met).  A class's list is walked once: the second time every node of it is met.
+ * path gets the nodes (room for n + 1); returns their number, 0 when there is no path, -1 when
+ * out of memory. */
+int64_t kn_bfs(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+               int64_t nsrc, const int32_t *srcs, const uint8_t *target, const uint8_t *allowed,
+               const uint8_t *keep, int64_t skip, int32_t *path) {
+    /* parent: -2 not met, -1 a source, -3 - s met from source s in the first round (skip) */
+    int32_t *parent = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+    uint8_t *walked = (uint8_t *)calloc(ncls + 1, 1);
+    int64_t rc = -1, qh = 0, qt = 0;
+    int32_t hit = -1, from = -1;
+    if (!parent || !queue || !walked) goto out;
+    for (int64_t v = 0; v < n; v++) parent[v] = -2;
+    rc = 0;
+    if (skip) {
+        for (int64_t i = 0; i < nsrc && hit < 0; i++) {
+            int32_t s = srcs[i];
+            if (allowed && !allowed[s]) continue;
+            int32_t c = cls[s];
+            if (walked[c]) continue;
+            walked[c] = 1;
+            for (int32_t e = off[c]; e < off[c + 1]; e++) {
+                int32_t w = adj[e];
+                if ((keep && !keep[w]) || parent[w] != -2) continue;
+                parent[w] = -3 - s;
+                if (target[w]) { path[0] = s; path[1] = w; rc = 2; goto out; }
+                queue[qt++] = w;
+            }
+        }
+    } else {
+        for (int64_t i = 0; i < nsrc; i++) {
+            int32_t s = srcs[i];
+            if (parent[s] != -2) continue;
+            parent[s] = -1;
+            if (target[s]) { path[0] = s; rc = 1; goto out; }
+            queue[qt++] = s;
+        }
+    }
+    while (qh < qt && hit < 0) {
+        int32_t v = queue[qh++];
+        if (allowed && !allowed[v]) continue;
+        int32_t c = cls[v];
+        if (walked[c]) continue;
+        walked[c] = 1;
+        for (int32_t e = off[c]; e < off[c + 1]; e++) {
+            int32_t w = adj[e];
+            if ((keep && !keep[w]) || parent[w] != -2) continue;
+            parent[w] = v;
+            if (target[w]) { hit = w; from = v; break; }
+            queue[qt++] = w;
+        }
+    }
+    if (hit >= 0) {
+        int64_t k = 0;
+        path[k++] = hit;
+        int32_t x = from;
+        while (1) {
+            path[k++] = x;
+            int32_t p = parent[x];
+            if (p == -1) break;
+            if (p <= -3) { path[k++] = -3 - p; break; }
+            x = p;
+        }
+        for (int64_t i = 0; i < k / 2; i++) { int32_t t = path[i]; path[i] = path[k - 1 - i]; path[k - 1 - i] = t; }
+        rc = k;
+    }
+out:
+    free(parent); free(queue); free(walked);
+    return rc;
+}
+
+/* out[src[i]] = 1 for each of the m entries */
+void kn_mark(int64_t m, const uint32_t *src, uint8_t *out) {
+    for (int64_t i = 0; i < m; i++) out[src[i]] = 1;
 }

@@ -28,7 +28,7 @@ _SYMBOLS = {
     "kn_map": (None, [_i64, _p, _p]),
     "kn_fair": (_i64, [_i64, _p, _i64, _p, _p, _p]),
     "kn_free": (None, []),
-    "kn_fair_graph": (_i64, [_i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
+    "kn_fair_graph": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
     "kn_eu": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p]),
     "kn_csr": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
     "kn_gather": (None, [_i64, _p, _p, _p]),
@@ -37,6 +37,13 @@ _SYMBOLS = {
     "kn_ex": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
     "kn_group": (_i64, [_i64, _i64, _p, _p, _p]),
     "kn_in_comp": (None, [_i64, _p, _p]),
+    "kn_quotient": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_quotient_first": (None, [_p]),
+    "kn_ascending": (_i64, [_i64, _p]),
+    "kn_rev": (None, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_eu_rev": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_bfs": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _p, _p, _i64, _p]),
+    "kn_mark": (None, [_i64, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -281,7 +288,7 @@ def fair_comp(K, s: bytearray, justice, compassion):
     cq = bytearray().join(q for _, q in compassion) or bytearray(1)
     comp = array("i", bytes(4 * max(n, 1)))
     # the roots: every node of s, ascending (passed as none)
-    nfair = dll.kn_fair_graph(n, _addr(cls), _addr(off), _addr(adj), n, 0, _addr(mask),
+    nfair = dll.kn_fair_graph(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), n, 0, _addr(mask),
                               len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
     if nfair < 0:
         return None
@@ -329,8 +336,137 @@ def eu(K, f: bytearray, start: bytearray):
     if n == 0:
         return bytearray()
     cls, off, adj = _csr(K)
+    ncls = len(off) - 1
     fb, sb = bytearray(f), bytearray(start)
     y = bytearray(n)
-    if dll.kn_eu(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), _addr(fb), _addr(sb), _addr(y)) != 0:
+    rev = getattr(K, "_kernel_rev", None)
+    if rev is None:
+        # the backward lists, made once for the structure's searches
+        moff = array("i", bytes(4 * (n + 1)))
+        madj = array("i", bytes(4 * max(off[ncls], 1)))
+        noff = array("i", bytes(4 * (ncls + 1)))
+        nadj = array("i", bytes(4 * max(n, 1)))
+        dll.kn_rev(n, ncls, _addr(cls), _addr(off), _addr(adj), _addr(moff), _addr(madj), _addr(noff), _addr(nadj))
+        rev = K._kernel_rev = (moff, madj, noff, nadj)
+    moff, madj, noff, nadj = rev
+    if dll.kn_eu_rev(n, ncls, _addr(moff), _addr(madj), _addr(noff), _addr(nadj), _addr(fb), _addr(sb),
+                     _addr(y)) != 0:
         return None
     return y
+
+
+def quotient(n: int, src, dst, vec, sig, ok: bytearray):
+    """The bisimulation quotient of a structure whose nodes are steps: node i is ``(src[i],
+    dst[i], vec[i])`` (``vec`` None: no atom reads a monitored function; else an array('B') or
+    array('q') of atom bits), nodes leaving one state have the same successors, and ``sig[s]``
+    (array('Q')) is what a node's label and initial flag read of its source s.  Nodes with the same
+    ``(sig[src], vec, dst)`` are one node; nodes whose source has ``ok`` unset are dropped.
+    Returns ``(first, off, adj)``: the first node of each quotient node (ascending), and for each
+    of the n states the quotient nodes of the nodes leaving it, in their order
+    (``adj[off[s]:off[s + 1]]``).  Compiled code when there is a compiler, else Python."""
+    m = len(src)
+    dll = library()
+    if dll is not None and m and n:
+        s, d = _u32(src), _u32(dst)
+        sg = sig if isinstance(sig, array) and sig.typecode == "Q" else array("Q", sig)
+        okb = bytearray(ok)
+        v64 = vec if isinstance(vec, array) and vec.typecode == "q" else None
+        v8 = vec if isinstance(vec, array) and vec.typecode == "B" else None
+        if vec is not None and v64 is None and v8 is None:
+            v64 = array("q", vec)
+        off = array("i", bytes(4 * (n + 1)))
+        adj = array("i", bytes(4 * m))
+        nq = dll.kn_quotient(n, m, _addr(s), _addr(d), _addr(v64) if v64 is not None else 0,
+                             _addr(v8) if v8 is not None else 0, _addr(sg), _addr(okb), _addr(off), _addr(adj))
+        if nq >= 0:
+            first = array("i", bytes(4 * max(nq, 1)))
+            dll.kn_quotient_first(_addr(first))
+            del first[nq:]
+            del adj[off[n]:]
+            return first, off, adj
+    ids: dict = {}
+    first = array("i")
+    lists: list = [[] for _ in range(n)]
+    for i in range(m):
+        a = src[i]
+        if not ok[a]:
+            continue
+        key = (sig[a], vec[i] if vec is not None else 0, dst[i])
+        q = ids.get(key)
+        if q is None:
+            q = ids[key] = len(first)
+            first.append(i)
+        lists[a].append(q)
+    off = array("i", [0])
+    adj = array("i")
+    for lst in lists:
+        adj.extend(lst)
+        off.append(len(adj))
+    return first, off, adj
+
+
+def signatures(n: int, labs: list) -> array:
+    """array('Q'): bit j of entry s is ``labs[j][s]`` (at most 64 state sets)."""
+    sig = array("Q", bytes(8 * max(n, 1)))
+    dll = library()
+    if dll is not None and n and labs:
+        labels = bytearray().join(bytes(lab) for lab in labs)
+        bits = array("Q", [1 << j for j in range(len(labs))])
+        dll.kn_sig(n, len(labs), _addr(labels), _addr(bits), _addr(sig))
+    else:
+        for j, lab in enumerate(labs):
+            b = 1 << j
+            for s in range(n):
+                if lab[s]:
+                    sig[s] |= b
+    del sig[n:]
+    return sig
+
+
+def take(a, idx, typecode: str) -> array:
+    """array(typecode, (a[i] for i in idx))."""
+    return array(typecode, (a[i] for i in idx))
+
+
+def ascending(a) -> bool:
+    """a[0] <= a[1] <= ... (an array of sources)."""
+    dll = library()
+    if dll is not None and len(a) > 1:
+        a32 = _u32(a)
+        return bool(dll.kn_ascending(len(a32), _addr(a32)))
+    return all(a[i] <= a[i + 1] for i in range(len(a) - 1))
+
+
+def bfs(K, sources, target: bytearray, allowed=None, keep=None, skip: bool = False):
+    """:func:`asmcheck.temporal.graph.bfs_path` over the structure's successor classes with node
+    sets for ``target`` and ``allowed`` (and ``keep``: the nodes a step may enter, None: all) by
+    compiled code: the path, None when there is none, or False when the code is not available."""
+    dll = library()
+    if dll is None or K.n == 0:
+        return False
+    n = K.n
+    cls, off, adj = _csr(K)
+    srcs = _arr("i", sources)
+    tb = bytearray(target)
+    ab = bytearray(allowed) if allowed is not None else None
+    kb = bytearray(keep) if keep is not None else None
+    path = array("i", bytes(4 * (n + 2)))
+    k = dll.kn_bfs(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), len(sources), _addr(srcs), _addr(tb),
+                   _addr(ab) if ab is not None else 0, _addr(kb) if kb is not None else 0, 1 if skip else 0,
+                   _addr(path))
+    if k < 0:
+        return False
+    return path[:k].tolist() if k else None
+
+
+def mark(n: int, src) -> bytearray:
+    """bytearray(n) with 1 at each entry of ``src``."""
+    out = bytearray(max(n, 1))
+    dll = library()
+    if dll is not None and len(src):
+        s32 = _u32(src)
+        dll.kn_mark(len(s32), _addr(s32), _addr(out))
+    else:
+        for s in src:
+            out[s] = 1
+    return out[:n] if n else bytearray()

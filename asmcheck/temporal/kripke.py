@@ -67,6 +67,16 @@ class Kripke:
     def succ(self, v: int) -> list[int]:
         return self.cls_succ[self.cls[v]]
 
+    def picks_from(self, v: int, src: int):
+        """Step mode: the choices of node v's step taken from state ``src`` (the target of the node
+        before v on a path, or an initial state for the first): in the quotient a node stands
+        for the steps from every source with the same labels."""
+        h = self.halt.get(v)
+        if h is not None:
+            return h[1]
+        at = getattr(self.picks, "at", None)
+        return at(v, src) if at is not None else self.picks[v]
+
     # the backward lists, made when a backward search in Python first needs them (the compiled
     # kernel makes its own)
     @property
@@ -289,16 +299,21 @@ class EdgePicks:
         self.explorer = explorer
         self.src = src
         self.dst = dst
-        # an explorer that records its edges in another order (a random walk's) is looked up
-        # through an index of the first edge of each pair
         self.index = None
-        if any(src[i] > src[i + 1] for i in range(len(src) - 1)):
-            self.index = {}
-            for i in range(len(src)):
-                self.index.setdefault((src[i], dst[i]), i)
+        self.checked = False
 
     def __getitem__(self, key):
         a, b = key
+        if not self.checked:
+            # an explorer that records its edges in another order (a random walk's) is looked up
+            # through an index of the first edge of each pair (made when a trace first asks)
+            from . import kernel
+            self.checked = True
+            if not kernel.ascending(self.src):
+                self.index = {}
+                src, dst = self.src, self.dst
+                for i in range(len(src)):
+                    self.index.setdefault((src[i], dst[i]), i)
         if self.index is not None:
             i = self.index.get((a, b))
             if i is None:
@@ -335,7 +350,7 @@ def _every_step(explorer, ok_state):
         if not ok_state[src]:
             continue
         try:
-            steps = m.successors(explorer.state(src))
+            steps = m.successors(explorer.state(src), errors=[])     # a failing branch is no edge
         except AsmError as e:
             raise AtomError(None, f"the step from state {src} cannot be computed: {e.message}") from None
         for log, _ups, nxt, mon in steps:
@@ -364,13 +379,19 @@ class _PicksOfSteps:
     def __getitem__(self, v):
         if v >= self.n:
             return self.extra[v - self.n]
+        return self.at(v, self.sid[v])
+
+    def at(self, v, src):
+        """The choices of the node's step taken from state ``src``."""
+        if v >= self.n:
+            return self.extra[v - self.n]
         ex = self.explorer
         m = ex.m
-        st = ex.state(self.sid[v])
-        for log, _ups, nxt, mon in m.successors(st):
+        st = ex.state(src)
+        for log, _ups, nxt, mon in m.successors(st, errors=[]):
             if _find(ex, nxt) == self.tgt[v] and self.vecs[v] in joint_values(m, self.items, st, mon):
                 return tuple(c.pick for c in log)
-        raise AtomError(None, f"no step from state {self.sid[v]} to state {self.tgt[v]} gives the atoms' values")
+        raise AtomError(None, f"no step from state {src} to state {self.tgt[v]} gives the atoms' values")
 
 
 class _PicksOfEdges:
@@ -394,6 +415,108 @@ class _PicksOfEdges:
         return self.explorer.edges[self.eix[v]][2]
 
 
+class _EdgePicksOf:
+    """Quotient node -> the choices of the first explored step from a source to the node's target
+    (the explorer's edges, looked up by (source, target) for the steps a trace prints)."""
+
+    def __init__(self, edge_picks):
+        self.edge_picks = edge_picks
+        self.sid = self.tgt = None
+        self.extra: list = []
+
+    def __len__(self):
+        return len(self.sid) + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
+
+    def __getitem__(self, v):
+        return self.at(v, self.sid[v])
+
+    def at(self, v, src):
+        if v >= len(self.sid):
+            return self.extra[v - len(self.sid)]
+        return self.edge_picks[(src, self.tgt[v])]
+
+
+class _PicksOfKeys:
+    """Quotient node -> the choices of the step with the node's target and atom values taken from
+    a source, found among the steps the structure was built from (``index``: (source, target,
+    atom values) -> position in ``picks``)."""
+
+    def __init__(self, picks, index, tgt, vecs, sid):
+        self.picks, self.index, self.tgt, self.vecs, self.sid = picks, index, tgt, vecs, sid
+        self.n = len(tgt)
+        self.extra: list = []
+
+    def __len__(self):
+        return self.n + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
+
+    def __getitem__(self, v):
+        return self.at(v, self.sid[v])
+
+    def at(self, v, src):
+        if v >= self.n:
+            return self.extra[v - self.n]
+        i = self.index.get((src, self.tgt[v], self.vecs[v]))
+        if i is None:
+            raise AtomError(None, f"no step from state {src} to state {self.tgt[v]} gives the atoms' values")
+        return self.picks[i]
+
+
+def _signatures(S: int, labs: list, init_sids) -> array:
+    """What a node's label and initial flag read of its source state, one number a state: the
+    state atoms' bits (numbered densely when there are more than 63 of them) and bit 63 for an
+    initial state."""
+    from . import kernel
+    if len(labs) <= 63:
+        sig = kernel.signatures(S, labs)
+    else:
+        ids: dict = {}
+        sig = array("Q", (ids.setdefault(bytes(lab[s] for lab in labs), len(ids)) for s in range(S)))
+    for s in init_sids:
+        sig[s] |= 1 << 63
+    return sig
+
+
+def _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids, ok_state, explorer, mon_items, key_ix):
+    """The bisimulation quotient of the step nodes (sid[i], tgt[i], vecs[i]).  Every node leaving a
+    state has the same successors (the nodes leaving its target), so nodes with the same target,
+    the same atom values (of the state atoms of their source and of the monitored atoms) and
+    sources that are both initial or both not are bisimilar and one node stands for them: CTL
+    and LTL verdicts (the fairness sets are labels) are the same, and so are the paths a
+    breadth-first search finds, node for node (numbered by their first step, each state's
+    successors in the order of its steps).  The source of a node on a path is the target of the
+    node before it; the first node's, an initial state with its labels (the node's own source).
+    Returns (sid, tgt, picks, vecs, off, adj) of the quotient."""
+    from . import kernel
+    sig = _signatures(S, [slab[i] for i in st_atoms], init_sids)
+    vb = None
+    if mon_items:
+        if vecs.bits is not None and not vecs.extra:
+            vb = vecs.bits
+        else:
+            vb = array("q", (sum(1 << k for k, x in enumerate(vec) if x) for vec in vecs))
+    first, off, adj = kernel.quotient(S, sid, tgt, vb, sig, ok_state)
+    sid_q = kernel.take(sid, first, "I")
+    tgt_q = kernel.take(tgt, first, "i")
+    if vb is not None:
+        vec_q = Vectors(kernel.take(vb, first, vb.typecode), len(mon_items))
+    else:
+        vec_q = Vectors(None, 0, len(first))
+    if isinstance(picks_l, _EdgePicksOf):
+        picks_l.sid, picks_l.tgt = sid_q, tgt_q
+        picks_q = picks_l
+    elif isinstance(picks_l, _PicksOfSteps):
+        picks_q = _PicksOfSteps(explorer, mon_items, sid_q, tgt_q, vec_q)
+    else:
+        picks_q = _PicksOfKeys(picks_l, dict(key_ix), tgt_q, vec_q, sid_q)
+    return sid_q, tgt_q, picks_q, vec_q, off, adj
+
+
 def _hkey(v):
     try:
         hash(v)
@@ -405,7 +528,7 @@ def _hkey(v):
 # ----------------------------------------------------------------- the structure
 def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], justice: list[tuple[str, int]],
                  compassion: list[tuple[str, int, int]], fair: list[str], step: bool = True,
-                 cache: dict | None = None, halts: list | None = None) -> Kripke:
+                 cache: dict | None = None, halts: list | None = None, quotient: bool = False) -> Kripke:
     """``used``: the atoms the formulas read; ``invars``: atoms that every node must satisfy;
     ``justice``: (text, atom); ``compassion``: (text, atom p, atom q); ``fair``: --fair
     domains.  ``step=False`` asks for the state graph itself when it is enough (no
@@ -417,7 +540,11 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
     each is a transition from its state to a *halt node* that carries the same state (and,
     in step mode, the monitored values the failing step read) and loops on itself: the run
     stops at the error and stays in its last well-defined state for ever (the Kripke
-    structure keeps every path infinite).  Halts with the same node contents are one node."""
+    structure keeps every path infinite).  Halts with the same node contents are one node.
+
+    ``quotient`` (step mode without agent fairness): the bisimulation quotient of the steps
+    (:func:`_quotient`, what :func:`asmcheck.temporal.check_temporal` checks); False: one node
+    per step."""
     m = explorer.m
     K = Kripke()
     all_atoms = sorted(set(used) | set(invars) | {a for _, a in justice} |
@@ -469,7 +596,15 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         picks_l: list = []
         vecs = Vectors(None, 0)
         cur_src, cur_state = -1, None
-        if not mon_items:
+        merge = quotient and agents is None and len(mon_items) <= 63
+        if not mon_items and merge:
+            # no atom reads a monitored function: the quotient of the explored transitions, read
+            # from the edge arrays as they are (a pair recorded twice is one node)
+            src_a, dst_a = explorer.edge_arrays()
+            sid, tgt = src_a, dst_a
+            picks_l = _EdgePicksOf(EdgePicks(explorer, src_a, dst_a))
+            vecs = Vectors(None, 0, len(sid))
+        elif not mon_items:
             # no atom reads a monitored function: one node per distinct explored transition,
             # read from the edge arrays; the choices of a node's step are looked up only for
             # the steps a trace prints
@@ -543,9 +678,13 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 tgt.append(dst)
                 picks_l.append(picks)
                 vecs.append(vec)
+        if merge:
+            sid, tgt, picks_l, vecs, off, adj = _quotient(K, S, sid, tgt, picks_l, vecs, slab, st_atoms, init_sids,
+                                                          ok_state, explorer, mon_items, key_ix)
+        else:
+            # the nodes leaving each explored state (its successor class)
+            off, adj = kernel.group(S, sid)
         nbase = len(sid)
-        # the nodes leaving each explored state (its successor class)
-        off, adj = kernel.group(S, sid)
         # the halt nodes: (state, values of the monitored atoms in the failing step), each its
         # own successor class (it loops on itself)
         halt_nodes: list = []
@@ -581,7 +720,7 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         for v in halt_nodes:
             K.cls[v] = len(K.cls_succ)
             K.cls_succ.append([v])
-        K.init = [v for s in init_sids for v in K.cls_succ[s]]
+        K.init = list(dict.fromkeys(v for s in init_sids for v in K.cls_succ[s]))
         for i, lab in slab.items():
             K.label[i] = kernel.gather(sid, lab)
         for k, i in enumerate(mon_atoms):
