@@ -1,6 +1,7 @@
 /* ------------------------------------------------------------------ breadth-first search
- * States are stored once, in discovery order, in one array of NWORDS-word records; a
- * hash table of state numbers finds duplicates; parents[] gives the BFS tree.  Expanding
+ * States are stored once, in discovery order, in one array of NWORDS-word records (PW-word
+ * records of codes in the packed store, see below); a hash table of state numbers finds
+ * duplicates; parents[] gives the BFS tree.  Expanding
  * a state re-runs the step for every sequence of choices (the same enumeration as the
  * Python explorer), packs each successor and looks it up.
  */
@@ -429,9 +430,11 @@ static int add_edge(uint32_t a, uint32_t b) {
     return 1;
 }
 
+/* the wide slots (64 bits), listed by asm_start */
+static int wide_slots[NSLOTS > 0 ? NSLOTS : 1], nwide = 0;
 static void note_range(const uint64_t *w, int64_t depth) {
-    for (int s = 0; s < NSLOTS; s++) {
-        if (SLOT_BITS[s] != 64) continue;
+    for (int i = 0; i < nwide; i++) {
+        int s = wide_slots[i];
         V v = (V)w[SLOT_WORD[s]];
         if (v == UNDEF) continue;
         if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
@@ -448,6 +451,8 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     ctx_static.rd = ctx_static.cur;
     memset(&S, 0, sizeof(S));
     for (int s = 0; s < NSLOTS; s++) { S.lo[s] = INT64_MAX; S.hi[s] = INT64_MIN + 1; S.grew[s] = -1; }
+    nwide = 0;
+    for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) wide_slots[nwide++] = s;
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
