@@ -378,3 +378,153 @@ def test_the_survey_counts_the_engine_that_ran(monkeypatch, tmp_path):
     assert text.splitlines()[1:] == ["    1  fallback: a reason", "         X.asm"]
     reports["native"] = dict(reports["python"], engine="native")
     assert survey.compare(spec) == ("native", "3 states")
+
+
+def too_many() -> str:
+    """A failing branch in the initial state, then a state whose step reads 20 monitored booleans:
+    2^20 sequences of choices, more than the search follows from one state."""
+    mons = "\n".join(f"\tmonitored b{i}: Boolean\n\tcontrolled f{i}: Boolean" for i in range(20))
+    ups = "\n".join(f"\t\t\t\t\tf{i} := b{i}" for i in range(20))
+    return f"""asm TooMany
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	monitored go: Boolean
+{mons}
+definitions:
+	domain Small = {{0 : 1}}
+	main rule r_main =
+		if n = 0 then
+			par
+				n := 1
+				if go then n := 0 endif
+			endpar
+		else
+			par
+{ups}
+			endpar
+		endif
+default init s0:
+	function n = 0
+"""
+
+
+def test_a_state_with_too_many_choices_after_an_error_goes_to_the_python_engine(tmp_path):
+    # the Python explorer stops at that state (incomplete, naming the choices that multiply) and
+    # counts a choose's alternatives after merging those with the same effect: not the native count
+    _, m = load_machine(write(tmp_path, too_many()))
+    with pytest.raises(Unsupported, match=r"more than 1,000,000 sequences of choices from one state"):
+        NativeExplorer(m).run()
+
+
+# ----------------------------------------------------------------- local functions
+# a local function per call of a recursive turbo rule (the factorial through x), two local
+# functions of one rule updated in seq steps and in parallel (x := 7 beside a := x), and an
+# inconsistent update of a local function where the monitored clash is true in n = 3
+LOCALS = """asm Locals
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled fact: Integer
+	controlled a: Integer
+	controlled b: Integer
+	monitored clash: Boolean
+definitions:
+	domain Small = {1 : 4}
+	turbo rule r_fact($k in Integer) in Integer =
+		local x : Integer [ x := 1 ]
+		if $k <= 1 then result := 1
+		else seq
+			x <- r_fact($k - 1)
+			result := $k * x
+		endseq endif
+	rule r_two =
+		local x : Integer [ x := n ]
+		local y : Integer [ y := 2 ]
+		seq
+			x := x + y
+			par
+				a := x
+				x := 7
+				if clash and n = 3 then x := 8 endif
+			endpar
+			b := x
+		endseq
+	main rule r_main =
+		par
+			fact <- r_fact(n)
+			r_two[]
+			if n < 4 then n := n + 1 else n := 1 endif
+		endpar
+default init s0:
+	function n = 1
+	function fact = 0
+	function a = 0
+	function b = 0
+"""
+
+
+def test_local_functions_run_native(tmp_path):
+    m, py, pres, nat, nres = engines(tmp_path, LOCALS, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions, nres.depth) == (5, 5, 4)
+    names = {f.index: f.name for f in m.spec.functions}
+    got = [{names[k]: v for k, v in nat.state(i).items()} for i in range(nres.states)]
+    # the local functions are no locations of the states; fact is n! (and so is the location
+    # result the main rule's call leaves), a is n + 2, b is 7
+    assert got == [{"n": 1, "fact": 0, "a": 0, "b": 0}, {"n": 2, "fact": 1, "a": 3, "b": 7, "result": 1},
+                   {"n": 3, "fact": 2, "a": 4, "b": 7, "result": 2}, {"n": 4, "fact": 6, "a": 5, "b": 7, "result": 6},
+                   {"n": 1, "fact": 24, "a": 6, "b": 7, "result": 24}]
+    assert failing(nat) == failing(py)
+    assert [(s, p, msg) for s, p, msg, _ in failing(nat)] == [(2, (1,), "inconsistent update of x: 7 and 8")]
+    assert list(zip(*nat.edge_arrays())) == distinct_edges(py.edges)
+
+
+@pytest.mark.corpus
+def test_the_recursive_factorial_with_a_local_function_runs_native():
+    need_asmeta()
+    _, m = load_machine(str(ASMETA / "asm_examples/test/errors/rpns/r/fattoriale_ricorsivo.asm"))
+    py, nat = Explorer(m), NativeExplorer(m)
+    pres, nres = py.run(), nat.run()
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions) == (2, 2)
+    assert sorted(nat.state(1).values()) == [5, 120]
+
+
+# ----------------------------------------------------------------- a location at an undef argument
+# pick is undef until go: seen(pick) := true updates seen at an undef argument, a location the
+# Python engine keeps in the state (its key's argument None), and seen(pick) reads it back
+UNDEF_ARG = """asm UndefArg
+import StandardLibrary
+signature:
+	enum domain Color = {RED | GREEN}
+	controlled pick: Color
+	controlled seen: Color -> Boolean
+	controlled hits: Integer
+	monitored go: Boolean
+definitions:
+	main rule r_main =
+		par
+			if go then pick := RED endif
+			seen(pick) := true
+			if seen(pick) = true and hits < 3 then hits := hits + 1 endif
+		endpar
+default init s0:
+	function hits = 0
+"""
+
+
+def test_a_location_at_an_undef_argument_runs_native(tmp_path):
+    m, py, pres, nat, nres = engines(tmp_path, UNDEF_ARG, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions, nres.depth) == (13, 18, 5)
+    seen = next(f for f in m.spec.functions if f.name == "seen").index
+    # the search ran again on a layout with seen(undef): the states hold that location
+    assert seen in nat.gen.undef_args
+    assert nat.state(1)[(seen, (None,))] is True
+    # seen(pick) = true read back at the undef argument: hits counts while pick is undef
+    hits = next(f for f in m.spec.functions if f.name == "hits").index
+    assert [nat.state(i)[hits] for i in range(nres.states)] == [0, 0, 0, 1, 1, 0, 2, 2, 1, 3, 3, 2, 3]
+    assert list(zip(*nat.edge_arrays())) == distinct_edges(py.edges)

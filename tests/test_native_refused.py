@@ -338,10 +338,10 @@ signature:
 definitions:
 
 	turbo rule r_t =
-		local x : Integer [ x := 1 ]
+		local x : Integer -> Integer [ x(0) := 1 ]
 		seq
-			x := x + 1
-			y := x
+			x(0) := x(0) + 1
+			y := x(0)
 		endseq
 
 	main rule r_main =
@@ -352,7 +352,8 @@ default init s0:
 """
 
 
-def test_a_local_function_is_refused_with_the_reason(tmp_path):
+def test_a_local_function_with_arguments_is_refused_with_the_reason(tmp_path):
+    # (a 0-ary one runs native: tests/test_native_errors.py)
     spec = check_file(write(tmp_path, LOCAL))
     with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(a location of one call "
                                           r"of its rule, which the native state has no slot for\)$"):

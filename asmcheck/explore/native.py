@@ -504,6 +504,8 @@ class Generator:
                 if f.index in self.agent_loose_functions() and self.map_function(f):
                     raise Unsupported(f"{f.name} updated at agents outside its domain")
                 arg_values = [self.values_of(d) for d in f.domain]
+                if f.index in getattr(self, "undef_args", ()):
+                    arg_values = [vals + [None] for vals in arg_values]     # see NativeExplorer._undef_arg_slots
             except Unsupported as e:
                 if not self.map_function(f):
                     if self.unused(f):
@@ -535,6 +537,7 @@ class Generator:
                 raise Unsupported("more than a million locations")
         self.dyn_slots()
         self.layout_result()
+        self.layout_local()
         self.constant_slots()
         self.initial_values_outside()
         for st in self.init_states:
@@ -916,6 +919,13 @@ class Generator:
         lines = ["int64_t off = 0;"]
         for vals, p in zip(arg_values, params):
             tab = self.table(vals)
+            codes = [self.codec.to_c(v) for v in vals]
+            if codes and len(set(codes)) == len(codes) and codes == list(range(codes[0], codes[0] + len(codes))):
+                # consecutive codes (an enum or abstract domain, an integer range): the position
+                # is the difference (unsigned: undef and the codes below wrap to big numbers)
+                lines.append(f"{{ uint64_t j = (uint64_t){p} - (uint64_t){codes[0]}LL; if (j >= {len(vals)}u) return -1;"
+                             f" off = off * {len(vals)} + (int64_t)j; }}")
+                continue
             lines.append(f"{{ int j = -1; for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == {p}) {{ j = q; break; }}"
                          f" if (j < 0) return -1; off = off * {len(vals)} + j; }}")
         return lines
@@ -1750,12 +1760,80 @@ class Generator:
     def r_Skip(self, r, env):
         return ";"
 
+    def layout_local(self) -> None:
+        """A slot for each 0-ary local function (``local x : D [init] body`` in a rule; see
+        r_LocalRule): its updates never leave the rule, so the stored states hold it undef, and
+        the working state holds the value of the call running."""
+        if self.dyn:
+            return
+        for f in getattr(self.spec, "local_functions", ()) or ():
+            if f.arity != 0 or T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
+                continue
+            try:
+                cod = self.codomain_values(f)
+            except Unsupported:
+                continue
+            base = len(self.slots)
+            self.slot_of[f.index] = base
+            self.slots.append(f.index)
+            self.slot_values.append(cod)
+            self.slot_types.append(f.codomain)
+            self.fn_base[f.index] = (base, [], cod)
+
+    def local_drop(self) -> str:
+        """C: take the updates of slot ``slot`` made at or after ``mark`` out of the update buffer
+        (a local function's updates stay in its rule), the others moved up in order."""
+        if "local_drop" not in self.defined_done:
+            self.defined_done.add("local_drop")
+            self.funcs.append(
+                "static void local_drop(Ctx *c, int32_t mark, int slot) {\n"
+                "    static _Thread_local int32_t moved[MAXUPD];\n"
+                "    int32_t w = mark;\n"
+                "    for (int32_t i = mark; i < c->nupd; i++) {\n"
+                "        int s = c->upd_slot[i];\n"
+                "        if (s == slot) { moved[i - mark] = -1; continue; }\n"
+                "        int32_t q = c->uprev[i];\n"
+                "        if (q >= mark) q = moved[q - mark];\n"
+                "        moved[i - mark] = w;\n"
+                "        c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->ustamp[w] = c->ustamp[i];\n"
+                "        c->uprev[w] = q; c->uagent[w] = c->uagent[i];\n"
+                "        c->wpos[s] = w; w++;\n"
+                "    }\n"
+                "    c->nupd = w;\n"
+                "}")
+        return "local_drop"
+
     def r_LocalRule(self, r, env):
-        # A local function lives in the working state of its rule only, one per call (a recursive
-        # turbo rule has one per level), and its updates stay in the rule: the native state has no
-        # slots for it.  The Python engine runs such specs.
-        raise Unsupported(f"the local function {r.func.name} at {r.span.short() if r.span else '?'} (a location of "
-                          f"one call of its rule, which the native state has no slot for)")
+        """``local x : D [x := init] body``: as the Python engine runs it, the body runs on a working
+        state where x holds the value init gives (and the value the body's seq steps give it
+        after), its updates of x are dropped when it ends, and the value the caller's x had is back
+        (a recursive rule has one x per call).  A 0-ary local function with an initial update of its
+        own; the others are refused."""
+        f = r.func
+        init = r.init
+        if (f.index not in self.fn_base or not isinstance(init, ir.Update) or init.func is not f or init.args
+                or self.dyn):
+            raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
+                              f"one call of its rule, which the native state has no slot for)")
+        s = self.slot_of[f.index]
+        v = self.fresh("lr")
+        enc = self.encoder(f)
+        drop = self.local_drop()
+        gen = f"lr_gen{f.index}"
+        if gen not in self.defined_done:
+            self.defined_done.add(gen)
+            self.funcs.append(f"static _Thread_local uint32_t {gen} = 0;   /* the run of the step that last entered it */")
+        value = self.term(init.value, env)
+        # the first call of a run finds x undef, as every stored state holds it (a run that failed
+        # inside the rule left its value in the working state)
+        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; c->cur[{s}] = UNDEF; }} "
+                f"V cv_{v} = c->cur[{s}]; uint32_t wg_{v} = c->wgen[{s}]; int32_t wp_{v} = c->wpos[{s}]; "
+                f"int32_t mk_{v} = c->nupd; c->wgen[{s}] = c->gen - 1; "
+                f"{{ V iv_{v} = {value}; if (c->err) return; V ic_{v} = (V){enc}(c, iv_{v}, 0); if (c->err) return; "
+                f"c->cur[{s}] = slot_decode({s}, ic_{v}); }} "
+                f"{{ {self.rule(r.body, env)} }} "
+                f"c->cur[{s}] = cv_{v}; {drop}(c, mk_{v}, {s}); c->wgen[{s}] = wg_{v}; c->wpos[{s}] = wp_{v}; "
+                f"if (c->err) return; }}")
 
     def r_Update(self, r, env):
         f = r.func
@@ -2554,7 +2632,7 @@ class Generator:
                   "int64_t asm_labels(int64_t k, uint8_t *out) {",
                   "    Ctx *c = &ctx_static;",
                   "    for (int64_t sid = 0; sid < nstates; sid++) {",
-                  "        load_state(c, states + sid * NWORDS);",
+                  "        load_state(c, state_words(sid));",
                   "        c->rd = c->cur; c->self = UNDEF; c->epoch = ++global_epoch; c->err = 0; c->in_prop = 1;",
                   "        V v = check_label(c, (int)k);",
                   "        c->in_prop = 0;",
@@ -3427,6 +3505,8 @@ _SYMBOLS = {
     "asm_par_min_chunk": (None, [_i64]),
     "asm_par_max_chunk": (None, [_i64]),
     "asm_par_adapt": (None, [_i64]),
+    "asm_pack": (None, [_i64]),
+    "asm_packed_words": (_i64, []),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
     "asm_err_states": (_i64, [_i64p]),
@@ -3450,6 +3530,8 @@ def build_library(src: str):
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
+    pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
+    pk_par_ok wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
@@ -3476,7 +3558,8 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
     static _Thread_local V smon[NMON > 0 ? NMON : 1];
     static _Thread_local uint32_t smgen[NMON > 0 ? NMON : 1];
     int64_t nrec = 0;
-    load_state(c, states + src * NWORDS);
+    const uint64_t *sw = state_words(src);     /* decoded from the packed store */
+    load_state(c, sw);
     c->rd = c->cur;
     c->epoch = ++global_epoch;
     c->plen = 0;
@@ -3498,7 +3581,7 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
         c->in_prop = 0;
 #endif
         if (ok) {
-            store_state(c, states + src * NWORDS, nw);
+            store_state(c, sw, nw);
             int64_t dst = asm_find(nw);
             if (dst >= 0) {
                 int32_t P = c->pos;
@@ -3574,7 +3657,8 @@ class NativeExplorer:
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
-        self.thread_unsafe = thread_unsafe(src)
+        self._src = src                  # thread_unsafe(src): worked out when threads are asked for
+        self._thread_unsafe = None
         self.dll = build_library(src)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
@@ -3599,8 +3683,21 @@ class NativeExplorer:
         self.workers = max(int(workers or 1), 1)
         self.threaded = False        # True: the threaded search even with one worker (benchmarks)
         self.adapt = True            # False: every slice on all the threads, even when one is faster
+        self.packed = True           # False: the plain store even on one thread (tests, benchmarks)
         self.max_memory = max_memory
         self.table_memory = table_memory
+
+    @property
+    def thread_unsafe(self) -> list:
+        """The static variables of the generated C the threads would share unknowingly."""
+        if self._thread_unsafe is None:
+            self._thread_unsafe = thread_unsafe(self._src)
+            self._src = None
+        return self._thread_unsafe
+
+    @thread_unsafe.setter
+    def thread_unsafe(self, names: list) -> None:
+        self._thread_unsafe = list(names)
 
     def thread_stats(self) -> dict:
         """What the threaded search did since the last call (benchmarks, tests): chunks of a level
@@ -3661,6 +3758,9 @@ class NativeExplorer:
         t0 = time.perf_counter()
         if g.dyn:
             self.dll.asm_canon_reset()
+        # one thread keeps the states in the packed store (native_bfs.c: a dictionary code a word,
+        # in bit fields); the threads share the plain one
+        self.dll.asm_pack(1 if self.packed and not self.threaded and (self.workers <= 1 or self.thread_unsafe) else 0)
         self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
@@ -3715,12 +3815,21 @@ class NativeExplorer:
             self.failed_state = out[5]     # the state whose step or property was refused
             site = out[6] - 1000
             if code == 4 and 0 <= site < len(g.site_reasons):
+                fi = next((i for i, x in getattr(g, "_outside_sites", {}).items() if x == site + 1000), None)
+                # (not where the canonical form renames the arguments: elements made by extend)
+                if fi is not None and fi not in getattr(g, "undef_args", ()) and not (
+                        g.dyn and any(g.cn_may_hold(d) for d in self.m.spec.functions[fi].domain)):
+                    return self._undef_arg_slots(fi)
                 raise Unsupported(f"{g.site_reasons[site]}, reached at run time")
             raise Unsupported("a value outside the native encoding at run time" if code == 4 else
                               "more choices in one step than the native search follows" if code == 6 else
                               f"a run-time condition the native search does not handle (code {code})")
         if status == 5:
             raise AsmError(None, "out of memory in the native search")
+        if out[11]:
+            # a state with more sequences of choices than the search follows (the Python explorer
+            # stops there, incomplete, and counts after merging a choose's alternatives)
+            self._step_error(-1, 9, PseudoProperty, Violation)
         if self.keep_graph:
             self._take_edges(out[9])
         failed = self._failed_steps()
@@ -3806,7 +3915,32 @@ class NativeExplorer:
         src = gen.generate()
         dll = build_library(src)
         gen.codec.dll = dll
+        self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
+        self.gen, self.dll = gen, dll
+        self.compile_seconds += native_build.last_compile_seconds
+        self._states = {}
+        self._parent = None
+        self._picks_cache = None
+        return self.run()
+
+    def _undef_arg_slots(self, fi: int):
+        """The search again, on an engine whose layout also has the locations of the function
+        numbered ``fi`` at undef arguments (the Python engine keeps such a location in the state,
+        with its key's argument None: an update at an argument that is undef).  An argument
+        outside its domain still ends the search (the reason is the same)."""
+        gen = Generator(self.m, self.state_props)
+        gen.step_props = self.gen.step_props
+        gen.invars = self.gen.invars
+        gen.label_atoms = getattr(self.gen, "label_atoms", None)
+        gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.cn_k = self.gen.cn_k
+        gen.undef_args = set(getattr(self.gen, "undef_args", ())) | {fi}
+        src = gen.generate()
+        dll = build_library(src)
+        gen.codec.dll = dll
+        self.close()
+        self.thread_unsafe = thread_unsafe(src)
         self.gen, self.dll = gen, dll
         self.compile_seconds += native_build.last_compile_seconds
         self._states = {}
@@ -3873,10 +4007,12 @@ class NativeExplorer:
                                   f"({exc.message})") from None
             if not errors:
                 raise Unsupported("a run-time error of the native search that the Python step function does not make")
-            got = [self.find(nxt) for _picks, _ups, _raw, nxt, _mon in succ]
             # each successor once, in the order first made (a choose whose alternatives have the same
-            # effect is one alternative in the Python step function, not always in the native one)
-            if list(dict.fromkeys(got)) != list(dict.fromkeys(buf[:m])):
+            # effect is one alternative in the Python step function, not always in the native one),
+            # compared as the Python explorer tells states apart
+            got = list(dict.fromkeys(py.layout.freeze(nxt) for _picks, _ups, _raw, nxt, _mon in succ))
+            want = list(dict.fromkeys(buf[:m]))
+            if len(got) != len(want) or any(py.layout.freeze(self.state(t)) != g for t, g in zip(want, got)):
                 raise Unsupported("the well-defined successors of a state where a step fails differ "
                                   "between the engines")
             out[sid] = errors
