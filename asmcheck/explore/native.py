@@ -3490,6 +3490,7 @@ _SYMBOLS = {
     "asm_parents": (None, [_i64p]),
     "asm_edges": (None, [_u32p, _u32p]),
     "asm_edges_drop": (None, []),
+    "asm_edges_take": (None, [_i64, _u32p]),
     "asm_range": (None, [_i64, _i64p]),
     "asm_inv_error": (_i64, [_i64]),
     "asm_err_code": (_i64, []),
@@ -3878,7 +3879,19 @@ class NativeExplorer:
         return res
 
     def _take_edges(self, n: int) -> None:
-        """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed."""
+        """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed (each
+        array as soon as it is copied: three arrays at most at a time, not four)."""
+        take = getattr(self.dll, "asm_edges_take", None)
+        if take is not None:
+            ends = []
+            for which in (0, 1):
+                a = array("I", bytes(4 * max(n, 1)))
+                take(which, (ctypes.c_uint32 * len(a)).from_buffer(a))
+                del a[n:]
+                ends.append(a)
+            self.edge_src, self.edge_dst = ends
+            self.dll.asm_edges_drop()
+            return
         src = array("I", bytes(4 * max(n, 1)))
         dst = array("I", bytes(4 * max(n, 1)))
         self.dll.asm_edges((ctypes.c_uint32 * len(src)).from_buffer(src), (ctypes.c_uint32 * len(dst)).from_buffer(dst))

@@ -1016,6 +1016,15 @@ void asm_edges_drop(void) {
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
 }
 
+/* the edges' sources (which 0) or targets (which 1) copied out at the end of the search and freed
+   here at once (the other array stays until it is taken; asm_edges_drop after both) */
+void asm_edges_take(int64_t which, uint32_t *out) {
+    uint32_t **a = which ? &S.edst : &S.esrc;
+    if (*a) memcpy(out, *a, S.nedges * sizeof(uint32_t));
+    free(*a);
+    *a = 0;
+}
+
 /* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set) */
 void asm_range(int64_t slot, int64_t *out) { out[0] = S.lo[slot]; out[1] = S.hi[slot]; out[2] = S.grew[slot]; }
 
