@@ -57,15 +57,26 @@ default init s0:
 
 # the same counter with a second input, noise, that the rule does not read but an atom does:
 # every step comes with both values (24 nodes); merged by (labels of the source, noise, target):
-# 4 (from 0) + 10 (from 1..4: targets 1..5, both values) + 4 (from 5) = 18
+# 4 (from 0) + 10 (from 1..4: targets 1..5, both values) + 4 (from 5) = 18.  Its LTL properties read
+# noise too: their structure is the same quotient
 NOISE = COUNT.replace("asm Count", "asm Noise").replace(
     "\tmonitored inc: Boolean\n", "\tmonitored inc: Boolean\n\tmonitored noise: Boolean\n").replace(
     "\tCTLSPEC ag(ef(x = 0))\n", "\tCTLSPEC ag(ef(x = 0 and noise))\n\tCTLSPEC ag(noise implies ax(not(x = 5)))\n"
-    "\tCTLSPEC ef(x = 5 and not noise and ex(x = 0 and noise))\n")
+    "\tCTLSPEC ef(x = 5 and not noise and ex(x = 0 and noise))\n"
+    "\tLTLSPEC g(noise implies x(not(x = 5)))\n\tLTLSPEC g(f(x = 0 and noise))\n").replace(
+    "import CTLLibrary\n", "import CTLLibrary\nimport LTLLibrary\n")
 
 # fairness as a label: JUSTICE x = 5 (every fair path counts to 5 again and again)
 FAIR = COUNT.replace("asm Count", "asm FairCount").replace(
     "\tCTLSPEC ag(ef(x = 0))\n", "\tJUSTICE x = 5\n\tCTLSPEC ag(ef(x = 0))\n\tCTLSPEC af(x = 5)\n")
+
+
+# an INVAR that reads the monitored input: the steps from 5 with noise are no nodes
+INVAR = NOISE.replace("asm Noise", "asm InvarNoise").replace(
+    "\tCTLSPEC ag(ef(x = 0 and noise))\n", "\tINVAR not(x = 5 and noise)\n\tCTLSPEC ag(ef(x = 0 and noise))\n")
+
+# a step that fails (5 counts to 6, outside Cnt): the paths through it end in a halt node
+HALT = COUNT.replace("asm Count", "asm HaltCount").replace("else x := 0 endif", "else x := x + 1 endif")
 
 
 def structure(path: str, engine: str, quotient: bool):
@@ -77,7 +88,7 @@ def structure(path: str, engine: str, quotient: bool):
     builder = Builder(m, atoms, ex.state(0))
     used: set = set()
     for p in api.load(path).temporal:
-        atoms_of(builder.build(p.body, "ctl"), used)
+        atoms_of(builder.build(p.body, p.kind), used)
     return build_kripke(ex, atoms, used, [], [], [], [], step=True, quotient=quotient)
 
 
@@ -109,7 +120,7 @@ def test_node_counts(tmp_path, engine, text, unmerged, merged):
 
 
 @pytest.mark.parametrize("engine", ENGINES)
-@pytest.mark.parametrize("text", [COUNT, NOISE, FAIR], ids=["count", "noise", "justice"])
+@pytest.mark.parametrize("text", [COUNT, NOISE, FAIR, INVAR], ids=["count", "noise", "justice", "invar"])
 def test_same_verdicts_and_paths(tmp_path, engine, text):
     path = write(tmp_path, text)
     merged = printed(path, engine, True)
@@ -124,6 +135,20 @@ def test_same_verdicts_and_paths(tmp_path, engine, text):
     if row is not None:
         text_lines = "\n".join(row[2])
         assert "x = 1" in text_lines
+
+
+def test_halt_nodes(tmp_path):
+    """A step that fails (the Python engine explores around it): the halt node stays as it is, and
+    the verdicts (relative to the error) and paths are those of one node per step."""
+    path = write(tmp_path, HALT)
+    merged = printed(path, "python", True)
+    unmerged = printed(path, "python", False)
+    assert [row[:3] for row in merged] == [row[:3] for row in unmerged]
+    assert [row[1] for row in merged] == ["violated", "holds", "violated", "holds", "violated", "violated",
+                                          "violated", "holds"]
+    # 8 nodes of steps (from 5 only the step that stays is well defined) and one halt node; 11 + 1 unmerged
+    assert (merged[0][3], unmerged[0][3]) == (9, 12)
+    assert "relative to the run-time error" in merged[0][2][0]
 
 
 def test_both_engines_agree(tmp_path):
@@ -170,3 +195,58 @@ def test_parking_ctl():
     last = "\n".join(temporal_text(bad, model.machine))
     assert "step 2: r_Main chooses $r = 1, $c = 3; reads newCar = true" in last
     assert "step 3: r_Main chooses $r = 1, $c = 4, $p = 11; reads newCar = true" in last
+
+
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=needs_cc), False], ids=["compiled", "python"])
+def test_quotient_arrays(monkeypatch, compiled):
+    """kernel.quotient on steps given out of source order and in order, a step recorded twice, two
+    sources with the same signature (states 1 and 2) and atom values that keep steps apart."""
+    from array import array
+    from asmcheck.temporal import kernel
+    monkeypatch.setattr(kernel, "ENABLED", compiled)
+    sig = array("Q", [1, 0, 0])
+    ok = bytearray(b"\x01\x01\x01")
+    # out of order: nodes 1 and 4 are the same step (0 -> 1); 3 and 5 merge (sources 2 and 1)
+    first, off, adj = kernel.quotient(3, array("I", [1, 0, 0, 2, 0, 1]), array("I", [2, 1, 2, 0, 1, 0]), None, sig, ok)
+    assert (list(first), list(off), list(adj)) == ([0, 1, 2, 3], [0, 2, 4, 5], [1, 2, 0, 3, 3])
+    # in order
+    first, off, adj = kernel.quotient(3, array("I", [0, 0, 0, 1, 1, 2]), array("I", [1, 2, 1, 2, 0, 0]), None, sig, ok)
+    assert (list(first), list(off), list(adj)) == ([0, 1, 3, 4], [0, 2, 4, 5], [0, 1, 2, 3, 3])
+    # atom values: the steps 1 -> 0 and 2 -> 0 differ in them, state 2 is left out
+    vec = array("B", [0, 0, 0, 1, 0, 0])
+    first, off, adj = kernel.quotient(3, array("I", [0, 0, 0, 1, 1, 2]), array("I", [1, 2, 1, 2, 0, 0]), vec, sig,
+                                      bytearray(b"\x01\x01\x00"))
+    assert (list(first), list(off), list(adj)) == ([0, 1, 3, 4], [0, 2, 4, 4], [0, 1, 2, 3])
+    vec = array("B", [0, 0, 0, 0, 1, 0])
+    first, off, adj = kernel.quotient(3, array("I", [0, 0, 0, 1, 1, 2]), array("I", [1, 2, 1, 2, 0, 0]), vec, sig, ok)
+    assert (list(first), list(off), list(adj)) == ([0, 1, 3, 4, 5], [0, 2, 4, 5], [0, 1, 2, 3, 4])
+
+
+def test_without_compiled_kernel(tmp_path, monkeypatch):
+    """The Python code of the quotient, the fixpoints and the paths gives what the compiled
+    kernel gives."""
+    from asmcheck.temporal import kernel
+    path = write(tmp_path, NOISE)
+    with_kernel = printed(path, "python", True)
+    monkeypatch.setattr(kernel, "ENABLED", False)
+    assert printed(path, "python", True) == with_kernel
+    assert printed(path, "python", False) == [row[:3] + (24,) for row in with_kernel]
+
+
+@needs_cc
+def test_quotient_by_source_arrays():
+    """The quotient of steps handed over source by source: the lists of kernel.quotient, and the
+    source, target and bits of each node's first step; steps without the bits of ``need`` left out."""
+    from array import array
+    from asmcheck.temporal import kernel
+    sig = array("Q", [1, 0, 0])
+    src, dst, vec = [0, 0, 0, 1, 1, 2], [1, 2, 1, 2, 0, 0], [0, 0, 0, 1, 1, 1]
+    by_source = [(s, sum(1 for x in src if x == s),
+                  array("q", [y for i, x in enumerate(src) if x == s for y in (dst[i], vec[i])])) for s in range(3)]
+    fsrc, fdst, fvec, off, adj = kernel.quotient_by_source(3, sig, iter(by_source))
+    first, off2, adj2 = kernel.quotient(3, array("I", src), array("I", dst), array("B", vec), sig,
+                                        bytearray(b"\x01\x01\x01"))
+    assert (list(off), list(adj)) == (list(off2), list(adj2)) == ([0, 2, 4, 5], [0, 1, 2, 3, 3])
+    assert [(fsrc[q], fdst[q], fvec[q]) for q in range(len(fsrc))] == [(src[i], dst[i], vec[i]) for i in first]
+    fsrc, fdst, fvec, off, adj = kernel.quotient_by_source(3, sig, iter(by_source), need=1)
+    assert (list(fsrc), list(fdst), list(off), list(adj)) == ([1, 1], [2, 0], [0, 0, 2, 3], [0, 1, 1])

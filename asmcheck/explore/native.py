@@ -919,6 +919,13 @@ class Generator:
         lines = ["int64_t off = 0;"]
         for vals, p in zip(arg_values, params):
             tab = self.table(vals)
+            codes = [self.codec.to_c(v) for v in vals]
+            if codes and len(set(codes)) == len(codes) and codes == list(range(codes[0], codes[0] + len(codes))):
+                # consecutive codes (an enum or abstract domain, an integer range): the position
+                # is the difference (unsigned: undef and the codes below wrap to big numbers)
+                lines.append(f"{{ uint64_t j = (uint64_t){p} - (uint64_t){codes[0]}LL; if (j >= {len(vals)}u) return -1;"
+                             f" off = off * {len(vals)} + (int64_t)j; }}")
+                continue
             lines.append(f"{{ int j = -1; for (int q = 0; q < {len(vals)}; q++) if ({tab}[q] == {p}) {{ j = q; break; }}"
                          f" if (j < 0) return -1; off = off * {len(vals)} + j; }}")
         return lines
@@ -2626,7 +2633,7 @@ class Generator:
                   "int64_t asm_labels(int64_t k, uint8_t *out) {",
                   "    Ctx *c = &ctx_static;",
                   "    for (int64_t sid = 0; sid < nstates; sid++) {",
-                  "        load_state(c, states + sid * NWORDS);",
+                  "        load_state(c, state_words(sid));",
                   "        c->rd = c->cur; c->self = UNDEF; c->epoch = ++global_epoch; c->err = 0; c->in_prop = 1;",
                   "        V v = check_label(c, (int)k);",
                   "        c->in_prop = 0;",
@@ -3499,6 +3506,8 @@ _SYMBOLS = {
     "asm_par_min_chunk": (None, [_i64]),
     "asm_par_max_chunk": (None, [_i64]),
     "asm_par_adapt": (None, [_i64]),
+    "asm_pack": (None, [_i64]),
+    "asm_packed_words": (_i64, []),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
     "asm_err_states": (_i64, [_i64p]),
@@ -3522,6 +3531,8 @@ def build_library(src: str):
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
+    pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
+    pk_par_ok wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
@@ -3548,7 +3559,8 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
     static _Thread_local V smon[NMON > 0 ? NMON : 1];
     static _Thread_local uint32_t smgen[NMON > 0 ? NMON : 1];
     int64_t nrec = 0;
-    load_state(c, states + src * NWORDS);
+    const uint64_t *sw = state_words(src);     /* decoded from the packed store */
+    load_state(c, sw);
     c->rd = c->cur;
     c->epoch = ++global_epoch;
     c->plen = 0;
@@ -3570,7 +3582,7 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
         c->in_prop = 0;
 #endif
         if (ok) {
-            store_state(c, states + src * NWORDS, nw);
+            store_state(c, sw, nw);
             int64_t dst = asm_find(nw);
             if (dst >= 0) {
                 int32_t P = c->pos;
@@ -3646,7 +3658,8 @@ class NativeExplorer:
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
         src = self.gen.generate()
-        self.thread_unsafe = thread_unsafe(src)
+        self._src = src                  # thread_unsafe(src): worked out when threads are asked for
+        self._thread_unsafe = None
         self.dll = build_library(src)
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
@@ -3671,8 +3684,21 @@ class NativeExplorer:
         self.workers = max(int(workers or 1), 1)
         self.threaded = False        # True: the threaded search even with one worker (benchmarks)
         self.adapt = True            # False: every slice on all the threads, even when one is faster
+        self.packed = True           # False: the plain store even on one thread (tests, benchmarks)
         self.max_memory = max_memory
         self.table_memory = table_memory
+
+    @property
+    def thread_unsafe(self) -> list:
+        """The static variables of the generated C the threads would share unknowingly."""
+        if self._thread_unsafe is None:
+            self._thread_unsafe = thread_unsafe(self._src)
+            self._src = None
+        return self._thread_unsafe
+
+    @thread_unsafe.setter
+    def thread_unsafe(self, names: list) -> None:
+        self._thread_unsafe = list(names)
 
     def thread_stats(self) -> dict:
         """What the threaded search did since the last call (benchmarks, tests): chunks of a level
@@ -3733,6 +3759,9 @@ class NativeExplorer:
         t0 = time.perf_counter()
         if g.dyn:
             self.dll.asm_canon_reset()
+        # one thread keeps the states in the packed store (native_bfs.c: a dictionary code a word,
+        # in bit fields); the threads share the plain one
+        self.dll.asm_pack(1 if self.packed and not self.threaded and (self.workers <= 1 or self.thread_unsafe) else 0)
         self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
                            -1 if self.max_depth is None else self.max_depth,
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
@@ -3887,6 +3916,7 @@ class NativeExplorer:
         src = gen.generate()
         dll = build_library(src)
         gen.codec.dll = dll
+        self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
         self.gen, self.dll = gen, dll
         self.compile_seconds += native_build.last_compile_seconds
@@ -4129,6 +4159,25 @@ class NativeExplorer:
         order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        each = self.step_atoms_each(items, ok_state)
+        if each is None:
+            return None
+        rs, rd, rv = array("I"), array("i"), array("B" if len(items) <= 8 else "q")
+        for src, n, buf in each:
+            rd.extend(buf[0:2 * n:2].tolist())
+            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
+            rs.extend(array("I", [src]) * n)
+        if each.failed:
+            return None
+        return rs, rd, rv
+
+    def step_atoms_each(self, items, ok_state):
+        """:meth:`step_atoms` source by source, without keeping the steps: an iterator of
+        ``(src, n, buf)`` for every stored state with ``ok_state`` set, ascending -- the first 2n
+        entries of ``buf`` (an array('q'), reused from one source to the next) are the (dst, bits)
+        pairs of src's steps; after the iteration ``.failed`` tells whether the compiled code
+        failed on a state (then the steps given are not all of them).  None when the compiled code
+        cannot (an atom not translated, more than 64 atoms)."""
         index = getattr(self, "_label_index", None)
         if index is None:
             self.state_labels([])
@@ -4141,26 +4190,7 @@ class NativeExplorer:
             ks.append(k)
         if not ks or len(ks) > 64:
             return None
-        karr = (ctypes.c_int64 * len(ks))(*ks)
-        rs, rd, rv = array("I"), array("i"), array("B" if len(ks) <= 8 else "q")
-        cap = 1024
-        buf = array("q", bytes(16 * cap))
-        nk = len(ks)
-        for src in range(self.nstates):
-            if not ok_state[src]:
-                continue
-            while True:
-                n = self.dll.asm_step_atoms(src, karr, nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
-                if n != -2:
-                    break
-                cap *= 4
-                buf = array("q", bytes(16 * cap))
-            if n < 0:
-                return None
-            rd.extend(buf[0:2 * n:2].tolist())
-            rv.extend(buf[1:2 * n:2] if rv.typecode == "q" else buf[1:2 * n:2].tolist())
-            rs.extend(array("I", [src]) * n)
-        return rs, rd, rv
+        return _StepAtoms(self, (ctypes.c_int64 * len(ks))(*ks), len(ks), ok_state)
 
     def find(self, st: dict):
         """The number of the explored state equal to ``st``, or None."""
@@ -4252,6 +4282,32 @@ def _env_key(env) -> tuple:
         return items
     except TypeError:
         return repr(items)
+
+
+class _StepAtoms:
+    """The iterator of :meth:`NativeExplorer.step_atoms_each`."""
+
+    def __init__(self, ex, karr, nk: int, ok_state):
+        self.ex, self.karr, self.nk, self.ok = ex, karr, nk, ok_state
+        self.failed = False
+
+    def __iter__(self):
+        dll = self.ex.dll
+        cap = 1024
+        buf = array("q", bytes(16 * cap))
+        for src in range(self.ex.nstates):
+            if not self.ok[src]:
+                continue
+            while True:
+                n = dll.asm_step_atoms(src, self.karr, self.nk, (ctypes.c_int64 * len(buf)).from_buffer(buf), cap)
+                if n != -2:
+                    break
+                cap *= 4
+                buf = array("q", bytes(16 * cap))
+            if n < 0:
+                self.failed = True
+                return
+            yield src, n, buf
 
 
 class _NativeEdges:

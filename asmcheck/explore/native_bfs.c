@@ -1,6 +1,7 @@
 /* ------------------------------------------------------------------ breadth-first search
- * States are stored once, in discovery order, in one array of NWORDS-word records; a
- * hash table of state numbers finds duplicates; parents[] gives the BFS tree.  Expanding
+ * States are stored once, in discovery order, in one array of NWORDS-word records (PW-word
+ * records of codes in the packed store, see below); a hash table of state numbers finds
+ * duplicates; parents[] gives the BFS tree.  Expanding
  * a state re-runs the step for every sequence of choices (the same enumeration as the
  * Python explorer), packs each successor and looks it up.
  */
@@ -31,11 +32,29 @@ static inline uint64_t mix64(uint64_t z) {
     return z ^ (z >> 31);
 }
 
-static inline uint64_t hash_state(const uint64_t *w) {
-    uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (int i = 0; i < NWORDS; i++) h = mix64(h ^ w[i]);
-    return h;
+/* four independent lanes (xxHash64's round), so that the multiplications of a long state
+   overlap, then mix64 over the lanes; the table's position is taken from the high 32 bits
+   (HPOS), the same bits an entry keeps (fp), so that a bigger table is filled from the entries
+   alone, without reading a state or hashing it again */
+#define HP1 0x9e3779b185ebca87ULL
+#define HP2 0xc2b2ae3d27d4eb4fULL
+static inline uint64_t hround(uint64_t acc, uint64_t x) {
+    acc += x * HP2;
+    acc = (acc << 31) | (acc >> 33);
+    return acc * HP1;
 }
+static inline uint64_t hash_words(const uint64_t *w, int64_t nw) {
+    uint64_t a = 0x9e3779b97f4a7c15ULL, b = HP2, c = 0x165667b19e3779f9ULL, d = HP1;
+    int64_t i = 0;
+    for (; i + 4 <= nw; i += 4) {
+        a = hround(a, w[i]); b = hround(b, w[i + 1]); c = hround(c, w[i + 2]); d = hround(d, w[i + 3]);
+    }
+    uint64_t h = mix64(a) ^ mix64(b + 1) ^ mix64(c + 2) ^ mix64(d + 3);
+    for (; i < nw; i++) h = mix64(h ^ w[i]);
+    return mix64(h + (uint64_t)nw);
+}
+static inline uint64_t hash_state(const uint64_t *w) { return hash_words(w, NWORDS); }
+#define HPOS(hh) ((uint64_t)(hh) >> 32)
 
 static int grow_table(void) {
     uint64_t ncap = tmask ? (tmask + 1) * 2 : 1024;
@@ -43,12 +62,11 @@ static int grow_table(void) {
     if (!nt) return 0;
     memset(nt, 0xff, ncap * sizeof(Entry));
     uint64_t nmask = ncap - 1;
-    for (int64_t s = 0; s < nstates; s++) {
-        uint64_t hh = hash_state(states + s * NWORDS);
-        uint64_t h = hh & nmask;
+    for (uint64_t e = 0; tmask && e <= tmask; e++) {
+        if (table[e].id == 0xffffffffu) continue;
+        uint64_t h = table[e].fp & nmask;
         while (nt[h].id != 0xffffffffu) h = (h + 1) & nmask;
-        nt[h].id = (uint32_t)s;
-        nt[h].fp = (uint32_t)(hh >> 32);
+        nt[h] = table[e];
     }
     free(table);
     table = nt;
@@ -56,24 +74,25 @@ static int grow_table(void) {
     return 1;
 }
 
-/* the number of state w (adding it if new); *isnew tells which; -1 when out of memory */
-static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
+/* the number of the state stored as the nw words w (adding it if new); *isnew tells which; -1
+   when out of memory */
+static int64_t intern_words(const uint64_t *w, int64_t nw, uint32_t parent, int *isnew) {
     if ((tcount + 1) * 4 > (int64_t)(tmask + 1) * 3) {
         if (!grow_table()) return -1;
     }
-    uint64_t hh = hash_state(w);
+    uint64_t hh = hash_words(w, nw);
     uint32_t fp = (uint32_t)(hh >> 32);
-    uint64_t h = hh & tmask;
+    uint64_t h = HPOS(hh) & tmask;
     while (table[h].id != 0xffffffffu) {
         if (table[h].fp == fp) {
-            const uint64_t *o = states + (int64_t)table[h].id * NWORDS;
-            if (memcmp(o, w, NWORDS * sizeof(uint64_t)) == 0) { *isnew = 0; return table[h].id; }
+            const uint64_t *o = states + (int64_t)table[h].id * nw;
+            if (memcmp(o, w, nw * sizeof(uint64_t)) == 0) { *isnew = 0; return table[h].id; }
         }
         h = (h + 1) & tmask;
     }
     if (nstates >= cap_states) {
         int64_t nc = cap_states ? cap_states + cap_states / 2 : 4096;
-        uint64_t *ns = (uint64_t *)realloc(states, nc * NWORDS * sizeof(uint64_t));
+        uint64_t *ns = (uint64_t *)realloc(states, nc * (nw > 0 ? nw : 1) * sizeof(uint64_t));
         if (!ns) return -1;
         states = ns;
         uint32_t *np = (uint32_t *)realloc(parents, nc * sizeof(uint32_t));
@@ -81,13 +100,242 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
         parents = np;
         cap_states = nc;
     }
-    memcpy(states + nstates * NWORDS, w, NWORDS * sizeof(uint64_t));
+    memcpy(states + nstates * nw, w, nw * sizeof(uint64_t));
     parents[nstates] = parent;
     table[h].id = (uint32_t)nstates;
     table[h].fp = fp;
     tcount++;
     *isnew = 1;
     return nstates++;
+}
+
+/* ------------------------------------------------------------------ the packed store
+ * With one thread (asm_pack(1) before asm_start) and at least PK_MIN_WORDS words a state, a
+ * stored state is the codes of its words in bit fields of 0, 1, 2, 4, ... 64 bits: the code of
+ * a word is its number in that word's dictionary (the values the word took, numbered as met), or
+ * the word itself once it took more than PK_RAW_AFTER values.  A word that never changes takes
+ * no bit.  When a dictionary outgrows its field, the fields are laid out again and every stored
+ * state repacked (the fields sorted by width, so none straddles two words).  States are
+ * numbered as in the plain store (the codes only decide equality); the threaded search keeps
+ * the plain store.  intern() keeps the codes of the state being expanded (pk_par_*): a word
+ * equal to its parent's takes the parent's code without a dictionary lookup.
+ */
+#define PK_MIN_WORDS 6
+#define PK_RAW_AFTER 65536
+#define PK_NW (NWORDS > 0 ? NWORDS : 1)
+static int pk_allow = 0, pk_on = 0;
+static int64_t PW = NWORDS;                      /* words of a stored state */
+static int pk_bits[PK_NW], pk_raw[PK_NW], pk_at[PK_NW], pk_sh[PK_NW];
+static uint64_t *pk_vals[PK_NW];                 /* by word: code -> value */
+static int64_t pk_n[PK_NW], pk_cap[PK_NW];
+typedef struct { uint64_t v; uint32_t j, code; } PkEnt;
+static PkEnt *pk_tab = 0;                        /* (word, value) -> code */
+static uint64_t pk_mask = 0;
+static int64_t pk_count = 0;
+static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW];
+static int pk_par_ok = 0;
+
+/* 1: the next search (asm_start) keeps the packed store, when it runs on one thread */
+void asm_pack(int64_t on) { pk_allow = on != 0; }
+int64_t asm_packed_words(void) { return pk_on ? PW : -1; }
+
+static inline uint64_t pk_hash(uint32_t j, uint64_t v) { return mix64(v * HP1 + j); }
+
+static int pk_grow_tab(void) {
+    uint64_t ncap = pk_mask ? (pk_mask + 1) * 2 : 256, nm = ncap - 1;
+    PkEnt *t = (PkEnt *)malloc(ncap * sizeof(PkEnt));
+    if (!t) return 0;
+    for (uint64_t i = 0; i < ncap; i++) t[i].j = 0xffffffffu;
+    for (uint64_t i = 0; pk_tab && i <= pk_mask; i++) {
+        if (pk_tab[i].j == 0xffffffffu) continue;
+        uint64_t h = pk_hash(pk_tab[i].j, pk_tab[i].v) & nm;
+        while (t[h].j != 0xffffffffu) h = (h + 1) & nm;
+        t[h] = pk_tab[i];
+    }
+    free(pk_tab);
+    pk_tab = t;
+    pk_mask = nm;
+    return 1;
+}
+
+/* the code of value v in word j's dictionary (added when add), -1 when absent (or out of memory) */
+static int64_t pk_lookup(uint32_t j, uint64_t v, int add) {
+    if (add && (pk_count + 1) * 4 > (int64_t)(pk_mask + 1) * 3 && !pk_grow_tab()) return -1;
+    if (!pk_tab) return -1;
+    uint64_t h = pk_hash(j, v) & pk_mask;
+    while (pk_tab[h].j != 0xffffffffu) {
+        if (pk_tab[h].j == j && pk_tab[h].v == v) return pk_tab[h].code;
+        h = (h + 1) & pk_mask;
+    }
+    if (!add) return -1;
+    if (pk_n[j] >= pk_cap[j]) {
+        int64_t nc = pk_cap[j] ? pk_cap[j] * 2 : 4;
+        uint64_t *x = (uint64_t *)realloc(pk_vals[j], nc * sizeof(uint64_t));
+        if (!x) return -1;
+        pk_vals[j] = x;
+        pk_cap[j] = nc;
+    }
+    pk_vals[j][pk_n[j]] = v;
+    pk_tab[h].j = j; pk_tab[h].v = v; pk_tab[h].code = (uint32_t)pk_n[j];
+    pk_count++;
+    return pk_n[j]++;
+}
+
+static inline uint64_t pk_field(const uint64_t *rec, int j) {
+    int b = pk_bits[j];
+    if (b == 0) return 0;
+    if (b == 64) return rec[pk_at[j]];
+    return (rec[pk_at[j]] >> pk_sh[j]) & ((1ULL << b) - 1);
+}
+
+/* the words (and codes) of a stored state */
+static void pk_decode(const uint64_t *rec, uint64_t *w, uint64_t *codes) {
+    for (int j = 0; j < NWORDS; j++) {
+        uint64_t x = pk_field(rec, j);
+        if (codes) codes[j] = x;
+        w[j] = pk_raw[j] ? x : pk_vals[j][x];
+    }
+}
+
+static void pk_pack(const uint64_t *codes, uint64_t *rec) {
+    memset(rec, 0, PW * sizeof(uint64_t));
+    for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) rec[pk_at[j]] |= codes[j] << pk_sh[j];
+}
+
+/* the offsets of the fields, widest first (PW: the words they take) */
+static void pk_place(void) {
+    int64_t pos = 0;
+    for (int b = 64; b >= 1; b /= 2)
+        for (int j = 0; j < NWORDS; j++)
+            if (pk_bits[j] == b) { pk_at[j] = (int)(pos / 64); pk_sh[j] = (int)(pos % 64); pos += b; }
+    PW = (pos + 63) / 64;
+    if (PW < 1) PW = 1;
+}
+
+/* wider fields for the words whose dictionaries outgrew them, every state repacked and the table
+   filled again; 0 when out of memory */
+static int pk_widen(void) {
+    int obits[PK_NW], oraw[PK_NW], oat[PK_NW], osh[PK_NW];
+    memcpy(obits, pk_bits, sizeof(obits)); memcpy(oraw, pk_raw, sizeof(oraw));
+    memcpy(oat, pk_at, sizeof(oat)); memcpy(osh, pk_sh, sizeof(osh));
+    int64_t opw = PW;
+    for (int j = 0; j < NWORDS; j++) {
+        if (pk_raw[j] || pk_bits[j] == 64 || pk_n[j] <= (1LL << pk_bits[j])) continue;
+        if (pk_n[j] > PK_RAW_AFTER) { pk_raw[j] = 1; pk_bits[j] = 64; continue; }
+        int b = pk_bits[j] ? pk_bits[j] : 1;
+        while ((1LL << b) < 2 * pk_n[j]) b *= 2;       /* room for as many again */
+        pk_bits[j] = b;
+    }
+    pk_place();
+    uint64_t *ns = (uint64_t *)malloc((cap_states > 0 ? cap_states : 1) * PW * sizeof(uint64_t));
+    if (!ns) return 0;
+    uint64_t codes[PK_NW];
+    for (int64_t s = 0; s < nstates; s++) {
+        const uint64_t *rec = states + s * opw;
+        for (int j = 0; j < NWORDS; j++) {
+            int b = obits[j];
+            uint64_t x = b == 0 ? 0 : b == 64 ? rec[oat[j]] : (rec[oat[j]] >> osh[j]) & ((1ULL << b) - 1);
+            codes[j] = (pk_raw[j] && !oraw[j]) ? pk_vals[j][x] : x;
+        }
+        pk_pack(codes, ns + s * PW);
+    }
+    free(states);
+    states = ns;
+    for (int j = 0; j < NWORDS; j++)
+        if (pk_raw[j] && !oraw[j]) pk_par_c[j] = pk_par_w[j];     /* the parent's code: the word */
+    pk_pack(pk_par_c, pk_par_rec);
+    memset(table, 0xff, (tmask + 1) * sizeof(Entry));
+    for (int64_t s = 0; s < nstates; s++) {
+        uint64_t hh = hash_words(states + s * PW, PW);
+        uint64_t h = HPOS(hh) & tmask;
+        while (table[h].id != 0xffffffffu) h = (h + 1) & tmask;
+        table[h].id = (uint32_t)s;
+        table[h].fp = (uint32_t)(hh >> 32);
+    }
+    return 1;
+}
+
+/* the codes of w (added to the dictionaries when add; -1 for a value absent otherwise) */
+static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
+    for (int j = 0; j < NWORDS; j++) {
+        uint64_t x = w[j];
+        if (pk_par_ok && x == pk_par_w[j]) { codes[j] = pk_par_c[j]; continue; }
+        if (pk_raw[j]) { codes[j] = x; continue; }
+        int64_t k = pk_lookup((uint32_t)j, x, add);
+        if (k < 0) return -1;
+        codes[j] = (uint64_t)k;
+        if (pk_bits[j] < 64 && (uint64_t)k >> pk_bits[j]) *wide = 1;
+    }
+    return 0;
+}
+
+static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
+    uint64_t codes[PK_NW], rec[PK_NW];
+    int wide = 0;
+    if (pk_par_ok) {    /* the parent's record with the fields of the words that differ written over */
+        memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
+        int j = 0;
+        for (; j < NWORDS; j++) {
+            uint64_t x = w[j];
+            if (x == pk_par_w[j]) continue;
+            uint64_t k = x;
+            if (!pk_raw[j]) {
+                int64_t q = pk_lookup((uint32_t)j, x, 1);
+                if (q < 0) return -1;
+                k = (uint64_t)q;
+            }
+            int b = pk_bits[j];
+            if (b == 64) { rec[pk_at[j]] = k; continue; }
+            if (k >> b) break;            /* the field is too narrow: the whole way below */
+            rec[pk_at[j]] = (rec[pk_at[j]] & ~(((1ULL << b) - 1) << pk_sh[j])) | (k << pk_sh[j]);
+        }
+        if (j == NWORDS) return intern_words(rec, PW, parent, isnew);
+    }
+    if (pk_codes(w, codes, 1, &wide) < 0) return -1;
+    if (wide) {
+        if (!pk_widen()) return -1;
+        for (int j = 0; j < NWORDS; j++) if (pk_raw[j]) codes[j] = w[j];
+    }
+    pk_pack(codes, rec);
+    int64_t r = intern_words(rec, PW, parent, isnew);
+    return r;
+}
+
+/* the number of state w (adding it if new); *isnew tells which; -1 when out of memory */
+static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
+    return pk_on ? pk_intern(w, parent, isnew) : intern_words(w, NWORDS, parent, isnew);
+}
+
+/* the words of state sid (in the packed store: decoded, and kept as the parent of what intern
+   is given next) */
+static const uint64_t *state_words(int64_t sid) {
+    if (!pk_on) return states + sid * NWORDS;
+    pk_decode(states + sid * PW, pk_par_w, pk_par_c);
+    memcpy(pk_par_rec, states + sid * PW, PW * sizeof(uint64_t));
+    pk_par_ok = 1;
+    return pk_par_w;
+}
+
+static void pk_start(void) {
+    pk_on = pk_allow && NWORDS >= PK_MIN_WORDS;
+    pk_allow = 0;                    /* asked for again before each search */
+    for (int j = 0; j < NWORDS; j++) { pk_bits[j] = 0; pk_raw[j] = 0; pk_n[j] = 0; }
+    pk_place();
+    if (!pk_on) PW = NWORDS;
+    pk_par_ok = 0;
+}
+
+static void pk_free(void) {
+    for (int j = 0; j < NWORDS; j++) { free(pk_vals[j]); pk_vals[j] = 0; pk_n[j] = pk_cap[j] = 0; }
+    free(pk_tab); pk_tab = 0; pk_mask = 0; pk_count = 0;
+    pk_on = 0; PW = NWORDS; pk_par_ok = 0;
+}
+
+static int64_t pk_bytes(void) {
+    if (!pk_on) return 0;
+    int64_t b = (pk_mask + 1) * (int64_t)sizeof(PkEnt);
+    for (int j = 0; j < NWORDS; j++) b += pk_cap[j] * (int64_t)sizeof(uint64_t);
+    return b;
 }
 
 static inline V slot_decode(int s, V code) {
@@ -182,9 +430,11 @@ static int add_edge(uint32_t a, uint32_t b) {
     return 1;
 }
 
+/* the wide slots (64 bits), listed by asm_start */
+static int wide_slots[NSLOTS > 0 ? NSLOTS : 1], nwide = 0;
 static void note_range(const uint64_t *w, int64_t depth) {
-    for (int s = 0; s < NSLOTS; s++) {
-        if (SLOT_BITS[s] != 64) continue;
+    for (int i = 0; i < nwide; i++) {
+        int s = wide_slots[i];
         V v = (V)w[SLOT_WORD[s]];
         if (v == UNDEF) continue;
         if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
@@ -195,11 +445,14 @@ static void note_range(const uint64_t *w, int64_t depth) {
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
                   double max_seconds, int64_t deadlock, int64_t keep_graph) {
     asm_free();                      /* a previous search in this process */
+    pk_start();
     memset(&ctx_static, 0, sizeof(Ctx));
     ctx_static.seqstart = -1;
     ctx_static.rd = ctx_static.cur;
     memset(&S, 0, sizeof(S));
     for (int s = 0; s < NSLOTS; s++) { S.lo[s] = INT64_MAX; S.hi[s] = INT64_MIN + 1; S.grew[s] = -1; }
+    nwide = 0;
+    for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) wide_slots[nwide++] = s;
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
@@ -649,7 +902,8 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             S.depth++;
             S.level_end = nstates;
         }
-        load_state(c, states + sid * NWORDS);
+        const uint64_t *sw = state_words(sid);
+        load_state(c, sw);
         c->self = UNDEF;
         c->epoch = ++global_epoch;
         /* invariants */
@@ -668,7 +922,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         /* successors: every sequence of choices, kept aside until the whole step has run
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
-        int xr = expand_state(c, states + sid * NWORDS, &sb0, &steperr, &xe, &xsite, 0);
+        int xr = expand_state(c, sw, &sb0, &steperr, &xe, &xsite, 0);
         if (xr == EXP_HARD) {
             out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
             status = 4; goto finish;
@@ -710,14 +964,35 @@ done:
 
 int64_t asm_parent(int64_t sid) { return parents[sid] == 0xffffffffu ? -1 : (int64_t)parents[sid]; }
 
-void asm_state(int64_t sid, uint64_t *out) { memcpy(out, states + sid * NWORDS, NWORDS * sizeof(uint64_t)); }
+void asm_state(int64_t sid, uint64_t *out) {
+    if (pk_on) pk_decode(states + sid * PW, out, 0);
+    else memcpy(out, states + sid * NWORDS, NWORDS * sizeof(uint64_t));
+}
 
 /* the number of a stored state, or -1 */
 int64_t asm_find(const uint64_t *w) {
     if (!table) return -1;
+    if (pk_on) {        /* its codes (a value no state holds: not stored) */
+        uint64_t codes[PK_NW], rec[PK_NW];
+        int wide = 0, ok = pk_par_ok;
+        pk_par_ok = 0;
+        int r = pk_codes(w, codes, 0, &wide);
+        pk_par_ok = ok;
+        if (r < 0 || wide) return -1;
+        pk_pack(codes, rec);
+        uint64_t hh = hash_words(rec, PW);
+        uint32_t fp = (uint32_t)(hh >> 32);
+        uint64_t h = HPOS(hh) & tmask;
+        while (table[h].id != 0xffffffffu) {
+            if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * PW, rec, PW * sizeof(uint64_t)) == 0)
+                return table[h].id;
+            h = (h + 1) & tmask;
+        }
+        return -1;
+    }
     uint64_t hh = hash_state(w);
     uint32_t fp = (uint32_t)(hh >> 32);
-    uint64_t h = hh & tmask;
+    uint64_t h = HPOS(hh) & tmask;
     while (table[h].id != 0xffffffffu) {
         if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * NWORDS, w, NWORDS * sizeof(uint64_t)) == 0)
             return table[h].id;
@@ -763,6 +1038,7 @@ void asm_free(void) {
     vt_free();
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
+    pk_free();
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
     ef_free();
@@ -790,7 +1066,7 @@ static int64_t table_bytes(int64_t n) {
 }
 
 static int64_t memory_bytes(int64_t n) {
-    return n * (int64_t)(NWORDS * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n)
+    return n * (int64_t)(PW * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n) + pk_bytes()
         /* an edge is two ends here, and again in the arrays Python copies them into (with a
            bytes object of one array's size while it fills) before these are freed */
         + S.nedges * 5 * (int64_t)sizeof(uint32_t)
@@ -1041,7 +1317,7 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
         for (int64_t q = 0; q < n; q++) {
             uint64_t hh = hash_state(w->b.w + q * NWORDS);
             w->ch[w->ncand + q] = hh;
-            __builtin_prefetch(&table[hh & tmask]);
+            __builtin_prefetch(&table[HPOS(hh) & tmask]);
         }
         C.scount[li] = n;
         w->ncand += n;
@@ -1066,12 +1342,12 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
         int64_t li = sid - pl->c0;
         int64_t q0 = C.sfirst[li], q1 = q0 + C.scount[li];
         for (int64_t q = q0; q < q1; q++) {
-            if (q + 8 < w->ncand) __builtin_prefetch(&table[w->ch[q + 8] & tmask]);
+            if (q + 8 < w->ncand) __builtin_prefetch(&table[HPOS(w->ch[q + 8]) & tmask]);
             uint64_t hh = w->ch[q];
             uint32_t fp = (uint32_t)(hh >> 32);
             const uint64_t *cw = w->cw + (q - w->bq0) * NWORDS;
             uint64_t key = dkey(sid, q - q0);
-            uint64_t h = hh & tmask;
+            uint64_t h = HPOS(hh) & tmask;
             for (;;) {
                 uint64_t e = __atomic_load_n(&tab[h], __ATOMIC_ACQUIRE);
                 if (e == EMPTY) {
@@ -1299,8 +1575,7 @@ static void rehash_part(int t, int nt, int part) {
         uint64_t e = old[h];
         if (e == EMPTY) continue;
         uint32_t id = (uint32_t)e;
-        const uint64_t *wd = (id & PROV) ? C.aw + (int64_t)(id & ~PROV) * NWORDS : states + (int64_t)id * NWORDS;
-        uint64_t g = hash_state(wd) & newmask;
+        uint64_t g = (e >> 32) & newmask;
         for (;;) {
             uint64_t x = EMPTY;
             if (__atomic_load_n(&newtab[g], __ATOMIC_RELAXED) == EMPTY &&
@@ -1506,7 +1781,7 @@ static void rebuild_table(void) {
     memset(table, 0xff, (tmask + 1) * sizeof(Entry));
     for (int64_t s = 0; s < nstates; s++) {
         uint64_t hh = hash_state(states + s * NWORDS);
-        uint64_t h = hh & tmask;
+        uint64_t h = HPOS(hh) & tmask;
         while (table[h].id != 0xffffffffu) h = (h + 1) & tmask;
         table[h].id = (uint32_t)s;
         table[h].fp = (uint32_t)(hh >> 32);
@@ -1589,7 +1864,7 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
     int force = nthreads < 0;        /* -n: the threaded search even on one thread (benchmarks) */
     if (force) nthreads = -nthreads;
     if (nthreads > MAXTHREADS) nthreads = MAXTHREADS;
-    if ((nthreads <= 1 && !force) || NINV > 64 || NSTEP > 64 || S.status != -1) return asm_run(slice_seconds, out);
+    if ((nthreads <= 1 && !force) || NINV > 64 || NSTEP > 64 || S.status != -1 || pk_on) return asm_run(slice_seconds, out);
     if (!chunk_alloc()) return asm_run(slice_seconds, out);
     for (int t = 0; t < nthreads; t++) if (W[t].spin_limit == 0) W[t].spin_limit = 30e-6;
     for (int t = 0; t < nthreads; t++) {

@@ -546,12 +546,23 @@ static inline V slot_decode(int s, V code);
 
 /* Canonical forms already worked out, one entry each in a pool: key (the bits of the words
  * that hold locations that may hold elements or counts, CN_KMASK, then the counts of this
- * step), then the same bits of the canonical successor.  The table holds the entries' offsets. */
+ * step), then the same bits of the canonical successor where they differ from the key's: their
+ * number, then pairs (position among the CN_KW words, bits).  The table holds the entries'
+ * offsets. */
 #define CN_KL (CN_NKW + CN_NDYN)
 
 static uint64_t cn_key_hash(const V *k) {
-    uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (int i = 0; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
+    /* four lanes, so that the multiplications overlap (as hash_state) */
+    uint64_t a = 0x9e3779b97f4a7c15ULL, b = 0xc2b2ae3d27d4eb4fULL, c = 0x165667b19e3779f9ULL, d = 0x9e3779b185ebca87ULL;
+    int i = 0;
+    for (; i + 4 <= CN_KL; i += 4) {
+        a = (a ^ (uint64_t)k[i]) * 0x9e3779b185ebca87ULL; a ^= a >> 29;
+        b = (b ^ (uint64_t)k[i + 1]) * 0x9e3779b185ebca87ULL; b ^= b >> 29;
+        c = (c ^ (uint64_t)k[i + 2]) * 0x9e3779b185ebca87ULL; c ^= c >> 29;
+        d = (d ^ (uint64_t)k[i + 3]) * 0x9e3779b185ebca87ULL; d ^= d >> 29;
+    }
+    uint64_t h = cn_mix(a) ^ cn_mix(b + 1) ^ cn_mix(c + 2) ^ cn_mix(d + 3);
+    for (; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
     return h;
 }
 static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
@@ -567,7 +578,9 @@ static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
 }
 /* the canonical successor w of key k */
 static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
-    int64_t size = CN_KL + CN_NKW;
+    int nd = 0;
+    for (int i = 0; i < CN_NKW; i++) if ((V)(w[CN_KW[i]] & CN_KMASK[i]) != k[i]) nd++;
+    int64_t size = CN_KL + 1 + 2 * nd;
     if (W->dn >= (1 << 20) || W->dused + size > ((int64_t)1 << 25)) return;     /* enough kept */
     if ((W->dn + 1) * 2 > (int64_t)(W->dmask + 1)) {
         uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
@@ -591,7 +604,11 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
     }
     V *e = W->dpool + W->dused;
     memcpy(e, k, CN_KL * sizeof(V));
-    for (int i = 0; i < CN_NKW; i++) e[CN_KL + i] = (V)(w[CN_KW[i]] & CN_KMASK[i]);
+    e[CN_KL] = nd;
+    for (int i = 0, q = CN_KL + 1; i < CN_NKW; i++) {
+        V x = (V)(w[CN_KW[i]] & CN_KMASK[i]);
+        if (x != k[i]) { e[q++] = i; e[q++] = x; }
+    }
     uint64_t i = h & W->dmask;
     while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
     W->dtab[i] = W->dused;
@@ -638,7 +655,10 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     {
         const V *res = cn_done_find(W, key, kh);
         if (res) {
-            for (int i = 0; i < CN_NKW; i++) w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[CN_KL + i];
+            for (V q = 0; q < res[CN_KL]; q++) {
+                int i = (int)res[CN_KL + 1 + 2 * q];
+                w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[CN_KL + 2 + 2 * q];
+            }
             return 0;
         }
     }

@@ -25,7 +25,13 @@ class CTL:
         self.justice = [lab for _, lab in K.justice]
         self.compassion = [(p, q) for _, p, q in K.compassion]
         self._fair_sccs_cache: dict = {}
-        self.fair = self._eg(full(self.n))
+        from . import kernel
+        if not self.justice and not self.compassion and kernel.all_succ(K):
+            # no fairness constraint and a successor everywhere: a path goes on for ever from
+            # every node (EG true is every node)
+            self.fair = full(self.n)
+        else:
+            self.fair = self._eg(full(self.n))
 
     # -------------------------------------------------------------- labelling
     def sat(self, f) -> bytearray:

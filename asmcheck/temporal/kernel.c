@@ -489,14 +489,16 @@ int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *d
                     const uint8_t *vec8, const uint64_t *sig, const uint8_t *ok, int32_t *off, int32_t *adj) {
     free(Q_first); Q_first = 0; Q_n = 0;
     KeyTab kt = {0}, nt = {0};
-    int32_t *tab = 0, *first = 0, *pos = 0;
+    int32_t *tab = 0, *first = 0, *pos = 0, *stamp = 0;
     int64_t rc = -1, nq = 0, qcap = 0;
     int novec = !vec && !vec8;
     /* pass 1: the nodes leaving each state, and the source keys (sig, vec) numbered densely */
     for (int64_t v = 0; v <= n; v++) off[v] = 0;
     int64_t last = -1;
+    int asc = 1;
     for (int64_t i = 0; i < m; i++) {
         uint32_t s = src[i];
+        if (i && s < src[i - 1]) asc = 0;
         if (!ok[s]) continue;
         off[s + 1]++;
         if (novec && (int64_t)s == last) continue;
@@ -517,7 +519,7 @@ int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *d
         memset(tab, 0xff, (size_t)(nk * n + 1) * sizeof(int32_t));
     }
     last = -1;
-    int64_t k = 0;
+    int64_t k = 0, cur = -1, o = 0;
     for (int64_t i = 0; i < m; i++) {
         uint32_t s = src[i];
         if (!ok[s]) continue;
@@ -541,34 +543,51 @@ int64_t kn_quotient(int64_t n, int64_t m, const uint32_t *src, const uint32_t *d
                 int32_t *x = (int32_t *)realloc(first, qcap * sizeof(int32_t));
                 if (!x) goto out;
                 first = x;
+                if (asc) {
+                    x = (int32_t *)realloc(stamp, qcap * sizeof(int32_t));
+                    if (!x) goto out;
+                    stamp = x;
+                }
             }
+            if (asc) stamp[nq] = -1;
             first[nq++] = (int32_t)i;
         }
-        adj[pos[s]++] = q;
+        if (asc) {
+            /* sources ascending: each state's list written in place, a step recorded twice once */
+            if ((int64_t)s != cur) {
+                for (int64_t v = cur + 1; v <= (int64_t)s; v++) off[v] = (int32_t)o;
+                cur = s;
+            }
+            if (stamp[q] == (int32_t)s) continue;
+            stamp[q] = (int32_t)s;
+            adj[o++] = q;
+        } else adj[pos[s]++] = q;
     }
-    {
+    if (asc) {
+        for (int64_t v = cur + 1; v <= n; v++) off[v] = (int32_t)o;
+    } else {
         /* a step recorded twice (the same source, target and values) is one entry of the list */
-        int32_t *stamp = (int32_t *)malloc((nq + 1) * sizeof(int32_t));
-        if (!stamp) goto out;
-        for (int64_t q = 0; q < nq; q++) stamp[q] = -1;
-        int64_t o = 0;
+        int32_t *seen = (int32_t *)malloc((nq + 1) * sizeof(int32_t));
+        if (!seen) goto out;
+        for (int64_t q = 0; q < nq; q++) seen[q] = -1;
+        int64_t w = 0;
         for (int64_t v = 0; v < n; v++) {
             int32_t a = off[v], b = off[v + 1];
-            off[v] = (int32_t)o;
+            off[v] = (int32_t)w;
             for (int32_t e = a; e < b; e++) {
                 int32_t q = adj[e];
-                if (stamp[q] == (int32_t)v) continue;
-                stamp[q] = (int32_t)v;
-                adj[o++] = q;
+                if (seen[q] == (int32_t)v) continue;
+                seen[q] = (int32_t)v;
+                adj[w++] = q;
             }
         }
-        off[n] = (int32_t)o;
-        free(stamp);
+        off[n] = (int32_t)w;
+        free(seen);
     }
     Q_first = first; first = 0; Q_n = nq;
     rc = nq;
 out:
-    key_free(&kt); key_free(&nt); free(tab); free(first); free(pos);
+    key_free(&kt); key_free(&nt); free(tab); free(first); free(pos); free(stamp);
     return rc;
 }
 
@@ -707,4 +726,96 @@ out:
 /* out[src[i]] = 1 for each of the m entries */
 void kn_mark(int64_t m, const uint32_t *src, uint8_t *out) {
     for (int64_t i = 0; i < m; i++) out[src[i]] = 1;
+}
+
+/* 1 when the class of every one of the n nodes has a successor (a non-empty list) */
+int64_t kn_all_succ(int64_t n, const int32_t *cls, const int32_t *off) {
+    for (int64_t v = 0; v < n; v++) {
+        int32_t c = cls ? cls[v] : (int32_t)v;
+        if (off[c + 1] == off[c]) return 0;
+    }
+    return 1;
+}
+
+/* ------------------------------------------------------------------ the quotient, source by source
+ * kn_quotient for steps handed over a source at a time (ascending, each source once), without
+ * keeping them: kn_qs_begin, kn_qs_add per source (its nsteps targets and atom bits; steps whose
+ * bits miss one of need are left out, a step given twice is one entry; the caller keeps the
+ * source's list), kn_qs_end (the number of quotient nodes, -1 when out of memory) and kn_qs_take
+ * (the lists' offsets, and the source, target and bits of each quotient node's first step). */
+static struct {
+    KeyTab kt, nt;
+    const uint64_t *sig;
+    int64_t n, nq, qcap, na, cur, failed;
+    int32_t *off, *fsrc, *fdst, *stamp;
+    uint64_t *fvec;
+} QS;
+
+static void qs_free(void) {
+    key_free(&QS.kt); key_free(&QS.nt);
+    free(QS.off); free(QS.fsrc); free(QS.fdst); free(QS.stamp); free(QS.fvec);
+    memset(&QS, 0, sizeof(QS));
+}
+
+int64_t kn_qs_begin(int64_t n, const uint64_t *sig) {
+    qs_free();
+    QS.n = n; QS.sig = sig; QS.cur = -1;
+    QS.off = (int32_t *)calloc(n + 1, sizeof(int32_t));
+    return QS.off ? 0 : -1;
+}
+
+int64_t kn_qs_add(int64_t s, int64_t nsteps, const int64_t *recs, uint64_t need, int32_t *out) {
+    /* recs: (target, bits) pairs; out gets the source's list (room for nsteps), whose length is
+       returned */
+    if (QS.failed) return -1;
+    int64_t na0 = QS.na;
+    for (int64_t v = QS.cur + 1; v <= s; v++) QS.off[v] = (int32_t)QS.na;
+    QS.cur = s;
+    for (int64_t i = 0; i < nsteps; i++) {
+        int64_t d = recs[2 * i];
+        uint64_t b = (uint64_t)recs[2 * i + 1];
+        if ((b & need) != need) continue;
+        int64_t k = key_id(&QS.kt, QS.sig[s], b);
+        int64_t q = k < 0 ? -1 : key_id(&QS.nt, (uint64_t)k, (uint64_t)d);
+        if (q < 0) { QS.failed = 1; return -1; }
+        if (q == QS.nq) {
+            if (QS.nq == QS.qcap) {
+                int64_t c = QS.qcap ? QS.qcap * 2 : 1024;
+                int32_t *a = (int32_t *)realloc(QS.fsrc, c * sizeof(int32_t));
+                if (a) QS.fsrc = a;
+                int32_t *b2 = (int32_t *)realloc(QS.fdst, c * sizeof(int32_t));
+                if (b2) QS.fdst = b2;
+                int32_t *st = (int32_t *)realloc(QS.stamp, c * sizeof(int32_t));
+                if (st) QS.stamp = st;
+                uint64_t *fv = (uint64_t *)realloc(QS.fvec, c * sizeof(uint64_t));
+                if (fv) QS.fvec = fv;
+                if (!a || !b2 || !st || !fv) { QS.failed = 1; return -1; }
+                QS.qcap = c;
+            }
+            QS.fsrc[q] = (int32_t)s; QS.fdst[q] = (int32_t)d; QS.fvec[q] = b; QS.stamp[q] = -1;
+            QS.nq++;
+        }
+        if (QS.stamp[q] == (int32_t)s) continue;
+        QS.stamp[q] = (int32_t)s;
+        out[QS.na++ - na0] = (int32_t)q;
+    }
+    return QS.na - na0;
+}
+
+int64_t kn_qs_end(void) {
+    if (QS.failed) { qs_free(); return -1; }
+    for (int64_t v = QS.cur + 1; v <= QS.n; v++) QS.off[v] = (int32_t)QS.na;
+    return QS.nq;
+}
+
+int64_t kn_qs_len(void) { return QS.na; }
+
+void kn_qs_take(int32_t *off, int32_t *fsrc, int32_t *fdst, uint64_t *fvec) {
+    memcpy(off, QS.off, (QS.n + 1) * sizeof(int32_t));
+    if (QS.nq) {
+        memcpy(fsrc, QS.fsrc, QS.nq * sizeof(int32_t));
+        memcpy(fdst, QS.fdst, QS.nq * sizeof(int32_t));
+        memcpy(fvec, QS.fvec, QS.nq * sizeof(uint64_t));
+    }
+    qs_free();
 }

@@ -44,6 +44,12 @@ _SYMBOLS = {
     "kn_eu_rev": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
     "kn_bfs": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _p, _p, _i64, _p]),
     "kn_mark": (None, [_i64, _p, _p]),
+    "kn_all_succ": (_i64, [_i64, _p, _p]),
+    "kn_qs_begin": (_i64, [_i64, _p]),
+    "kn_qs_add": (_i64, [_i64, _i64, _p, ctypes.c_uint64, _p]),
+    "kn_qs_end": (_i64, []),
+    "kn_qs_len": (_i64, []),
+    "kn_qs_take": (None, [_p, _p, _p, _p]),
 }
 _dll = None
 _failed = False
@@ -178,6 +184,14 @@ def _csr(K):
     return got
 
 
+def _identity(K, cls) -> bool:
+    """Whether node v's class is v (a state graph's), found once per structure."""
+    got = getattr(K, "_kernel_ident", None)
+    if got is None:
+        got = K._kernel_ident = cls == array("i", range(len(cls)))
+    return got
+
+
 def _u32(a) -> array:
     return a if isinstance(a, array) and a.typecode == "I" else array("I", a)
 
@@ -287,8 +301,11 @@ def fair_comp(K, s: bytearray, justice, compassion):
     cp = bytearray().join(p for p, _ in compassion) or bytearray(1)
     cq = bytearray().join(q for _, q in compassion) or bytearray(1)
     comp = array("i", bytes(4 * max(n, 1)))
-    # the roots: every node of s, ascending (passed as none)
-    nfair = dll.kn_fair_graph(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), n, 0, _addr(mask),
+    # the roots: every node of s, ascending (passed as none); a state graph's classes are its
+    # nodes (no relay vertices)
+    relay = not _identity(K, cls)
+    nfair = dll.kn_fair_graph(n, len(off) - 1 if relay else 0, _addr(cls) if relay else 0, _addr(off), _addr(adj),
+                              n, 0, _addr(mask),
                               len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
     if nfair < 0:
         return None
@@ -400,7 +417,7 @@ def quotient(n: int, src, dst, vec, sig, ok: bytearray):
     off = array("i", [0])
     adj = array("i")
     for lst in lists:
-        adj.extend(lst)
+        adj.extend(dict.fromkeys(lst))       # a step recorded twice is one entry
         off.append(len(adj))
     return first, off, adj
 
@@ -470,3 +487,48 @@ def mark(n: int, src) -> bytearray:
         for s in src:
             out[s] = 1
     return out[:n] if n else bytearray()
+
+
+def all_succ(K) -> bool:
+    """Whether every node of the structure has a successor."""
+    dll = library()
+    if dll is not None and K.n:
+        cls, off, _adj = _csr(K)
+        return bool(dll.kn_all_succ(K.n, _addr(cls), _addr(off)))
+    return all(K.succ(v) for v in range(K.n))
+
+
+def quotient_by_source(n: int, sig, sources, need: int = 0):
+    """:func:`quotient` for steps given source by source: ``sources`` yields ``(src, k, recs)`` (the
+    sources ascending, each once; recs an array('q') whose first 2k entries are (target, atom
+    bits) pairs), none of them kept; steps whose bits miss one of ``need`` are left out.  Returns
+    ``(fsrc, fdst, fvec, off, adj)`` -- the source, target and bits of each quotient node's first
+    step, and the lists -- or None when there is no compiled code (or memory)."""
+    dll = library()
+    if dll is None:
+        return None
+    sg = sig if isinstance(sig, array) and sig.typecode == "Q" else array("Q", sig)
+    if not len(sg):
+        sg = array("Q", [0])
+    if dll.kn_qs_begin(n, _addr(sg)) < 0:
+        return None
+    adj = array("i")
+    out = array("i", [0])
+    for src, k, recs in sources:
+        if len(out) < k:
+            out = array("i", bytes(4 * k))
+        got = dll.kn_qs_add(src, k, _addr(recs), need, _addr(out))
+        if got < 0:
+            dll.kn_qs_end()
+            return None
+        adj.extend(out[:got])
+    nq = dll.kn_qs_end()
+    if nq < 0:
+        return None
+    off = array("i", bytes(4 * (n + 1)))
+    fsrc = array("I", bytes(4 * max(nq, 1)))
+    fdst = array("i", bytes(4 * max(nq, 1)))
+    fvec = array("q", bytes(8 * max(nq, 1)))
+    dll.kn_qs_take(_addr(off), _addr(fsrc), _addr(fdst), _addr(fvec))
+    del fsrc[nq:], fdst[nq:], fvec[nq:]
+    return fsrc, fdst, fvec, off, adj

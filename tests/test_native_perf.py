@@ -1,0 +1,154 @@
+"""The native engine's packed store (native_bfs.c: one thread keeps each state as the dictionary
+codes of its words, in bit fields that widen as the dictionaries grow) gives the plain store's
+result exactly: the same states in the same numbering, parents, transitions, decoded words,
+look-ups and traces, and the Python engine's report; the threaded search keeps the plain store.
+Speed and memory are measured by benchmarks/bench_native.py, not here."""
+from __future__ import annotations
+
+import ctypes
+
+import pytest
+
+from asmcheck.explore.native import NativeExplorer
+from asmcheck.explore.native_build import compiler
+from asmcheck.props import spec_properties
+from asmcheck.props.load import load_machine
+from helpers import both, write
+
+pytestmark = pytest.mark.engines("native")
+
+# seven words a state (six Integer locations, one word of narrow ones): the packed store is used
+COUNTERS = """asm PackedCounters
+import StandardLibrary
+signature:
+	enum domain Mode = {IDLE | BUSY | DONE}
+	controlled a: Integer
+	controlled b: Integer
+	controlled c: Integer
+	controlled d: Integer
+	controlled e: Integer
+	controlled f: Integer
+	controlled mode: Mode
+	monitored up: Boolean
+definitions:
+	invariant inv_small over a, b: a + b < 8
+	main rule r_main =
+		par
+			if up then a := (a + 1) mod 5 else b := (b + 2) mod 6 endif
+			c := (c + a) mod 3
+			if a = 3 then d := (d + 1) mod 2 endif
+			f := b * 1000000 - 7
+			if mode = IDLE then mode := BUSY else if a = 0 then mode := IDLE endif endif
+		endpar
+default init s0:
+	function a = 0
+	function b = 0
+	function c = 0
+	function d = 0
+	function e = 100
+	function f = 0
+	function mode = IDLE
+"""
+
+# n takes 70,001 values: its dictionary outgrows 1, 2, 4, ... 32 bits, then the word is kept
+# as it is (more than 65,536 values); k1 takes 35,001, m 1,000, the rest one each
+GROWTH = """asm PackedGrowth
+import StandardLibrary
+signature:
+	controlled n: Integer
+	controlled m: Integer
+	controlled k1: Integer
+	controlled k2: Integer
+	controlled k3: Integer
+	controlled k4: Integer
+definitions:
+	main rule r_main =
+		if n < 70000 then
+			par
+				n := n + 1
+				m := (n * 7) mod 1000
+				if n mod 2 = 0 then k1 := k1 + 3 endif
+			endpar
+		endif
+default init s0:
+	function n = 0
+	function m = 0
+	function k1 = 0
+	function k2 = 5
+	function k3 = 6
+	function k4 = 7
+"""
+
+
+def need_cc():
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+
+
+def run(path, packed=True, workers=1, **kw):
+    """(result, explorer, parents, words of every state, words a stored state takes (-1: plain))."""
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=workers, **kw)
+    ex.packed = packed
+    r = ex.run()
+    n = r.states
+    parents = (ctypes.c_int64 * n)()
+    ex.dll.asm_parents(parents)
+    words = (ctypes.c_uint64 * ex.gen.nwords)()
+    states = []
+    for i in range(n):
+        ex.dll.asm_state(i, words)
+        states.append(tuple(words))
+    return r, ex, list(parents), states, ex.dll.asm_packed_words()
+
+
+def summary(r):
+    return (r.verdict, r.states, r.transitions, r.depth, [(v.prop.name, v.state) for v in r.violations])
+
+
+def test_the_packed_store_gives_the_python_engines_report(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, COUNTERS)
+    assert code == 1
+    assert (out["states"], out["transitions"], out["depth"]) == (91, 126, 7)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_small"
+    # the shortest trace: a to 4 (four steps) and b to 4 (two), from the initial state
+    assert len(v["trace"]) == 7
+    code, out = both(tmp_path, capsys, COUNTERS, "--deadlock")
+    assert (out["states"], out["transitions"]) == (217, 434)     # on after the violation: all of it
+
+
+def test_packed_and_plain_stores_number_the_states_alike(tmp_path):
+    need_cc()
+    path = write(tmp_path, COUNTERS)
+    r1, ex1, par1, st1, pw1 = run(path, packed=True)
+    r0, ex0, par0, st0, pw0 = run(path, packed=False)
+    assert ex1.gen.nwords == 7
+    assert pw1 == 1 and pw0 == -1           # 7 words in one
+    assert summary(r1) == summary(r0)
+    assert summary(r0)[:4] == ("violated", 91, 126, 7) and [v.prop.name for v in r0.violations] == ["inv_small"]
+    assert par1 == par0 and st1 == st0
+    # every state found again from its Python form, and the path to it
+    for sid in range(r1.states):
+        assert ex1.find(ex1.state(sid)) == sid
+    assert ex1.path_to(90) == ex0.path_to(90)
+    # the threaded search keeps the plain store: the same numbering
+    r2, ex2, par2, st2, pw2 = run(path, packed=True, workers=2)
+    assert pw2 == -1
+    assert summary(r2) == summary(r1) and par2 == par1 and st2 == st1
+
+
+def test_a_dictionary_that_outgrows_its_field_widens_it_and_then_keeps_the_word(tmp_path):
+    need_cc()
+    path = write(tmp_path, GROWTH)
+    r1, ex1, par1, st1, pw1 = run(path, packed=True)
+    r0, ex0, par0, st0, pw0 = run(path, packed=False)
+    assert summary(r1) == summary(r0) == ("holds", 70001, 70001, 70000, [])
+    # n kept as it is (64 bits), k1 in 32, m in 16 (with room for as many values again), the
+    # three constants in none: two words instead of six
+    assert ex1.gen.nwords == 6 and pw1 == 2
+    assert par1 == par0 == [-1] + list(range(70000))
+    assert st1 == st0
+    last = ex1.state(70000)
+    assert ex1.find(last) == 70000 and ex1.find(ex1.state(12345)) == 12345
