@@ -263,6 +263,45 @@ def test_a_time_limit_inside_a_wide_branching_names_the_inputs_that_multiply(tmp
     assert int(m.group(1).replace(",", "")) >= 1000
 
 
+WIDE_HEAVY = """asm WideHeavy
+import StandardLibrary
+signature:
+	domain D subsetof Integer
+	controlled x: Integer
+	controlled s: D -> Integer
+	monitored a: D
+	monitored b: D
+definitions:
+	domain D = {0 : 2000}
+	invariant inv_x over x: x >= 0
+	main rule r_main = par
+		x := a + b
+		forall $i in D with $i < a do s($i) := b
+	endpar
+default init s0:
+	function x = 0
+"""
+
+
+@pytest.mark.engines("native")
+def test_the_native_engine_also_names_the_inputs_that_multiply_at_a_time_limit(tmp_path):
+    # the same diagnosis from the compiled search, stopped inside state 0's 4 M sequences of
+    # inputs (each with up to 2,000 updates: far fewer than the 1,000,000 it would refuse at)
+    path = write(tmp_path, WIDE_HEAVY)
+    res = run_cli("explore", path, "--max-seconds", "3", "--engine", "native")
+    clean(res.stdout + res.stderr)
+    assert res.returncode == 3
+    assert "native engine" in res.stdout.splitlines()[0]
+    line = next(ln for ln in res.stdout.splitlines() if ln.startswith("incomplete:"))
+    import re
+    m = re.fullmatch(r"incomplete: time limit 3\.0 s reached, while enumerating the successors of state 0 "
+                     r"\(([\d,]+) sequences of choices so far; its step chooses among a \(2,001 values\), "
+                     r"b \(2,001 values\)\); bound the monitored inputs with --monitored NAME=LO\.\.HI "
+                     r"or NAME=V1,V2", line)
+    assert m, line
+    assert 1000 <= int(m.group(1).replace(",", "")) < 1_000_000
+
+
 def test_a_limit_keeps_every_property_in_every_report(tmp_path, capsys):
     path = write(tmp_path, LTL)
     assert main(["explore", path, "--max-states", "5"]) == 3

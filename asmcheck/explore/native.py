@@ -3868,6 +3868,8 @@ class NativeExplorer:
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
+        if status == 3:
+            reason += self._stopped_inside(out[5], out[4])
         if status == 3 and self.warnings:
             reason += "; " + self.warnings[-1]
         verdict = "violated" if violations else ("incomplete" if incomplete else "holds")
@@ -4035,6 +4037,26 @@ class NativeExplorer:
                     e.__traceback__ = None      # its frames would hold on to the step's data
                     self.error_edges.append((sid, tuple(c.pick for c in (e.choices or ())), e))
         return out
+
+    def _stopped_inside(self, sid: int, runs: int) -> str:
+        """What the search was doing when the time limit stopped it inside the enumeration of
+        state ``sid``'s successors (``runs`` of them so far), as the Python explorer says it:
+        the choice points of the state's first sequence of choices ('' for a short enumeration)."""
+        from .bfs import SLOW_ENUMERATION, stopped_inside
+        from ..semantics.choice import Enumerator
+        if runs < SLOW_ENUMERATION or not 0 <= sid < self.nstates:
+            return ""
+
+        class Stop:
+            enumerated = runs
+            choices: list = []
+        ch = Enumerator([])
+        try:
+            self.m.step(self.state(sid), ch)
+        except AsmError:
+            pass
+        Stop.choices = list(ch.log)
+        return stopped_inside(Stop, sid)
 
     def _step_error(self, sid, code, PseudoProperty, Violation):
         """The run-time error of a step from ``sid``, as the Python step function reports it."""

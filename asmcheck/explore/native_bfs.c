@@ -929,7 +929,10 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         }
         if (xr == EXP_HARD0) { out[4] = xe; out[5] = sid; out[6] = 0; status = 4; goto finish; }
         if (xr == EXP_MEM) { status = 5; goto finish; }
-        if (xr == EXP_STOP) { status = interrupted ? 7 : 3; goto finish; }
+        if (xr == EXP_STOP) {
+            out[4] = sb0.n; out[5] = sid;      /* stopped inside this state's enumeration, this far */
+            status = interrupted ? 7 : 3; goto finish;
+        }
         int failing = 0;
         if (steperr) {
             failing = step_failed_at(sid, steperr);
