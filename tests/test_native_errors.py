@@ -528,3 +528,38 @@ def test_a_location_at_an_undef_argument_runs_native(tmp_path):
     hits = next(f for f in m.spec.functions if f.name == "hits").index
     assert [nat.state(i)[hits] for i in range(nres.states)] == [0, 0, 0, 1, 1, 0, 2, 2, 1, 3, 3, 2, 3]
     assert list(zip(*nat.edge_arrays())) == distinct_edges(py.edges)
+
+
+# ----------------------------------------------------------------- a failing run inside a seq block
+# with go false the call of r_bad fails (7 is not in Small) after the seq block's first step wrote
+# n + 1 into the working state; the next run (go true) must start from the state (n + 1, not n + 2)
+SEQ_LEAK = """asm SeqLeak
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled k: Small
+	monitored go: Boolean
+definitions:
+	domain Small = {0 : 3}
+	rule r_bad = if not go then k := 7 endif
+	main rule r_main =
+		seq
+			n := (n + 1) mod 4
+			r_bad[]
+		endseq
+default init s0:
+	function n = 0
+	function k = 0
+"""
+
+
+def test_each_run_after_a_failing_one_starts_from_the_state(tmp_path):
+    m, py, pres, nat, nres = engines(tmp_path, SEQ_LEAK, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    n = next(f for f in m.spec.functions if f.name == "n").index
+    assert [nat.state(i)[n] for i in range(nres.states)] == [0, 1, 2, 3]
+    assert list(zip(*nat.edge_arrays())) == [(0, 1), (1, 2), (2, 3), (3, 0)]
+    assert [(s, p, msg) for s, p, msg, _ in failing(nat)] == [
+        (s, (0,), "value out of domain: 7 is not in Small (the codomain of k)") for s in range(4)]
+    assert failing(nat) == failing(py)

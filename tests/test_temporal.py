@@ -442,3 +442,38 @@ def test_ltl_with_past_against_lasso_enumeration(seed):
             # the counterexample is a fair lasso of the structure that violates f
             assert fair_lasso(K, r.nodes, r.loop)
             assert not eval_lasso(f, K, *unrolled(r.nodes, r.loop))[0], (seed, f, r.nodes, r.loop)
+
+
+FAIR_FAIL = """asm FairFail
+import StandardLibrary
+import LTLLibrary
+signature:
+	enum domain Task = {TA | TB}
+	controlled n: Integer
+	controlled x: Integer
+definitions:
+	LTLSPEC g(f(n = 0))
+	main rule r_main = choose $t in Task with true do
+		if $t = TA then par x := 1 x := 2 endpar else n := (n + 1) mod 2 endif
+default init s0:
+	function n = 0
+	function x = 0
+"""
+
+
+def test_agent_fairness_over_a_spec_whose_steps_fail(tmp_path, capsys):
+    # TA's move always fails: under --fair Task an agent is enabled where it has a well-defined
+    # move, and the failing move halts the run (in state 1 here, where n = 1 for ever)
+    path = tmp_path / "FairFail.asm"
+    path.write_text(FAIR_FAIL)
+    code = main(["explore", str(path), "--fair", "Task", "--format", "json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 1
+    assert (out["states"], out["transitions"]) == (2, 2)
+    ltl = next(r for r in out["violations"] if r["property"] == "ltl_1")
+    assert ltl["verdict"] == "violated" and ltl["fairness"] == ["weak fairness of every Task"]
+    assert ltl["relative_to"].endswith("FairFail.asm:11:30")
+    assert [[c["value"]["$t"] for c in s["choices"]] for s in ltl["trace"]] == [[], ["TB"]]
+    assert [s["state"]["n"] for s in ltl["trace"]] == [0, 1]
+    assert ltl["failing_step"]["choices"][0]["value"] == {"$t": "TA"}
+    assert ltl["failing_message"] == "inconsistent update of x: 1 and 2"

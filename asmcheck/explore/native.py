@@ -2281,7 +2281,8 @@ class Generator:
                    f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
         outcomes = (f"int32_t mk_{e} = c->nupd, st_{e} = c->curstep, ss_{e} = c->seqstart; "
                     f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = MC_STAMP; c->seqstart = -1; "
-                    f"{{ {pick} {body} }} if (c->err) return; c->curstep = st_{e}; c->seqstart = ss_{e}; "
+                    f"{{ {pick} {body} }} if (c->err) {{ m_{e}->epoch = -1; return; }} "   # (no half-made entry is kept)
+                    f"c->curstep = st_{e}; c->seqstart = ss_{e}; "
                     f"if (!mc_outcome(c, m_{e}, {e}, mk_{e})) return; }}")
         return ("{ " + f"static _Thread_local MChoose {mc}; static _Thread_local V *{cand} = 0; "
                 f"static _Thread_local int {cap} = 0; MChoose *m_{e} = &{mc}; V key_{e}[{len(key)}] = {{{', '.join(key)}}}; "

@@ -715,6 +715,9 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             /* a branch whose step fails: noted (the first error's code), and the enumeration goes
                on past it, as the Python explorer's does (its choices so far are its log) */
             if (!*steperr) *steperr = c->err;
+            /* the run may have left seq steps' values in the working state (a rule returns at once
+               on an error, past the end of its seq block): the next run starts from the state */
+            load_state(c, src);
             goto next_choice;
         }
 #if NSTEP > 0 || NINVAR > 0

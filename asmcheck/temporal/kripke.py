@@ -245,7 +245,9 @@ def agent_moves(explorer, fair: list[str]):
         st = explorer.state(sid)
         en: set = set()
         mv: dict = {}
-        for log, ups, nxt, mon in m.successors(st):
+        # a failing branch is no move (the run halts there): an agent is enabled where it has a
+        # well-defined move
+        for log, ups, nxt, mon in m.successors(st, errors=[]):
             dst = _find(explorer, nxt)
             who = set()
             for dname, elems in doms:
