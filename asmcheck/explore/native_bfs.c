@@ -43,7 +43,12 @@ static inline uint64_t hround(uint64_t acc, uint64_t x) {
     acc = (acc << 31) | (acc >> 33);
     return acc * HP1;
 }
-static inline uint64_t hash_words(const uint64_t *w, int64_t nw) {
+static inline __attribute__((always_inline)) uint64_t hash_words(const uint64_t *w, int64_t nw) {
+    if (nw < 8) {       /* a short state: one chain (as cheap as it gets for one word) */
+        uint64_t h = 0x9e3779b97f4a7c15ULL;
+        for (int64_t i = 0; i < nw; i++) h = mix64(h ^ w[i]);
+        return h;
+    }
     uint64_t a = 0x9e3779b97f4a7c15ULL, b = HP2, c = 0x165667b19e3779f9ULL, d = HP1;
     int64_t i = 0;
     for (; i + 4 <= nw; i += 4) {
@@ -76,7 +81,8 @@ static int grow_table(void) {
 
 /* the number of the state stored as the nw words w (adding it if new); *isnew tells which; -1
    when out of memory */
-static int64_t intern_words(const uint64_t *w, int64_t nw, uint32_t parent, int *isnew) {
+static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t *w, int64_t nw, uint32_t parent,
+                                                                   int *isnew) {
     if ((tcount + 1) * 4 > (int64_t)(tmask + 1) * 3) {
         if (!grow_table()) return -1;
     }
