@@ -28,6 +28,7 @@ from asmcheck.props import spec_properties
 from asmcheck.props.load import load_machine
 from conftest import ASMETA, need_asmeta
 from helpers import write
+from test_error_graph import HALT    # a failing branch that depends on a monitored value
 
 pytestmark = pytest.mark.engines("native")
 
@@ -37,32 +38,6 @@ def _need_compiler():
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
 
-
-# n counts to 3; with go true in n = 1 the rule also sets n := 0: an inconsistent update that
-# depends on the monitored value, beside the well-defined step with go false
-HALT = """asm Halt
-import StandardLibrary
-import LTLLibrary
-import CTLLibrary
-signature:
-	domain Small subsetof Integer
-	controlled n: Small
-	monitored go: Boolean
-definitions:
-	domain Small = {0 : 3}
-	invariant inv_small over n: n < 3
-	LTLSPEC f(n = 3)
-	LTLSPEC g(n <= 3)
-	CTLSPEC ef(n = 3)
-	CTLSPEC ag(ef(n = 3))
-	main rule r_main =
-		par
-			if n < 3 then n := n + 1 endif
-			if go and n = 1 then n := 0 endif
-		endpar
-default init s0:
-	function n = 0
-"""
 
 # every step from n = 1 fails (n := 2 and n := 0 whatever go is)
 STUCK = """asm Stuck
