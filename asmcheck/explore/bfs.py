@@ -66,9 +66,9 @@ class PseudoProperty:
 DEADLOCK = PseudoProperty("deadlock", "deadlock")
 
 
-def _choice_points(err) -> tuple[str, str]:
-    """(the choices of ``err``'s step with the most alternatives, the way to bound them)."""
-    points = sorted((c for c in (getattr(err, "choices", None) or ()) if c.n > 1), key=lambda c: -c.n)[:3]
+def _choice_points(choices) -> tuple[str, str]:
+    """(the choice points of a step with the most alternatives, the way to bound them)."""
+    points = sorted((c for c in (choices or ()) if c.n > 1), key=lambda c: -c.n)[:3]
     what = ", ".join(f"{c.label} ({c.n:,} values)" for c in points)
     hint = ""
     if any(c.kind == "monitored" for c in points):
@@ -82,7 +82,7 @@ def too_many_reason(machine: Machine, err) -> str:
     """Why a state's successors could not all be enumerated: the limit, and the choices of the
     step with the most alternatives (a monitored function or a choose over a large range), with
     the way to bound them."""
-    what, hint = _choice_points(err)
+    what, hint = _choice_points(getattr(err, "choices", None))
     return f"{err.message}" + (f": the step chooses among {what}" if what else "") + hint
 
 
@@ -91,15 +91,22 @@ def too_many_reason(machine: Machine, err) -> str:
 SLOW_ENUMERATION = 1_000
 
 
-def stopped_inside(exc, sid: int | None) -> str:
-    """What a search stopped by ``exc`` (a time limit, an interrupt) was doing, when it was deep
-    in the enumeration of one state's successors: '' otherwise."""
-    n = getattr(exc, "enumerated", None) or 0
-    if n < SLOW_ENUMERATION or sid is None:
+def stopped_inside(enumerated: int, choices, sid: int | None) -> str:
+    """What a search stopped by a time limit or an interrupt was doing, when it was deep in the
+    enumeration of state ``sid``'s successors (``enumerated`` sequences of choices so far, the
+    last through ``choices``): '' otherwise."""
+    if enumerated < SLOW_ENUMERATION or sid is None:
         return ""
-    what, hint = _choice_points(exc)
-    return (f", while enumerating the successors of state {sid} ({n:,} sequences of choices so far"
+    what, hint = _choice_points(choices)
+    return (f", while enumerating the successors of state {sid} ({enumerated:,} sequences of choices so far"
             + (f"; its step chooses among {what}" if what else "") + ")" + hint)
+
+
+def error_edge(sid: int, err) -> tuple:
+    """The record of a failing branch of state ``sid``'s step kept for asmcheck.temporal:
+    (state, choices, the error), the error without the frames of the step."""
+    err.__traceback__ = None      # its frames would hold on to the step's data
+    return sid, tuple(c.pick for c in (err.choices or ())), err
 
 
 class Explorer:
@@ -273,8 +280,7 @@ class Explorer:
                             err = PseudoProperty("error", "error", e.span)
                             record(Violation(err, sid, message=e.message, error=e))
                         if self.keep_graph:
-                            e.__traceback__ = None      # its frames would hold on to the step's data
-                            self.error_edges.append((sid, tuple(c.pick for c in (e.choices or ())), e))
+                            self.error_edges.append(error_edge(sid, e))
                     targets = []
                     for picks, ups, raw, nxt, mon in succ:
                         tid, new = self._add(nxt, sid, picks, depth + 1)
@@ -342,11 +348,12 @@ class Explorer:
                 frontier = next_frontier
         except KeyboardInterrupt as exc:
             incomplete = interrupted = True
-            reason = interrupt_reason(exc) + stopped_inside(exc, current)
+            reason = interrupt_reason(exc) + stopped_inside(getattr(exc, "enumerated", 0) or 0,
+                                                            getattr(exc, "choices", None), current)
         except (TimeUp, DeadlineReached) as exc:
             incomplete = True
             reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
-            reason += stopped_inside(exc, current)
+            reason += stopped_inside(getattr(exc, "enumerated", 0) or 0, getattr(exc, "choices", None), current)
         except MemoryError:
             incomplete = True
             reason = "out of memory"

@@ -4002,7 +4002,7 @@ class NativeExplorer:
         search made (the same, first made in the same order), else Unsupported.  With
         keep_graph the failing branches are also ``error_edges`` (state, choices, error), as the
         Python explorer records them for asmcheck.temporal."""
-        from .bfs import Explorer
+        from .bfs import Explorer, error_edge
         self.error_edges = []
         n = self.dll.asm_err_states(None)
         if n <= 0:
@@ -4033,9 +4033,7 @@ class NativeExplorer:
                                   "between the engines")
             out[sid] = errors
             if self.keep_graph:
-                for e in errors:
-                    e.__traceback__ = None      # its frames would hold on to the step's data
-                    self.error_edges.append((sid, tuple(c.pick for c in (e.choices or ())), e))
+                self.error_edges.extend(error_edge(sid, e) for e in errors)
         return out
 
     def _stopped_inside(self, sid: int, runs: int) -> str:
@@ -4045,18 +4043,13 @@ class NativeExplorer:
         from .bfs import SLOW_ENUMERATION, stopped_inside
         from ..semantics.choice import Enumerator
         if runs < SLOW_ENUMERATION or not 0 <= sid < self.nstates:
-            return ""
-
-        class Stop:
-            enumerated = runs
-            choices: list = []
+            return ""          # (no Python step for a short enumeration)
         ch = Enumerator([])
         try:
             self.m.step(self.state(sid), ch)
         except AsmError:
             pass
-        Stop.choices = list(ch.log)
-        return stopped_inside(Stop, sid)
+        return stopped_inside(runs, ch.log, sid)
 
     def _step_error(self, sid, code, PseudoProperty, Violation):
         """The run-time error of a step from ``sid``, as the Python step function reports it."""
