@@ -76,3 +76,27 @@ def both(tmp_path, capsys, text, *extra):
         outs.append((code, out))
     assert outs[0] == outs[1]
     return outs[0]
+
+
+def native_search(path, workers=1, packed=None, **kw):
+    """Run the native search on ``path`` with the spec's properties: (result, explorer, the parent
+    of every state, the words of every state).  ``packed`` (True/False) asks for the packed store
+    or the plain one; ``kw`` goes to NativeExplorer."""
+    import ctypes
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.props import spec_properties
+    from asmcheck.props.load import load_machine
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=workers, **kw)
+    if packed is not None:
+        ex.packed = packed
+    r = ex.run()
+    parents = (ctypes.c_int64 * r.states)()
+    ex.dll.asm_parents(parents)
+    words = (ctypes.c_uint64 * ex.gen.nwords)()
+    states = []
+    for i in range(r.states):
+        ex.dll.asm_state(i, words)
+        states.append(tuple(words))
+    return r, ex, list(parents), states

@@ -229,6 +229,20 @@ def test_max_seconds_bounds_the_whole_command_even_inside_one_step(tmp_path):
     assert wall < 2 + 4, wall                 # the step alone runs for minutes
 
 
+def sequences_before_the_limit(stdout: str, seconds: str, after_a: str) -> int:
+    """The report's 'incomplete:' line for a time limit met inside state 0's enumeration of the
+    inputs a and b (2,001 values each; ``after_a``: the pattern of what the line names after a):
+    the number of sequences of choices it gives."""
+    import re
+    line = next(ln for ln in stdout.splitlines() if ln.startswith("incomplete:"))
+    m = re.fullmatch(rf"incomplete: time limit {re.escape(seconds)} s reached, while enumerating the successors "
+                     rf"of state 0 \(([\d,]+) sequences of choices so far; its step chooses among "
+                     rf"a \(2,001 values\){after_a}\); bound the monitored inputs with --monitored "
+                     rf"NAME=LO\.\.HI or NAME=V1,V2", line)
+    assert m, line
+    return int(m.group(1).replace(",", ""))
+
+
 WIDE_INPUTS = """asm WideInputs
 import StandardLibrary
 signature:
@@ -253,14 +267,7 @@ def test_a_time_limit_inside_a_wide_branching_names_the_inputs_that_multiply(tmp
     res = run_cli("explore", path, "--max-seconds", "2", "--engine", "python")
     clean(res.stdout + res.stderr)
     assert res.returncode == 3
-    line = next(ln for ln in res.stdout.splitlines() if ln.startswith("incomplete:"))
-    import re
-    m = re.fullmatch(r"incomplete: time limit 2\.0 s reached, while enumerating the successors of state 0 "
-                     r"\(([\d,]+) sequences of choices so far; its step chooses among a \(2,001 values\)"
-                     r"(, b \(2,001 values\))?\); bound the monitored inputs with --monitored NAME=LO\.\.HI "
-                     r"or NAME=V1,V2", line)
-    assert m, line
-    assert int(m.group(1).replace(",", "")) >= 1000
+    assert sequences_before_the_limit(res.stdout, "2.0", r"(, b \(2,001 values\))?") >= 1000
 
 
 WIDE_HEAVY = """asm WideHeavy
@@ -292,14 +299,7 @@ def test_the_native_engine_also_names_the_inputs_that_multiply_at_a_time_limit(t
     clean(res.stdout + res.stderr)
     assert res.returncode == 3
     assert "native engine" in res.stdout.splitlines()[0]
-    line = next(ln for ln in res.stdout.splitlines() if ln.startswith("incomplete:"))
-    import re
-    m = re.fullmatch(r"incomplete: time limit 3\.0 s reached, while enumerating the successors of state 0 "
-                     r"\(([\d,]+) sequences of choices so far; its step chooses among a \(2,001 values\), "
-                     r"b \(2,001 values\)\); bound the monitored inputs with --monitored NAME=LO\.\.HI "
-                     r"or NAME=V1,V2", line)
-    assert m, line
-    assert 1000 <= int(m.group(1).replace(",", "")) < 1_000_000
+    assert 1000 <= sequences_before_the_limit(res.stdout, "3.0", r", b \(2,001 values\)") < 1_000_000
 
 
 def test_a_limit_keeps_every_property_in_every_report(tmp_path, capsys):

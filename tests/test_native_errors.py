@@ -28,7 +28,8 @@ from asmcheck.props import spec_properties
 from asmcheck.props.load import load_machine
 from conftest import ASMETA, need_asmeta
 from helpers import write
-from test_error_graph import HALT    # a failing branch that depends on a monitored value
+# HALT: a failing branch that depends on a monitored value; STUCK: every step from n = 1 fails
+from test_error_graph import HALT, STUCK
 
 pytestmark = pytest.mark.engines("native")
 
@@ -38,26 +39,6 @@ def _need_compiler():
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
 
-
-# every step from n = 1 fails (n := 2 and n := 0 whatever go is)
-STUCK = """asm Stuck
-import StandardLibrary
-import LTLLibrary
-signature:
-	domain Small subsetof Integer
-	controlled n: Small
-definitions:
-	domain Small = {0 : 3}
-	LTLSPEC g(n < 2)
-	LTLSPEC f(n = 1)
-	main rule r_main =
-		par
-			if n < 3 then n := n + 1 endif
-			if n = 1 then n := 0 endif
-		endpar
-default init s0:
-	function n = 0
-"""
 
 # several failing branches in one state, between well-defined ones: a choose, then a monitored
 # value; x = 1 with go clashes on n (unless n + 1 is 0 mod 5), x = 2 with go in n = 3 puts 7 in m

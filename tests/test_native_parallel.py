@@ -23,6 +23,7 @@ from asmcheck.props import spec_properties
 from asmcheck.props.load import load_machine
 
 from conftest import need_bench
+from helpers import native_search
 
 pytestmark = pytest.mark.engines("native")
 
@@ -104,21 +105,10 @@ def test_a_twin_with_its_bug_gives_the_same_trace(tmp_path, t, k, states, transi
 
 
 def explore(path, workers, **kw):
-    spec, m = load_machine(str(path), {})
-    sp, stp = spec_properties(m)
-    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=workers, **kw)
-    r = ex.run()
-    n = r.states
-    parents = (ctypes.c_int64 * n)()
-    ex.dll.asm_parents(parents)
-    words = (ctypes.c_uint64 * ex.gen.nwords)()
-    states = []
-    for i in range(n):
-        ex.dll.asm_state(i, words)
-        states.append(tuple(words))
+    r, ex, parents, states = native_search(path, workers, **kw)
     edges = None if ex.edge_src is None else (list(ex.edge_src), list(ex.edge_dst))
     return (r.verdict, r.states, r.transitions, r.depth, r.reason,
-            [(v.prop.name, v.state) for v in r.violations]), list(parents), states, edges
+            [(v.prop.name, v.state) for v in r.violations]), parents, states, edges
 
 
 def test_state_numbers_parents_and_edges_do_not_depend_on_the_workers(tmp_path):

@@ -5,15 +5,10 @@ look-ups and traces, and the Python engine's report; the threaded search keeps t
 Speed and memory are measured by benchmarks/bench_native.py, not here."""
 from __future__ import annotations
 
-import ctypes
-
 import pytest
 
-from asmcheck.explore.native import NativeExplorer
 from asmcheck.explore.native_build import compiler
-from asmcheck.props import spec_properties
-from asmcheck.props.load import load_machine
-from helpers import both, write
+from helpers import both, native_search, write
 
 pytestmark = pytest.mark.engines("native")
 
@@ -87,20 +82,8 @@ def need_cc():
 
 def run(path, packed=True, workers=1, **kw):
     """(result, explorer, parents, words of every state, words a stored state takes (-1: plain))."""
-    spec, m = load_machine(str(path), {})
-    sp, stp = spec_properties(m)
-    ex = NativeExplorer(m, state_props=sp, step_props=stp, workers=workers, **kw)
-    ex.packed = packed
-    r = ex.run()
-    n = r.states
-    parents = (ctypes.c_int64 * n)()
-    ex.dll.asm_parents(parents)
-    words = (ctypes.c_uint64 * ex.gen.nwords)()
-    states = []
-    for i in range(n):
-        ex.dll.asm_state(i, words)
-        states.append(tuple(words))
-    return r, ex, list(parents), states, ex.dll.asm_packed_words()
+    r, ex, parents, states = native_search(path, workers, packed, **kw)
+    return r, ex, parents, states, ex.dll.asm_packed_words()
 
 
 def summary(r):
