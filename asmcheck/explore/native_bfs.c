@@ -981,29 +981,27 @@ void asm_state(int64_t sid, uint64_t *out) {
 /* the number of a stored state, or -1 */
 int64_t asm_find(const uint64_t *w) {
     if (!table) return -1;
+    const uint64_t *key = w;         /* the stored record to look for, of nw words */
+    int64_t nw = NWORDS;
+    uint64_t rec[PK_NW], hh;
     if (pk_on) {        /* its codes (a value no state holds: not stored) */
-        uint64_t codes[PK_NW], rec[PK_NW];
+        uint64_t codes[PK_NW];
         int wide = 0, ok = pk_par_ok;
         pk_par_ok = 0;
         int r = pk_codes(w, codes, 0, &wide);
         pk_par_ok = ok;
         if (r < 0 || wide) return -1;
         pk_pack(codes, rec);
-        uint64_t hh = hash_words(rec, PW);
-        uint32_t fp = (uint32_t)(hh >> 32);
-        uint64_t h = HPOS(hh) & tmask;
-        while (table[h].id != 0xffffffffu) {
-            if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * PW, rec, PW * sizeof(uint64_t)) == 0)
-                return table[h].id;
-            h = (h + 1) & tmask;
-        }
-        return -1;
+        key = rec;
+        nw = PW;
+        hh = hash_words(rec, PW);
+    } else {
+        hh = hash_state(w);
     }
-    uint64_t hh = hash_state(w);
     uint32_t fp = (uint32_t)(hh >> 32);
     uint64_t h = HPOS(hh) & tmask;
     while (table[h].id != 0xffffffffu) {
-        if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * NWORDS, w, NWORDS * sizeof(uint64_t)) == 0)
+        if (table[h].fp == fp && memcmp(states + (int64_t)table[h].id * nw, key, nw * sizeof(uint64_t)) == 0)
             return table[h].id;
         h = (h + 1) & tmask;
     }
