@@ -47,6 +47,7 @@ MESSAGE = re.compile(r"^x keeps taking new values level after level \(range 0\.\
 def test_an_unbounded_counter_is_named_while_the_search_runs(tmp_path, engine):
     warnings: list[str] = []
     run = asmcheck.load(write(tmp_path, UNBOUNDED)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    assert run.result.engine == engine
     assert run.result.verdict == "incomplete"
     assert len(warnings) == 1, warnings
     m = MESSAGE.match(warnings[0])
@@ -64,3 +65,27 @@ def test_a_bounded_integer_in_a_long_search_is_not_named(tmp_path, engine):
     assert run.result.reason.startswith("time limit 1.5 s reached"), run.result.reason
     assert warnings == []
     assert "keeps taking" not in run.result.reason
+
+
+# x wraps round at 64 bits after 3 and then counts up from the least Integer: its values are new
+# at every level but never a new least or greatest value
+WRAPPED = """asm Wrapped
+import StandardLibrary
+signature:
+	controlled x: Integer
+definitions:
+	main rule r_main = if x < 3 then x := x + 1 else x := 9223372036854775807 + x endif
+default init s0:
+	function x = 0
+"""
+
+
+@pytest.mark.parametrize("engine", ["python", "native"])
+def test_a_counter_that_wrapped_round_is_still_named(tmp_path, engine):
+    warnings: list[str] = []
+    run = asmcheck.load(write(tmp_path, WRAPPED)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    assert run.result.engine == engine
+    assert len(warnings) == 1, warnings
+    assert warnings[0].startswith("x keeps taking new values level after level "
+                                  "(range -9223372036854775806..3 at depth "), warnings[0]
+    assert run.result.reason == f"time limit 2.5 s reached; {warnings[0]}"

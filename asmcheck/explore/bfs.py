@@ -110,13 +110,25 @@ def error_edge(sid: int, err) -> tuple:
     return sid, tuple(c.pick for c in (err.choices or ())), err
 
 
+def drifted(prev, window) -> bool:
+    """Whether an Integer location's values moved past those of the previous watch: ``prev`` and
+    ``window`` are the (least, greatest) values of the states stored between two watches (None:
+    no state).  A counter whose values wrapped round at 64 bits keeps taking new values without
+    a new least or greatest value; its windows still move, one beyond the other."""
+    if prev is None or window is None:
+        return False
+    (plo, phi), (wlo, whi) = prev, window
+    return (wlo >= phi and whi > phi) or (whi <= plo and wlo < plo)
+
+
 class _Growth:
     """Watches the Integer locations of the states found for one that keeps taking new values
     level after level (a counter without a bound, a growing population): the search may then
     not end, and the user is told which location it is while it runs.  Each location keeps the
     least and greatest value met and the depth where the last new one was met; :meth:`watch`,
     called a few times a second, names a location that took a new least or greatest value at
-    the level just searched at three of its calls (as the native engine does between slices)."""
+    the level just searched, or whose values moved past those of the previous call
+    (:func:`drifted`), at three of its calls (as the native engine does between slices)."""
 
     def __init__(self, machine, layout):
         self.m = machine
@@ -126,6 +138,8 @@ class _Growth:
         self.lo: dict = {}
         self.hi: dict = {}
         self.grew: dict = {}
+        self.window: dict = {}        # slot -> [least, greatest] of the states noted since the last watch
+        self.prev: dict = {}          # the same, before the last watch
         self.depth = -1               # the depth of the last call of watch
         self.streak: dict = {}
 
@@ -150,6 +164,13 @@ class _Growth:
             v = fz[i]
             if type(v) is not int:
                 continue
+            w = self.window.get(i)
+            if w is None:
+                self.window[i] = [v, v]
+            elif v < w[0]:
+                w[0] = v
+            elif v > w[1]:
+                w[1] = v
             if v < lo.get(i, v + 1):
                 lo[i] = v
                 grew[i] = depth
@@ -163,8 +184,10 @@ class _Growth:
             return []
         self.depth = depth
         out = []
+        window, self.window = self.window, {}
+        prev, self.prev = self.prev, window
         for i, d in self.grew.items():
-            if d >= depth - 1 and self.streak.get(i, 0) < 3:
+            if (d >= depth - 1 or drifted(prev.get(i), window.get(i))) and self.streak.get(i, 0) < 3:
                 self.streak[i] = self.streak.get(i, 0) + 1
                 if self.streak[i] == 3:
                     out.append(f"{self.m.location_text(self.layout.keys[i])} keeps taking new values level after "
