@@ -522,6 +522,11 @@ class Generator:
                 self.slot_types.append(("map", f))
                 self.map_slot[f.index] = s_
                 continue
+            n = 1
+            for vals in arg_values:
+                n *= len(vals)
+            if len(self.slots) + n > MAX_SLOTS:
+                raise Unsupported(f"more than {MAX_SLOTS:,} locations (the C compiler fails on a million)")
             cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
