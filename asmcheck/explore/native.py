@@ -456,6 +456,11 @@ class Generator:
                 return False
         return True
 
+    @property
+    def composite_slots(self) -> bool:
+        """Whether a location holds a sequence, set, bag, map or string (whose size may grow)."""
+        return any(not isinstance(t, tuple) and self.composite(t) for t in self.slot_types)
+
     def map_function(self, f) -> bool:
         """A function whose arguments range over an infinite domain, held as one map value: its
         arguments and values must be scalars (integers, enums, named elements, Booleans)."""
@@ -3818,6 +3823,8 @@ class NativeExplorer:
         growth_depth = -1
         streak: dict = {}
         self._windows = {}
+        from .bfs import SizeWatch
+        sizes = SizeWatch(self.m)
         while True:
             status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
                       if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
@@ -3829,6 +3836,14 @@ class NativeExplorer:
             depth = out[8]
             if depth != growth_depth:
                 growth_depth = depth
+                if self.gen.composite_slots:
+                    # the last state found: a sequence, set, map or string that keeps growing
+                    buf = (ctypes.c_uint64 * self.gen.nwords)()
+                    self.dll.asm_state(out[0] - 1, buf)
+                    for msg in sizes.watch(self.gen.unpack(buf[:]), depth):
+                        self.warnings.append(msg)
+                        if self.warn is not None:
+                            self.warn(msg)
                 for name, lo, hi in self._growing(depth):
                     streak[name] = streak.get(name, 0) + 1
                     if streak[name] == 3:
