@@ -135,3 +135,64 @@ def test_a_dictionary_that_outgrows_its_field_widens_it_and_then_keeps_the_word(
     assert st1 == st0
     last = ex1.state(70000)
     assert ex1.find(last) == 70000 and ex1.find(ex1.state(12345)) == 12345
+
+
+# ----------------------------------------------------------------- the working state kept
+def checked_explore(monkeypatch, capsys, args):
+    """``explore --format json ARGS`` on the native engine with every delta load of the working
+    state (asm_run decodes again only the slots of the words that differ from the state expanded
+    before) compared with a whole load: (exit code, report, differences counted)."""
+    import json
+    from asmcheck.cli import main
+    from asmcheck.explore.native import NativeExplorer
+    need_cc()
+    diffs = []
+    orig = NativeExplorer.run
+
+    def run(self):
+        self.dll.asm_check_loads(1)
+        try:
+            return orig(self)
+        finally:
+            diffs.append(self.dll.asm_load_differences())
+
+    monkeypatch.setattr(NativeExplorer, "run", run)
+    code = main(["explore", *args, "--format", "json", "--engine", "native"])
+    out = json.loads(capsys.readouterr().out)
+    monkeypatch.setattr(NativeExplorer, "run", orig)
+    return code, out, diffs
+
+
+def test_the_working_state_kept_from_state_to_state_is_a_whole_load(tmp_path, capsys, monkeypatch):
+    from test_native_errors import LOCALS, SEQ_LEAK
+    # seq blocks whose runs fail half-way (the working state then loaded again), local functions
+    # (their slots set in a run and restored), the packed store: no delta load differs from a
+    # whole one, and the reports are the Python engine's
+    for text, counts in ((SEQ_LEAK, (4, 4)), (LOCALS, (5, 5)), (COUNTERS, (91, 126))):
+        path = write(tmp_path, text)
+        code, out, diffs = checked_explore(monkeypatch, capsys, [path])
+        assert diffs and set(diffs) == {0}
+        assert (out["states"], out["transitions"]) == counts
+        code2, out2 = both(tmp_path, capsys, text)
+        out.pop("engine")
+        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+            out.pop(key, None)
+        assert (code, out) == (code2, out2)
+
+
+@pytest.mark.corpus
+def test_the_working_state_kept_on_the_rtpattern_models(capsys, monkeypatch):
+    from rtpattern.rtlib import PROPS_NONDET, PROPS_SB, app, nondet_spec
+    props = ["--no-default-properties"]
+    for p in PROPS_SB:
+        props += ["--properties", p]
+    code, out, diffs = checked_explore(monkeypatch, capsys, [app("VisualServoing"), *props])
+    assert set(diffs) == {0} and (out["verdict"], out["states"], out["transitions"]) == ("holds", 15710, 31420)
+    # extend-made elements (canonical forms), a first search with too few element slots
+    code, out, diffs = checked_explore(monkeypatch, capsys, [app("CompleteApplication"), *props])
+    assert set(diffs) == {0} and (out["verdict"], out["states"], out["transitions"]) == ("holds", 70867, 141734)
+    path, imp = nondet_spec("RtNondetVS")
+    code, out, diffs = checked_explore(monkeypatch, capsys, [path, *props, "--properties", PROPS_NONDET[-1],
+                                                              "--deadlock", *imp])
+    assert set(diffs) == {0}
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 132077, 392131, 81)
