@@ -293,32 +293,40 @@ static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
     return 0;
 }
 
+/* the record and hash of a successor w of the state decoded last (pk_par_*): the parent's record
+   with the fields of the words that differ written over.  0 when a field is too narrow (or out of
+   memory): pk_intern then takes the whole way */
+static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp) {
+    memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
+    uint64_t hh = pk_par_h;
+    for (int j = 0; j < NWORDS; j++) {
+        uint64_t x = w[j];
+        if (x == pk_par_w[j]) continue;
+        hh += pk_term(j, x) - pk_term(j, pk_par_w[j]);
+        uint64_t k = x;
+        if (!pk_raw[j]) {
+            int64_t q = pk_lookup((uint32_t)j, x, 1);
+            if (q < 0) return 0;
+            k = (uint64_t)q;
+        }
+        int b = pk_bits[j];
+        if (b == 64) { rec[pk_at[j]] = k; continue; }
+        if (k >> b) return 0;
+        rec[pk_at[j]] = (rec[pk_at[j]] & ~(((1ULL << b) - 1) << pk_sh[j])) | (k << pk_sh[j]);
+    }
+    *hp = hh;
+    return 1;
+}
+
 static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
     uint64_t codes[PK_NW], rec[PK_NW];
     int wide = 0;
     if (nstates == 0 && !pk_par_ok) {      /* the first state: the words the hash is relative to */
         for (int j = 0; j < NWORDS; j++) { pk_first[j] = w[j]; pk_first_h[j] = pk_term(j, w[j]); }
     }
-    if (pk_par_ok) {    /* the parent's record with the fields of the words that differ written over */
-        memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
-        uint64_t hh = pk_par_h;
-        int j = 0;
-        for (; j < NWORDS; j++) {
-            uint64_t x = w[j];
-            if (x == pk_par_w[j]) continue;
-            hh += pk_term(j, x) - pk_term(j, pk_par_w[j]);
-            uint64_t k = x;
-            if (!pk_raw[j]) {
-                int64_t q = pk_lookup((uint32_t)j, x, 1);
-                if (q < 0) return -1;
-                k = (uint64_t)q;
-            }
-            int b = pk_bits[j];
-            if (b == 64) { rec[pk_at[j]] = k; continue; }
-            if (k >> b) break;            /* the field is too narrow: the whole way below */
-            rec[pk_at[j]] = (rec[pk_at[j]] & ~(((1ULL << b) - 1) << pk_sh[j])) | (k << pk_sh[j]);
-        }
-        if (j == NWORDS) return intern_hashed(rec, PW, hh, parent, isnew);
+    if (pk_par_ok) {
+        uint64_t hh;
+        if (pk_prepare(w, rec, &hh)) return intern_hashed(rec, PW, hh, parent, isnew);
     }
     if (pk_codes(w, codes, 1, &wide) < 0) return -1;
     if (wide) {
@@ -975,6 +983,9 @@ static int step_failed_at(int64_t sid, int steperr) {
     return ef_state(sid) ? 1 : -1;
 }
 
+static uint64_t *pre_h = 0, *pre_rec = 0;     /* asm_run: its successors' hashes and records */
+static int64_t pre_cap = 0;
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
     /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
@@ -1041,10 +1052,37 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         const uint64_t *sbuf = sb0.w, *smask = sb0.m;
         int only_self = 1;
         if (!sset_reset(&succs, nbuf)) { status = 5; goto finish; }
+        /* the successors' records and hashes first (as far as no field must widen), their table
+           entries fetched meanwhile */
+        int64_t npre = 0;
+        if (nbuf > pre_cap) {
+            int64_t nc = pre_cap ? pre_cap : 64;
+            while (nc < nbuf) nc *= 2;
+            uint64_t *x = (uint64_t *)realloc(pre_h, nc * sizeof(uint64_t));
+            if (!x) { status = 5; goto finish; }
+            pre_h = x;
+            x = (uint64_t *)realloc(pre_rec, nc * (PW > NWORDS ? PW : NWORDS) * sizeof(uint64_t));
+            if (!x) { status = 5; goto finish; }
+            pre_rec = x;
+            pre_cap = nc;
+        }
+        if (pk_on && pk_par_ok) {
+            for (; npre < nbuf; npre++) {
+                if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre)) break;
+                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
+            }
+        } else if (!pk_on) {
+            for (; npre < nbuf; npre++) {
+                pre_h[npre] = hash_state(sbuf + npre * NWORDS);
+                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
+            }
+        }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
-            int64_t tid = intern(wb, (uint32_t)sid, &isnew);
+            int64_t tid = b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
+                pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
+                intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
             /* (the parent's words: the plain store's may have moved as it grew) */
             if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, pk_on ? sw : states + sid * NWORDS)) {
                 status = 5; goto finish;
@@ -1153,6 +1191,7 @@ int64_t asm_values(void) { return nvals; }
 void asm_free(void) {
     vt_free();
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
+    free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     pk_free();
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
