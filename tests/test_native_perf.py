@@ -196,3 +196,56 @@ def test_the_working_state_kept_on_the_rtpattern_models(capsys, monkeypatch):
                                                               "--deadlock", *imp])
     assert set(diffs) == {0}
     assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 132077, 392131, 81)
+
+
+# ----------------------------------------------------------------- invariants checked where they may change
+# x changes in every step, y only when x = 5 and go, z (read through the derived dz) only when
+# x = 4 and y = 2, the cells of grid only when x = 2: each invariant is checked again in a state
+# only when a location it reads differs from the parent's, and each is violated only once such a
+# location changed, several steps after the last change of the others
+SKIPPY = """asm Skippy
+import StandardLibrary
+signature:
+	enum domain Side = {LEFT | RIGHT}
+	domain Small subsetof Integer
+	controlled x: Small
+	controlled y: Small
+	controlled z: Small
+	controlled grid: Side -> Small
+	derived dz: Integer
+	monitored go: Boolean
+definitions:
+	domain Small = {0 : 5}
+	function dz = z * 2
+	invariant inv_y over y: y < 3
+	invariant inv_dz over z: dz < 4
+	invariant inv_grid over grid: grid(LEFT) + grid(RIGHT) < 3
+	invariant inv_x over x: x >= 0
+	main rule r_main =
+		par
+			x := (x + 1) mod 6
+			if x = 5 and go then y := (y + 1) mod 6 endif
+			if x = 4 and y = 2 then z := (z + 1) mod 6 endif
+			if x = 2 then
+				if go then grid(LEFT) := (grid(LEFT) + 1) mod 6 else grid(RIGHT) := (grid(RIGHT) + 1) mod 2 endif
+			endif
+		endpar
+default init s0:
+	function x = 0
+	function y = 0
+	function z = 0
+	function grid($s in Side) = 0
+"""
+
+
+def test_invariants_are_checked_where_their_locations_change(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SKIPPY)
+    assert code == 1
+    assert (out["states"], out["transitions"]) == (2592, 3456)
+    got = {v["property"]: len(v["trace"]) for v in out["violations"]}
+    # the shortest traces (states): grid(LEFT) to 3 at step 15 (x = 2 in steps 2, 8, 14), y to 3
+    # at step 18 (x = 5 in steps 5, 11, 17), z to 2 at step 23 (y = 2 from step 12, x = 4 in steps
+    # 16 and 22)
+    assert got == {"inv_grid": 16, "inv_y": 19, "inv_dz": 24}
+    code, out = both(tmp_path, capsys, SKIPPY, "--deadlock")
+    assert {v["property"] for v in out["violations"]} == {"inv_grid", "inv_y", "inv_dz"}

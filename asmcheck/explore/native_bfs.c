@@ -986,6 +986,49 @@ static int step_failed_at(int64_t sid, int steperr) {
 static uint64_t *pre_h = 0, *pre_rec = 0;     /* asm_run: its successors' hashes and records */
 static int64_t pre_cap = 0;
 
+/* The invariants a state must be checked for: those that read a bit (INV_W, INV_M, from the code
+ * generator) that differs from the parent's, where every invariant not violated yet held (it was
+ * checked, or held in its own parent, and so on up to an initial state, checked for all).  asm_run
+ * notes them when it first meets the state (inv_need[sid]); a state it did not meet (an initial
+ * one, one the threaded search stored) is checked for all. */
+#if NINV <= 8
+typedef uint8_t InvNeed;
+#elif NINV <= 16
+typedef uint16_t InvNeed;
+#elif NINV <= 32
+typedef uint32_t InvNeed;
+#else
+typedef uint64_t InvNeed;
+#endif
+#define INV_SKIP (NINV > 0 && NINV <= 64)
+static InvNeed *inv_need = 0;
+static int64_t inv_cap = 0;
+
+/* the invariants to check in state tid, first met as a successor of the state of words par */
+static int inv_note(int64_t tid, const uint64_t *w, const uint64_t *par) {
+#if INV_SKIP
+    if (tid >= inv_cap) {
+        int64_t nc = inv_cap ? inv_cap * 2 : 4096;
+        while (nc <= tid) nc *= 2;
+        InvNeed *x = (InvNeed *)realloc(inv_need, nc * sizeof(InvNeed));
+        if (!x) return 0;
+        memset(x + inv_cap, 0xff, (nc - inv_cap) * sizeof(InvNeed));
+        inv_need = x;
+        inv_cap = nc;
+    }
+    InvNeed need = 0;
+    for (int k = 0; k < NINV; k++) {
+        if (INV_ALL[k]) { need |= (InvNeed)1 << k; continue; }
+        for (int i = INV_OFF[k]; i < INV_OFF[k + 1]; i++)
+            if ((w[INV_W[i]] ^ par[INV_W[i]]) & INV_M[i]) { need |= (InvNeed)1 << k; break; }
+    }
+    inv_need[tid] = need;
+#else
+    (void)tid; (void)w; (void)par;
+#endif
+    return 1;
+}
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
     /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
@@ -1015,9 +1058,14 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         load_state_delta(c, sw);
         c->self = UNDEF;
         c->epoch = ++global_epoch;
-        /* invariants */
+        /* invariants (those whose words differ from the parent's) */
+#if INV_SKIP
+        uint64_t need = sid < inv_cap ? (uint64_t)inv_need[sid] : ~0ULL;
+#else
+        uint64_t need = ~0ULL;
+#endif
         for (int k = 0; k < NINV; k++) {
-            if (S.violated[k]) continue;
+            if (S.violated[k] || !((need >> (k & 63)) & 1)) continue;
             c->err = 0;
             V v = check_invariant(c, k);
             if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
@@ -1084,9 +1132,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
                 intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
             /* (the parent's words: the plain store's may have moved as it grew) */
-            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, pk_on ? sw : states + sid * NWORDS)) {
+            const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
+            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par)) {
                 status = 5; goto finish;
             }
+            if (isnew && !inv_note(tid, wb, par)) { status = 5; goto finish; }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid) only_self = 0;
         }
@@ -1192,6 +1242,7 @@ void asm_free(void) {
     vt_free();
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
     free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
+    free(inv_need); inv_need = 0; inv_cap = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     pk_free();
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
