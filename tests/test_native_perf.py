@@ -128,8 +128,8 @@ def test_a_dictionary_that_outgrows_its_field_widens_it_and_then_keeps_the_word(
     r1, ex1, par1, st1, pw1 = run(path, packed=True)
     r0, ex0, par0, st0, pw0 = run(path, packed=False)
     assert summary(r1) == summary(r0) == ("holds", 70001, 70001, 70000, [])
-    # n kept as it is (64 bits), k1 in 32, m in 16 (with room for as many values again), the
-    # three constants in none: two words instead of six
+    # n kept as it is (64 bits), k1 in 32, m in 16 (with room for three times as many values
+    # again), the three constants in none: two words instead of six
     assert ex1.gen.nwords == 6 and pw1 == 2
     assert par1 == par0 == [-1] + list(range(70000))
     assert st1 == st0
@@ -195,7 +195,8 @@ def test_the_working_state_kept_on_the_rtpattern_models(capsys, monkeypatch):
     code, out, diffs = checked_explore(monkeypatch, capsys, [path, *props, "--properties", PROPS_NONDET[-1],
                                                               "--deadlock", *imp])
     assert set(diffs) == {0}
-    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == (1, "violated", 132077, 392131, 81)
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == \
+        (1, "violated", 132077, 392131, 81)
 
 
 # ----------------------------------------------------------------- invariants checked where they may change

@@ -128,7 +128,7 @@ static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t
  * numbered as in the plain store (the codes only decide equality); the threaded search keeps
  * the plain store.  intern() keeps the codes of the state being expanded (pk_par_*): a word
  * equal to its parent's takes the parent's code without a dictionary lookup.
- * The hash of a stored state is that of its plain words (pk_hash): a sum of one term per word
+ * The hash of a stored state is that of its plain words (pk_state_hash): a sum of one term per word
  * that differs from the first state's, so that it depends neither on the fields' layout nor on
  * the dictionaries (a repack moves no entry of the table), and a successor's hash is its
  * parent's with the terms of the words that changed replaced.  Only the words with a field
@@ -239,8 +239,8 @@ static void pk_place(void) {
     for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) pk_act[pk_nact++] = j;
 }
 
-/* wider fields for the words whose dictionaries outgrew them, every state repacked and the table
-   filled again; 0 when out of memory */
+/* wider fields for the words whose dictionaries outgrew them, every state repacked (the table
+   stays); 0 when out of memory */
 static int pk_widen(void) {
     int obits[PK_NW], oraw[PK_NW], oat[PK_NW], osh[PK_NW];
     memcpy(obits, pk_bits, sizeof(obits)); memcpy(oraw, pk_raw, sizeof(oraw));
