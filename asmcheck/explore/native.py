@@ -2594,6 +2594,7 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
+        inv_code += self.invariant_slots_table()
         inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
@@ -2623,6 +2624,73 @@ class Generator:
             self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         src += "\n" + self.label_entry(label_exprs)
         return src
+
+    def invariant_read_slots(self, term) -> set | None:
+        """The slots an invariant reads (through the derived functions it calls), or None when its
+        value may depend on more than them: a monitored function, self, a lazily laid out
+        function, a domain extended at run time."""
+        slots_of: dict = {}
+        for s, key in enumerate(self.slots):
+            fi = key if type(key) is int else key[1] if type(key) is tuple and key[0] == "map" else \
+                key[0] if type(key) is tuple and type(key[0]) is int else None
+            if fi is not None:
+                slots_of.setdefault(fi, set()).add(s)
+        lazy = getattr(self.m, "lazy", ()) or ()
+        dyn_names = set(self.dyn)
+        out: set = set()
+        seen: set = set()
+        todo = [term]
+        while todo:
+            x = todo.pop()
+            if id(x) in seen:
+                continue
+            seen.add(id(x))
+            if isinstance(x, ir.Function):
+                if x is self.spec.self_func or x.index in lazy or x.kind in ("monitored", "local"):
+                    return None
+                if x.kind in ("controlled", "shared", "out"):
+                    out |= slots_of.get(x.index, set())
+                if x.body is not None:
+                    todo.append(x.body)
+                continue
+            if isinstance(x, ir.DomainTerm):
+                d = x.domain
+                for _ in range(50):
+                    if getattr(d, "name", None) in dyn_names:
+                        return None
+                    d = getattr(d, "base", None) if getattr(d, "kind", None) == "subset" else None
+                    if d is None:
+                        break
+            if isinstance(x, ir.Term):
+                todo.extend(vars(x).values())
+            elif isinstance(x, (list, tuple)):
+                todo.extend(x)
+        return out
+
+    def invariant_slots_table(self) -> list:
+        """The bits of the state each invariant reads: for invariant k, the pairs (INV_W[i],
+        INV_M[i]) for INV_OFF[k] <= i < INV_OFF[k + 1], a word and the bits of its slots that k
+        reads; INV_ALL[k] when it may read more than locations.  native_bfs.c checks an
+        invariant in a state only when one of those bits differs from the parent's, where it
+        held."""
+        offs, ws, ms, alls = [0], [], [], []
+        for p in self.props:
+            sl = self.invariant_read_slots(p.prop.body)
+            alls.append(1 if sl is None else 0)
+            masks: dict = {}
+            for s in sl or ():
+                b = self.bits[s]
+                masks[self.words[s]] = masks.get(self.words[s], 0) | (
+                    (1 << 64) - 1 if b == 64 else ((1 << b) - 1) << self.shifts[s])
+            for w in sorted(masks):
+                ws.append(w)
+                ms.append(masks[w])
+            offs.append(len(ws))
+
+        def arr(ctype, name, xs, suffix=""):
+            return f"static const {ctype} {name}[] = {{{', '.join(f'{x}{suffix}' for x in xs) or '0'}}};"
+        return [arr("int", "INV_OFF", offs), arr("int", "INV_W", ws), arr("uint64_t", "INV_M", ms, "ULL"),
+                arr("int", "INV_ALL", alls)]
 
     # -------------------------------------------------------------- state atoms of temporal properties
     def label_code(self) -> list:
@@ -3562,7 +3630,7 @@ _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
-    pk_par_ok wide_slots nwide
+    pk_par_ok pk_first pk_act ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
