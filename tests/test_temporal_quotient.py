@@ -278,3 +278,104 @@ def test_backward_search_sizes(monkeypatch, n, compiled):
     assert y == bytearray(v > n // 2 for v in range(n))
     if compiled:
         assert K._kernel_rev[1].typecode == ("H" if n < 65536 else "i")
+
+
+# ----------------------------------------------------------------- the steps recorded by the search
+# With LTL/CTL whose structure is the quotient of the steps (no --graph, no --fair), the native search
+# records each state's distinct (target, values of the atoms that read monitored functions) pairs as
+# it expands the state, instead of the edges, and the quotient is merged from them: no edge array, no
+# step run again.  It must give the structure, verdicts and paths of the edges' route.
+
+def _old_route(monkeypatch):
+    """Explorations that record the edges (the route before the steps were recorded)."""
+    monkeypatch.setattr(api, "_quotient_plan", lambda *a: None)
+
+
+def _structure_arrays(K):
+    return (K.n, list(K.sid), list(K.tgt), list(K.vec), [list(c) for c in K.cls_succ], list(K.init),
+            {i: bytes(lab) for i, lab in K.label.items()})
+
+
+def _rows(model, run):
+    return [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes")) for r in run.temporal]
+
+
+@needs_cc
+@pytest.mark.parametrize("text,nodes", [(COUNT, 9), (NOISE, 18), (INVAR, 16)], ids=["count", "noise", "invar"])
+def test_recorded_steps_structure(tmp_path, monkeypatch, text, nodes):
+    path = write(tmp_path, text)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    assert run.explorer.edge_src is None            # recorded: the pairs, no edges
+    K = run.temporal[0].K
+    assert K.n == nodes and {r.stats["kripke_nodes"] for r in run.temporal} == {nodes}
+    rows = _rows(model, run)
+    with monkeypatch.context() as mp:
+        _old_route(mp)
+        old_model = api.load(path)
+        old = old_model.explore(engine="native")
+        assert old.explorer.edge_src is not None
+        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(K)
+        assert _rows(old_model, old) == rows
+    py_model = api.load(path)
+    assert _rows(py_model, py_model.explore(engine="python")) == rows
+
+
+@needs_cc
+def test_recorded_steps_consumed_once(tmp_path):
+    """The pairs are handed over once, merged; the structure of a second check (LTL and CTL both in
+    step mode) comes from the same merge, and a check that needs the edges (one node per step) has
+    the search run again, recording them: the same states, the same verdicts and paths."""
+    path = write(tmp_path, NOISE)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    ex = run.explorer
+    assert ex.edge_src is None and not ex.qf           # consumed by the run's own checks
+    assert {r.stats["kripke_nodes"] for r in run.temporal} == {18}
+    merged = [(r.name, r.verdict, temporal_text(r, model.machine)) for r in run.temporal]
+    unmerged = check_temporal(ex, model.temporal, quotient=False)
+    assert ex.edge_src is not None and len(ex.edge_src) == run.transitions
+    assert [(r.name, r.verdict, temporal_text(r, model.machine)) for r in unmerged] == merged
+    assert {r.stats["kripke_nodes"] for r in unmerged} == {24}
+
+
+@needs_cc
+def test_recorded_steps_fall_back_on_a_failing_step(tmp_path, monkeypatch):
+    """A step that fails where an atom reads a monitored function: the search does not record
+    such a state's pairs (the edges' route evaluates them in Python); the edges are recorded by a
+    second search, and everything is as on that route."""
+    text = NOISE.replace("asm Noise", "asm HaltNoise").replace("else x := 0 endif", "else x := x + 1 endif")
+    path = write(tmp_path, text)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    assert run.explorer.edge_src is not None            # recorded again
+    rows = [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes")) for r in run.temporal]
+    assert any("relative to the run-time error" in r[2][0] for r in rows)
+    with monkeypatch.context() as mp:
+        _old_route(mp)
+        old = api.load(path).explore(engine="native")
+        assert [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes"))
+                for r in old.temporal] == rows
+
+
+def test_quotient_plan(tmp_path):
+    """Which checks the search can record the steps for: the atoms that read monitored functions, in
+    build_kripke's order; none with --fair, --graph or LTL on the state graph."""
+    from asmcheck.temporal import quotient_plan
+    from asmcheck.temporal.formula import span_text
+    model = api.load(write(tmp_path, NOISE))
+    st = model.explore(engine="python").explorer.state(0)
+    atoms = quotient_plan(model.machine, model.temporal)(st)
+    # (one atom per occurrence in a formula: the LTL ones and the CTL ones are apart)
+    assert [span_text(t.span) for t, env in atoms] == ["x = 0 and noise", "noise", "x = 5 and not noise",
+                                                       "x = 0 and noise", "noise", "x = 0 and noise"]
+    assert quotient_plan(model.machine, model.temporal, fair=["all"]) is None
+    assert quotient_plan(model.machine, model.temporal, graph=True) is None
+    # LTL without such atoms: the state graph itself (the edges)
+    ltl = write(tmp_path, COUNT.replace("asm Count", "asm LtlCount").replace(
+        "import CTLLibrary\n", "import CTLLibrary\nimport LTLLibrary\n").replace(
+        "\tCTLSPEC ag(ef(x = 0))\n", "\tLTLSPEC g(f(x = 0))\n\tCTLSPEC ag(ef(x = 0))\n"))
+    m2 = api.load(ltl)
+    assert quotient_plan(m2.machine, m2.temporal)(st) is None
+    m3 = api.load(write(tmp_path, COUNT))
+    assert quotient_plan(m3.machine, m3.temporal)(st) == []
