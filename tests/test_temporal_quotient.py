@@ -369,8 +369,11 @@ def test_quotient_plan(tmp_path):
     # (one atom per occurrence in a formula: the LTL ones and the CTL ones are apart)
     assert [span_text(t.span) for t, env in atoms] == ["x = 0 and noise", "noise", "x = 5 and not noise",
                                                        "x = 0 and noise", "noise", "x = 0 and noise"]
-    assert quotient_plan(model.machine, model.temporal, fair=["all"]) is None
-    assert quotient_plan(model.machine, model.temporal, graph=True) is None
+    assert not quotient_plan(model.machine, model.temporal).edges_too
+    # --fair and --graph read the edges too: the atoms' values are recorded beside them
+    for opts in ({"fair": ["all"]}, {"graph": True}):
+        plan = quotient_plan(model.machine, model.temporal, **opts)
+        assert plan.edges_too and plan(st) == atoms
     # LTL without such atoms: the state graph itself (the edges)
     ltl = write(tmp_path, COUNT.replace("asm Count", "asm LtlCount").replace(
         "import CTLLibrary\n", "import CTLLibrary\nimport LTLLibrary\n").replace(
@@ -379,3 +382,34 @@ def test_quotient_plan(tmp_path):
     assert quotient_plan(m2.machine, m2.temporal)(st) is None
     m3 = api.load(write(tmp_path, COUNT))
     assert quotient_plan(m3.machine, m3.temporal)(st) == []
+    # without such atoms the edges alone serve --graph
+    assert quotient_plan(m3.machine, m3.temporal, graph=True)(st) is None
+
+
+@needs_cc
+@pytest.mark.parametrize("opts", [{"fair": ["all"]}, {"graph": True}], ids=["fair", "graph"])
+def test_recorded_steps_beside_the_edges(tmp_path, monkeypatch, opts):
+    """--fair (one node per step) and --graph read the edges: the search records them, and the
+    atoms' values in each step beside them (the structure's steps come from those, no step runs
+    again): the same structure, verdicts and paths as the route that runs the steps again."""
+    from asmcheck.explore.native import NativeExplorer
+    path = write(tmp_path, NOISE)
+    model = api.load(path)
+    with monkeypatch.context() as mp:
+        # no step runs again for the atoms' values
+        mp.setattr(NativeExplorer, "step_atoms_each", lambda *a: pytest.fail("the steps ran again"))
+        run = model.explore(engine="native", **opts)
+    ex = run.explorer
+    assert ex.edge_src is not None and len(ex.edge_src) == run.transitions
+    assert ex._qf_edges_too
+    rows = _rows(model, run)
+    assert {r[3] for r in rows} == {24 if "fair" in opts else 18}
+    with monkeypatch.context() as mp:
+        _old_route(mp)
+        old_model = api.load(path)
+        old = old_model.explore(engine="native", **opts)
+        assert not old.explorer._qf_edges_too
+        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(run.temporal[0].K)
+        assert _rows(old_model, old) == rows
+    py_model = api.load(path)
+    assert _rows(py_model, py_model.explore(engine="python", **opts)) == rows

@@ -3518,6 +3518,7 @@ _SYMBOLS = {
     "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
     "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
     "asm_qf_chunk": (None, [_i64, _i64, ctypes.c_void_p]),
+    "asm_qf_steps": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_take": (None, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
 }
 
@@ -3699,6 +3700,7 @@ class NativeExplorer:
         # (target, atom values) pairs, state by state, instead of the edges (asm_qf in native_bfs.c)
         self.step_quotient_plan = step_quotient
         self.qf = False
+        self._qf_edges_too = False
 
     @property
     def thread_unsafe(self) -> list:
@@ -3844,7 +3846,7 @@ class NativeExplorer:
             # a state with more sequences of choices than the search follows (the Python explorer
             # stops there, incomplete, and counts after merging a choose's alternatives)
             self._step_error(-1, 9, PseudoProperty, Violation)
-        if self.keep_graph and not self.qf:
+        if self.keep_graph and (not self.qf or self._qf_edges_too):
             self._take_edges(out[9])
         failed = self._failed_steps()
         violations = []
@@ -3944,7 +3946,9 @@ class NativeExplorer:
         if got is None:
             return False
         ks, self._qf_keys = got
-        self.dll.asm_qf(len(ks), (ctypes.c_int64 * max(len(ks), 1))(*ks), 0)
+        # (the edges too when something else reads them: --graph, the structure of --fair)
+        self._qf_edges_too = bool(getattr(self.step_quotient_plan, "edges_too", False))
+        self.dll.asm_qf(len(ks), (ctypes.c_int64 * max(len(ks), 1))(*ks), 1 if self._qf_edges_too else 0)
         return True
 
     def _qf_recorded(self) -> bool:
@@ -4305,6 +4309,9 @@ class NativeExplorer:
         order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        got = self._recorded_steps(items, ok_state)
+        if got is not None:
+            return got
         each = self.step_atoms_each(items, ok_state)
         if each is None:
             return None
@@ -4316,6 +4323,20 @@ class NativeExplorer:
         if each.failed:
             return None
         return rs, rd, rv
+
+    def _recorded_steps(self, items, ok_state):
+        """:meth:`step_atoms` from the pairs the search recorded (for these atoms), or None."""
+        if not items or not self._qf_recorded() or [(id(a.term), _env_key(a.env)) for a in items] != self._qf_keys:
+            return None
+        okb = bytearray(ok_state) if len(ok_state) else bytearray(1)
+        addr = lambda a: ctypes.c_void_p(ctypes.addressof(ctypes.c_char.from_buffer(a)))  # noqa: E731
+        m = self.dll.asm_qf_steps(addr(okb), None, None, None)
+        if m < 0:
+            return None
+        rs, rd, rv = array("I", [0]) * max(m, 1), array("i", [0]) * max(m, 1), array("q", [0]) * max(m, 1)
+        self.dll.asm_qf_steps(addr(okb), addr(rs), addr(rd), addr(rv))
+        del rs[m:], rd[m:], rv[m:]
+        return rs, rd, (rv if len(items) > 8 else array("B", rv))
 
     def step_atoms_each(self, items, ok_state):
         """:meth:`step_atoms` source by source, without keeping the steps: an iterator of

@@ -1224,6 +1224,25 @@ int64_t asm_qf_has_out(uint8_t *out) {
     return 0;
 }
 
+/* the recorded steps of the states with ok[] set, each pair once, state after state: (source,
+   target, bits) -- what asm_step_atoms gives for each state, without running a step -- into the
+   three arrays (all null: only counted); returns their number, -1 when they were not recorded */
+int64_t asm_qf_steps(const uint8_t *ok, uint32_t *src, int32_t *dst, uint64_t *vec) {
+    if (!QF.on || QF.failed || QF.merged || !QF.nk) return -1;
+    qf_close();
+    if (QF.noff <= nstates) return -1;
+    int64_t w = 0;
+    for (int64_t s = 0; s < nstates; s++) {
+        if (!ok[s]) continue;
+        if (src)
+            for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++, w++) {
+                src[w] = (uint32_t)s; dst[w] = (int32_t)QF.pd[QF.item[e]]; vec[w] = QF.pv[QF.item[e]];
+            }
+        else w += QF.off[s + 1] - QF.off[s];
+    }
+    return w;
+}
+
 int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
     if (!QF.on || QF.failed || QF.merged) return -1;
     qf_close();

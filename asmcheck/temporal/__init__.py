@@ -203,11 +203,15 @@ def quotient_plan(machine, props, fair=(), graph=False):
     """For an engine that can record, while it searches, the steps the temporal checks' quotient
     is built from (the native explorer's ``step_quotient``): a function of the first initial state
     giving the (term, env) of the atoms that read monitored functions, in the order
-    :func:`build_kripke` numbers them (an empty list: none), or None (no function) when the checks
-    need more than that quotient: ``--graph``, ``--fair`` (not merged), LTL on the state graph (no
-    atom reads a monitored function), more than 63 such atoms, no LTL/CTL property."""
-    if graph or fair or not any(p.kind in ("ltl", "ctl") for p in props):
+    :func:`build_kripke` numbers them (an empty list: none), or None when the checks need the edges
+    alone: LTL on the state graph (no atom reads a monitored function), more than 63 such atoms.
+    With ``--graph`` or ``--fair`` (whose structure is not merged) the edges are needed too
+    (``plan.edges_too``): then the plan is only for atoms that read monitored functions (the
+    engine records their values in each step, and runs no step again to find them).  None (no
+    function) without LTL/CTL properties."""
+    if not any(p.kind in ("ltl", "ctl") for p in props):
         return None
+    edges_too = bool(graph or fair)
 
     def plan(state):
         atoms, checks, justice, compassion, _, errors, invars, used = _formulas(machine, props, [], state)
@@ -216,9 +220,11 @@ def quotient_plan(machine, props, fair=(), graph=False):
         all_atoms = sorted(set(used) | set(invars) | {a for _, a in justice} |
                            {a for _, p, q in compassion for a in (p, q)})
         mon = [i for i in all_atoms if atoms.items[i].monitored]
-        if len(mon) > 63 or (not mon and any(kind == "ltl" and f is not None for _, kind, f, _ in checks)):
+        if len(mon) > 63 or (not mon and (edges_too or any(kind == "ltl" and f is not None
+                                                           for _, kind, f, _ in checks))):
             return None
         return [(atoms.items[i].term, atoms.items[i].env) for i in mon]
+    plan.edges_too = edges_too
     return plan
 
 
