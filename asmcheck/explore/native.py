@@ -3740,17 +3740,22 @@ class NativeExplorer:
         return max(int(self.max_memory) - memory_in_use(), 0)
 
     def _growing(self, depth: int) -> list:
-        """Integer locations that took a new least or greatest value at each of the last levels."""
+        """Integer locations that took a new least or greatest value at the last level, or whose
+        values moved past those of the last call (see :func:`asmcheck.explore.bfs.drifted`)."""
+        from .bfs import drifted
         g = self.gen
         out = []
-        buf = (ctypes.c_int64 * 3)()
+        buf = (ctypes.c_int64 * 5)()
+        windows = self._windows
         for s, vals in enumerate(g.slot_values):
             typ = g.slot_types[s]
             if vals is not None or isinstance(typ, tuple) or T.root(typ) not in (T.INTEGER, T.NATURAL):
                 continue
             self.dll.asm_range(s, buf)
             lo, hi, grew = buf[0], buf[1], buf[2]
-            if grew >= 0 and grew >= depth - 1:
+            window = (buf[3], buf[4]) if buf[3] <= buf[4] else None
+            prev, windows[s] = windows.get(s), window
+            if grew >= 0 and (grew >= depth - 1 or drifted(prev, window)):
                 out.append((self.m.location_text(g.slots[s]), lo, hi))
         return out
 
@@ -3798,6 +3803,7 @@ class NativeExplorer:
         # watches for integer locations that grow level after level
         growth_depth = -1
         streak: dict = {}
+        self._windows = {}
         while True:
             status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
                       if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
