@@ -322,6 +322,23 @@ def test_recorded_steps_structure(tmp_path, monkeypatch, text, nodes):
 
 
 @needs_cc
+@pytest.mark.parametrize("text", [COUNT, NOISE, INVAR], ids=["count", "noise", "invar"])
+def test_recorded_steps_merged_by_hashing(tmp_path, monkeypatch, text):
+    """The nodes merged through the hash table (a spec with many keys and states) are those of the
+    table with a row of states per key (small ones)."""
+    from asmcheck.explore.native import NativeExplorer
+    path = write(tmp_path, text)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    monkeypatch.setattr(NativeExplorer, "QF_TABLE", 0)
+    model2 = api.load(path)
+    run2 = model2.explore(engine="native")
+    assert run2.explorer.edge_src is None
+    assert _structure_arrays(run2.temporal[0].K) == _structure_arrays(run.temporal[0].K)
+    assert _rows(model2, run2) == _rows(model, run)
+
+
+@needs_cc
 def test_recorded_steps_consumed_once(tmp_path):
     """The pairs are handed over once, merged; the structure of a second check (LTL and CTL both in
     step mode) comes from the same merge, and a check that needs the edges (one node per step) has

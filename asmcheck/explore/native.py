@@ -3518,6 +3518,7 @@ _SYMBOLS = {
     "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
     "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
     "asm_qf_chunk": (None, [_i64, _i64, ctypes.c_void_p]),
+    "asm_qf_table_limit": (None, [_i64]),
     "asm_qf_steps": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_take": (None, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
 }
@@ -3955,6 +3956,8 @@ class NativeExplorer:
         # (the edges too when something else reads them: --graph, the structure of --fair)
         self._qf_edges_too = bool(getattr(self.step_quotient_plan, "edges_too", False))
         self.dll.asm_qf(len(ks), (ctypes.c_int64 * max(len(ks), 1))(*ks), 1 if self._qf_edges_too else 0)
+        if self.QF_TABLE is not None:
+            self.dll.asm_qf_table_limit(self.QF_TABLE)
         return True
 
     def _qf_recorded(self) -> bool:
@@ -4193,6 +4196,7 @@ class NativeExplorer:
 
     # -------------------------------------------------------------- the explorer's interface
     STATE_CACHE = 65536
+    QF_TABLE = None       # the most entries of the table that merges the quotient's nodes (tests: 0)
 
     @property
     def n_states(self) -> int:

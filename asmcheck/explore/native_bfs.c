@@ -722,6 +722,7 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
 static V check_label(Ctx *c, int k);
 static struct {
     int on, edges_too, nk, failed, merged;
+    int64_t table_limit;                       /* asm_qf_quotient's table: -1 as it sees fit */
     int64_t ks[64];
     uint32_t *item; int64_t n, cap;            /* the lists, state after state */
     int64_t *off; int64_t noff, capoff;        /* off[0 .. noff - 1] are set */
@@ -743,7 +744,7 @@ static void qf_free(void) {
 void asm_qf(int64_t nk, const int64_t *ks, int64_t edges_too) {
     qf_free();
     if (nk < 0 || nk > 64) return;
-    QF.on = 1; QF.nk = (int)nk; QF.edges_too = edges_too != 0;
+    QF.on = 1; QF.nk = (int)nk; QF.edges_too = edges_too != 0; QF.table_limit = -1;
     for (int64_t k = 0; k < nk; k++) QF.ks[k] = ks[k];
 }
 
@@ -1249,59 +1250,120 @@ int64_t asm_qf_steps(const uint8_t *ok, uint32_t *src, int32_t *dst, uint64_t *v
     return w;
 }
 
+/* the keys (sig, bits) of the quotient's nodes, numbered densely */
+typedef struct { uint64_t *g, *v; uint32_t *h; int64_t n, cap, hcap; } QKeys;
+static void qk_free(QKeys *t) { free(t->g); free(t->v); free(t->h); memset(t, 0, sizeof(*t)); }
+static int64_t qk_id(QKeys *t, uint64_t g, uint64_t v) {
+    if (2 * (t->n + 1) > t->hcap) {
+        int64_t nc = t->hcap ? t->hcap * 2 : 64;
+        uint32_t *h = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
+        if (!h) return -1;
+        for (int64_t k = 0; k < t->n; k++) {
+            uint64_t p = mix64(t->g[k] ^ mix64(t->v[k])) & (uint64_t)(nc - 1);
+            while (h[p]) p = (p + 1) & (uint64_t)(nc - 1);
+            h[p] = (uint32_t)(k + 1);
+        }
+        free(t->h); t->h = h; t->hcap = nc;
+    }
+    uint64_t msk = (uint64_t)(t->hcap - 1), p = mix64(g ^ mix64(v)) & msk;
+    while (t->h[p]) {
+        int64_t k = t->h[p] - 1;
+        if (t->g[k] == g && t->v[k] == v) return k;
+        p = (p + 1) & msk;
+    }
+    int64_t c1 = t->cap, c2 = t->cap;
+    if (!qf_grow((void **)&t->g, &c1, t->n + 1, sizeof(uint64_t)) ||
+        !qf_grow((void **)&t->v, &c2, t->n + 1, sizeof(uint64_t))) return -1;
+    t->cap = c1;
+    t->g[t->n] = g; t->v[t->n] = v;
+    t->h[p] = (uint32_t)(t->n + 1);
+    return t->n++;
+}
+
+/* the most entries of asm_qf_quotient's table (tests: 0, the hash table alone) */
+void asm_qf_table_limit(int64_t entries) { QF.table_limit = entries; }
+
 int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
     if (!QF.on || QF.failed || QF.merged) return -1;
     qf_close();
     int64_t n = nstates;
     if (QF.noff <= n || QF.n >= INT32_MAX) return -1;
-    int64_t hcap = 1024, qcap = 0, nq = 0, w = 0;
-    uint32_t *h = (uint32_t *)calloc((size_t)hcap, sizeof(uint32_t));
-    if (!h) return -1;
+    /* pass 1: the keys (sig[source], bits); when keys x states is small, a node is found in a table
+       of a row of states per key (as kn_quotient's), else in a hash table */
+    QKeys kt = {0};
+    for (int64_t s = 0; s < n; s++) {
+        if (!ok[s] || QF.off[s + 1] == QF.off[s]) continue;
+        if (!QF.nk) { if (qk_id(&kt, sig[s], 0) < 0) goto oom; continue; }
+        for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++) {
+            uint64_t v = QF.pv[QF.item[e]];
+            if ((v & need) == need && qk_id(&kt, sig[s], v) < 0) goto oom;
+        }
+    }
+    int64_t hcap = 0, qcap = 0, nq = 0, w = 0;
+    uint32_t *h = 0;
+    int32_t *tab = 0;
+    int64_t limit = QF.table_limit >= 0 ? QF.table_limit : (QF.n / 4 > (1 << 20) ? QF.n / 4 : (1 << 20));
+    if ((double)kt.n * (double)n <= (double)limit) {
+        tab = (int32_t *)malloc((size_t)(kt.n * n + 1) * sizeof(int32_t));
+        if (!tab) goto oom;
+        memset(tab, 0xff, (size_t)(kt.n * n + 1) * sizeof(int32_t));
+    }
     int32_t *adj = (int32_t *)QF.item;
     for (int64_t s = 0; s < n; s++) {
         int64_t a = QF.off[s], b = QF.off[s + 1];
         QF.off[s] = w;
-        if (!ok[s]) continue;
+        if (!ok[s] || a == b) continue;
         uint64_t g = sig[s];
+        int64_t k = QF.nk ? -1 : qk_id(&kt, g, 0);
         for (int64_t e = a; e < b; e++) {
             uint32_t d = QF.nk ? QF.pd[QF.item[e]] : QF.item[e];
             uint64_t v = QF.nk ? QF.pv[QF.item[e]] : 0;
             if ((v & need) != need) continue;
-            if (2 * (nq + 1) > hcap) {
-                int64_t nc = hcap * 2;
-                uint32_t *h2 = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
-                if (!h2) { free(h); QF.failed = 1; return -1; }
-                for (int64_t q = 0; q < nq; q++) {
-                    uint64_t p = mix64(sig[QF.fsrc[q]] ^ mix64(QF.fvec[q] ^ ((uint64_t)(uint32_t)QF.fdst[q] << 20))) & (uint64_t)(nc - 1);
-                    while (h2[p]) p = (p + 1) & (uint64_t)(nc - 1);
-                    h2[p] = (uint32_t)(q + 1);
-                }
-                free(h); h = h2; hcap = nc;
-            }
-            uint64_t msk = (uint64_t)(hcap - 1), p = mix64(g ^ mix64(v ^ ((uint64_t)d << 20))) & msk;
+            if (QF.nk) k = qk_id(&kt, g, v);
             int64_t q = -1;
-            while (h[p]) {
-                int64_t i = h[p] - 1;
-                if ((uint32_t)QF.fdst[i] == d && QF.fvec[i] == v && sig[QF.fsrc[i]] == g) { q = i; break; }
-                p = (p + 1) & msk;
+            uint64_t p = 0;
+            if (tab) {
+                q = tab[k * n + d];
+            } else {
+                if (2 * (nq + 1) > hcap) {
+                    int64_t nc = hcap ? hcap * 2 : 1024;
+                    uint32_t *h2 = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
+                    if (!h2) { free(h); free(tab); goto oom; }
+                    for (int64_t i = 0; i < nq; i++) {
+                        uint64_t x = mix64((uint64_t)qk_id(&kt, sig[QF.fsrc[i]], QF.fvec[i]) ^ ((uint64_t)(uint32_t)QF.fdst[i] << 32)) & (uint64_t)(nc - 1);
+                        while (h2[x]) x = (x + 1) & (uint64_t)(nc - 1);
+                        h2[x] = (uint32_t)(i + 1);
+                    }
+                    free(h); h = h2; hcap = nc;
+                }
+                uint64_t msk = (uint64_t)(hcap - 1);
+                p = mix64((uint64_t)k ^ ((uint64_t)d << 32)) & msk;
+                while (h[p]) {
+                    int64_t i = h[p] - 1;
+                    if ((uint32_t)QF.fdst[i] == d && QF.fvec[i] == v && sig[QF.fsrc[i]] == g) { q = i; break; }
+                    p = (p + 1) & msk;
+                }
             }
             if (q < 0) {
                 if (nq >= qcap) {
                     int64_t c1 = qcap, c2 = qcap, c3 = qcap;
                     if (!qf_grow((void **)&QF.fsrc, &c1, nq + 1, sizeof(uint32_t)) ||
                         !qf_grow((void **)&QF.fdst, &c2, nq + 1, sizeof(int32_t)) ||
-                        !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) { free(h); QF.failed = 1; return -1; }
+                        !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) { free(h); free(tab); goto oom; }
                     qcap = c1;
                 }
                 q = nq++;
                 QF.fsrc[q] = (uint32_t)s; QF.fdst[q] = (int32_t)d; QF.fvec[q] = v;
-                h[p] = (uint32_t)(q + 1);
+                if (tab) tab[k * n + d] = (int32_t)q;
+                else h[p] = (uint32_t)(q + 1);
             }
             adj[w++] = (int32_t)q;
         }
     }
     QF.off[n] = w;
     free(h);
+    free(tab);
+    qk_free(&kt);
     QF.merged = 1;
     QF.nq = nq;
     QF.n = w;
@@ -1310,6 +1372,10 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
     QF.pd = 0; QF.pv = 0; QF.ph = 0; QF.rb = 0; QF.rv = 0; QF.seen.set = 0;
     QF.np = QF.capp = QF.phcap = QF.nr = QF.capr = 0; QF.seen.cap = 0;
     return nq;
+oom:
+    qk_free(&kt);
+    QF.failed = 1;
+    return -1;
 }
 
 /* the lists' entries [start, start + n) copied to out; the whole pages before start + n are given
