@@ -55,6 +55,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+MAX_SLOTS = 1 << 18       # locations laid out, at most (200,000 compile in about 6 s)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
 CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
@@ -521,6 +522,11 @@ class Generator:
                 self.slot_types.append(("map", f))
                 self.map_slot[f.index] = s_
                 continue
+            n = 1
+            for vals in arg_values:
+                n *= len(vals)
+            if len(self.slots) + n > MAX_SLOTS:
+                raise Unsupported(f"more than {MAX_SLOTS:,} locations (the C compiler fails on a million)")
             cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
@@ -533,8 +539,8 @@ class Generator:
                 self.slot_values.append(cod)
                 self.slot_types.append(f.codomain)
             self.fn_base[f.index] = (base, arg_values, cod)
-            if len(self.slots) > 1 << 20:
-                raise Unsupported("more than a million locations")
+            if len(self.slots) > MAX_SLOTS:
+                raise Unsupported(f"more than {MAX_SLOTS:,} locations (the C compiler fails on a million)")
         self.dyn_slots()
         self.layout_result()
         self.layout_local()
@@ -3666,7 +3672,11 @@ class NativeExplorer:
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
-        src = self.gen.generate()
+        try:
+            src = self.gen.generate()
+        except AsmRuntimeError as e:
+            # a step of the Python engine fails there too: it reports the failure (with its trace)
+            raise Unsupported(f"{e.message} (while the C code was generated)") from None
         self._src = src                  # thread_unsafe(src): worked out when threads are asked for
         self._thread_unsafe = None
         self.dll = build_library(src)
