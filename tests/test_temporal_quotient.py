@@ -189,6 +189,9 @@ def test_parking_ctl():
     assert (run.states, run.transitions) == (32768, 86093442)
     rows = [(r.name, r.verdict) for r in run.temporal]
     assert rows == [("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "violated")]
+    # the search recorded each state's distinct targets, not the 86 M edges: 98,320 nodes
+    assert run.explorer.edge_src is None
+    assert {r.stats["kripke_nodes"] for r in run.temporal} == {98320}
     bad = run.temporal[2]
     trace, loop, _ = bad.trace()
     assert loop is None and len(trace.steps) == 4
