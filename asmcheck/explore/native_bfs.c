@@ -717,8 +717,8 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
  * pair is its target, and the lists are the edges without their sources.  An entry of a list is the
  * target (nk 0) or the pair's number (pd, pv); off[s] is where state s's list begins.  After the
  * search asm_qf_quotient() turns the lists into the quotient's, in place, and asm_qf_take() hands
- * them over.  failed: a step failed or an atom could not be evaluated (the caller records the edges
- * again; the search itself goes on). */
+ * them over.  A branch whose step fails is no pair (as it is no edge).  failed: an atom could not be
+ * evaluated (the caller records the edges again; the search itself goes on). */
 static V check_label(Ctx *c, int k);
 static struct {
     int on, edges_too, nk, failed, merged;
@@ -1095,7 +1095,6 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             status = interrupted ? 7 : 3; goto finish;
         }
         int failing = 0;
-        if (steperr && QF.on && QF.nk) QF.failed = 1;    /* (asm_step_atoms gave up on such a state) */
         if (steperr) {
             failing = step_failed_at(sid, steperr);
             if (failing < 0) { status = 5; goto finish; }
