@@ -800,6 +800,151 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
 }
 #endif
 
+/* ------------------------------------------------------------------ the steps of the temporal quotient
+ * When the temporal checks need only the quotient of the structure whose nodes are steps (kripke.py:
+ * every structure in step mode, merged), asm_qf() before the search has it record, for each state it
+ * expands, the distinct (target, bits) pairs of its steps in the order first met, instead of the
+ * edges: bit k is atom ks[k] (one that reads monitored functions) evaluated in the state with the
+ * monitored values the step read, the monitored locations it did not read taking every value
+ * (asm_step_atoms's enumeration, done here right after the step ran).  Without such atoms (nk 0) a
+ * pair is its target, and the lists are the edges without their sources.  An entry of a list is the
+ * target (nk 0) or the pair's number (pd, pv); off[s] is where state s's list begins.  After the
+ * search asm_qf_quotient() turns the lists into the quotient's, in place, and asm_qf_take() hands
+ * them over.  A branch whose step fails is no pair (as it is no edge).  failed: an atom could not be
+ * evaluated (the caller records the edges again; the search itself goes on). */
+static V check_label(Ctx *c, int k);
+static struct {
+    int on, edges_too, nk, failed, merged;
+    int64_t table_limit;                       /* asm_qf_quotient's table: -1 as it sees fit */
+    int64_t ks[64];
+    uint32_t *item; int64_t n, cap;            /* the lists, state after state */
+    int64_t *off; int64_t noff, capoff;        /* off[0 .. noff - 1] are set */
+    uint32_t *pd; uint64_t *pv; int64_t np, capp;      /* the pairs */
+    uint32_t *ph; int64_t phcap;               /* their hash table (number + 1; 0: empty) */
+    int64_t *rb; uint64_t *rv; int64_t nr, capr;       /* the expanded state's (successor, bits) */
+    SuccSet seen;                              /* the pairs met from the expanded state */
+    /* the quotient (asm_qf_quotient): each node's first step */
+    uint32_t *fsrc; int32_t *fdst; uint64_t *fvec; int64_t nq;
+} QF;
+
+static void qf_free(void) {
+    free(QF.item); free(QF.off); free(QF.pd); free(QF.pv); free(QF.ph); free(QF.rb); free(QF.rv);
+    free(QF.seen.set); free(QF.fsrc); free(QF.fdst); free(QF.fvec);
+    memset(&QF, 0, sizeof(QF));
+}
+
+/* asm_qf(nk, ks, edges_too) before asm_start's search: record the pairs (nk -1: not at all) */
+void asm_qf(int64_t nk, const int64_t *ks, int64_t edges_too) {
+    qf_free();
+    if (nk < 0 || nk > 64) return;
+    QF.on = 1; QF.nk = (int)nk; QF.edges_too = edges_too != 0; QF.table_limit = -1;
+    for (int64_t k = 0; k < nk; k++) QF.ks[k] = ks[k];
+}
+
+static int qf_grow(void **a, int64_t *cap, int64_t need, size_t size) {
+    if (need <= *cap) return 1;
+    int64_t nc = *cap ? *cap : 1024;
+    while (nc < need) nc *= 2;
+    void *x = realloc(*a, (size_t)nc * size);
+    if (!x) return 0;
+    *a = x;
+    *cap = nc;
+    return 1;
+}
+
+/* the expanded state sid begins its list (the states before it not expanded have empty ones) */
+static int qf_state(int64_t sid) {
+    if (!qf_grow((void **)&QF.off, &QF.capoff, sid + 2, sizeof(int64_t))) return 0;
+    while (QF.noff <= sid) QF.off[QF.noff++] = QF.n;
+    QF.nr = 0;
+    return 1;
+}
+
+static inline int qf_item(uint32_t x) {
+    if (QF.n >= QF.cap && !qf_grow((void **)&QF.item, &QF.cap, QF.n + 1, sizeof(uint32_t))) return 0;
+    QF.item[QF.n++] = x;
+    return 1;
+}
+
+/* the number of the pair (d, v), added when new; -1 when out of memory */
+static int64_t qf_pair(uint32_t d, uint64_t v) {
+    if (2 * (QF.np + 1) > QF.phcap) {
+        int64_t nc = QF.phcap ? QF.phcap * 2 : 1024;
+        uint32_t *h = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
+        if (!h) return -1;
+        for (int64_t i = 0; i < QF.np; i++) {
+            uint64_t p = mix64(((uint64_t)QF.pd[i] << 1) ^ (QF.pv[i] * 0x9e3779b97f4a7c15ULL)) & (uint64_t)(nc - 1);
+            while (h[p]) p = (p + 1) & (uint64_t)(nc - 1);
+            h[p] = (uint32_t)(i + 1);
+        }
+        free(QF.ph); QF.ph = h; QF.phcap = nc;
+    }
+    uint64_t msk = (uint64_t)(QF.phcap - 1), p = mix64(((uint64_t)d << 1) ^ (v * 0x9e3779b97f4a7c15ULL)) & msk;
+    while (QF.ph[p]) {
+        int64_t i = QF.ph[p] - 1;
+        if (QF.pd[i] == d && QF.pv[i] == v) return i;
+        p = (p + 1) & msk;
+    }
+    int64_t cp = QF.capp;
+    if (!qf_grow((void **)&QF.pd, &cp, QF.np + 1, sizeof(uint32_t))) return -1;
+    cp = QF.capp;
+    if (!qf_grow((void **)&QF.pv, &cp, QF.np + 1, sizeof(uint64_t))) return -1;
+    QF.capp = cp;
+    QF.pd[QF.np] = d; QF.pv[QF.np] = v;
+    QF.ph[p] = (uint32_t)(QF.np + 1);
+    return QF.np++;
+}
+
+/* the step just run (its successor is b's entry bi): the distinct bits of the atoms, each run of the
+   monitored locations the step did not read (as asm_step_atoms); 0 when out of memory */
+static int qf_atoms(Ctx *c, int64_t bi) {
+    static _Thread_local V smon[NMON > 0 ? NMON : 1];
+    static _Thread_local uint32_t smgen[NMON > 0 ? NMON : 1];
+    if (QF.failed) return 1;
+    int64_t r0 = QF.nr;
+    int32_t P = c->pos;
+    memcpy(smon, c->mon, sizeof(smon));
+    memcpy(smgen, c->mgen, sizeof(smgen));
+    int32_t plen = c->plen;
+    c->plen = P;
+    c->in_prop = 0;
+    for (;;) {
+        c->pos = P;
+        memcpy(c->mon, smon, sizeof(smon));
+        memcpy(c->mgen, smgen, sizeof(smgen));
+        c->err = 0;
+        uint64_t vec = 0;
+        for (int k = 0; k < QF.nk; k++) {
+            V v = check_label(c, (int)QF.ks[k]);
+            if (c->err) { QF.failed = 1; break; }
+            if (v == 1) vec |= 1ULL << k;
+        }
+        if (QF.failed) break;
+        int dup = 0;
+        for (int64_t r = r0; r < QF.nr; r++) if (QF.rv[r] == vec) { dup = 1; break; }
+        if (!dup) {
+            int64_t cr = QF.capr;
+            if (!qf_grow((void **)&QF.rb, &cr, QF.nr + 1, sizeof(int64_t))) return 0;
+            cr = QF.capr;
+            if (!qf_grow((void **)&QF.rv, &cr, QF.nr + 1, sizeof(uint64_t))) return 0;
+            QF.capr = cr;
+            QF.rb[QF.nr] = bi; QF.rv[QF.nr] = vec; QF.nr++;
+        }
+        int j = c->pos - 1;
+        while (j >= P && c->idx[j] + 1 >= c->cnt[j]) j--;
+        if (j < P) break;
+        for (int q = P; q < j; q++) c->prefix[q] = c->idx[q];
+        c->prefix[j] = c->idx[j] + 1;
+        c->plen = j + 1;
+    }
+    c->pos = P;
+    c->plen = plen;
+    c->err = 0;
+    memcpy(c->mon, smon, sizeof(smon));
+    memcpy(c->mgen, smgen, sizeof(smgen));
+    return 1;
+}
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -857,10 +1002,12 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #if CN_NDYN > 0
             if (canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
 #endif
+            /* the values of the temporal quotient's atoms in this step (asm_qf) */
+            if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
         }
         b->n++;
 #ifdef MC_TAIL_ON
-        if (b->n < MAX_SUCC) {  /* the other combinations of the merged chooses the run ends with */
+        if (b->n < MAX_SUCC && !(QF.on && QF.nk)) {  /* the other combinations of the merged chooses the run ends with */
             int64_t more = mc_tail(c, src, b);
             if (more < 0) return EXP_MEM;
             if (MISSED()) return EXP_MISSED;
@@ -906,7 +1053,8 @@ static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint
     }
     if (sset_first(&succs, tid)) {
         S.transitions++;
-        if (S.keep_graph && !add_edge((uint32_t)sid, (uint32_t)tid)) return 0;
+        if (S.keep_graph && (!QF.on || QF.edges_too) && !add_edge((uint32_t)sid, (uint32_t)tid)) return 0;
+        if (QF.on && !QF.nk && !qf_item((uint32_t)tid)) return 0;
     }
     uint64_t bad = mask[0];
     for (int k = 0; bad && k < NSTEP; k++)
@@ -1079,6 +1227,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         /* successors: every sequence of choices, kept aside until the whole step has run
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
+        if (QF.on && !qf_state(sid)) { status = 5; goto finish; }
         int xr = expand_state(c, sw, &sb0, &steperr, &xe, &xsite, 0);
         if (xr == EXP_HARD) {
             out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
@@ -1125,6 +1274,8 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
         }
+        int64_t qr = 0;        /* the pairs of the temporal quotient (asm_qf) */
+        if (QF.on && QF.nk && !QF.failed && !sset_reset(&QF.seen, QF.nr)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
@@ -1137,6 +1288,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 status = 5; goto finish;
             }
             if (isnew && !inv_note(tid, wb, par)) { status = 5; goto finish; }
+            if (QF.on && QF.nk && !QF.failed)
+                for (; qr < QF.nr && QF.rb[qr] == b; qr++) {
+                    int64_t p = qf_pair((uint32_t)tid, QF.rv[qr]);
+                    if (p < 0 || (sset_first(&QF.seen, p) && !qf_item((uint32_t)p))) { status = 5; goto finish; }
+                }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid) only_self = 0;
         }
@@ -1218,6 +1374,208 @@ void asm_edges_take(int64_t which, uint32_t *out) {
     *a = 0;
 }
 
+#if defined(__unix__) || defined(__APPLE__)
+#include <sys/mman.h>
+#endif
+/* ------------------------------------------------------------------ the temporal quotient, handed over
+ * After a search with asm_qf: asm_qf_status(out) gives [0] whether the lists were recorded
+ * (0: no asm_qf, or it failed: then the edges must be recorded by another search) [1] the number
+ * of entries [2] the number of atoms; asm_qf_has_out(out) the states with a step (1); then
+ * asm_qf_quotient(sig, ok, need) merges the steps as kripke.py's quotient does -- steps from states
+ * with ok[] unset and steps whose bits miss one of need are dropped; a step is a quotient node
+ * (sig[source], bits, target), numbered by its first step in search order -- and turns each state's
+ * list into the list of its quotient nodes, in place (returns the number of nodes, -1 when it cannot:
+ * out of memory, lists too long for 32-bit offsets); asm_qf_chunk copies the lists out a part at a time
+ * (giving the memory of each part back), and asm_qf_take the offsets and each node's first step, and
+ * frees it all. */
+static void qf_close(void) {
+    if (qf_grow((void **)&QF.off, &QF.capoff, nstates + 1, sizeof(int64_t)))
+        while (QF.noff <= nstates) QF.off[QF.noff++] = QF.n;
+}
+
+void asm_qf_status(int64_t *out) {
+    out[0] = QF.on && !QF.failed && !QF.merged;
+    out[1] = QF.n;
+    out[2] = QF.nk;
+}
+
+int64_t asm_qf_has_out(uint8_t *out) {
+    if (!QF.on || QF.failed || QF.merged) return -1;
+    qf_close();
+    if (QF.noff <= nstates) return -1;
+    for (int64_t s = 0; s < nstates; s++) out[s] = QF.off[s + 1] > QF.off[s];
+    return 0;
+}
+
+/* the recorded steps of the states with ok[] set, each pair once, state after state: (source,
+   target, bits) -- what asm_step_atoms gives for each state, without running a step -- into the
+   three arrays (all null: only counted); returns their number, -1 when they were not recorded */
+int64_t asm_qf_steps(const uint8_t *ok, uint32_t *src, int32_t *dst, uint64_t *vec) {
+    if (!QF.on || QF.failed || QF.merged || !QF.nk) return -1;
+    qf_close();
+    if (QF.noff <= nstates) return -1;
+    int64_t w = 0;
+    for (int64_t s = 0; s < nstates; s++) {
+        if (!ok[s]) continue;
+        if (src)
+            for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++, w++) {
+                src[w] = (uint32_t)s; dst[w] = (int32_t)QF.pd[QF.item[e]]; vec[w] = QF.pv[QF.item[e]];
+            }
+        else w += QF.off[s + 1] - QF.off[s];
+    }
+    return w;
+}
+
+/* the keys (sig, bits) of the quotient's nodes, numbered densely */
+typedef struct { uint64_t *g, *v; uint32_t *h; int64_t n, cap, hcap; } QKeys;
+static void qk_free(QKeys *t) { free(t->g); free(t->v); free(t->h); memset(t, 0, sizeof(*t)); }
+static int64_t qk_id(QKeys *t, uint64_t g, uint64_t v) {
+    if (2 * (t->n + 1) > t->hcap) {
+        int64_t nc = t->hcap ? t->hcap * 2 : 64;
+        uint32_t *h = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
+        if (!h) return -1;
+        for (int64_t k = 0; k < t->n; k++) {
+            uint64_t p = mix64(t->g[k] ^ mix64(t->v[k])) & (uint64_t)(nc - 1);
+            while (h[p]) p = (p + 1) & (uint64_t)(nc - 1);
+            h[p] = (uint32_t)(k + 1);
+        }
+        free(t->h); t->h = h; t->hcap = nc;
+    }
+    uint64_t msk = (uint64_t)(t->hcap - 1), p = mix64(g ^ mix64(v)) & msk;
+    while (t->h[p]) {
+        int64_t k = t->h[p] - 1;
+        if (t->g[k] == g && t->v[k] == v) return k;
+        p = (p + 1) & msk;
+    }
+    int64_t c1 = t->cap, c2 = t->cap;
+    if (!qf_grow((void **)&t->g, &c1, t->n + 1, sizeof(uint64_t)) ||
+        !qf_grow((void **)&t->v, &c2, t->n + 1, sizeof(uint64_t))) return -1;
+    t->cap = c1;
+    t->g[t->n] = g; t->v[t->n] = v;
+    t->h[p] = (uint32_t)(t->n + 1);
+    return t->n++;
+}
+
+/* the most entries of asm_qf_quotient's table (tests: 0, the hash table alone) */
+void asm_qf_table_limit(int64_t entries) { QF.table_limit = entries; }
+
+int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
+    if (!QF.on || QF.failed || QF.merged) return -1;
+    qf_close();
+    int64_t n = nstates;
+    if (QF.noff <= n || QF.n >= INT32_MAX) return -1;
+    /* pass 1: the keys (sig[source], bits); when keys x states is small, a node is found in a table
+       of a row of states per key (as kn_quotient's), else in a hash table */
+    QKeys kt = {0};
+    for (int64_t s = 0; s < n; s++) {
+        if (!ok[s] || QF.off[s + 1] == QF.off[s]) continue;
+        if (!QF.nk) { if (qk_id(&kt, sig[s], 0) < 0) goto oom; continue; }
+        for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++) {
+            uint64_t v = QF.pv[QF.item[e]];
+            if ((v & need) == need && qk_id(&kt, sig[s], v) < 0) goto oom;
+        }
+    }
+    int64_t hcap = 0, qcap = 0, nq = 0, w = 0;
+    uint32_t *h = 0;
+    int32_t *tab = 0;
+    int64_t limit = QF.table_limit >= 0 ? QF.table_limit : (QF.n / 4 > (1 << 20) ? QF.n / 4 : (1 << 20));
+    if ((double)kt.n * (double)n <= (double)limit) {
+        tab = (int32_t *)malloc((size_t)(kt.n * n + 1) * sizeof(int32_t));
+        if (!tab) goto oom;
+        memset(tab, 0xff, (size_t)(kt.n * n + 1) * sizeof(int32_t));
+    }
+    int32_t *adj = (int32_t *)QF.item;
+    for (int64_t s = 0; s < n; s++) {
+        int64_t a = QF.off[s], b = QF.off[s + 1];
+        QF.off[s] = w;
+        if (!ok[s] || a == b) continue;
+        uint64_t g = sig[s];
+        int64_t k = QF.nk ? -1 : qk_id(&kt, g, 0);
+        for (int64_t e = a; e < b; e++) {
+            uint32_t d = QF.nk ? QF.pd[QF.item[e]] : QF.item[e];
+            uint64_t v = QF.nk ? QF.pv[QF.item[e]] : 0;
+            if ((v & need) != need) continue;
+            if (QF.nk) k = qk_id(&kt, g, v);
+            int64_t q = -1;
+            uint64_t p = 0;
+            if (tab) {
+                q = tab[k * n + d];
+            } else {
+                if (2 * (nq + 1) > hcap) {
+                    int64_t nc = hcap ? hcap * 2 : 1024;
+                    uint32_t *h2 = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
+                    if (!h2) { free(h); free(tab); goto oom; }
+                    for (int64_t i = 0; i < nq; i++) {
+                        uint64_t x = mix64((uint64_t)qk_id(&kt, sig[QF.fsrc[i]], QF.fvec[i]) ^ ((uint64_t)(uint32_t)QF.fdst[i] << 32)) & (uint64_t)(nc - 1);
+                        while (h2[x]) x = (x + 1) & (uint64_t)(nc - 1);
+                        h2[x] = (uint32_t)(i + 1);
+                    }
+                    free(h); h = h2; hcap = nc;
+                }
+                uint64_t msk = (uint64_t)(hcap - 1);
+                p = mix64((uint64_t)k ^ ((uint64_t)d << 32)) & msk;
+                while (h[p]) {
+                    int64_t i = h[p] - 1;
+                    if ((uint32_t)QF.fdst[i] == d && QF.fvec[i] == v && sig[QF.fsrc[i]] == g) { q = i; break; }
+                    p = (p + 1) & msk;
+                }
+            }
+            if (q < 0) {
+                if (nq >= qcap) {
+                    int64_t c1 = qcap, c2 = qcap, c3 = qcap;
+                    if (!qf_grow((void **)&QF.fsrc, &c1, nq + 1, sizeof(uint32_t)) ||
+                        !qf_grow((void **)&QF.fdst, &c2, nq + 1, sizeof(int32_t)) ||
+                        !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) { free(h); free(tab); goto oom; }
+                    qcap = c1;
+                }
+                q = nq++;
+                QF.fsrc[q] = (uint32_t)s; QF.fdst[q] = (int32_t)d; QF.fvec[q] = v;
+                if (tab) tab[k * n + d] = (int32_t)q;
+                else h[p] = (uint32_t)(q + 1);
+            }
+            adj[w++] = (int32_t)q;
+        }
+    }
+    QF.off[n] = w;
+    free(h);
+    free(tab);
+    qk_free(&kt);
+    QF.merged = 1;
+    QF.nq = nq;
+    QF.n = w;
+    /* the pairs and the search's scratch are not needed any more */
+    free(QF.pd); free(QF.pv); free(QF.ph); free(QF.rb); free(QF.rv); free(QF.seen.set);
+    QF.pd = 0; QF.pv = 0; QF.ph = 0; QF.rb = 0; QF.rv = 0; QF.seen.set = 0;
+    QF.np = QF.capp = QF.phcap = QF.nr = QF.capr = 0; QF.seen.cap = 0;
+    return nq;
+oom:
+    qk_free(&kt);
+    QF.failed = 1;
+    return -1;
+}
+
+/* the lists' entries [start, start + n) copied to out; the whole pages before start + n are given
+   back to the system (the copy of a long list does not hold it twice) */
+void asm_qf_chunk(int64_t start, int64_t n, int32_t *out) {
+    memcpy(out, QF.item + start, (size_t)n * sizeof(int32_t));
+#if defined(MADV_DONTNEED)
+    uintptr_t lo = ((uintptr_t)QF.item + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)(QF.item + start + n)) & ~(uintptr_t)4095;
+    if (hi > lo && QF.n * sizeof(uint32_t) >= ((size_t)1 << 22)) madvise((void *)lo, hi - lo, MADV_DONTNEED);
+#endif
+}
+
+/* the offsets of the lists and each quotient node's first step copied out; everything freed */
+void asm_qf_take(int32_t *off, uint32_t *fsrc, int32_t *fdst, uint64_t *fvec) {
+    for (int64_t s = 0; s <= nstates; s++) off[s] = (int32_t)QF.off[s];
+    if (QF.nq) {
+        memcpy(fsrc, QF.fsrc, QF.nq * sizeof(uint32_t));
+        memcpy(fdst, QF.fdst, QF.nq * sizeof(int32_t));
+        memcpy(fvec, QF.fvec, QF.nq * sizeof(uint64_t));
+    }
+    qf_free();
+}
+
+
 /* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set);
    [3] least [4] greatest value of the states stored since the last call (greatest < least: none) */
 void asm_range(int64_t slot, int64_t *out) {
@@ -1248,6 +1606,7 @@ void asm_free(void) {
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
     S.esrc = S.edst = 0; S.nedges = S.cap_edges = 0;
     ef_free();
+    qf_free();
     P.serial_skip = P.serial_next = 0;
     P.round = 0; P.rate_many = P.rate_one = 0;
 }
@@ -1276,6 +1635,8 @@ static int64_t memory_bytes(int64_t n) {
         /* an edge is two ends here, and again in the arrays Python copies them into (with a
            bytes object of one array's size while it fills) before these are freed */
         + S.nedges * 5 * (int64_t)sizeof(uint32_t)
+        /* the temporal quotient's lists (asm_qf), here and in Python's copy, and its pairs */
+        + QF.n * 2 * (int64_t)sizeof(uint32_t) + QF.noff * (int64_t)sizeof(int64_t) + QF.np * 20
         + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);
 }
 
