@@ -119,3 +119,20 @@ def test_a_sequence_that_keeps_growing_is_named_while_the_search_runs(tmp_path, 
     # the state found last is one level below the one being searched: s has one element a level
     assert int(m.group(1).replace(",", "")) == int(m.group(2)) + 1
     assert run.result.reason == f"time limit 2.5 s reached; {warnings[0]}"
+
+
+def test_windows_that_move_past_each_other_count_only_over_a_wide_span():
+    from asmcheck.explore.bfs import DRIFT_SPAN, drifted
+    # a location with a few values moves between them by chance: not a drift
+    assert not drifted((0, 3), (4, 5))
+    assert not drifted((4, 5), (0, 3))
+    # a counter: each window beyond the last (sharing the level between two watches)
+    assert drifted((0, 700), (700, 1500))
+    assert drifted((-9223372036854775806, -9223372036854770000), (-9223372036854770000, -9223372036854760000))
+    assert drifted((5000, 6000), (3000, 5000))
+    # overlapping windows, a window that did not move, no state in one of them
+    assert not drifted((0, 2000), (1000, 3000))
+    assert not drifted((7, 7), (7, 7))
+    assert not drifted(None, (0, 5000)) and not drifted((0, 5000), None)
+    assert not drifted((0, DRIFT_SPAN - 2), (DRIFT_SPAN - 2, DRIFT_SPAN - 1))
+    assert drifted((0, DRIFT_SPAN - 2), (DRIFT_SPAN - 2, DRIFT_SPAN))

@@ -111,15 +111,20 @@ def error_edge(sid: int, err) -> tuple:
     return sid, tuple(c.pick for c in (err.choices or ())), err
 
 
+DRIFT_SPAN = 1024
+
+
 def drifted(prev, window) -> bool:
     """Whether an Integer location's values moved past those of the previous watch: ``prev`` and
     ``window`` are the (least, greatest) values of the states stored between two watches (None:
     no state).  A counter whose values wrapped round at 64 bits keeps taking new values without
-    a new least or greatest value; its windows still move, one beyond the other."""
+    a new least or greatest value; its windows still move, one beyond the other, and the two
+    span many values (DRIFT_SPAN: a location with a few values moves between them by chance)."""
     if prev is None or window is None:
         return False
     (plo, phi), (wlo, whi) = prev, window
-    return (wlo >= phi and whi > phi) or (whi <= plo and wlo < plo)
+    return ((wlo >= phi and whi > phi) or (whi <= plo and wlo < plo)) and \
+        max(whi, phi) - min(wlo, plo) >= DRIFT_SPAN
 
 
 class SizeWatch:
@@ -151,6 +156,11 @@ class SizeWatch:
         return out
 
 
+def _declared_finite(typ) -> bool:
+    """A subset domain given by its elements: its locations take no other value."""
+    return isinstance(typ, T.Domain) and typ.kind == "subset" and typ.definition is not None
+
+
 class _Growth:
     """Watches the Integer locations of the states found for one that keeps taking new values
     level after level (a counter without a bound, a growing population): the search may then
@@ -179,7 +189,8 @@ class _Growth:
         for i in range(self.known, len(keys)):
             k = keys[i]
             f = k if type(k) is int else (k[0] if type(k) is tuple and type(k[0]) is int else None)
-            if f is not None and f < len(fns) and T.root(fns[f].codomain) in (T.INTEGER, T.NATURAL):
+            if f is not None and f < len(fns) and T.root(fns[f].codomain) in (T.INTEGER, T.NATURAL) \
+                    and not _declared_finite(fns[f].codomain):
                 self.slots.append(i)
         self.known = len(keys)
 
