@@ -33,6 +33,7 @@ others' tables.
 """
 from __future__ import annotations
 
+import copy
 import ctypes
 import math
 import os
@@ -55,6 +56,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+LOCAL_SLOTS = 1024      # a local function has slots when it has at most that many locations
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
 CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
@@ -884,7 +886,81 @@ class Generator:
             return name.expr
         return name
 
+    def may_choose(self, t) -> bool:
+        """Whether evaluating ``t`` may make a choice (read a monitored function, directly or
+        through a derived or static function's body): the Python engine makes its choices in the
+        order it reads, left to right."""
+        memo = self.__dict__.setdefault("_may_choose", {})
+        todo = [t]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Loc):
+                f = x.func
+                if f.kind == "monitored":
+                    return True
+                if f.kind in ("static", "derived") and f.body is not None:
+                    if f.index not in memo:
+                        memo[f.index] = False        # a recursive function: its other reads decide
+                        memo[f.index] = self.may_choose(f.body)
+                    if memo[f.index]:
+                        return True
+            if isinstance(x, ir.Term):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Term, list, tuple)))
+        return False
+
+    def in_order(self, t, env, meth):
+        """``meth(t, env)`` with the arguments of ``t`` that may make a choice evaluated first, left
+        to right, when two or more may (C leaves the order of a call's arguments open, and the
+        order of the choices is the order of the successors).  Each is bound to a C variable and
+        read through a variable reference of its type; the arguments of other kinds are left."""
+        pick = [i for i, a in enumerate(t.args) if self.may_choose(a)]
+        if len(pick) < 2 or getattr(t, "_in_order", False):
+            return meth(t, env)
+        env2 = dict(env)
+        args = list(t.args)
+        pre = []
+        for i in pick:
+            a = t.args[i]
+            r = T.root(a.type)
+            if not (r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or isinstance(r, T.Domain) and r.kind in ("enum", "abstract")):
+                continue
+            if isinstance(a, ir.Loc) and self.any_slot(a.func):
+                continue
+            name = self.fresh("ord")
+            pre.append(f"V {name} = {self.term(a, env)};")
+            var = ir.Var(name, a.type, a.span, uid=("ord", name))
+            env2[var.uid] = name
+            args[i] = ir.VarRef(a.type, a.span, var)
+        if len(pre) < 2:
+            return meth(t, env)
+        t2 = copy.copy(t)
+        t2.args = args
+        t2._in_order = True
+        return "({ " + " ".join(pre) + f" {meth(t2, env2)}; }})"
+
+    def ordered_terms(self, ts, env) -> tuple[str, list[str]]:
+        """The C code of the terms ``ts`` (a location's arguments in an update) and the C
+        statements to run before, which evaluate left to right those that may make a choice
+        when two or more may (see in_order)."""
+        args = [self.term(a, env) for a in ts]
+        if sum(1 for a in ts if self.may_choose(a)) < 2:
+            return "", args
+        pre = []
+        for i, a in enumerate(ts):
+            if self.may_choose(a):
+                name = self.fresh("ord")
+                pre.append(f"V {name} = {args[i]};")
+                args[i] = name
+        return " ".join(pre), args
+
     def t_Loc(self, t, env):
+        if len(t.args) > 1:
+            return self.in_order(t, env, self.t_Loc_)
+        return self.t_Loc_(t, env)
+
+    def t_Loc_(self, t, env):
         f = t.func
         if f is self.spec.self_func:
             return "c->self"
@@ -1060,6 +1136,11 @@ class Generator:
     SEQ2 = {"at": "seq_at", "contains": "seq_contains", "indexOf": "seq_index_of", "count": "seq_count"}
 
     def t_Call(self, t, env):
+        if len(t.args) > 1 and t.name not in ("and", "or", "implies"):
+            return self.in_order(t, env, self.t_Call_)
+        return self.t_Call_(t, env)
+
+    def t_Call_(self, t, env):
         name = t.name
         if name in ("eq", "neq", "isDef", "isUndef") and any(
                 isinstance(a, ir.Loc) and self.any_slot(a.func) for a in t.args):
@@ -1761,37 +1842,45 @@ class Generator:
         return ";"
 
     def layout_local(self) -> None:
-        """A slot for each 0-ary local function (``local x : D [init] body`` in a rule; see
-        r_LocalRule): its updates never leave the rule, so the stored states hold it undef, and
-        the working state holds the value of the call running."""
+        """Slots for each local function (``local x : D [init] body`` in a rule; see r_LocalRule)
+        over finite argument domains: its updates never leave the rule, so the stored states hold
+        it undef, and the working state holds the values of the call running."""
         if self.dyn:
             return
         for f in getattr(self.spec, "local_functions", ()) or ():
-            if f.arity != 0 or T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
+            if T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
                 continue
             try:
                 cod = self.codomain_values(f)
+                arg_values = [self.values_of(d) for d in f.domain]
             except Unsupported:
                 continue
+            combos = [()]
+            for vals in arg_values:
+                combos = [c + (v,) for c in combos for v in vals]
+            if len(combos) > LOCAL_SLOTS:
+                continue
             base = len(self.slots)
-            self.slot_of[f.index] = base
-            self.slots.append(f.index)
-            self.slot_values.append(cod)
-            self.slot_types.append(f.codomain)
-            self.fn_base[f.index] = (base, [], cod)
+            for combo in combos:
+                key = f.index if not combo else (f.index, combo)
+                self.slot_of[key] = len(self.slots)
+                self.slots.append(key)
+                self.slot_values.append(cod)
+                self.slot_types.append(f.codomain)
+            self.fn_base[f.index] = (base, arg_values, cod)
 
     def local_drop(self) -> str:
-        """C: take the updates of slot ``slot`` made at or after ``mark`` out of the update buffer
-        (a local function's updates stay in its rule), the others moved up in order."""
+        """C: take the updates of the slots ``lo`` .. ``hi - 1`` made at or after ``mark`` out of the
+        update buffer (a local function's updates stay in its rule), the others moved up in order."""
         if "local_drop" not in self.defined_done:
             self.defined_done.add("local_drop")
             self.funcs.append(
-                "static void local_drop(Ctx *c, int32_t mark, int slot) {\n"
+                "static void local_drop(Ctx *c, int32_t mark, int lo, int hi) {\n"
                 "    static _Thread_local int32_t moved[MAXUPD];\n"
                 "    int32_t w = mark;\n"
                 "    for (int32_t i = mark; i < c->nupd; i++) {\n"
                 "        int s = c->upd_slot[i];\n"
-                "        if (s == slot) { moved[i - mark] = -1; continue; }\n"
+                "        if (s >= lo && s < hi) { moved[i - mark] = -1; continue; }\n"
                 "        int32_t q = c->uprev[i];\n"
                 "        if (q >= mark) q = moved[q - mark];\n"
                 "        moved[i - mark] = w;\n"
@@ -1800,40 +1889,78 @@ class Generator:
                 "        c->wpos[s] = w; w++;\n"
                 "    }\n"
                 "    c->nupd = w;\n"
+                "}\n"
+                "/* a local function's initial rule: its updates (of any location) are written to the working\n"
+                " * state, logged so that the end of the local rule restores what they overwrote, and taken\n"
+                " * out of the update buffer */\n"
+                "static void local_init_apply(Ctx *c, int32_t mark) {\n"
+                "    for (int32_t i = mark; i < c->nupd; i++) {\n"
+                "        int s = c->upd_slot[i];\n"
+                "        if (c->nlog >= MAXUPD) { fail(c, E_UNSUPPORTED, 0); return; }\n"
+                "        if (s >= NSLOTS) {\n"
+                "            int m = c->vs_slot[s - NSLOTS];\n"
+                "            c->rlog_slot[c->nlog] = m; c->rlog_val[c->nlog] = c->cur[m]; c->nlog++;\n"
+                "            c->cur[m] = map_put(c, c->cur[m], c->vs_key[s - NSLOTS], c->upd_code[i]);\n"
+                "            continue;\n"
+                "        }\n"
+                "        c->rlog_slot[c->nlog] = s; c->rlog_val[c->nlog] = c->cur[s]; c->nlog++;\n"
+                "        c->cur[s] = slot_decode(s, c->upd_code[i]);\n"
+                "    }\n"
+                "    seq_step_drop(c, mark);\n"
                 "}")
         return "local_drop"
 
     def r_LocalRule(self, r, env):
-        """``local x : D [x := init] body``: as the Python engine runs it, the body runs on a working
-        state where x holds the value init gives (and the value the body's seq steps give it
-        after), its updates of x are dropped when it ends, and the value the caller's x had is back
-        (a recursive rule has one x per call).  A 0-ary local function with an initial update of its
-        own; the others are refused."""
+        """``local x : D [init] body``, as the Python engine runs it: ``init`` runs on the working
+        state as an update set of its own, and its updates (of x or of any other location) are
+        written to a copy of the working state the body runs on, not made; the body's updates of
+        x are dropped when it ends, the others are made in parallel with the rule's siblings; the
+        working state is then the caller's again (a recursive rule has one x per call).  x's
+        slots are hidden from the caller's updates of them while the rule runs."""
         f = r.func
-        init = r.init
-        if (f.index not in self.fn_base or not isinstance(init, ir.Update) or init.func is not f or init.args
-                or self.dyn):
+        if f.index not in self.fn_base or self.dyn or self.has_extend(r.init):
             raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
                               f"one call of its rule, which the native state has no slot for)")
-        s = self.slot_of[f.index]
+        base, arg_values, _ = self.fn_base[f.index]
+        n = 1
+        for vals in arg_values:
+            n *= len(vals)
         v = self.fresh("lr")
-        enc = self.encoder(f)
         drop = self.local_drop()
         gen = f"lr_gen{f.index}"
         if gen not in self.defined_done:
             self.defined_done.add(gen)
             self.funcs.append(f"static _Thread_local uint32_t {gen} = 0;   /* the run of the step that last entered it */")
-        value = self.term(init.value, env)
+        init = self.rule(r.init, env)
         # the first call of a run finds x undef, as every stored state holds it (a run that failed
-        # inside the rule left its value in the working state)
-        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; c->cur[{s}] = UNDEF; }} "
-                f"V cv_{v} = c->cur[{s}]; uint32_t wg_{v} = c->wgen[{s}]; int32_t wp_{v} = c->wpos[{s}]; "
-                f"int32_t mk_{v} = c->nupd; c->wgen[{s}] = c->gen - 1; "
-                f"{{ V iv_{v} = {value}; if (c->err) return; V ic_{v} = (V){enc}(c, iv_{v}, 0); if (c->err) return; "
-                f"c->cur[{s}] = slot_decode({s}, ic_{v}); }} "
+        # inside the rule left its values in the working state)
+        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; for (int i = 0; i < {n}; i++) c->cur[{base} + i] = UNDEF; }} "
+                f"V cv_{v}[{n}]; uint32_t wg_{v}[{n}]; int32_t wp_{v}[{n}]; "
+                f"for (int i = 0; i < {n}; i++) {{ cv_{v}[i] = c->cur[{base} + i]; wg_{v}[i] = c->wgen[{base} + i]; "
+                f"wp_{v}[i] = c->wpos[{base} + i]; c->wgen[{base} + i] = c->gen - 1; }} "
+                f"int32_t mk_{v} = c->nupd, lm_{v} = c->nlog, ss_{v} = c->seqstart, st_{v} = c->curstep; "
+                f"c->seqstart = c->nupd; c->curstep = ++c->stepctr; "
+                f"{{ {init} }} "
+                f"c->seqstart = ss_{v}; c->curstep = st_{v}; if (c->err) return; "
+                f"local_init_apply(c, mk_{v}); if (c->err) return; "
                 f"{{ {self.rule(r.body, env)} }} "
-                f"c->cur[{s}] = cv_{v}; {drop}(c, mk_{v}, {s}); c->wgen[{s}] = wg_{v}; c->wpos[{s}] = wp_{v}; "
+                f"while (c->nlog > lm_{v}) {{ c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }} "
+                f"{drop}(c, mk_{v}, {base}, {base + n}); "
+                f"for (int i = 0; i < {n}; i++) {{ c->cur[{base} + i] = cv_{v}[i]; c->wgen[{base} + i] = wg_{v}[i]; "
+                f"c->wpos[{base} + i] = wp_{v}[i]; }} "
                 f"if (c->err) return; }}")
+
+    def has_extend(self, r) -> bool:
+        todo = [r]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Extend):
+                return True
+            if isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
 
     def r_Update(self, r, env):
         f = r.func
@@ -1860,7 +1987,7 @@ class Generator:
                     f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
         if f.index not in self.fn_base:
             raise Unsupported(f"an update of {f.name}")
-        args = [self.term(a, env) for a in r.args]
+        pre, args = self.ordered_terms(r.args, env)
         v = self.fresh("v")
         s = self.fresh("lsl")
         self.reader(f)
@@ -1868,7 +1995,7 @@ class Generator:
         # a location outside the layout (an argument outside its domain, undef) made undef leaves the
         # state as it is in the Python engine too (unless a step property may ask whether it was updated)
         keep = f"{v} != UNDEF" if not self.step_props else "1"
-        return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+        return (f"{{ V {v} = {self.term(r.value, env)}; {pre} int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, {self.outside_site(f)}); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def outside_site(self, f) -> int:
