@@ -1845,8 +1845,6 @@ class Generator:
         """Slots for each local function (``local x : D [init] body`` in a rule; see r_LocalRule)
         over finite argument domains: its updates never leave the rule, so the stored states hold
         it undef, and the working state holds the values of the call running."""
-        if self.dyn:
-            return
         for f in getattr(self.spec, "local_functions", ()) or ():
             if T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
                 continue
@@ -1854,6 +1852,14 @@ class Generator:
                 cod = self.codomain_values(f)
                 arg_values = [self.values_of(d) for d in f.domain]
             except Unsupported:
+                if f.arity and self.map_function(f):
+                    # over an infinite domain: its locations are one map value (see r_LocalRule)
+                    s_ = len(self.slots)
+                    self.slot_of[("map", f.index)] = s_
+                    self.slots.append(("map", f.index))
+                    self.slot_values.append(None)
+                    self.slot_types.append(("map", f))
+                    self.map_slot[f.index] = s_
                 continue
             combos = [()]
             for vals in arg_values:
@@ -1869,18 +1875,23 @@ class Generator:
                 self.slot_types.append(f.codomain)
             self.fn_base[f.index] = (base, arg_values, cod)
 
+    def local_slot(self, key) -> bool:
+        """Is ``key`` (a slot's location key) one of a local function's slots?"""
+        fi = key if type(key) is int else key[1] if key[0] == "map" else key[0]
+        return type(fi) is int and fi >= len(self.spec.functions)
+
     def local_drop(self) -> str:
         """C: take the updates of the slots ``lo`` .. ``hi - 1`` made at or after ``mark`` out of the
         update buffer (a local function's updates stay in its rule), the others moved up in order."""
         if "local_drop" not in self.defined_done:
             self.defined_done.add("local_drop")
             self.funcs.append(
-                "static void local_drop(Ctx *c, int32_t mark, int lo, int hi) {\n"
+                "static void local_drop(Ctx *c, int32_t mark, int lo, int hi, int vm) {\n"
                 "    static _Thread_local int32_t moved[MAXUPD];\n"
                 "    int32_t w = mark;\n"
                 "    for (int32_t i = mark; i < c->nupd; i++) {\n"
                 "        int s = c->upd_slot[i];\n"
-                "        if (s >= lo && s < hi) { moved[i - mark] = -1; continue; }\n"
+                "        if ((s >= lo && s < hi) || (s >= NSLOTS && c->vs_slot[s - NSLOTS] == vm)) { moved[i - mark] = -1; continue; }\n"
                 "        int32_t q = c->uprev[i];\n"
                 "        if (q >= mark) q = moved[q - mark];\n"
                 "        moved[i - mark] = w;\n"
@@ -1918,9 +1929,12 @@ class Generator:
         working state is then the caller's again (a recursive rule has one x per call).  x's
         slots are hidden from the caller's updates of them while the rule runs."""
         f = r.func
-        if f.index not in self.fn_base or self.dyn or self.has_extend(r.init):
+        if (f.index not in self.fn_base and f.index not in self.map_slot) or self.has_extend(r.init):
             raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
-                              f"one call of its rule, which the native state has no slot for)")
+                              f"one call of its rule, which the native state has no slot for: a Real or Any codomain, "
+                              f"more than {LOCAL_SLOTS:,} locations, or extend in its initial rule)")
+        if f.index in self.map_slot:
+            return self.local_map_rule(r, env)
         base, arg_values, _ = self.fn_base[f.index]
         n = 1
         for vals in arg_values:
@@ -1945,9 +1959,44 @@ class Generator:
                 f"local_init_apply(c, mk_{v}); if (c->err) return; "
                 f"{{ {self.rule(r.body, env)} }} "
                 f"while (c->nlog > lm_{v}) {{ c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }} "
-                f"{drop}(c, mk_{v}, {base}, {base + n}); "
+                f"{drop}(c, mk_{v}, {base}, {base + n}, -1); "
                 f"for (int i = 0; i < {n}; i++) {{ c->cur[{base} + i] = cv_{v}[i]; c->wgen[{base} + i] = wg_{v}[i]; "
                 f"c->wpos[{base} + i] = wp_{v}[i]; }} "
+                f"if (c->err) return; }}")
+
+    def local_map_rule(self, r, env) -> str:
+        """r_LocalRule for a local function over an infinite domain, held as a map value in slot m
+        (its locations updated in a step are virtual slots of m): the caller's virtual slots of m
+        are hidden while the rule runs (their slot number is made negative, one number per depth
+        of calls), and those the call made are retired when it ends."""
+        f = r.func
+        m = self.map_slot[f.index]
+        v = self.fresh("lr")
+        drop = self.local_drop()
+        gen, dep = f"lr_gen{f.index}", f"lr_dep{f.index}"
+        if gen not in self.defined_done:
+            self.defined_done.add(gen)
+            self.funcs.append(f"static _Thread_local uint32_t {gen} = 0;   /* the run of the step that last entered it */\n"
+                              f"static _Thread_local int {dep} = 0;        /* calls of its rule running */")
+        init = self.rule(r.init, env)
+        hide = f"(-2 - ({m} * 64 + {dep}))"
+        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; {dep} = 0; }} "
+                f"if ({dep} >= 63) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+                f"V cv_{v} = c->cur[{m}]; int32_t nv_{v} = c->nvs; "
+                f"for (int i = 0; i < nv_{v}; i++) if (c->vs_slot[i] == {m}) c->vs_slot[i] = {hide}; "
+                f"{dep}++; "
+                f"int32_t mk_{v} = c->nupd, lm_{v} = c->nlog, ss_{v} = c->seqstart, st_{v} = c->curstep; "
+                f"c->seqstart = c->nupd; c->curstep = ++c->stepctr; "
+                f"{{ {init} }} "
+                f"c->seqstart = ss_{v}; c->curstep = st_{v}; if (c->err) return; "
+                f"local_init_apply(c, mk_{v}); if (c->err) return; "
+                f"{{ {self.rule(r.body, env)} }} "
+                f"while (c->nlog > lm_{v}) {{ c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }} "
+                f"{drop}(c, mk_{v}, 0, 0, {m}); "
+                f"{dep}--; "
+                f"for (int i = nv_{v}; i < c->nvs; i++) if (c->vs_slot[i] == {m}) c->vs_slot[i] = -1; "
+                f"for (int i = 0; i < nv_{v}; i++) if (c->vs_slot[i] == {hide}) c->vs_slot[i] = {m}; "
+                f"c->cur[{m}] = cv_{v}; "
                 f"if (c->err) return; }}")
 
     def has_extend(self, r) -> bool:
@@ -2001,6 +2050,13 @@ class Generator:
     def outside_site(self, f) -> int:
         """The run-time refusal of an update of ``f`` at arguments outside the layout: the Python
         engine keeps such a location (an argument undef or outside its domain) in the state."""
+        if f.kind == "local":
+            # (its locations are the call's own: no layout with more slots would hold them)
+            local_sites = self.__dict__.setdefault("_local_outside_sites", {})
+            if f.index not in local_sites:
+                local_sites[f.index] = self.runtime_site(
+                    f"an update of the local function {f.name} at an argument undef or outside its domain")
+            return local_sites[f.index]
         sites = self.__dict__.setdefault("_outside_sites", {})
         if f.index not in sites:
             sites[f.index] = self.runtime_site(
@@ -2786,7 +2842,7 @@ class Generator:
     def pack_values(self, st: dict) -> None:
         """Give every composite value of ``st`` its number (before the code is generated)."""
         for fi in self.map_slot:
-            self.map_value(st, self.spec.functions[fi])
+            self.map_value(st, self.slot_types[self.map_slot[fi]][1])
         for s, key in enumerate(self.slots):
             if isinstance(self.slot_types[s], tuple):
                 continue
@@ -3085,6 +3141,9 @@ class Generator:
         idxs: list = []
         for s, key in enumerate(self.slots):
             typ = self.slot_types[s]
+            if self.local_slot(key):            # a local function's: undef (an empty map) in every stored state
+                slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
+                continue
             if isinstance(typ, tuple):          # a map slot
                 f = typ[1]
                 if self.cn_may_hold(f.codomain) or any(self.cn_may_hold(d) for d in f.domain):
