@@ -8,6 +8,8 @@
   (a derived function, a location read or updated, a library function).
 - Local functions (``local x : D [init] body``, asmcheck's own semantics, see the README): with
   arguments, without an initial update of their own, and in specs that use ``extend``.
+- A choose merged by effect (two chooses in a step) whose body fails for some candidates: each
+  error is an alternative, as in the Python engine; choosing it is a failing branch.
 
 Each spec is written for the test; the native engine must give the Python engine's states (in
 their order), transitions, edges, verdicts and traces.
@@ -368,3 +370,107 @@ def test_the_reports_of_the_two_engines_are_equal(tmp_path, capsys, text):
     code, out = both(tmp_path, capsys, text, "--deadlock")
     assert (out["states"], out["transitions"]) == {
         LOCAL_ARGS: (14, 23), LOCAL_INIT: (4, 4), LOCAL_MAP: (12, 24), LOCAL_EXTEND: (9, 13)}[text]
+
+
+# ----------------------------------------------------------------- a merged choose whose body fails
+# two chooses in a step, so each is merged by effect; $x = 2 clashes on n where n = 1
+MERGE_CLASH = """asm MergeFail
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled m: Small
+definitions:
+	domain Small = {0 : 4}
+	main rule r_main =
+		par
+			choose $x in {0, 1, 2, 3} with true do
+				par
+					n := ($x + n) mod 5
+					if $x = 2 and n = 1 then n := 0 endif
+				endpar
+			choose $y in {1, 2} with true do
+				m := ($y * m + 1) mod 5
+		endpar
+default init s0:
+	function n = 0
+	function m = 0
+"""
+
+# the last choose of the step fails: a clash on seen(2), and n out of its domain
+MERGE_LAST = """asm MergeLast
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled m: Small
+	controlled seen: Small -> Boolean
+definitions:
+	domain Small = {0 : 4}
+	main rule r_main =
+		par
+			choose $y in {1, 2} with true do
+				m := ($y * m + 1) mod 5
+			choose $x in {0, 1, 2, 3} with $x != m do
+				par
+					n := $x + n
+					seen($x) := true
+					if $x = 2 and n = 1 then seen($x) := false endif
+				endpar
+		endpar
+default init s0:
+	function n = 0
+	function m = 0
+"""
+
+# flag(2) is undef at first, and again after $y = 3 in m = 3: the guard of the first choose's body
+MERGE_UNDEF = """asm MergeUndef
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled m: Small
+	controlled flag: Small -> Boolean
+definitions:
+	domain Small = {0 : 4}
+	main rule r_main =
+		par
+			choose $x in {0, 1, 2} with true do
+				if flag($x) then n := (n + $x) mod 5 else flag($x) := true endif
+			choose $y in {1, 2, 3} with true do
+				par
+					m := ($y + m) mod 5
+					if $y = 3 and m = 3 then flag(2) := undef endif
+				endpar
+		endpar
+default init s0:
+	function n = 0
+	function m = 0
+	function flag($i in Small) = if $i = 2 then undef else false endif
+"""
+
+MERGE_COUNTS = {MERGE_CLASH: (25, 171, 5), MERGE_LAST: (55, 154, 51), MERGE_UNDEF: (56, 336, 56)}
+
+
+@pytest.mark.parametrize("text", [MERGE_CLASH, MERGE_LAST, MERGE_UNDEF], ids=["clash", "last", "undef"])
+def test_a_merged_choose_whose_body_fails_for_some_candidates(tmp_path, text):
+    path = write(tmp_path, text)
+    py, pres, nat, nres = engines(path, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    states, transitions, failing_states = MERGE_COUNTS[text]
+    assert (nres.states, nres.transitions, nres.verdict) == (states, transitions, "violated")
+    assert list(zip(*nat.edge_arrays())) == list(dict.fromkeys((a, b) for a, b, _ in py.edges))
+    errs = [(s, p, e.message, str(e.span)) for s, p, e in nat.error_edges]
+    assert errs == [(s, p, e.message, str(e.span)) for s, p, e in py.error_edges]
+    assert len({s for s, *_ in errs}) == failing_states
+    first = {MERGE_CLASH: (2, (2,), "inconsistent update of n: 3 and 0"),
+             MERGE_LAST: (1, (0, 1), "inconsistent update of seen(2): true and false"),
+             MERGE_UNDEF: (0, (2,), "the guard is undef")}[text]
+    assert errs[0][:3] == first
+
+
+@pytest.mark.parametrize("text", [MERGE_CLASH, MERGE_LAST, MERGE_UNDEF], ids=["clash", "last", "undef"])
+def test_a_merged_choose_whose_body_fails_the_reports_are_equal(tmp_path, capsys, text):
+    code, out = both(tmp_path, capsys, text, "--deadlock")
+    assert code == 1
+    assert out["violations"][0]["property"] == "error"

@@ -2462,10 +2462,24 @@ class Generator:
         collect = (f"int {n} = 0; " + " ".join(heads) +
                    f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                    f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
+        # the body in a function of its own, so that a candidate whose body fails returns to the
+        # loop: its error is an outcome (choosing it makes the step fail), as in the Python engine
+        outer = list(dict.fromkeys(env.values()))
+        bound = re.findall(r"V (\w+) = ", pick)
+        params = list(dict.fromkeys(bound + outer))
+        if all(re.fullmatch(r"[A-Za-z_]\w*", x) for x in params):
+            fn = self.fresh("mcb")
+            sig = "".join(f", V {x}" for x in params)
+            self.funcs.append(f"static void {fn}(Ctx *c{sig}) {{ {body} }}")
+            run = f"{fn}(c{''.join(', ' + x for x in params)});"
+            fails = (f"if (c->err) {{ if (!mc_step_error(c->err)) {{ m_{e}->epoch = -1; return; }} "
+                     f"if (!mc_outcome_err(c, m_{e}, {e}, mk_{e})) return; continue; }} ")
+        else:
+            run = body
+            fails = f"if (c->err) {{ m_{e}->epoch = -1; return; }} "     # (no half-made entry is kept)
         outcomes = (f"int32_t mk_{e} = c->nupd, st_{e} = c->curstep, ss_{e} = c->seqstart; "
                     f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = MC_STAMP; c->seqstart = -1; "
-                    f"{{ {pick} {body} }} if (c->err) {{ m_{e}->epoch = -1; return; }} "   # (no half-made entry is kept)
-                    f"c->curstep = st_{e}; c->seqstart = ss_{e}; "
+                    f"{{ {pick} {run} }} c->curstep = st_{e}; c->seqstart = ss_{e}; {fails}"
                     f"if (!mc_outcome(c, m_{e}, {e}, mk_{e})) return; }}")
         return ("{ " + f"static _Thread_local MChoose {mc}; static _Thread_local V *{cand} = 0; "
                 f"static _Thread_local int {cap} = 0; MChoose *m_{e} = &{mc}; V key_{e}[{len(key)}] = {{{', '.join(key)}}}; "
@@ -2475,7 +2489,7 @@ class Generator:
                 f"if ({e} < 0) return; if ({n} > 0) {{ {outcomes} }} mc_commit(c, m_{e}, {e}, {len(key)}, ca_{e}); if (c->err) return; }} "
                 f"{{ int32_t no_{e} = m_{e}->onum[{e}]; if (no_{e} == 0) {{ {ifnone} }} else {{ int32_t o_{e} = m_{e}->ofirst[{e}] + "
                 f"(no_{e} > 1 ? choice(c, no_{e}) : 0); int32_t at_{e} = c->nupd; if (c->pos - 1 < mc_skip_from || no_{e} < 2) mc_apply(c, m_{e}, o_{e}); if (c->err) return; "
-                f"if (no_{e} > 1 && c->seqstart < 0 && c->pos <= MAXCH) mc_note(c, m_{e}, {e}, o_{e}, at_{e}); }} }} }}")
+                f"if (no_{e} > 1 && c->seqstart < 0 && c->pos <= MAXCH && !m_{e}->kfail[{e}]) mc_note(c, m_{e}, {e}, o_{e}, at_{e}); }} }} }}")
 
     def run_time_heads(self, r, env):
         """The loop heads that walk a choose's ranges as computed at run time (in the Python
@@ -3498,6 +3512,7 @@ typedef struct {
     int32_t nkeys, cap_keys;
     V *keys;                         /* klen values per key */
     int32_t *ofirst, *onum;          /* key -> its first outcome, their number (0: no candidate) */
+    int32_t *kfail;                  /* key -> has an outcome that fails (then no tail of mc_tail) */
     int32_t *kh, khcap;              /* keys by hash: index + 1 (0: empty) */
     int32_t nout, cap_out;
     int32_t *ustart, *ulen;          /* outcome -> its updates in the pool */
@@ -3561,7 +3576,9 @@ static int32_t mc_begin(Ctx *c, MChoose *m, const V *key, int klen, int ncand, i
     if (m->nkeys >= m->cap_keys) {
         int32_t nc = m->cap_keys ? 2 * m->cap_keys : 16;
         if (!mc_more((void **)&m->keys, (int64_t)nc * klen, sizeof(V)) || !mc_more((void **)&m->ofirst, nc, sizeof(int32_t))
-            || !mc_more((void **)&m->onum, nc, sizeof(int32_t))) { fail(c, E_MEMORY, 0); return -1; }
+            || !mc_more((void **)&m->onum, nc, sizeof(int32_t)) || !mc_more((void **)&m->kfail, nc, sizeof(int32_t))) {
+            fail(c, E_MEMORY, 0); return -1;
+        }
         m->cap_keys = nc;
     }
     int32_t need = 16;
@@ -3575,6 +3592,7 @@ static int32_t mc_begin(Ctx *c, MChoose *m, const V *key, int klen, int ncand, i
     memcpy(m->keys + (int64_t)e * klen, key, (size_t)klen * sizeof(V));
     m->ofirst[e] = m->nout;
     m->onum[e] = 0;
+    m->kfail[e] = 0;
     m->last = e;
     return e;
 }
@@ -3627,6 +3645,33 @@ static int mc_outcome(Ctx *c, MChoose *m, int32_t e, int32_t mark) {
     m->oh[p] = o + 1;
     return 1;
 }
+/* the errors a body may make in the Python engine (the others end the native search) */
+static inline int mc_step_error(int e) { return e == E_UNDEF_GUARD || e == E_CLASH || e == E_DOMAIN || e == E_MODEL; }
+/* the body failed: an outcome of entry e that makes the step fail with that error (ulen -1, the
+   error in ustart and uhash), its updates taken back; one per error, site and clashing slot */
+static int mc_outcome_err(Ctx *c, MChoose *m, int32_t e, int32_t mark) {
+    int code = c->err;
+    uint64_t at = ((uint64_t)(uint32_t)c->err_site << 32) | (uint32_t)(code == E_CLASH ? c->clash_slot : -1);
+    c->err = 0;
+    for (int32_t i = c->nupd - 1; i >= mark; i--) {
+        int32_t s = c->upd_slot[i];
+        if (c->uprev[i] >= 0) c->wpos[s] = c->uprev[i]; else c->wgen[s] = c->gen - 1;
+    }
+    c->nupd = mark;
+    for (int32_t o = m->ofirst[e]; o < m->nout; o++)
+        if (m->ulen[o] < 0 && m->ustart[o] == code && m->uhash[o] == at) return 1;
+    if (m->nout >= m->cap_out) {
+        int32_t nc = m->cap_out ? 2 * m->cap_out : 64;
+        if (!mc_more((void **)&m->ustart, nc, sizeof(int32_t)) || !mc_more((void **)&m->ulen, nc, sizeof(int32_t))
+            || !mc_more((void **)&m->uhash, nc, sizeof(uint64_t))) { fail(c, E_MEMORY, 0); return 0; }
+        m->cap_out = nc;
+    }
+    int32_t o = m->nout++;
+    m->ustart[o] = code; m->ulen[o] = -1; m->uhash[o] = at;
+    m->onum[e]++;
+    m->kfail[e] = 1;
+    return 1;
+}
 /* the entry's outcomes are complete: findable from now on (when cached) */
 static void mc_insert(MChoose *m, int32_t e, int klen) {
     uint64_t msk = (uint64_t)m->khcap - 1;
@@ -3660,6 +3705,10 @@ static inline void mc_note(Ctx *c, MChoose *m, int32_t e, int32_t o, int32_t at)
 /* the updates of outcome o join the step's */
 static void mc_apply(Ctx *c, MChoose *m, int32_t o) {
     int32_t a = m->ustart[o], n = m->ulen[o];
+    if (n < 0) {                         /* an outcome that fails */
+        if (!c->err) { int32_t cs = (int32_t)(uint32_t)m->uhash[o]; fail(c, a, (int)(m->uhash[o] >> 32)); if (cs >= 0) c->clash_slot = cs; }
+        return;
+    }
     for (int32_t i = 0; i < n && !c->err; i++) upd(c, m->uslot[a + i], m->ucode[a + i], 0);
 }
 """
