@@ -139,6 +139,26 @@ default init s0:
 """
 
 
+# the arguments of a turbo call (passed by value)
+ORDER_TURBO = """asm Order
+import StandardLibrary
+signature:
+	domain Step subsetof Integer
+	enum domain Dir = {NN | SS | EE}
+	monitored m1: Step
+	monitored m2: Dir
+	controlled x: Step
+	controlled y: Dir
+definitions:
+	domain Step = {0 : 2}
+	turbo rule r_set($a in Step, $b in Dir) = par x := $a y := $b endpar
+	main rule r_main = r_set(m1, m2)
+default init s0:
+	function x = 0
+	function y = NN
+"""
+
+
 @pytest.mark.parametrize("text", [ORDER_UPDATE, ORDER_DERIVED], ids=["update", "derived"])
 def test_the_shortest_trace_takes_the_choices_in_the_python_engines_order(tmp_path, capsys, text):
     code, out = both(tmp_path, capsys, text)
@@ -147,11 +167,12 @@ def test_the_shortest_trace_takes_the_choices_in_the_python_engines_order(tmp_pa
     assert trace_choices(out) == [[], [("m1", 0), ("m2", "EE")], [("m1", 0), ("m2", "EE")]]
 
 
-@pytest.mark.parametrize("text", [ORDER_UPDATE, ORDER_DERIVED, ORDER_READ], ids=["update", "derived", "read"])
+@pytest.mark.parametrize("text", [ORDER_UPDATE, ORDER_DERIVED, ORDER_READ, ORDER_TURBO],
+                         ids=["update", "derived", "read", "turbo"])
 def test_the_states_are_numbered_in_the_python_engines_order(tmp_path, text):
     py, pres, nat, nres = engines(write(tmp_path, text), keep_graph=True)
     same_search(py, pres, nat, nres)
-    counts = {ORDER_UPDATE: (768, 4477), ORDER_DERIVED: (5, 11), ORDER_READ: (209, 1401)}[text]
+    counts = {ORDER_UPDATE: (768, 4477), ORDER_DERIVED: (5, 11), ORDER_READ: (209, 1401), ORDER_TURBO: (9, 81)}[text]
     assert (nres.states, nres.transitions) == counts
     assert list(zip(*nat.edge_arrays())) == list(dict.fromkeys((a, b) for a, b, _ in py.edges))
 
@@ -317,6 +338,76 @@ default init s0:
 	function made = 0
 """
 
+
+# local functions of codomain Real over a finite domain, and 0-ary
+LOCAL_REAL = """asm LocReal
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled y: Small
+	controlled r: Real
+	monitored half: Boolean
+definitions:
+	domain Small = {0 : 3}
+	turbo rule r_t =
+		local x : Small -> Real [ x(0) := 1.5 ]
+		local w : Real [ skip ]
+		seq
+			x(0) := x(0) + 1.0
+			if half then x(1) := x(0) / 2.0 else x(1) := x(0) * 2.0 endif
+			w := x(1) - 0.25
+			r := w
+			y := (y + rtoi(x(0))) mod 4
+		endseq
+	main rule r_main =
+		r_t[]
+default init s0:
+	function y = 0
+	function r = 0.0
+"""
+
+
+def test_local_functions_of_codomain_real(tmp_path):
+    path = write(tmp_path, LOCAL_REAL)
+    py, pres, nat, nres = engines(path, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions, nres.verdict) == (5, 10, "holds")
+    assert [(s["y"], s["r"]) for s in state_views(nat.m, nat, 5)] == [
+        (0, 0.0), (2, 4.75), (2, 1.0), (0, 4.75), (0, 1.0)]
+
+# a local function of more locations than a local function's slots (100): one map value
+LOCAL_BIG = """asm LocBig
+import StandardLibrary
+signature:
+	domain Ten subsetof Integer
+	controlled k: Ten
+	controlled s: Integer
+	monitored go: Boolean
+definitions:
+	domain Ten = {0 : 9}
+	rule r_grid =
+		local g : Prod(Ten, Ten) -> Integer [ forall $i in Ten do g($i, k) := $i ]
+		seq
+			if go then g(k, k) := 9 endif
+			s := g(3, k) + g(k, k) + (if g(k, 3) = undef then 100 else 0 endif)
+		endseq
+	main rule r_main =
+		par
+			r_grid[]
+			k := (k + 1) mod 10
+		endpar
+default init s0:
+	function k = 0
+	function s = 0
+"""
+
+
+def test_a_local_function_of_many_locations(tmp_path):
+    path = write(tmp_path, LOCAL_BIG)
+    py, pres, nat, nres = engines(path, keep_graph=True)
+    same_search(py, pres, nat, nres)
+    assert (nres.states, nres.transitions, nres.verdict) == (20, 38, "holds")
+    assert [(s["k"], s["s"]) for s in state_views(nat.m, nat, 5)] == [(0, 0), (1, 103), (1, 112), (2, 104), (2, 112)]
 
 def test_a_local_function_with_arguments_and_one_without_an_initial_update(tmp_path):
     path = write(tmp_path, LOCAL_ARGS)

@@ -18,8 +18,8 @@ the ones written here.
   infinite domain), and Reals beside them: each entry is a location of the canonical form, with the
   Python engine's text (a Real's text is Python's repr of the double).
 
-Still refused, with the reason: a local function of codomain Real (a location of one call of its
-rule, which the native state has no slot for).
+Still refused, with the reason: a local function over Integer of codomain Real (a location of one
+call of its rule, which the native state has no slot for).
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
@@ -352,12 +352,13 @@ default init s0:
 """
 
 
-def test_a_local_function_of_codomain_real_is_refused_with_the_reason(tmp_path):
+def test_a_local_function_over_integer_of_codomain_real_is_refused_with_the_reason(tmp_path):
     # (the others run native: tests/test_native_locals.py)
     spec = check_file(write(tmp_path, LOCAL))
     with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(a location of one call "
-                                          r"of its rule, which the native state has no slot for: a Real or Any "
-                                          r"codomain, more than 1,024 locations, or extend in its initial rule\)$"):
+                                          r"of its rule, which the native state has no slot for: a codomain Any, "
+                                          r"a codomain Real over an infinite domain or more than 64 locations, "
+                                          r"or extend in its initial rule\)$"):
         NativeExplorer(Machine(spec, {}))
 
 

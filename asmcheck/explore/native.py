@@ -56,7 +56,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
-LOCAL_SLOTS = 1024      # a local function has slots when it has at most that many locations
+LOCAL_SLOTS = 64        # a local function has slots when it has at most that many locations (else a map)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
 CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
@@ -921,6 +921,7 @@ class Generator:
         env2 = dict(env)
         args = list(t.args)
         pre = []
+        any_read, self._any_read = self._any_read, False     # (it is the call's, not an argument's)
         for i in pick:
             a = t.args[i]
             r = T.root(a.type)
@@ -933,6 +934,7 @@ class Generator:
             var = ir.Var(name, a.type, a.span, uid=("ord", name))
             env2[var.uid] = name
             args[i] = ir.VarRef(a.type, a.span, var)
+        self._any_read = any_read
         if len(pre) < 2:
             return meth(t, env)
         t2 = copy.copy(t)
@@ -1846,11 +1848,13 @@ class Generator:
         over finite argument domains: its updates never leave the rule, so the stored states hold
         it undef, and the working state holds the values of the call running."""
         for f in getattr(self.spec, "local_functions", ()) or ():
-            if T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
+            if self.any_typed(f.codomain):
                 continue
             try:
                 cod = self.codomain_values(f)
                 arg_values = [self.values_of(d) for d in f.domain]
+                if math.prod(len(vals) for vals in arg_values) > LOCAL_SLOTS:
+                    raise Unsupported("more locations than the slots of a local function")
             except Unsupported:
                 if f.arity and self.map_function(f):
                     # over an infinite domain: its locations are one map value (see r_LocalRule)
@@ -1864,8 +1868,6 @@ class Generator:
             combos = [()]
             for vals in arg_values:
                 combos = [c + (v,) for c in combos for v in vals]
-            if len(combos) > LOCAL_SLOTS:
-                continue
             base = len(self.slots)
             for combo in combos:
                 key = f.index if not combo else (f.index, combo)
@@ -1931,8 +1933,8 @@ class Generator:
         f = r.func
         if (f.index not in self.fn_base and f.index not in self.map_slot) or self.has_extend(r.init):
             raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
-                              f"one call of its rule, which the native state has no slot for: a Real or Any codomain, "
-                              f"more than {LOCAL_SLOTS:,} locations, or extend in its initial rule)")
+                              f"one call of its rule, which the native state has no slot for: a codomain Any, a codomain Real "
+                              f"over an infinite domain or more than {LOCAL_SLOTS} locations, or extend in its initial rule)")
         if f.index in self.map_slot:
             return self.local_map_rule(r, env)
         base, arg_values, _ = self.fn_base[f.index]
@@ -2538,7 +2540,9 @@ class Generator:
             self.check_by_name(rd, [a for a, m in zip(r.args, modes) if m != 3])
         # a turbo call passes its arguments by value
         name = self.rule_fn(rd)
-        args = [self.term(a, env) for a in r.args]
+        pre, args = self.ordered_terms(r.args, env)
+        if pre:
+            return f"{{ {pre} {name}(c{''.join(', ' + a for a in args)}); }} if (c->err) return;"
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
 
     def r_TurboReturn(self, r, env):
