@@ -2038,9 +2038,9 @@ class Generator:
             return (f"{{ V {v} = {self.any_term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                     f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {v}, 0); }}")
         if f.index in self.map_slot:
-            args = [self.term(a, env) for a in r.args]
+            pre, args = self.ordered_terms(r.args, env)
             v = self.fresh("v")
-            return (f"{{ V {v} = {self.term(r.value, env)}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+            return (f"{{ V {v} = {self.term(r.value, env)}; {pre} int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
                     f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
         if f.index not in self.fn_base:
             raise Unsupported(f"an update of {f.name}")
