@@ -57,6 +57,7 @@ UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
 LOCAL_SLOTS = 64        # a local function has slots when it has at most that many locations (else a map)
+MAX_RECURSION = 1000      # nested calls of derived functions (each rule call too) in the C code, at most
 MAX_SLOTS = 1 << 18       # locations laid out, at most (200,000 compile in about 6 s)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
 CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
@@ -380,6 +381,7 @@ class Generator:
         self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
         self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
         self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
+        self._recursion_site = None
         self._used = None
         self._loose = None
         self._any_read = False           # the term being translated may be a location of type Any
@@ -455,6 +457,11 @@ class Generator:
             elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
                 return False
         return True
+
+    @property
+    def composite_slots(self) -> bool:
+        """Whether a location holds a sequence, set, bag, map or string (whose size may grow)."""
+        return any(not isinstance(t, tuple) and self.composite(t) for t in self.slot_types)
 
     def map_function(self, f) -> bool:
         """A function whose arguments range over an infinite domain, held as one map value: its
@@ -1130,11 +1137,22 @@ class Generator:
             env[p.uid] = v
             params.append(v)
         sig = "".join(f", V {p}" for p in params)
-        # declare first (recursion is not supported: a derived function calling itself)
+        # declared first: a derived function may call itself.  A recursion deeper than
+        # MAX_RECURSION calls goes to the Python engine (which reports one that does not end)
+        # before it overflows the C stack
         self.funcs.append(f"static V {name}(Ctx *c{sig});")
         body = self.term(f.body, env)
-        self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {body}; }}")
+        site = self.recursion_site()
+        self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ if (c->err) return UNDEF; "
+                          f"if (++c->rdepth > {MAX_RECURSION}) {{ c->rdepth--; fail(c, E_UNSUPPORTED, {site}); "
+                          f"return UNDEF; }} V r = {body}; c->rdepth--; return r; }}")
         return name
+
+    def recursion_site(self) -> int:
+        if self._recursion_site is None:
+            self._recursion_site = self.runtime_site(f"a derived function or rule called more than "
+                                                     f"{MAX_RECURSION:,} times within itself")
+        return self._recursion_site
 
     BIN = {"eq": "v_eq", "neq": "v_neq", "lt": "v_lt", "le": "v_le", "gt": "v_gt", "ge": "v_ge",
            "plus": "v_add", "minus": "v_sub", "mult": "v_mul", "min": "v_min", "max": "v_max"}
@@ -2683,7 +2701,12 @@ class Generator:
         sig = "".join(f", V {p}" for p in params)
         self.funcs.append(f"static void {name}(Ctx *c{sig});")
         body = self.rule(rd.body, env)
-        self.funcs.append(f"static void {name}(Ctx *c{sig}) {{ {body} }}")
+        # the body may return early; the call that counts its depth (MAX_RECURSION) wraps it
+        self.funcs.append(f"static inline void {name}_body(Ctx *c{sig}) {{ {body} }}")
+        site = self.recursion_site()
+        args = "".join(f", {p}" for p in params)
+        self.funcs.append(f"static void {name}(Ctx *c{sig}) {{ if (++c->rdepth > {MAX_RECURSION}) {{ c->rdepth--; "
+                          f"fail(c, E_UNSUPPORTED, {site}); return; }} {name}_body(c{args}); c->rdepth--; }}")
         return name
 
     # -------------------------------------------------------------- the whole model
@@ -4039,6 +4062,8 @@ class NativeExplorer:
         growth_depth = -1
         streak: dict = {}
         self._windows = {}
+        from .bfs import SizeWatch
+        sizes = SizeWatch(self.m)
         while True:
             status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
                       if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
@@ -4050,6 +4075,14 @@ class NativeExplorer:
             depth = out[8]
             if depth != growth_depth:
                 growth_depth = depth
+                if self.gen.composite_slots:
+                    # the last state found: a sequence, set, map or string that keeps growing
+                    buf = (ctypes.c_uint64 * self.gen.nwords)()
+                    self.dll.asm_state(out[0] - 1, buf)
+                    for msg in sizes.watch(self.gen.unpack(buf[:]), depth):
+                        self.warnings.append(msg)
+                        if self.warn is not None:
+                            self.warn(msg)
                 for name, lo, hi in self._growing(depth):
                     streak[name] = streak.get(name, 0) + 1
                     if streak[name] == 3:
