@@ -437,6 +437,13 @@ def _label_atoms(machine, temporal):
     return atoms
 
 
+def _quotient_plan(machine, temporal, fair, graph):
+    """For the native explorer: the atoms of the temporal quotient it records in its search (see
+    temporal.quotient_plan), None when the checks need the edges."""
+    from .temporal import quotient_plan
+    return quotient_plan(machine, temporal, list(fair or []), bool(graph))
+
+
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
              deadlock, fair, graph, progress, started=None, warn=None, scaling=None) -> "Exploration":
     from .options import unbounded_monitored
@@ -520,7 +527,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                     keep_graph=keep_graph, max_memory=scaled.native_memory(max_memory, workers,
                                                                                           **(scaling or {})),
                                     progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1),
-                                    label_atoms=_label_atoms(machine, temporal))
+                                    label_atoms=_label_atoms(machine, temporal),
+                                    step_quotient=_quotient_plan(machine, temporal, fair, graph))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:

@@ -189,6 +189,9 @@ def test_parking_ctl():
     assert (run.states, run.transitions) == (32768, 86093442)
     rows = [(r.name, r.verdict) for r in run.temporal]
     assert rows == [("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "violated")]
+    # the search recorded each state's distinct targets, not the 86 M edges: 98,320 nodes
+    assert run.explorer.edge_src is None
+    assert {r.stats["kripke_nodes"] for r in run.temporal} == {98320}
     bad = run.temporal[2]
     trace, loop, _ = bad.trace()
     assert loop is None and len(trace.steps) == 4
@@ -278,3 +281,161 @@ def test_backward_search_sizes(monkeypatch, n, compiled):
     assert y == bytearray(v > n // 2 for v in range(n))
     if compiled:
         assert K._kernel_rev[1].typecode == ("H" if n < 65536 else "i")
+
+
+# ----------------------------------------------------------------- the steps recorded by the search
+# With LTL/CTL whose structure is the quotient of the steps (no --graph, no --fair), the native search
+# records each state's distinct (target, values of the atoms that read monitored functions) pairs as
+# it expands the state, instead of the edges, and the quotient is merged from them: no edge array, no
+# step run again.  It must give the structure, verdicts and paths of the edges' route.
+
+def _old_route(monkeypatch):
+    """Explorations that record the edges (the route before the steps were recorded)."""
+    monkeypatch.setattr(api, "_quotient_plan", lambda *a: None)
+
+
+def _structure_arrays(K):
+    return (K.n, list(K.sid), list(K.tgt), list(K.vec), [list(c) for c in K.cls_succ], list(K.init),
+            {i: bytes(lab) for i, lab in K.label.items()})
+
+
+def _rows(model, run):
+    return [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes")) for r in run.temporal]
+
+
+@needs_cc
+@pytest.mark.parametrize("text,nodes", [(COUNT, 9), (NOISE, 18), (INVAR, 16)], ids=["count", "noise", "invar"])
+def test_recorded_steps_structure(tmp_path, monkeypatch, text, nodes):
+    path = write(tmp_path, text)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    assert run.explorer.edge_src is None            # recorded: the pairs, no edges
+    K = run.temporal[0].K
+    assert K.n == nodes and {r.stats["kripke_nodes"] for r in run.temporal} == {nodes}
+    rows = _rows(model, run)
+    with monkeypatch.context() as mp:
+        _old_route(mp)
+        old_model = api.load(path)
+        old = old_model.explore(engine="native")
+        assert old.explorer.edge_src is not None
+        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(K)
+        assert _rows(old_model, old) == rows
+    py_model = api.load(path)
+    assert _rows(py_model, py_model.explore(engine="python")) == rows
+
+
+@needs_cc
+@pytest.mark.parametrize("text", [COUNT, NOISE, INVAR], ids=["count", "noise", "invar"])
+def test_recorded_steps_merged_by_hashing(tmp_path, monkeypatch, text):
+    """The nodes merged through the hash table (a spec with many keys and states) are those of the
+    table with a row of states per key (small ones)."""
+    from asmcheck.explore.native import NativeExplorer
+    path = write(tmp_path, text)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    monkeypatch.setattr(NativeExplorer, "QF_TABLE", 0)
+    model2 = api.load(path)
+    run2 = model2.explore(engine="native")
+    assert run2.explorer.edge_src is None
+    assert _structure_arrays(run2.temporal[0].K) == _structure_arrays(run.temporal[0].K)
+    assert _rows(model2, run2) == _rows(model, run)
+
+
+@needs_cc
+def test_recorded_steps_consumed_once(tmp_path):
+    """The pairs are handed over once, merged; the structure of a second check (LTL and CTL both in
+    step mode) comes from the same merge, and a check that needs the edges (one node per step) has
+    the search run again, recording them: the same states, the same verdicts and paths."""
+    path = write(tmp_path, NOISE)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    ex = run.explorer
+    assert ex.edge_src is None and not ex.qf           # consumed by the run's own checks
+    assert {r.stats["kripke_nodes"] for r in run.temporal} == {18}
+    merged = [(r.name, r.verdict, temporal_text(r, model.machine)) for r in run.temporal]
+    unmerged = check_temporal(ex, model.temporal, quotient=False)
+    assert ex.edge_src is not None and len(ex.edge_src) == run.transitions
+    assert [(r.name, r.verdict, temporal_text(r, model.machine)) for r in unmerged] == merged
+    assert {r.stats["kripke_nodes"] for r in unmerged} == {24}
+
+
+@needs_cc
+def test_recorded_steps_past_a_failing_step(tmp_path, monkeypatch):
+    """A step that fails where an atom reads a monitored function: the search records the pairs of
+    the state's well-defined steps (a failing branch is no edge) and the structure, verdicts
+    (relative to the error) and paths are those of the route that runs the steps again in Python,
+    and of the Python engine."""
+    text = NOISE.replace("asm Noise", "asm HaltNoise").replace("else x := 0 endif", "else x := x + 1 endif")
+    path = write(tmp_path, text)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    assert run.explorer.edge_src is None                # recorded, not searched again
+    rows = _rows(model, run)
+    assert any("relative to the run-time error" in r[2][0] for r in rows)
+    assert {r[3] for r in rows} == {18}
+    with monkeypatch.context() as mp:
+        _old_route(mp)
+        old_model = api.load(path)
+        old = old_model.explore(engine="native")
+        assert old.explorer.edge_src is not None
+        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(run.temporal[0].K)
+        assert _rows(old_model, old) == rows
+    py_model = api.load(path)
+    assert _rows(py_model, py_model.explore(engine="python")) == rows
+
+
+def test_quotient_plan(tmp_path):
+    """Which checks the search can record the steps for: the atoms that read monitored functions, in
+    build_kripke's order; none with --fair, --graph or LTL on the state graph."""
+    from asmcheck.temporal import quotient_plan
+    from asmcheck.temporal.formula import span_text
+    model = api.load(write(tmp_path, NOISE))
+    st = model.explore(engine="python").explorer.state(0)
+    atoms = quotient_plan(model.machine, model.temporal)(st)
+    # (one atom per occurrence in a formula: the LTL ones and the CTL ones are apart)
+    assert [span_text(t.span) for t, env in atoms] == ["x = 0 and noise", "noise", "x = 5 and not noise",
+                                                       "x = 0 and noise", "noise", "x = 0 and noise"]
+    assert not quotient_plan(model.machine, model.temporal).edges_too
+    # --fair and --graph read the edges too: the atoms' values are recorded beside them
+    for opts in ({"fair": ["all"]}, {"graph": True}):
+        plan = quotient_plan(model.machine, model.temporal, **opts)
+        assert plan.edges_too and plan(st) == atoms
+    # LTL without such atoms: the state graph itself (the edges)
+    ltl = write(tmp_path, COUNT.replace("asm Count", "asm LtlCount").replace(
+        "import CTLLibrary\n", "import CTLLibrary\nimport LTLLibrary\n").replace(
+        "\tCTLSPEC ag(ef(x = 0))\n", "\tLTLSPEC g(f(x = 0))\n\tCTLSPEC ag(ef(x = 0))\n"))
+    m2 = api.load(ltl)
+    assert quotient_plan(m2.machine, m2.temporal)(st) is None
+    m3 = api.load(write(tmp_path, COUNT))
+    assert quotient_plan(m3.machine, m3.temporal)(st) == []
+    # without such atoms the edges alone serve --graph
+    assert quotient_plan(m3.machine, m3.temporal, graph=True)(st) is None
+
+
+@needs_cc
+@pytest.mark.parametrize("opts", [{"fair": ["all"]}, {"graph": True}], ids=["fair", "graph"])
+def test_recorded_steps_beside_the_edges(tmp_path, monkeypatch, opts):
+    """--fair (one node per step) and --graph read the edges: the search records them, and the
+    atoms' values in each step beside them (the structure's steps come from those, no step runs
+    again): the same structure, verdicts and paths as the route that runs the steps again."""
+    from asmcheck.explore.native import NativeExplorer
+    path = write(tmp_path, NOISE)
+    model = api.load(path)
+    with monkeypatch.context() as mp:
+        # no step runs again for the atoms' values
+        mp.setattr(NativeExplorer, "step_atoms_each", lambda *a: pytest.fail("the steps ran again"))
+        run = model.explore(engine="native", **opts)
+    ex = run.explorer
+    assert ex.edge_src is not None and len(ex.edge_src) == run.transitions
+    assert ex._qf_edges_too
+    rows = _rows(model, run)
+    assert {r[3] for r in rows} == {24 if "fair" in opts else 18}
+    with monkeypatch.context() as mp:
+        _old_route(mp)
+        old_model = api.load(path)
+        old = old_model.explore(engine="native", **opts)
+        assert not old.explorer._qf_edges_too
+        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(run.temporal[0].K)
+        assert _rows(old_model, old) == rows
+    py_model = api.load(path)
+    assert _rows(py_model, py_model.explore(engine="python", **opts)) == rows

@@ -183,7 +183,9 @@ class _Growth:
                 self.slots.append(i)
         self.known = len(keys)
 
-    def note(self, fz: tuple, depth: int) -> None:
+    def note(self, fz: tuple, depth: int, parent: tuple | None) -> None:
+        """Notes the values of a new state ``fz`` (those equal to its ``parent``'s were noted
+        when the parent was new, as in the native search)."""
         if self.known != len(self.layout.keys):
             self._classify()
         lo, hi, grew = self.lo, self.hi, self.grew
@@ -192,7 +194,7 @@ class _Growth:
             if i >= n:
                 continue
             v = fz[i]
-            if type(v) is not int:
+            if type(v) is not int or (parent is not None and i < len(parent) and parent[i] == v):
                 continue
             w = self.window.get(i)
             if w is None:
@@ -301,7 +303,7 @@ class Explorer:
         self.parent.append(parent)
         self.depth_of.append(depth)
         self.via.append(picks)
-        self.growth.note(fz, depth)
+        self.growth.note(fz, depth, self.frozen[parent] if parent >= 0 else None)
         return sid, True
 
     def state(self, sid: int) -> dict:

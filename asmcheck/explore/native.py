@@ -2795,6 +2795,7 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
+        inv_code += self.invariant_slots_table()
         inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
@@ -2824,6 +2825,73 @@ class Generator:
             self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         src += "\n" + self.label_entry(label_exprs)
         return src
+
+    def invariant_read_slots(self, term) -> set | None:
+        """The slots an invariant reads (through the derived functions it calls), or None when its
+        value may depend on more than them: a monitored function, self, a lazily laid out
+        function, a domain extended at run time."""
+        slots_of: dict = {}
+        for s, key in enumerate(self.slots):
+            fi = key if type(key) is int else key[1] if type(key) is tuple and key[0] == "map" else \
+                key[0] if type(key) is tuple and type(key[0]) is int else None
+            if fi is not None:
+                slots_of.setdefault(fi, set()).add(s)
+        lazy = getattr(self.m, "lazy", ()) or ()
+        dyn_names = set(self.dyn)
+        out: set = set()
+        seen: set = set()
+        todo = [term]
+        while todo:
+            x = todo.pop()
+            if id(x) in seen:
+                continue
+            seen.add(id(x))
+            if isinstance(x, ir.Function):
+                if x is self.spec.self_func or x.index in lazy or x.kind in ("monitored", "local"):
+                    return None
+                if x.kind in ("controlled", "shared", "out"):
+                    out |= slots_of.get(x.index, set())
+                if x.body is not None:
+                    todo.append(x.body)
+                continue
+            if isinstance(x, ir.DomainTerm):
+                d = x.domain
+                for _ in range(50):
+                    if getattr(d, "name", None) in dyn_names:
+                        return None
+                    d = getattr(d, "base", None) if getattr(d, "kind", None) == "subset" else None
+                    if d is None:
+                        break
+            if isinstance(x, ir.Term):
+                todo.extend(vars(x).values())
+            elif isinstance(x, (list, tuple)):
+                todo.extend(x)
+        return out
+
+    def invariant_slots_table(self) -> list:
+        """The bits of the state each invariant reads: for invariant k, the pairs (INV_W[i],
+        INV_M[i]) for INV_OFF[k] <= i < INV_OFF[k + 1], a word and the bits of its slots that k
+        reads; INV_ALL[k] when it may read more than locations.  native_bfs.c checks an
+        invariant in a state only when one of those bits differs from the parent's, where it
+        held."""
+        offs, ws, ms, alls = [0], [], [], []
+        for p in self.props:
+            sl = self.invariant_read_slots(p.prop.body)
+            alls.append(1 if sl is None else 0)
+            masks: dict = {}
+            for s in sl or ():
+                b = self.bits[s]
+                masks[self.words[s]] = masks.get(self.words[s], 0) | (
+                    (1 << 64) - 1 if b == 64 else ((1 << b) - 1) << self.shifts[s])
+            for w in sorted(masks):
+                ws.append(w)
+                ms.append(masks[w])
+            offs.append(len(ws))
+
+        def arr(ctype, name, xs, suffix=""):
+            return f"static const {ctype} {name}[] = {{{', '.join(f'{x}{suffix}' for x in xs) or '0'}}};"
+        return [arr("int", "INV_OFF", offs), arr("int", "INV_W", ws), arr("uint64_t", "INV_M", ms, "ULL"),
+                arr("int", "INV_ALL", alls)]
 
     # -------------------------------------------------------------- state atoms of temporal properties
     def label_code(self) -> list:
@@ -3781,6 +3849,14 @@ _SYMBOLS = {
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
     "asm_err_states": (_i64, [_i64p]),
     "asm_err_succ": (_i64, [_i64, _i64p, _i64]),
+    "asm_qf": (None, [_i64, _i64p, _i64]),
+    "asm_qf_status": (None, [_i64p]),
+    "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
+    "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
+    "asm_qf_chunk": (None, [_i64, _i64, ctypes.c_void_p]),
+    "asm_qf_table_limit": (None, [_i64]),
+    "asm_qf_steps": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
+    "asm_qf_take": (None, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
 }
 
 
@@ -3801,7 +3877,7 @@ _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
-    pk_par_ok wide_slots nwide
+    pk_par_ok pk_first pk_act ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
@@ -3907,7 +3983,7 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
-                 max_memory=None, table_memory=None, label_atoms=None, **_ignored):
+                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -3960,6 +4036,12 @@ class NativeExplorer:
         self.packed = True           # False: the plain store even on one thread (tests, benchmarks)
         self.max_memory = max_memory
         self.table_memory = table_memory
+        # the temporal checks need only the quotient of the steps (temporal.quotient_plan: the first
+        # initial state -> the atoms that read monitored functions): the search records the steps'
+        # (target, atom values) pairs, state by state, instead of the edges (asm_qf in native_bfs.c)
+        self.step_quotient_plan = step_quotient
+        self.qf = False
+        self._qf_edges_too = False
 
     @property
     def thread_unsafe(self) -> list:
@@ -4045,6 +4127,7 @@ class NativeExplorer:
                            -1.0 if self.max_seconds is None else float(self.max_seconds),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
         self.dll.asm_limit_memory(self._table_bound())
+        self.qf = self._qf_start()
         # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
         self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
         # and of more states split (ASMCHECK_THREAD_MAX_CHUNK: tests; at most 65,536)
@@ -4120,7 +4203,7 @@ class NativeExplorer:
             # a state with more sequences of choices than the search follows (the Python explorer
             # stops there, incomplete, and counts after merging a choose's alternatives)
             self._step_error(-1, 9, PseudoProperty, Violation)
-        if self.keep_graph:
+        if self.keep_graph and (not self.qf or self._qf_edges_too):
             self._take_edges(out[9])
         failed = self._failed_steps()
         violations = []
@@ -4191,6 +4274,114 @@ class NativeExplorer:
         drop = getattr(self.dll, "asm_edges_drop", None)
         if drop is not None:
             drop()
+
+    def _qf_atoms(self):
+        """The numbers (in the generated code's atoms) of the atoms the temporal quotient reads in
+        the steps, in its order, and their keys; None when the search cannot record its steps (no
+        plan, threads, an atom not translated, more than 63 atoms)."""
+        plan = self.step_quotient_plan
+        if plan is None or not self.keep_graph or self.workers > 1 or self.threaded or not self.gen.init_states:
+            return None
+        try:
+            atoms = plan(self.gen.init_states[0])
+        except AsmError:
+            return None
+        if atoms is None or len(atoms) > 63:
+            return None
+        index = {}
+        for k, (term, env) in enumerate(getattr(self.gen, "labels", ())):
+            index.setdefault((id(term), _env_key(env)), k)
+        keys = [(id(term), _env_key(env)) for term, env in atoms]
+        ks = [index.get(key) for key in keys]
+        if any(k is None or self.gen.label_exprs[k] is None for k in ks):
+            return None
+        return ks, keys
+
+    def _qf_start(self) -> bool:
+        """Set the search up to record the steps of the temporal quotient (when it can)."""
+        got = self._qf_atoms()
+        if got is None:
+            return False
+        ks, self._qf_keys = got
+        # (the edges too when something else reads them: --graph, the structure of --fair)
+        self._qf_edges_too = bool(getattr(self.step_quotient_plan, "edges_too", False))
+        self.dll.asm_qf(len(ks), (ctypes.c_int64 * max(len(ks), 1))(*ks), 1 if self._qf_edges_too else 0)
+        if self.QF_TABLE is not None:
+            self.dll.asm_qf_table_limit(self.QF_TABLE)
+        return True
+
+    def _qf_recorded(self) -> bool:
+        """Whether the search recorded the steps of the temporal quotient, not yet handed over."""
+        if not self.qf:
+            return False
+        st = (ctypes.c_int64 * 3)()
+        self.dll.asm_qf_status(st)
+        return bool(st[0])
+
+    def _edges_again(self) -> None:
+        """The search again, recording the edges (the steps of the temporal quotient could not be
+        recorded, or something else needs the edges): the same states in the same order."""
+        self.step_quotient_plan = None
+        keep = (self.progress, self.warn, list(self.warnings))
+        self.progress = self.warn = None
+        try:
+            self.run()
+        finally:
+            self.progress, self.warn, self.warnings = keep
+
+    def has_successor(self) -> bytearray | None:
+        """The states with a step to a stored state (1), when the search recorded the steps of the
+        temporal quotient; None otherwise (the edge arrays tell)."""
+        if not self._qf_recorded():
+            return None
+        n = self.nstates
+        out = bytearray(max(n, 1))
+        if self.dll.asm_qf_has_out((ctypes.c_char * len(out)).from_buffer(out)) != 0:
+            return None
+        del out[n:]
+        return out
+
+    def step_quotient(self, items, sig, ok_state, need: int):
+        """The quotient of the temporal structure whose nodes are steps (kripke._quotient_by_source's
+        result: the source, target and atom bits of each node's first step, and for each state the
+        nodes leaving it as (off, adj)), merged from the pairs the search recorded: ``items`` must be
+        the atoms the search evaluated (in the same order), ``sig`` each state's signature, steps from
+        states with ``ok_state`` unset or whose bits miss one of ``need`` dropped.  None when the
+        search did not record them for these atoms (then the edges are recorded by a search again)."""
+        if not self._qf_recorded():
+            return None
+        if [(id(a.term), _env_key(a.env)) for a in items] != self._qf_keys:
+            return None
+        n = self.nstates
+        sg = sig if isinstance(sig, array) and sig.typecode == "Q" else array("Q", sig)
+        if not len(sg):
+            sg = array("Q", [0])
+        okb = bytearray(ok_state) if len(ok_state) else bytearray(1)
+        ptr = ctypes.c_void_p
+        addr = lambda a: ctypes.addressof(ctypes.c_char.from_buffer(a))  # noqa: E731
+        nq = self.dll.asm_qf_quotient(addr(sg), addr(okb), need)
+        if nq < 0:
+            return None
+        st = (ctypes.c_int64 * 3)()
+        self.dll.asm_qf_status(st)
+        na = st[1]
+        # the lists a part at a time (a long one is not held twice), then the rest
+        adj = array("i")
+        part = array("i", [0]) * min(max(na, 1), 1 << 20)
+        view = memoryview(part).cast("B")
+        for start in range(0, na, len(part)):
+            k = min(len(part), na - start)
+            self.dll.asm_qf_chunk(start, k, ptr(addr(part)))
+            adj.frombytes(view[:4 * k])
+        del view, part
+        off = array("i", [0]) * (n + 1)
+        fsrc = array("I", [0]) * max(nq, 1)
+        fdst = array("i", [0]) * max(nq, 1)
+        fvec = array("q", [0]) * max(nq, 1)
+        self.dll.asm_qf_take(ptr(addr(off)), ptr(addr(fsrc)), ptr(addr(fdst)), ptr(addr(fvec)))
+        del fsrc[nq:], fdst[nq:], fvec[nq:]
+        self.qf = False
+        return fsrc, fdst, fvec, off, adj
 
     def _canon_refusal(self) -> None:
         """Raise the reason the search stopped on elements made by extend, if it did."""
@@ -4355,6 +4546,7 @@ class NativeExplorer:
 
     # -------------------------------------------------------------- the explorer's interface
     STATE_CACHE = 65536
+    QF_TABLE = None       # the most entries of the table that merges the quotient's nodes (tests: 0)
 
     @property
     def n_states(self) -> int:
@@ -4382,6 +4574,8 @@ class NativeExplorer:
 
     def edge_arrays(self):
         """(sources, targets) of the transitions, sources ascending (recorded with keep_graph)."""
+        if self.edge_src is None and self.keep_graph and self.step_quotient_plan is not None:
+            self._edges_again()
         if self.edge_src is None:
             raise Unsupported("the state graph was not recorded (keep_graph)")
         return self.edge_src, self.edge_dst
@@ -4475,6 +4669,9 @@ class NativeExplorer:
         order of the Python step function's enumeration -- the atoms (which read monitored functions) evaluated in src with
         the values the step read, the others taking every value.  None when the compiled code
         cannot (an atom not translated, more than 64 atoms, an evaluation error)."""
+        got = self._recorded_steps(items, ok_state)
+        if got is not None:
+            return got
         each = self.step_atoms_each(items, ok_state)
         if each is None:
             return None
@@ -4486,6 +4683,20 @@ class NativeExplorer:
         if each.failed:
             return None
         return rs, rd, rv
+
+    def _recorded_steps(self, items, ok_state):
+        """:meth:`step_atoms` from the pairs the search recorded (for these atoms), or None."""
+        if not items or not self._qf_recorded() or [(id(a.term), _env_key(a.env)) for a in items] != self._qf_keys:
+            return None
+        okb = bytearray(ok_state) if len(ok_state) else bytearray(1)
+        addr = lambda a: ctypes.c_void_p(ctypes.addressof(ctypes.c_char.from_buffer(a)))  # noqa: E731
+        m = self.dll.asm_qf_steps(addr(okb), None, None, None)
+        if m < 0:
+            return None
+        rs, rd, rv = array("I", [0]) * max(m, 1), array("i", [0]) * max(m, 1), array("q", [0]) * max(m, 1)
+        self.dll.asm_qf_steps(addr(okb), addr(rs), addr(rd), addr(rv))
+        del rs[m:], rd[m:], rv[m:]
+        return rs, rd, (rv if len(items) > 8 else array("B", rv))
 
     def step_atoms_each(self, items, ok_state):
         """:meth:`step_atoms` source by source, without keeping the steps: an iterator of

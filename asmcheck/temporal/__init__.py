@@ -157,17 +157,12 @@ def label_atoms(machine, props, state) -> list:
     return [(a.term, a.env) for a in atoms.items]
 
 
-def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: bool = True):
-    """``on_error``: what a step that fails is on the paths, ``halt`` (a transition to a node that
-    stays in the state for ever) or ``drop`` (no transition; a state left without any halts).
-    ``quotient``: a structure whose nodes are steps is checked as its bisimulation quotient (the
-    same verdicts and paths; False: one node per step, for the tests that compare both)."""
-    t_start = time.perf_counter()
-    machine = explorer.m
-    spec = machine.spec
-    fair = [f for f in (fair or [])]
+def _formulas(machine, props, fair, state):
+    """The atoms and formulas of the temporal properties ``props`` (the first explored state
+    ``state`` serves the formula builder): (atoms, checks, justice, compassion, fairness texts,
+    errors, INVAR atoms, atoms the formulas read)."""
     atoms = Atoms(machine)
-    builder = Builder(machine, atoms, explorer.state(0))
+    builder = Builder(machine, atoms, state)
     checks = []           # (prop, kind, formula or None, error message)
     justice, compassion = [], []
     fairness_text = []
@@ -194,18 +189,63 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
     for d in fair:
         fairness_text.append(f"weak fairness of every {d}" if d != "all" else "weak fairness of every choice")
     invars = []
-    for p in spec.properties:
+    for p in machine.spec.properties:
         if p.kind == "invar":
             invars.append(atoms.add(p.body, {}))
     used = set()
     for _, _, f, _ in checks:
         if f is not None:
             atoms_of(f, used)
+    return atoms, checks, justice, compassion, fairness_text, errors, invars, used
+
+
+def quotient_plan(machine, props, fair=(), graph=False):
+    """For an engine that can record, while it searches, the steps the temporal checks' quotient
+    is built from (the native explorer's ``step_quotient``): a function of the first initial state
+    giving the (term, env) of the atoms that read monitored functions, in the order
+    :func:`build_kripke` numbers them (an empty list: none), or None when the checks need the edges
+    alone: LTL on the state graph (no atom reads a monitored function), more than 63 such atoms.
+    With ``--graph`` or ``--fair`` (whose structure is not merged) the edges are needed too
+    (``plan.edges_too``): then the plan is only for atoms that read monitored functions (the
+    engine records their values in each step, and runs no step again to find them).  None (no
+    function) without LTL/CTL properties."""
+    if not any(p.kind in ("ltl", "ctl") for p in props):
+        return None
+    edges_too = bool(graph or fair)
+
+    def plan(state):
+        atoms, checks, justice, compassion, _, errors, invars, used = _formulas(machine, props, [], state)
+        if errors or not any(f is not None for _, _, f, _ in checks):
+            return None
+        all_atoms = sorted(set(used) | set(invars) | {a for _, a in justice} |
+                           {a for _, p, q in compassion for a in (p, q)})
+        mon = [i for i in all_atoms if atoms.items[i].monitored]
+        if len(mon) > 63 or (not mon and (edges_too or any(kind == "ltl" and f is not None
+                                                           for _, kind, f, _ in checks))):
+            return None
+        return [(atoms.items[i].term, atoms.items[i].env) for i in mon]
+    plan.edges_too = edges_too
+    return plan
+
+
+def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: bool = True):
+    """``on_error``: what a step that fails is on the paths, ``halt`` (a transition to a node that
+    stays in the state for ever) or ``drop`` (no transition; a state left without any halts).
+    ``quotient``: a structure whose nodes are steps is checked as its bisimulation quotient (the
+    same verdicts and paths; False: one node per step, for the tests that compare both)."""
+    t_start = time.perf_counter()
+    machine = explorer.m
+    fair = [f for f in (fair or [])]
+    atoms, checks, justice, compassion, fairness_text, errors, invars, used = _formulas(
+        machine, props, fair, explorer.state(0))
     results = []
     # every state has a successor (a step without updates loops): a state without one is
     # where a step failed, and paths through it would be cut short
     from . import kernel
-    has_out = kernel.mark(explorer.n_states, explorer.edge_arrays()[0])
+    has_succ = getattr(explorer, "has_successor", None)
+    has_out = has_succ() if has_succ is not None else None
+    if has_out is None:
+        has_out = kernel.mark(explorer.n_states, explorer.edge_arrays()[0])
     error_edges = list(getattr(explorer, "error_edges", None) or ())
     halts = []
     for ix, (src, picks, e) in enumerate(error_edges):

@@ -552,6 +552,56 @@ def _quotient_by_source(explorer, S, mon_items, ok_state, need, slab, st_atoms, 
     return fsrc, fdst, Vectors(bits, len(mon_items)), off, adj
 
 
+def _quotient_recorded(explorer, S, mon_items, ok_state, need, slab, st_atoms, init_sids, cache, key):
+    """:func:`_quotient_by_source` of the steps the native search recorded while it searched
+    (``explorer.step_quotient``: no edges kept, no step run again), or None when it did not record
+    them for these atoms.  The result is kept in ``cache`` for a second structure with the same atoms
+    (LTL and CTL both in step mode)."""
+    got = cache.get(("recorded", key))
+    if got is not None:
+        return got
+    fn = getattr(explorer, "step_quotient", None)
+    if fn is None:
+        return None
+    sig = _signatures(S, [slab[i] for i in st_atoms], init_sids)
+    res = fn(mon_items, sig, ok_state, need)
+    if res is None:
+        return None
+    fsrc, fdst, fvec, off, adj = res
+    if mon_items:
+        vecs = Vectors(fvec if len(mon_items) > 8 else array("B", fvec), len(mon_items))
+    else:
+        vecs = Vectors(None, 0, len(fsrc))
+    got = cache[("recorded", key)] = (fsrc, fdst, vecs, off, adj)
+    return got
+
+
+class _PicksBetween:
+    """Quotient node -> the choices of the first step of the Python step function from a source to
+    the node's target (``explorer.picks_between``), for the steps a trace prints."""
+
+    def __init__(self, explorer, sid, tgt):
+        self.explorer, self.sid, self.tgt = explorer, sid, tgt
+        self.n = len(sid)
+        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
+
+    def __len__(self):
+        return self.n + len(self.extra)
+
+    def append(self, picks):
+        self.extra.append(picks)
+
+    def __getitem__(self, v):
+        if v >= self.n:
+            return self.extra[v - self.n]
+        return self.at(v, self.sid[v])
+
+    def at(self, v, src):
+        if v >= self.n:
+            return self.extra[v - self.n]
+        return self.explorer.picks_between(src, self.tgt[v])
+
+
 def _hkey(v):
     try:
         hash(v)
@@ -632,7 +682,15 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         vecs = Vectors(None, 0)
         cur_src, cur_state = -1, None
         merge = quotient and agents is None and len(mon_items) <= 63
-        if not mon_items and merge:
+        need = 0
+        for k in mon_inv:
+            need |= 1 << k
+        # the quotient merged from the steps the search recorded as it went (no edges kept)
+        recorded = _quotient_recorded(explorer, S, mon_items, ok_state, need, slab, st_atoms, init_sids,
+                                      cache, tuple(all_atoms)) if merge else None
+        if recorded is not None:
+            pass
+        elif not mon_items and merge:
             # no atom reads a monitored function: the quotient of the explored transitions, read
             # from the edge arrays as they are (a pair recorded twice is one node)
             src_a, dst_a = explorer.edge_arrays()
@@ -669,17 +727,19 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 del seen
             picks_l = _PicksOfEdges(explorer, eix)
             vecs = Vectors(None, 0, len(sid))
-        need = 0
-        for k in mon_inv:
-            need |= 1 << k
         streamed = _quotient_by_source(explorer, S, mon_items, ok_state, need, slab, st_atoms,
-                                       init_sids) if merge and mon_items else None
+                                       init_sids) if merge and mon_items and recorded is None else recorded
         fast = getattr(explorer, "step_atoms", None) if mon_items and streamed is None else None
         recs = fast(mon_items, ok_state) if fast is not None else None
         if streamed is not None:
             # the compiled code merged the steps as it gave them (source by source)
             sid, tgt, vecs, off, adj = streamed
-            picks_l = _PicksOfSteps(explorer, mon_items, sid, tgt, vecs)
+            if halts:
+                # halt nodes are appended: the arrays a cache may hold for another structure stay
+                tgt = array("i", tgt)
+                vecs = Vectors(vecs.bits, vecs.nk, len(vecs))
+            picks_l = (_PicksOfSteps(explorer, mon_items, sid, tgt, vecs) if mon_items
+                       else _PicksBetween(explorer, sid, tgt))
             recs = True
         elif recs is not None:
             # the compiled code gave (src, dst, atom values) for every step, each once
@@ -756,7 +816,7 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
                 halt_nodes.append(v)
         K.n = len(sid)
         K.sid, K.tgt, K.picks, K.vec = sid, tgt, picks_l, vecs
-        if isinstance(picks_l, _PicksOfSteps):
+        if isinstance(picks_l, (_PicksOfSteps, _PicksBetween)):
             picks_l.sid = sid
         # successor classes: one per explored state (the nodes leaving it), one per halt node
         K.cls = array("i", tgt) if halt_nodes else tgt
