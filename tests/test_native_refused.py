@@ -18,8 +18,8 @@ the ones written here.
   infinite domain), and Reals beside them: each entry is a location of the canonical form, with the
   Python engine's text (a Real's text is Python's repr of the double).
 
-Still refused, with the reason: a local function (a location of one call of its rule, which the
-native state has no slot for).
+Still refused, with the reason: a local function over Integer of codomain Real (a location of one
+call of its rule, which the native state has no slot for).
 
 Engines: both (python is the reference, native is checked)."""
 import pytest
@@ -338,10 +338,10 @@ signature:
 definitions:
 
 	turbo rule r_t =
-		local x : Integer -> Integer [ x(0) := 1 ]
+		local x : Integer -> Real [ x(0) := 1.5 ]
 		seq
-			x(0) := x(0) + 1
-			y := x(0)
+			x(0) := x(0) + 1.0
+			y := rtoi(x(0))
 		endseq
 
 	main rule r_main =
@@ -352,11 +352,13 @@ default init s0:
 """
 
 
-def test_a_local_function_with_arguments_is_refused_with_the_reason(tmp_path):
-    # (a 0-ary one runs native: tests/test_native_errors.py)
+def test_a_local_function_over_integer_of_codomain_real_is_refused_with_the_reason(tmp_path):
+    # (the others run native: tests/test_native_locals.py)
     spec = check_file(write(tmp_path, LOCAL))
     with pytest.raises(Unsupported, match=r"^the local function x at Loc.asm:11:3 \(a location of one call "
-                                          r"of its rule, which the native state has no slot for\)$"):
+                                          r"of its rule, which the native state has no slot for: a codomain Any, "
+                                          r"a codomain Real over an infinite domain or more than 64 locations, "
+                                          r"or extend in its initial rule\)$"):
         NativeExplorer(Machine(spec, {}))
 
 

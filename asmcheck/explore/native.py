@@ -33,6 +33,7 @@ others' tables.
 """
 from __future__ import annotations
 
+import copy
 import ctypes
 import math
 import os
@@ -55,6 +56,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+LOCAL_SLOTS = 64        # a local function has slots when it has at most that many locations (else a map)
 MAX_RECURSION = 1000      # nested calls of derived functions (each rule call too) in the C code, at most
 MAX_SLOTS = 1 << 18       # locations laid out, at most (200,000 compile in about 6 s)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
@@ -897,7 +899,83 @@ class Generator:
             return name.expr
         return name
 
+    def may_choose(self, t) -> bool:
+        """Whether evaluating ``t`` may make a choice (read a monitored function, directly or
+        through a derived or static function's body): the Python engine makes its choices in the
+        order it reads, left to right."""
+        memo = self.__dict__.setdefault("_may_choose", {})
+        todo = [t]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Loc):
+                f = x.func
+                if f.kind == "monitored":
+                    return True
+                if f.kind in ("static", "derived") and f.body is not None:
+                    if f.index not in memo:
+                        memo[f.index] = False        # a recursive function: its other reads decide
+                        memo[f.index] = self.may_choose(f.body)
+                    if memo[f.index]:
+                        return True
+            if isinstance(x, ir.Term):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Term, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Term, list, tuple)))
+        return False
+
+    def in_order(self, t, env, meth):
+        """``meth(t, env)`` with the arguments of ``t`` that may make a choice evaluated first, left
+        to right, when two or more may (C leaves the order of a call's arguments open, and the
+        order of the choices is the order of the successors).  Each is bound to a C variable and
+        read through a variable reference of its type; the arguments of other kinds are left."""
+        pick = [i for i, a in enumerate(t.args) if self.may_choose(a)]
+        if len(pick) < 2 or getattr(t, "_in_order", False):
+            return meth(t, env)
+        env2 = dict(env)
+        args = list(t.args)
+        pre = []
+        any_read, self._any_read = self._any_read, False     # (it is the call's, not an argument's)
+        for i in pick:
+            a = t.args[i]
+            r = T.root(a.type)
+            if not (r in (T.INTEGER, T.NATURAL, T.BOOLEAN) or isinstance(r, T.Domain) and r.kind in ("enum", "abstract")):
+                continue
+            if isinstance(a, ir.Loc) and self.any_slot(a.func):
+                continue
+            name = self.fresh("ord")
+            pre.append(f"V {name} = {self.term(a, env)};")
+            var = ir.Var(name, a.type, a.span, uid=("ord", name))
+            env2[var.uid] = name
+            args[i] = ir.VarRef(a.type, a.span, var)
+        self._any_read = any_read
+        if len(pre) < 2:
+            return meth(t, env)
+        t2 = copy.copy(t)
+        t2.args = args
+        t2._in_order = True
+        return "({ " + " ".join(pre) + f" {meth(t2, env2)}; }})"
+
+    def ordered_terms(self, ts, env) -> tuple[str, list[str]]:
+        """The C code of the terms ``ts`` (a location's arguments in an update) and the C
+        statements to run before, which evaluate left to right those that may make a choice
+        when two or more may (see in_order)."""
+        args = [self.term(a, env) for a in ts]
+        if sum(1 for a in ts if self.may_choose(a)) < 2:
+            return "", args
+        pre = []
+        for i, a in enumerate(ts):
+            if self.may_choose(a):
+                name = self.fresh("ord")
+                pre.append(f"V {name} = {args[i]};")
+                args[i] = name
+        return " ".join(pre), args
+
     def t_Loc(self, t, env):
+        if len(t.args) > 1:
+            return self.in_order(t, env, self.t_Loc_)
+        return self.t_Loc_(t, env)
+
+    def t_Loc_(self, t, env):
         f = t.func
         if f is self.spec.self_func:
             return "c->self"
@@ -1084,6 +1162,11 @@ class Generator:
     SEQ2 = {"at": "seq_at", "contains": "seq_contains", "indexOf": "seq_index_of", "count": "seq_count"}
 
     def t_Call(self, t, env):
+        if len(t.args) > 1 and t.name not in ("and", "or", "implies"):
+            return self.in_order(t, env, self.t_Call_)
+        return self.t_Call_(t, env)
+
+    def t_Call_(self, t, env):
         name = t.name
         if name in ("eq", "neq", "isDef", "isUndef") and any(
                 isinstance(a, ir.Loc) and self.any_slot(a.func) for a in t.args):
@@ -1785,37 +1868,56 @@ class Generator:
         return ";"
 
     def layout_local(self) -> None:
-        """A slot for each 0-ary local function (``local x : D [init] body`` in a rule; see
-        r_LocalRule): its updates never leave the rule, so the stored states hold it undef, and
-        the working state holds the value of the call running."""
-        if self.dyn:
-            return
+        """Slots for each local function (``local x : D [init] body`` in a rule; see r_LocalRule)
+        over finite argument domains: its updates never leave the rule, so the stored states hold
+        it undef, and the working state holds the values of the call running."""
         for f in getattr(self.spec, "local_functions", ()) or ():
-            if f.arity != 0 or T.root(f.codomain) is T.REAL or self.any_typed(f.codomain):
+            if self.any_typed(f.codomain):
                 continue
             try:
                 cod = self.codomain_values(f)
+                arg_values = [self.values_of(d) for d in f.domain]
+                if math.prod(len(vals) for vals in arg_values) > LOCAL_SLOTS:
+                    raise Unsupported("more locations than the slots of a local function")
             except Unsupported:
+                if f.arity and self.map_function(f):
+                    # over an infinite domain: its locations are one map value (see r_LocalRule)
+                    s_ = len(self.slots)
+                    self.slot_of[("map", f.index)] = s_
+                    self.slots.append(("map", f.index))
+                    self.slot_values.append(None)
+                    self.slot_types.append(("map", f))
+                    self.map_slot[f.index] = s_
                 continue
+            combos = [()]
+            for vals in arg_values:
+                combos = [c + (v,) for c in combos for v in vals]
             base = len(self.slots)
-            self.slot_of[f.index] = base
-            self.slots.append(f.index)
-            self.slot_values.append(cod)
-            self.slot_types.append(f.codomain)
-            self.fn_base[f.index] = (base, [], cod)
+            for combo in combos:
+                key = f.index if not combo else (f.index, combo)
+                self.slot_of[key] = len(self.slots)
+                self.slots.append(key)
+                self.slot_values.append(cod)
+                self.slot_types.append(f.codomain)
+            self.fn_base[f.index] = (base, arg_values, cod)
+
+    def local_slot(self, key) -> bool:
+        """Is ``key`` (a slot's location key) one of a local function's slots?"""
+        fi = key if type(key) is int else key[1] if key[0] == "map" else key[0]
+        return type(fi) is int and fi >= len(self.spec.functions)
 
     def local_drop(self) -> str:
-        """C: take the updates of slot ``slot`` made at or after ``mark`` out of the update buffer
-        (a local function's updates stay in its rule), the others moved up in order."""
+        """C: take the updates of the slots ``lo`` .. ``hi - 1`` made at or after ``mark`` out of the
+        update buffer (a local function's updates stay in its rule), the others moved up in order."""
         if "local_drop" not in self.defined_done:
             self.defined_done.add("local_drop")
             self.funcs.append(
-                "static void local_drop(Ctx *c, int32_t mark, int slot) {\n"
+                "static void local_drop(Ctx *c, int32_t mark, int lo, int hi, int vm) {\n"
                 "    static _Thread_local int32_t moved[MAXUPD];\n"
                 "    int32_t w = mark;\n"
                 "    for (int32_t i = mark; i < c->nupd; i++) {\n"
                 "        int s = c->upd_slot[i];\n"
-                "        if (s == slot) { moved[i - mark] = -1; continue; }\n"
+                "        if ((s >= lo && s < hi) || (s >= NSLOTS && c->vs_slot[s - NSLOTS] == vm)) { moved[i - mark] = -1; continue; }\n"
                 "        int32_t q = c->uprev[i];\n"
                 "        if (q >= mark) q = moved[q - mark];\n"
                 "        moved[i - mark] = w;\n"
@@ -1824,40 +1926,116 @@ class Generator:
                 "        c->wpos[s] = w; w++;\n"
                 "    }\n"
                 "    c->nupd = w;\n"
+                "}\n"
+                "/* a local function's initial rule: its updates (of any location) are written to the working\n"
+                " * state, logged so that the end of the local rule restores what they overwrote, and taken\n"
+                " * out of the update buffer */\n"
+                "static void local_init_apply(Ctx *c, int32_t mark) {\n"
+                "    for (int32_t i = mark; i < c->nupd; i++) {\n"
+                "        int s = c->upd_slot[i];\n"
+                "        if (c->nlog >= MAXUPD) { fail(c, E_UNSUPPORTED, 0); return; }\n"
+                "        if (s >= NSLOTS) {\n"
+                "            int m = c->vs_slot[s - NSLOTS];\n"
+                "            c->rlog_slot[c->nlog] = m; c->rlog_val[c->nlog] = c->cur[m]; c->nlog++;\n"
+                "            c->cur[m] = map_put(c, c->cur[m], c->vs_key[s - NSLOTS], c->upd_code[i]);\n"
+                "            continue;\n"
+                "        }\n"
+                "        c->rlog_slot[c->nlog] = s; c->rlog_val[c->nlog] = c->cur[s]; c->nlog++;\n"
+                "        c->cur[s] = slot_decode(s, c->upd_code[i]);\n"
+                "    }\n"
+                "    seq_step_drop(c, mark);\n"
                 "}")
         return "local_drop"
 
     def r_LocalRule(self, r, env):
-        """``local x : D [x := init] body``: as the Python engine runs it, the body runs on a working
-        state where x holds the value init gives (and the value the body's seq steps give it
-        after), its updates of x are dropped when it ends, and the value the caller's x had is back
-        (a recursive rule has one x per call).  A 0-ary local function with an initial update of its
-        own; the others are refused."""
+        """``local x : D [init] body``, as the Python engine runs it: ``init`` runs on the working
+        state as an update set of its own, and its updates (of x or of any other location) are
+        written to a copy of the working state the body runs on, not made; the body's updates of
+        x are dropped when it ends, the others are made in parallel with the rule's siblings; the
+        working state is then the caller's again (a recursive rule has one x per call).  x's
+        slots are hidden from the caller's updates of them while the rule runs."""
         f = r.func
-        init = r.init
-        if (f.index not in self.fn_base or not isinstance(init, ir.Update) or init.func is not f or init.args
-                or self.dyn):
+        if (f.index not in self.fn_base and f.index not in self.map_slot) or self.has_extend(r.init):
             raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
-                              f"one call of its rule, which the native state has no slot for)")
-        s = self.slot_of[f.index]
+                              f"one call of its rule, which the native state has no slot for: a codomain Any, a codomain Real "
+                              f"over an infinite domain or more than {LOCAL_SLOTS} locations, or extend in its initial rule)")
+        if f.index in self.map_slot:
+            return self.local_map_rule(r, env)
+        base, arg_values, _ = self.fn_base[f.index]
+        n = 1
+        for vals in arg_values:
+            n *= len(vals)
         v = self.fresh("lr")
-        enc = self.encoder(f)
         drop = self.local_drop()
         gen = f"lr_gen{f.index}"
         if gen not in self.defined_done:
             self.defined_done.add(gen)
             self.funcs.append(f"static _Thread_local uint32_t {gen} = 0;   /* the run of the step that last entered it */")
-        value = self.term(init.value, env)
+        init = self.rule(r.init, env)
         # the first call of a run finds x undef, as every stored state holds it (a run that failed
-        # inside the rule left its value in the working state)
-        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; c->cur[{s}] = UNDEF; }} "
-                f"V cv_{v} = c->cur[{s}]; uint32_t wg_{v} = c->wgen[{s}]; int32_t wp_{v} = c->wpos[{s}]; "
-                f"int32_t mk_{v} = c->nupd; c->wgen[{s}] = c->gen - 1; "
-                f"{{ V iv_{v} = {value}; if (c->err) return; V ic_{v} = (V){enc}(c, iv_{v}, 0); if (c->err) return; "
-                f"c->cur[{s}] = slot_decode({s}, ic_{v}); }} "
+        # inside the rule left its values in the working state)
+        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; for (int i = 0; i < {n}; i++) c->cur[{base} + i] = UNDEF; }} "
+                f"V cv_{v}[{n}]; uint32_t wg_{v}[{n}]; int32_t wp_{v}[{n}]; "
+                f"for (int i = 0; i < {n}; i++) {{ cv_{v}[i] = c->cur[{base} + i]; wg_{v}[i] = c->wgen[{base} + i]; "
+                f"wp_{v}[i] = c->wpos[{base} + i]; c->wgen[{base} + i] = c->gen - 1; }} "
+                f"int32_t mk_{v} = c->nupd, lm_{v} = c->nlog, ss_{v} = c->seqstart, st_{v} = c->curstep; "
+                f"c->seqstart = c->nupd; c->curstep = ++c->stepctr; "
+                f"{{ {init} }} "
+                f"c->seqstart = ss_{v}; c->curstep = st_{v}; if (c->err) return; "
+                f"local_init_apply(c, mk_{v}); if (c->err) return; "
                 f"{{ {self.rule(r.body, env)} }} "
-                f"c->cur[{s}] = cv_{v}; {drop}(c, mk_{v}, {s}); c->wgen[{s}] = wg_{v}; c->wpos[{s}] = wp_{v}; "
+                f"while (c->nlog > lm_{v}) {{ c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }} "
+                f"{drop}(c, mk_{v}, {base}, {base + n}, -1); "
+                f"for (int i = 0; i < {n}; i++) {{ c->cur[{base} + i] = cv_{v}[i]; c->wgen[{base} + i] = wg_{v}[i]; "
+                f"c->wpos[{base} + i] = wp_{v}[i]; }} "
                 f"if (c->err) return; }}")
+
+    def local_map_rule(self, r, env) -> str:
+        """r_LocalRule for a local function over an infinite domain, held as a map value in slot m
+        (its locations updated in a step are virtual slots of m): the caller's virtual slots of m
+        are hidden while the rule runs (their slot number is made negative, one number per depth
+        of calls), and those the call made are retired when it ends."""
+        f = r.func
+        m = self.map_slot[f.index]
+        v = self.fresh("lr")
+        drop = self.local_drop()
+        gen, dep = f"lr_gen{f.index}", f"lr_dep{f.index}"
+        if gen not in self.defined_done:
+            self.defined_done.add(gen)
+            self.funcs.append(f"static _Thread_local uint32_t {gen} = 0;   /* the run of the step that last entered it */\n"
+                              f"static _Thread_local int {dep} = 0;        /* calls of its rule running */")
+        init = self.rule(r.init, env)
+        hide = f"(-2 - ({m} * 64 + {dep}))"
+        return (f"{{ if ({gen} != c->gen) {{ {gen} = c->gen; {dep} = 0; }} "
+                f"if ({dep} >= 63) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+                f"V cv_{v} = c->cur[{m}]; int32_t nv_{v} = c->nvs; "
+                f"for (int i = 0; i < nv_{v}; i++) if (c->vs_slot[i] == {m}) c->vs_slot[i] = {hide}; "
+                f"{dep}++; "
+                f"int32_t mk_{v} = c->nupd, lm_{v} = c->nlog, ss_{v} = c->seqstart, st_{v} = c->curstep; "
+                f"c->seqstart = c->nupd; c->curstep = ++c->stepctr; "
+                f"{{ {init} }} "
+                f"c->seqstart = ss_{v}; c->curstep = st_{v}; if (c->err) return; "
+                f"local_init_apply(c, mk_{v}); if (c->err) return; "
+                f"{{ {self.rule(r.body, env)} }} "
+                f"while (c->nlog > lm_{v}) {{ c->nlog--; c->cur[c->rlog_slot[c->nlog]] = c->rlog_val[c->nlog]; }} "
+                f"{drop}(c, mk_{v}, 0, 0, {m}); "
+                f"{dep}--; "
+                f"for (int i = nv_{v}; i < c->nvs; i++) if (c->vs_slot[i] == {m}) c->vs_slot[i] = -1; "
+                f"for (int i = 0; i < nv_{v}; i++) if (c->vs_slot[i] == {hide}) c->vs_slot[i] = {m}; "
+                f"c->cur[{m}] = cv_{v}; "
+                f"if (c->err) return; }}")
+
+    def has_extend(self, r) -> bool:
+        todo = [r]
+        while todo:
+            x = todo.pop()
+            if isinstance(x, ir.Extend):
+                return True
+            if isinstance(x, ir.Rule):
+                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
+            elif isinstance(x, (list, tuple)):
+                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
+        return False
 
     def r_Update(self, r, env):
         f = r.func
@@ -1878,13 +2056,13 @@ class Generator:
             return (f"{{ V {v} = {self.any_term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                     f"if ({s} < 0) fail(c, E_UNSUPPORTED, 0); else upd(c, {s}, {v}, 0); }}")
         if f.index in self.map_slot:
-            args = [self.term(a, env) for a in r.args]
+            pre, args = self.ordered_terms(r.args, env)
             v = self.fresh("v")
-            return (f"{{ V {v} = {self.term(r.value, env)}; int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
+            return (f"{{ V {v} = {self.term(r.value, env)}; {pre} int lsl_{v} = vslot(c, {self.map_slot[f.index]}, "
                     f"{self.map_key(f, args)}); if (lsl_{v} >= 0) upd(c, lsl_{v}, {v}, 0); if (c->err) return; }}")
         if f.index not in self.fn_base:
             raise Unsupported(f"an update of {f.name}")
-        args = [self.term(a, env) for a in r.args]
+        pre, args = self.ordered_terms(r.args, env)
         v = self.fresh("v")
         s = self.fresh("lsl")
         self.reader(f)
@@ -1892,12 +2070,19 @@ class Generator:
         # a location outside the layout (an argument outside its domain, undef) made undef leaves the
         # state as it is in the Python engine too (unless a step property may ask whether it was updated)
         keep = f"{v} != UNDEF" if not self.step_props else "1"
-        return (f"{{ V {v} = {self.term(r.value, env)}; int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
+        return (f"{{ V {v} = {self.term(r.value, env)}; {pre} int {s} = sl{f.index}(c{''.join(', ' + a for a in args)}); "
                 f"if ({s} < 0) {{ if ({keep}) fail(c, E_UNSUPPORTED, {self.outside_site(f)}); }} else upd(c, {s}, {enc}(c, {v}, 0), 0); }}")
 
     def outside_site(self, f) -> int:
         """The run-time refusal of an update of ``f`` at arguments outside the layout: the Python
         engine keeps such a location (an argument undef or outside its domain) in the state."""
+        if f.kind == "local":
+            # (its locations are the call's own: no layout with more slots would hold them)
+            local_sites = self.__dict__.setdefault("_local_outside_sites", {})
+            if f.index not in local_sites:
+                local_sites[f.index] = self.runtime_site(
+                    f"an update of the local function {f.name} at an argument undef or outside its domain")
+            return local_sites[f.index]
         sites = self.__dict__.setdefault("_outside_sites", {})
         if f.index not in sites:
             sites[f.index] = self.runtime_site(
@@ -2303,10 +2488,24 @@ class Generator:
         collect = (f"int {n} = 0; " + " ".join(heads) +
                    f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                    f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
+        # the body in a function of its own, so that a candidate whose body fails returns to the
+        # loop: its error is an outcome (choosing it makes the step fail), as in the Python engine
+        outer = list(dict.fromkeys(env.values()))
+        bound = re.findall(r"V (\w+) = ", pick)
+        params = list(dict.fromkeys(bound + outer))
+        if all(re.fullmatch(r"[A-Za-z_]\w*", x) for x in params):
+            fn = self.fresh("mcb")
+            sig = "".join(f", V {x}" for x in params)
+            self.funcs.append(f"static void {fn}(Ctx *c{sig}) {{ {body} }}")
+            run = f"{fn}(c{''.join(', ' + x for x in params)});"
+            fails = (f"if (c->err) {{ if (!mc_step_error(c->err)) {{ m_{e}->epoch = -1; return; }} "
+                     f"if (!mc_outcome_err(c, m_{e}, {e}, mk_{e})) return; continue; }} ")
+        else:
+            run = body
+            fails = f"if (c->err) {{ m_{e}->epoch = -1; return; }} "     # (no half-made entry is kept)
         outcomes = (f"int32_t mk_{e} = c->nupd, st_{e} = c->curstep, ss_{e} = c->seqstart; "
                     f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = MC_STAMP; c->seqstart = -1; "
-                    f"{{ {pick} {body} }} if (c->err) {{ m_{e}->epoch = -1; return; }} "   # (no half-made entry is kept)
-                    f"c->curstep = st_{e}; c->seqstart = ss_{e}; "
+                    f"{{ {pick} {run} }} c->curstep = st_{e}; c->seqstart = ss_{e}; {fails}"
                     f"if (!mc_outcome(c, m_{e}, {e}, mk_{e})) return; }}")
         return ("{ " + f"static _Thread_local MChoose {mc}; static _Thread_local V *{cand} = 0; "
                 f"static _Thread_local int {cap} = 0; MChoose *m_{e} = &{mc}; V key_{e}[{len(key)}] = {{{', '.join(key)}}}; "
@@ -2316,7 +2515,7 @@ class Generator:
                 f"if ({e} < 0) return; if ({n} > 0) {{ {outcomes} }} mc_commit(c, m_{e}, {e}, {len(key)}, ca_{e}); if (c->err) return; }} "
                 f"{{ int32_t no_{e} = m_{e}->onum[{e}]; if (no_{e} == 0) {{ {ifnone} }} else {{ int32_t o_{e} = m_{e}->ofirst[{e}] + "
                 f"(no_{e} > 1 ? choice(c, no_{e}) : 0); int32_t at_{e} = c->nupd; if (c->pos - 1 < mc_skip_from || no_{e} < 2) mc_apply(c, m_{e}, o_{e}); if (c->err) return; "
-                f"if (no_{e} > 1 && c->seqstart < 0 && c->pos <= MAXCH) mc_note(c, m_{e}, {e}, o_{e}, at_{e}); }} }} }}")
+                f"if (no_{e} > 1 && c->seqstart < 0 && c->pos <= MAXCH && !m_{e}->kfail[{e}]) mc_note(c, m_{e}, {e}, o_{e}, at_{e}); }} }} }}")
 
     def run_time_heads(self, r, env):
         """The loop heads that walk a choose's ranges as computed at run time (in the Python
@@ -2365,7 +2564,9 @@ class Generator:
             self.check_by_name(rd, [a for a, m in zip(r.args, modes) if m != 3])
         # a turbo call passes its arguments by value
         name = self.rule_fn(rd)
-        args = [self.term(a, env) for a in r.args]
+        pre, args = self.ordered_terms(r.args, env)
+        if pre:
+            return f"{{ {pre} {name}(c{''.join(', ' + a for a in args)}); }} if (c->err) return;"
         return f"{name}(c{''.join(', ' + a for a in args)}); if (c->err) return;"
 
     def r_TurboReturn(self, r, env):
@@ -2756,7 +2957,7 @@ class Generator:
     def pack_values(self, st: dict) -> None:
         """Give every composite value of ``st`` its number (before the code is generated)."""
         for fi in self.map_slot:
-            self.map_value(st, self.spec.functions[fi])
+            self.map_value(st, self.slot_types[self.map_slot[fi]][1])
         for s, key in enumerate(self.slots):
             if isinstance(self.slot_types[s], tuple):
                 continue
@@ -3055,6 +3256,9 @@ class Generator:
         idxs: list = []
         for s, key in enumerate(self.slots):
             typ = self.slot_types[s]
+            if self.local_slot(key):            # a local function's: undef (an empty map) in every stored state
+                slot_fn.append(-1); slot_vty.append(0); slot_nargs.append(0); slot_arg.append(0); slot_base.append(-1)
+                continue
             if isinstance(typ, tuple):          # a map slot
                 f = typ[1]
                 if self.cn_may_hold(f.codomain) or any(self.cn_may_hold(d) for d in f.domain):
@@ -3409,6 +3613,7 @@ typedef struct {
     int32_t nkeys, cap_keys;
     V *keys;                         /* klen values per key */
     int32_t *ofirst, *onum;          /* key -> its first outcome, their number (0: no candidate) */
+    int32_t *kfail;                  /* key -> has an outcome that fails (then no tail of mc_tail) */
     int32_t *kh, khcap;              /* keys by hash: index + 1 (0: empty) */
     int32_t nout, cap_out;
     int32_t *ustart, *ulen;          /* outcome -> its updates in the pool */
@@ -3472,7 +3677,9 @@ static int32_t mc_begin(Ctx *c, MChoose *m, const V *key, int klen, int ncand, i
     if (m->nkeys >= m->cap_keys) {
         int32_t nc = m->cap_keys ? 2 * m->cap_keys : 16;
         if (!mc_more((void **)&m->keys, (int64_t)nc * klen, sizeof(V)) || !mc_more((void **)&m->ofirst, nc, sizeof(int32_t))
-            || !mc_more((void **)&m->onum, nc, sizeof(int32_t))) { fail(c, E_MEMORY, 0); return -1; }
+            || !mc_more((void **)&m->onum, nc, sizeof(int32_t)) || !mc_more((void **)&m->kfail, nc, sizeof(int32_t))) {
+            fail(c, E_MEMORY, 0); return -1;
+        }
         m->cap_keys = nc;
     }
     int32_t need = 16;
@@ -3486,6 +3693,7 @@ static int32_t mc_begin(Ctx *c, MChoose *m, const V *key, int klen, int ncand, i
     memcpy(m->keys + (int64_t)e * klen, key, (size_t)klen * sizeof(V));
     m->ofirst[e] = m->nout;
     m->onum[e] = 0;
+    m->kfail[e] = 0;
     m->last = e;
     return e;
 }
@@ -3538,6 +3746,33 @@ static int mc_outcome(Ctx *c, MChoose *m, int32_t e, int32_t mark) {
     m->oh[p] = o + 1;
     return 1;
 }
+/* the errors a body may make in the Python engine (the others end the native search) */
+static inline int mc_step_error(int e) { return e == E_UNDEF_GUARD || e == E_CLASH || e == E_DOMAIN || e == E_MODEL; }
+/* the body failed: an outcome of entry e that makes the step fail with that error (ulen -1, the
+   error in ustart and uhash), its updates taken back; one per error, site and clashing slot */
+static int mc_outcome_err(Ctx *c, MChoose *m, int32_t e, int32_t mark) {
+    int code = c->err;
+    uint64_t at = ((uint64_t)(uint32_t)c->err_site << 32) | (uint32_t)(code == E_CLASH ? c->clash_slot : -1);
+    c->err = 0;
+    for (int32_t i = c->nupd - 1; i >= mark; i--) {
+        int32_t s = c->upd_slot[i];
+        if (c->uprev[i] >= 0) c->wpos[s] = c->uprev[i]; else c->wgen[s] = c->gen - 1;
+    }
+    c->nupd = mark;
+    for (int32_t o = m->ofirst[e]; o < m->nout; o++)
+        if (m->ulen[o] < 0 && m->ustart[o] == code && m->uhash[o] == at) return 1;
+    if (m->nout >= m->cap_out) {
+        int32_t nc = m->cap_out ? 2 * m->cap_out : 64;
+        if (!mc_more((void **)&m->ustart, nc, sizeof(int32_t)) || !mc_more((void **)&m->ulen, nc, sizeof(int32_t))
+            || !mc_more((void **)&m->uhash, nc, sizeof(uint64_t))) { fail(c, E_MEMORY, 0); return 0; }
+        m->cap_out = nc;
+    }
+    int32_t o = m->nout++;
+    m->ustart[o] = code; m->ulen[o] = -1; m->uhash[o] = at;
+    m->onum[e]++;
+    m->kfail[e] = 1;
+    return 1;
+}
 /* the entry's outcomes are complete: findable from now on (when cached) */
 static void mc_insert(MChoose *m, int32_t e, int klen) {
     uint64_t msk = (uint64_t)m->khcap - 1;
@@ -3571,6 +3806,10 @@ static inline void mc_note(Ctx *c, MChoose *m, int32_t e, int32_t o, int32_t at)
 /* the updates of outcome o join the step's */
 static void mc_apply(Ctx *c, MChoose *m, int32_t o) {
     int32_t a = m->ustart[o], n = m->ulen[o];
+    if (n < 0) {                         /* an outcome that fails */
+        if (!c->err) { int32_t cs = (int32_t)(uint32_t)m->uhash[o]; fail(c, a, (int)(m->uhash[o] >> 32)); if (cs >= 0) c->clash_slot = cs; }
+        return;
+    }
     for (int32_t i = 0; i < n && !c->err; i++) upd(c, m->uslot[a + i], m->ucode[a + i], 0);
 }
 """
