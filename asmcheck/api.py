@@ -412,9 +412,6 @@ def _deadline(machine, seconds):
         machine.deadline = old
 
 
-ONE_WORKER_NOTE = ("a step fails: the search ran again on one worker, which explores the well-defined successors "
-                   "of a state where a step fails (the partitioned search stops there)")
-
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
 
@@ -491,21 +488,6 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                           max_memory=max_memory, deadlock=deadlock, engine=engine,
                                           keep_graph=keep_graph, progress=progress)
-        if (not (scaling or {}).get("bitstate") and not getattr(result, "interrupted", False)
-                and any(v.prop.name == "error" for v in result.violations)):
-            # the partitioned search stops at a state where a step fails; the sequential search
-            # keeps the state's well-defined successors (docs/run-time-errors.md), so it runs again
-            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
-            ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
-                          deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
-                          step_props=step_props, max_memory=max_memory, memory=memory_in_use)
-            with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
-                    _deadline(machine, search_seconds):
-                result = ex.run()
-            result.engine = "python"
-            result.notes = [ONE_WORKER_NOTE]
-            result.scaling_note = ONE_WORKER_NOTE
-            interrupted = getattr(result, "interrupted", False)
     elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
