@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import re
 
 import pytest
 
@@ -107,3 +108,74 @@ def test_the_partitioned_search_stops_where_the_sequential_one_meets_too_many_ch
         ex, r = explore_partitioned(m, workers=workers, backend="inline", state_props=sp, step_props=stp,
                                     keep_graph=True)
         assert sequential_summary(ex, r) == want
+
+
+# ----------------------------------------------------------------- 2. the check of the failing states' errors
+def slow_errors(states: int = 40, inputs: int = 12) -> str:
+    """A step fails in every state but the last (n := n + 1 beside n := 0) when the nested equality
+    of ``inputs`` monitored booleans is true; the Python step function reads all of them in each
+    state: 2^inputs sequences of choices, from each of the failing states."""
+    mons = "\n".join(f"\tmonitored b{i}: Boolean" for i in range(inputs))
+    cond = "b0"
+    for i in range(1, inputs):
+        cond = f"({cond} = b{i})"
+    return f"""asm SlowErrors
+import StandardLibrary
+signature:
+	domain Count subsetof Integer
+	controlled n: Count
+{mons}
+definitions:
+	domain Count = {{0 : {states}}}
+	invariant inv_n over n: n <= {states}
+	main rule r_main =
+		par
+			if n < {states} then n := n + 1 else n := 0 endif
+			if {cond} then n := 0 endif
+		endpar
+default init s0:
+	function n = 0
+"""
+
+
+@pytest.mark.engines("native")
+def test_the_check_of_the_failing_states_keeps_to_the_time_limit(tmp_path):
+    """The native search ends at once; the Python step function then recovers the errors of the 40
+    failing states, 4,096 sequences of choices each (tens of seconds): --max-seconds 1 ends that
+    check too, incomplete, saying where it stopped."""
+    from asmcheck.explore.native_build import compiler
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, slow_errors())
+    code, doc = json_report(path, "--max-seconds", 1)
+    assert (code, doc["verdict"], doc["states"], doc["transitions"], doc["violations"]) == (3, "incomplete", 41, 41, [])
+    assert re.fullmatch(r"time limit 1\.0 s reached while the Python step function recovered the errors of the "
+                        r"states where a step fails \(\d+ of 40 checked, after a search of 41 states\)",
+                        doc["incomplete"]), doc["incomplete"]
+    # without a limit the same check finds the error of state 0 (a smaller space: 2^4 choices)
+    code, doc = json_report(write(tmp_path, slow_errors(40, 4)))
+    assert (code, doc["verdict"], [v["property"] for v in doc["violations"]]) == (1, "violated", ["error"])
+
+
+# ----------------------------------------------------------------- 4. the time-limit reason in fields
+@pytest.mark.engines("python", "native")
+@pytest.mark.parametrize("engine", ["python", "native"])
+def test_the_time_limit_reason_has_fields_and_names_the_whole_commands_limit(tmp_path, engine):
+    """The search had what was left of the command's 1.5 s (0.5 s went before it): the reason names
+    the command's limit, written from its fields by TimeLimit.text()."""
+    import time as clock
+
+    import asmcheck
+    from asmcheck.explore.bfs import TimeLimit
+    if engine == "native":
+        from asmcheck.explore.native_build import compiler
+        if compiler() is None:
+            pytest.skip("no C compiler: the native explorer cannot run here")
+    assert TimeLimit(30.0, ", while X").text() == "time limit 30.0 s reached, while X"
+    assert TimeLimit().text() == "time limit reached"
+    model = asmcheck.load(write(tmp_path, slow_errors()))
+    run = model.explore(engine=engine, max_seconds=1.5, started=clock.perf_counter() - 0.5)
+    stop = run.result.time_limit
+    # (the Python engine may have found the error of state 0 by then: violated, yet stopped early)
+    assert (run.result.stopped_early, stop.seconds, run.reason) == (True, 1.5, stop.text())
+    assert run.reason.startswith("time limit 1.5 s reached")

@@ -30,6 +30,20 @@ class Violation:
     error: AsmError | None = None
 
 
+@dataclass(frozen=True)
+class TimeLimit:
+    """Why a run stopped on its time limit, in fields: ``seconds``, the limit (None: not known);
+    ``detail``, what the run was doing then (', while enumerating the successors of state 4 (...)',
+    ' in the LTL/CTL phase'; '' for a search stopped between two states).  :meth:`text` is the
+    one place that writes it as a reason."""
+    seconds: float | None = None
+    detail: str = ""
+
+    def text(self) -> str:
+        head = "time limit reached" if self.seconds is None else f"time limit {self.seconds} s reached"
+        return head + self.detail
+
+
 @dataclass
 class Result:
     verdict: str                 # holds violated incomplete
@@ -40,6 +54,7 @@ class Result:
     violations: list = field(default_factory=list)
     reason: str = ""             # why incomplete
     checked: list = field(default_factory=list)    # the properties checked
+    time_limit: TimeLimit | None = None            # the reason in fields, when the time limit ended the run
 
     @property
     def stopped_early(self) -> bool:
@@ -227,6 +242,7 @@ class Explorer:
         last_report = t0
         interrupted = False
         current = None
+        time_limit = None
         try:
             while frontier:
                 next_frontier = []
@@ -315,7 +331,8 @@ class Explorer:
                     now = time.perf_counter()
                     if self.max_seconds is not None and now - t0 >= self.max_seconds:
                         incomplete = True
-                        reason = f"time limit {self.max_seconds} s reached"
+                        time_limit = TimeLimit(self.max_seconds)
+                        reason = time_limit.text()
                         next_frontier = []
                         frontier = []
                         break
@@ -352,8 +369,9 @@ class Explorer:
                                                             getattr(exc, "choices", None), current)
         except (TimeUp, DeadlineReached) as exc:
             incomplete = True
-            reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
-            reason += stopped_inside(getattr(exc, "enumerated", 0) or 0, getattr(exc, "choices", None), current)
+            time_limit = TimeLimit(self.max_seconds, stopped_inside(getattr(exc, "enumerated", 0) or 0,
+                                                                    getattr(exc, "choices", None), current))
+            reason = time_limit.text()
         except MemoryError:
             incomplete = True
             reason = "out of memory"
@@ -369,6 +387,7 @@ class Explorer:
                      secs, violations, reason if incomplete else "", all_props)
         res.deadlock_checked = self.deadlock
         res.interrupted = interrupted
+        res.time_limit = time_limit
         return res
 
     # -------------------------------------------------------------- traces

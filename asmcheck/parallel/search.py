@@ -21,7 +21,7 @@ from __future__ import annotations
 import time
 from array import array
 
-from ..explore.bfs import DEADLOCK, PseudoProperty, Result, Violation
+from ..explore.bfs import DEADLOCK, PseudoProperty, Result, TimeLimit, Violation
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
 from .native_expand import MoreSlots, Refused
 from .partition import SHIFT, Partition
@@ -98,6 +98,7 @@ class PartitionedSearch:
         transitions = 0
         n_states = 0
         depth_seen = 0
+        time_limit = None
 
         # level 0: the initial states, numbered in enumeration order
         seen = {}
@@ -133,8 +134,9 @@ class PartitionedSearch:
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,
                                      f"worker {w + 1} went over its memory share at depth {depth}")
             if stopped:
-                return self._partial(t0, n_states, transitions, depth_seen, chosen,
-                                     f"time limit {self.max_seconds} s reached")
+                res = self._partial(t0, n_states, transitions, depth_seen, chosen, TimeLimit(self.max_seconds).text())
+                res.time_limit = TimeLimit(self.max_seconds)
+                return res
             level_fail = {}
             for r in reports:
                 for rec in r["failures"]:
@@ -243,7 +245,8 @@ class PartitionedSearch:
                 self.on_level(self, depth)
             if not stop and self.max_seconds is not None and time.time() > deadline and frontier_size:
                 incomplete = True
-                reason = f"time limit {self.max_seconds} s reached"
+                time_limit = TimeLimit(self.max_seconds)
+                reason = time_limit.text()
                 break
         self.n_states = n_states
         violations = [self._violation(chosen[name][1]) for name in
@@ -252,6 +255,7 @@ class PartitionedSearch:
         res = Result(verdict, n_states, transitions, depth_seen, time.perf_counter() - t0, violations,
                      reason if incomplete else "", all_props)
         res.deadlock_checked = self.deadlock
+        res.time_limit = time_limit if incomplete else None
         return res
 
     # -------------------------------------------------------------- helpers
