@@ -179,3 +179,42 @@ def test_the_time_limit_reason_has_fields_and_names_the_whole_commands_limit(tmp
     # (the Python engine may have found the error of state 0 by then: violated, yet stopped early)
     assert (run.result.stopped_early, stop.seconds, run.reason) == (True, 1.5, stop.text())
     assert run.reason.startswith("time limit 1.5 s reached")
+
+
+# ----------------------------------------------------------------- 3. a state with too many choices, refused at once
+def many_inputs(n: int) -> str:
+    """The step reads ``n`` monitored booleans from the initial state (2^n sequences of choices)."""
+    mons = "\n".join(f"\tmonitored b{i}: Boolean\n\tcontrolled f{i}: Boolean" for i in range(n))
+    ups = "\n".join(f"\t\t\tf{i} := b{i}" for i in range(n))
+    inits = "\n".join(f"\tfunction f{i} = false" for i in range(n))
+    return f"""asm ManyInputs
+import StandardLibrary
+signature:
+{mons}
+definitions:
+	main rule r_main =
+		par
+{ups}
+		endpar
+default init s0:
+{inits}
+"""
+
+
+@pytest.mark.engines("native")
+def test_a_state_with_more_than_a_million_sequences_of_choices_is_refused_before_its_enumeration(tmp_path):
+    """21 monitored booleans: 2,097,152 sequences of choices from the initial state.  The product of
+    the first run's choice sizes refuses the state at once; before, the native search ran a million
+    of them first (with a time limit of 0 s it stopped on it after 4,096, the Python engine left no
+    time).  20 booleans (1,048,576) are refused too, and 19 (524,288) are enumerated."""
+    from asmcheck.explore.native import NativeExplorer, Unsupported
+    from asmcheck.explore.native_build import compiler
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    for n in (21, 20):
+        _, m = load_machine(write(tmp_path, many_inputs(n)))
+        with pytest.raises(Unsupported, match=r"^more than 1,000,000 sequences of choices from one state"):
+            NativeExplorer(m, max_seconds=0).run()
+    _, m = load_machine(write(tmp_path, many_inputs(4)))
+    r = NativeExplorer(m).run()
+    assert (r.states, r.transitions, r.verdict) == (16, 256, "holds")

@@ -712,10 +712,21 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
     c->plen = 0;
     b->n = 0;
     *steperr = 0;
+    int first_run = 1;
     for (;;) {
         begin_run(c);
         step_main(c);
         if (MISSED()) return EXP_MISSED;
+        if (first_run) {
+            /* the sizes of the first run's choices multiplied: beyond MAX_SUCC the state is refused
+               now (as after MAX_SUCC runs), not after a million runs that leave the Python engine
+               no time; a product that overestimates an irregular tree of choices only hands the
+               spec to the Python engine */
+            double product = 1.0;
+            first_run = 0;
+            for (int32_t q = 0; q < c->pos; q++) product *= (double)c->cnt[q];
+            if (product > (double)MAX_SUCC) { *steperr = E_TOOMANY; b->n = 0; return EXP_OK; }
+        }
         if (c->err) {
             if (hard_error(c->err)) { *err = c->err; *site = c->err_site; return EXP_HARD; }
             /* a branch whose step fails: noted (the first error's code), and the enumeration goes
