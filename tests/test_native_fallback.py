@@ -218,3 +218,31 @@ def test_a_state_with_more_than_a_million_sequences_of_choices_is_refused_before
     _, m = load_machine(write(tmp_path, many_inputs(4)))
     r = NativeExplorer(m).run()
     assert (r.states, r.transitions, r.verdict) == (16, 256, "holds")
+
+
+# ----------------------------------------------------------------- 5. the memory bound of the edges
+@pytest.mark.engines("native")
+def test_the_memory_bound_counts_the_edge_arrays_as_they_are_stored(tmp_path):
+    """With the graph kept, the search's tables count the two arrays of edge ends as allocated (4,096
+    ends each at first) and the one array Python copies into at the hand-over: 2 x 4 x 4,096 + 4 x
+    edges bytes more than the same search without the graph (it counted 5 x 4 bytes an edge)."""
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.explore.native_build import compiler
+    if compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    _, m = load_machine(write(tmp_path, BRANCHY))
+    plain = NativeExplorer(m)          # (no property: both searches cover every state)
+    r = plain.run()
+    without = plain.dll.asm_memory_bytes()
+    graph = NativeExplorer(m, keep_graph=True)
+    seen = []
+    take = graph._take_edges
+
+    def measured(n):
+        seen.append((graph.dll.asm_memory_bytes(), n))
+        take(n)
+    graph._take_edges = measured
+    rg = graph.run()
+    (with_graph, edges), = seen
+    assert (r.states, rg.states, edges, len(graph.edge_src)) == (25, 25, 100, 100)
+    assert with_graph - without == 2 * 4 * 4096 + 4 * edges

@@ -3909,7 +3909,7 @@ class NativeExplorer:
         if take is not None:
             ends = []
             for which in (0, 1):
-                a = array("I", bytes(4 * max(n, 1)))
+                a = array("I", [0]) * max(n, 1)     # (no bytes object of the same size beside it)
                 take(which, (ctypes.c_uint32 * len(a)).from_buffer(a))
                 del a[n:]
                 ends.append(a)

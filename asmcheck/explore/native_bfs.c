@@ -1105,9 +1105,10 @@ static int64_t table_bytes(int64_t n) {
 
 static int64_t memory_bytes(int64_t n) {
     return n * (int64_t)(PW * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n) + pk_bytes()
-        /* an edge is two ends here, and again in the arrays Python copies them into (with a
-           bytes object of one array's size while it fills) before these are freed */
-        + S.nedges * 5 * (int64_t)sizeof(uint32_t)
+        /* the edges: two arrays of ends here, as allocated (cap_edges, a function of nedges);
+           at the hand-over one more array of nedges ends, the one Python copies into before
+           asm_edges_take frees this one (three arrays at most at a time) */
+        + (2 * S.cap_edges + S.nedges) * (int64_t)sizeof(uint32_t)
         + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);
 }
 
