@@ -246,3 +246,66 @@ def test_the_memory_bound_counts_the_edge_arrays_as_they_are_stored(tmp_path):
     (with_graph, edges), = seen
     assert (r.states, rg.states, edges, len(graph.edge_src)) == (25, 25, 100, 100)
     assert with_graph - without == 2 * 4 * 4096 + 4 * edges
+
+
+# ----------------------------------------------------------------- 6. the advice on an unbounded input
+SET_INPUTS = """asm SetInputs
+import StandardLibrary
+signature:
+	domain Coord subsetof Integer
+	domain Position subsetof Prod(Coord, Coord)
+	domain Small subsetof Integer
+	monitored chargers: Powerset(Position)
+	monitored picks: Powerset(Small)
+	controlled count: Integer
+definitions:
+	domain Coord = {-10000 : 10000}
+	domain Small = {1 : 3}
+	main rule r_main =
+		if count < 2 then count := count + size(chargers) + size(picks) endif
+default init s0:
+	function count = 0
+"""
+
+
+@pytest.mark.engines("python")
+def test_the_advice_on_a_set_valued_input_is_a_form_monitored_reads(tmp_path, monkeypatch):
+    """chargers ranges over Powerset(Position), 400,040,001 positions: the message comes at once
+    (the product's size is worked out from its factors, not by making its elements) and suggests
+    set values, not LO..HI; the values it suggests are read (and a finite set codomain takes its
+    values written with or without blanks)."""
+    path = write(tmp_path, SET_INPUTS)
+    code, out, err = cli("explore", path, "--engine", "python")
+    assert code == 2 and out == ""
+    assert ("SetInputs.asm:7:12: monitored function chargers ranges over Powerset(Position), which is infinite or "
+            "too large to enumerate: give its values with --monitored 'chargers={(0, 0)},...' (values of "
+            "Powerset(Position), written as asmcheck prints them)") in err
+    assert "LO..HI" not in err
+    code, doc = json_report(path, "--engine", "python", "--monitored", "chargers={},{(0, 0)},{(1,2), (3, 4)}",
+                            "--monitored", "picks={},{1,3}")
+    # count 0 and 1 step by 0..4 (set sizes 0, 1, 2 plus 0, 2): states 0..5, 5 + 5 + 4 self-loops
+    assert (code, doc["states"], doc["transitions"]) == (0, 6, 14)
+    code, out, err = cli("explore", path, "--monitored", "chargers={(0, 0)}", "--monitored", "picks={4}")
+    assert code == 2 and "--monitored picks: '{4}' is not a value of picks's codomain Powerset(Small)" in err
+
+
+@pytest.mark.engines("python")
+@pytest.mark.parametrize("kind, hint", [
+    ("Integer", "--monitored x=LO..HI (or --int-range LO..HI)"),
+    ("Real", "--monitored x=V1,V2,... (real numbers)"),
+    ("String", '--monitored x="a","b",...'),
+    ("Seq(Integer)", "--monitored 'x=[0],...' (values of Seq(Integer), written as asmcheck prints them)"),
+    ("Prod(Integer, Boolean)", "--monitored 'x=(0, true),...' (values of Prod(Integer,Boolean), written as "
+                               "asmcheck prints them)"),
+])
+def test_the_advice_fits_every_kind_of_domain(tmp_path, kind, hint):
+    text = f"""asm K
+import StandardLibrary
+signature:
+	monitored x: {kind}
+	controlled y: {kind}
+definitions:
+	main rule r_main = y := x
+"""
+    code, out, err = cli("explore", write(tmp_path, text), "--engine", "python")
+    assert code == 2 and f"give its values with {hint}" in err, err
