@@ -309,3 +309,42 @@ definitions:
 """
     code, out, err = cli("explore", write(tmp_path, text), "--engine", "python")
     assert code == 2 and f"give its values with {hint}" in err, err
+
+
+# ----------------------------------------------------------------- 8. Ctrl-C while the program starts
+@pytest.mark.engines("python")
+def test_a_ctrl_c_at_any_moment_of_the_start_up_ends_with_a_message_and_exit_code_3(tmp_path):
+    """SIGINT at 12 moments of the first 0.6 s of `python -m asmcheck explore` (the imports, the
+    parser, the search): never a traceback of the program.  Before, a Ctrl-C during the imports
+    printed one (and exited 1 or by the signal) in about 4 runs out of 5."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+    from test_adversarial_cli import COUNTER, INTERPRETER_START
+    root = Path(__file__).resolve().parent.parent
+    env = dict(os.environ, PYTHONPATH=str(root))
+    path = write(tmp_path, COUNTER)
+    ends = []
+    for i in range(12):
+        proc = subprocess.Popen([sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path)
+        time.sleep(0.05 * i)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=120)
+        if proc.returncode == 1 and err.startswith(INTERPRETER_START):
+            ends.append("interpreter")          # before any line of the program: the interpreter's own
+            continue
+        assert "Traceback" not in out + err, err
+        if proc.returncode == -signal.SIGINT:
+            assert out == err == ""             # before the interpreter's own handler: killed, silently
+            ends.append("killed")
+        elif out == "":
+            assert (proc.returncode, err) == (3, "asmcheck: interrupted before any result\n")
+            ends.append("starting")
+        else:
+            assert proc.returncode == 3 and "verdict: incomplete" in out, out
+            ends.append("searching")
+    assert "starting" in ends or "searching" in ends
