@@ -195,11 +195,16 @@ class Model:
         ``max_seconds`` bounds the wall-clock time of the whole call (counted from ``started``, a
         ``time.perf_counter()`` reading, when given: the command line counts from its start).
         ``warn(message)`` is called with warnings found while the search runs (a location that
-        keeps taking new values, for instance)."""
-        return _explore(self, properties, engine=engine, workers=workers, max_states=max_states,
-                        max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
-                        fair=fair, graph=graph, progress=progress, started=started, warn=warn,
-                        scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory})
+        keeps taking new values, for instance).  A recursion that does not end in the spec raises
+        :class:`AsmError` at the rule or function that recurses."""
+        try:
+            return _explore(self, properties, engine=engine, workers=workers, max_states=max_states,
+                            max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
+                            fair=fair, graph=graph, progress=progress, started=started, warn=warn,
+                            scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory})
+        except RecursionError as exc:
+            from .errors import located_recursion_error
+            raise located_recursion_error(exc, self.path) from None
 
     # ------------------------------------------------------------- swarm
     def swarm(self, *, walks: int = 32, depth: int = 100, seed=None, workers="auto", cluster=None,

@@ -28,14 +28,16 @@ default init s0:
 """
 
 # 26 Boolean locations count in binary (67,108,864 states on one path) while the Integer phase
-# goes round 0, 1, 2, 3: a long search whose Integer location is bounded
+# goes round 0, 1, 2, 3 and the sequence q grows to three elements and starts again: a long
+# search whose Integer location and sequence are bounded
 BITS = 26
-BOUNDED = ("asm Bounded\nimport StandardLibrary\nsignature:\n\tcontrolled phase: Integer\n"
+BOUNDED = ("asm Bounded\nimport StandardLibrary\nsignature:\n\tcontrolled phase: Integer\n\tcontrolled q: Seq(Integer)\n"
            + "".join(f"\tcontrolled b{i}: Boolean\n" for i in range(BITS))
            + "definitions:\n\tmain rule r_main = par\n\t\tphase := (phase + 1) mod 4\n"
+           + "\t\tif length(q) < 3 then q := append(q, phase) else q := [] endif\n"
            + "".join(f"\t\tif {' and '.join(f'b{j}' for j in range(i)) or 'true'} then b{i} := not b{i} endif\n"
                      for i in range(BITS))
-           + "\tendpar\ndefault init s0:\n\tfunction phase = 0\n"
+           + "\tendpar\ndefault init s0:\n\tfunction phase = 0\n\tfunction q = []\n"
            + "".join(f"\tfunction b{i} = false\n" for i in range(BITS)))
 
 MESSAGE = re.compile(r"^x keeps taking new values level after level \(range 0\.\.(\d+) at depth (\d+)\): the "
@@ -88,4 +90,32 @@ def test_a_counter_that_wrapped_round_is_still_named(tmp_path, engine):
     assert len(warnings) == 1, warnings
     assert warnings[0].startswith("x keeps taking new values level after level "
                                   "(range -9223372036854775806..3 at depth "), warnings[0]
+    assert run.result.reason == f"time limit 2.5 s reached; {warnings[0]}"
+
+
+GROWING = """asm Growing
+import StandardLibrary
+signature:
+	controlled s: Seq(Integer)
+definitions:
+	main rule r_main = s := append(s, 1)
+default init s0:
+	function s = []
+"""
+
+SIZE = re.compile(r"^s keeps growing level after level \(size ([\d,]+) at depth (\d+)\): the search may not end; "
+                  r"bound it in the model \(a guard on its size\), or stop the search with --max-depth or "
+                  r"--max-states$")
+
+
+@pytest.mark.parametrize("engine", ["python", "native"])
+def test_a_sequence_that_keeps_growing_is_named_while_the_search_runs(tmp_path, engine):
+    warnings: list[str] = []
+    run = asmcheck.load(write(tmp_path, GROWING)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    assert run.result.engine == engine
+    assert len(warnings) == 1, warnings
+    m = SIZE.match(warnings[0])
+    assert m, warnings[0]
+    # the state found last is one level below the one being searched: s has one element a level
+    assert int(m.group(1).replace(",", "")) == int(m.group(2)) + 1
     assert run.result.reason == f"time limit 2.5 s reached; {warnings[0]}"

@@ -128,10 +128,125 @@ def test_a_dictionary_that_outgrows_its_field_widens_it_and_then_keeps_the_word(
     r1, ex1, par1, st1, pw1 = run(path, packed=True)
     r0, ex0, par0, st0, pw0 = run(path, packed=False)
     assert summary(r1) == summary(r0) == ("holds", 70001, 70001, 70000, [])
-    # n kept as it is (64 bits), k1 in 32, m in 16 (with room for as many values again), the
-    # three constants in none: two words instead of six
+    # n kept as it is (64 bits), k1 in 32, m in 16 (with room for three times as many values
+    # again), the three constants in none: two words instead of six
     assert ex1.gen.nwords == 6 and pw1 == 2
     assert par1 == par0 == [-1] + list(range(70000))
     assert st1 == st0
     last = ex1.state(70000)
     assert ex1.find(last) == 70000 and ex1.find(ex1.state(12345)) == 12345
+
+
+# ----------------------------------------------------------------- the working state kept
+def checked_explore(monkeypatch, capsys, args):
+    """``explore --format json ARGS`` on the native engine with every delta load of the working
+    state (asm_run decodes again only the slots of the words that differ from the state expanded
+    before) compared with a whole load: (exit code, report, differences counted)."""
+    import json
+    from asmcheck.cli import main
+    from asmcheck.explore.native import NativeExplorer
+    need_cc()
+    diffs = []
+    orig = NativeExplorer.run
+
+    def run(self):
+        self.dll.asm_check_loads(1)
+        try:
+            return orig(self)
+        finally:
+            diffs.append(self.dll.asm_load_differences())
+
+    monkeypatch.setattr(NativeExplorer, "run", run)
+    code = main(["explore", *args, "--format", "json", "--engine", "native"])
+    out = json.loads(capsys.readouterr().out)
+    monkeypatch.setattr(NativeExplorer, "run", orig)
+    return code, out, diffs
+
+
+def test_the_working_state_kept_from_state_to_state_is_a_whole_load(tmp_path, capsys, monkeypatch):
+    from test_native_errors import LOCALS, SEQ_LEAK
+    # seq blocks whose runs fail half-way (the working state then loaded again), local functions
+    # (their slots set in a run and restored), the packed store: no delta load differs from a
+    # whole one, and the reports are the Python engine's
+    for text, counts in ((SEQ_LEAK, (4, 4)), (LOCALS, (5, 5)), (COUNTERS, (91, 126))):
+        path = write(tmp_path, text)
+        code, out, diffs = checked_explore(monkeypatch, capsys, [path])
+        assert diffs and set(diffs) == {0}
+        assert (out["states"], out["transitions"]) == counts
+        code2, out2 = both(tmp_path, capsys, text)
+        out.pop("engine")
+        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+            out.pop(key, None)
+        assert (code, out) == (code2, out2)
+
+
+@pytest.mark.corpus
+def test_the_working_state_kept_on_the_rtpattern_models(capsys, monkeypatch):
+    from rtpattern.rtlib import PROPS_NONDET, PROPS_SB, app, nondet_spec
+    props = ["--no-default-properties"]
+    for p in PROPS_SB:
+        props += ["--properties", p]
+    code, out, diffs = checked_explore(monkeypatch, capsys, [app("VisualServoing"), *props])
+    assert set(diffs) == {0} and (out["verdict"], out["states"], out["transitions"]) == ("holds", 15710, 31420)
+    # extend-made elements (canonical forms), a first search with too few element slots
+    code, out, diffs = checked_explore(monkeypatch, capsys, [app("CompleteApplication"), *props])
+    assert set(diffs) == {0} and (out["verdict"], out["states"], out["transitions"]) == ("holds", 70867, 141734)
+    path, imp = nondet_spec("RtNondetVS")
+    code, out, diffs = checked_explore(monkeypatch, capsys, [path, *props, "--properties", PROPS_NONDET[-1],
+                                                              "--deadlock", *imp])
+    assert set(diffs) == {0}
+    assert (code, out["verdict"], out["states"], out["transitions"], out["depth"]) == \
+        (1, "violated", 132077, 392131, 81)
+
+
+# ----------------------------------------------------------------- invariants checked where they may change
+# x changes in every step, y only when x = 5 and go, z (read through the derived dz) only when
+# x = 4 and y = 2, the cells of grid only when x = 2: each invariant is checked again in a state
+# only when a location it reads differs from the parent's, and each is violated only once such a
+# location changed, several steps after the last change of the others
+SKIPPY = """asm Skippy
+import StandardLibrary
+signature:
+	enum domain Side = {LEFT | RIGHT}
+	domain Small subsetof Integer
+	controlled x: Small
+	controlled y: Small
+	controlled z: Small
+	controlled grid: Side -> Small
+	derived dz: Integer
+	monitored go: Boolean
+definitions:
+	domain Small = {0 : 5}
+	function dz = z * 2
+	invariant inv_y over y: y < 3
+	invariant inv_dz over z: dz < 4
+	invariant inv_grid over grid: grid(LEFT) + grid(RIGHT) < 3
+	invariant inv_x over x: x >= 0
+	main rule r_main =
+		par
+			x := (x + 1) mod 6
+			if x = 5 and go then y := (y + 1) mod 6 endif
+			if x = 4 and y = 2 then z := (z + 1) mod 6 endif
+			if x = 2 then
+				if go then grid(LEFT) := (grid(LEFT) + 1) mod 6 else grid(RIGHT) := (grid(RIGHT) + 1) mod 2 endif
+			endif
+		endpar
+default init s0:
+	function x = 0
+	function y = 0
+	function z = 0
+	function grid($s in Side) = 0
+"""
+
+
+def test_invariants_are_checked_where_their_locations_change(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SKIPPY)
+    assert code == 1
+    assert (out["states"], out["transitions"]) == (2592, 3456)
+    got = {v["property"]: len(v["trace"]) for v in out["violations"]}
+    # the shortest traces (states): grid(LEFT) to 3 at step 15 (x = 2 in steps 2, 8, 14), y to 3
+    # at step 18 (x = 5 in steps 5, 11, 17), z to 2 at step 23 (y = 2 from step 12, x = 4 in steps
+    # 16 and 22)
+    assert got == {"inv_grid": 16, "inv_y": 19, "inv_dz": 24}
+    code, out = both(tmp_path, capsys, SKIPPY, "--deadlock")
+    assert {v["property"] for v in out["violations"]} == {"inv_grid", "inv_y", "inv_dz"}

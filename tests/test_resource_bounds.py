@@ -4,6 +4,8 @@ than ten million elements is a failing step, and a layout of more locations than
 engine compiles goes to the Python engine with the reason."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 import asmcheck
@@ -73,3 +75,56 @@ def test_more_locations_than_the_native_engine_lays_out_go_to_the_python_engine(
     run = asmcheck.load(write(tmp_path, WIDE)).explore()
     assert run.result.engine == "native"
     assert (run.result.states, run.result.transitions) == (2, 2)
+
+
+# recursions that do not end: a derived function, a macro rule (which the C compiler turns into
+# a loop) and a turbo rule; each used to crash the native engine (a stack overflow) or spin in
+# C code that neither a time limit nor a signal stops
+ENDLESS = {
+    "derived": ("""asm EndlessDerived
+import StandardLibrary
+signature:
+	dynamic controlled x: Integer
+	derived fact: Integer -> Integer
+definitions:
+	function fact($n in Integer) = if $n = 0 then 1 else $n * fact($n - 1) endif
+	main rule r_main = x := fact(x - 1)
+default init s0:
+	function x = 0
+""", (7, 65), "the spec nests too deeply here (recursion limit reached)"),
+    "macro": ("""asm EndlessMacro
+import StandardLibrary
+signature:
+	dynamic controlled x: Integer
+definitions:
+	macro rule r_down($n in Integer) = if $n = 0 then x := 1 else r_down($n - 1) endif
+	main rule r_main = r_down(x - 1)
+default init s0:
+	function x = 0
+""", (6, 13), "the rule r_down calls itself without end (or more deeply than asmcheck can follow)"),
+    "turbo": ("""asm EndlessTurbo
+import StandardLibrary
+signature:
+	dynamic controlled x: Integer
+definitions:
+	turbo rule r_down($n in Integer) = seq x := x + 1 if $n = 0 then skip else r_down($n - 1) endif endseq
+	main rule r_main = r_down(x - 1)
+default init s0:
+	function x = 0
+""", (6, 13), "the rule r_down calls itself without end (or more deeply than asmcheck can follow)"),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(ENDLESS))
+def test_a_recursion_that_does_not_end_is_reported_where_it_recurses_whatever_the_engine(tmp_path, kind):
+    text, (line, col), message = ENDLESS[kind]
+    path = write(tmp_path, text)
+    for engine in ("auto", "python"):
+        with pytest.raises(asmcheck.AsmError) as e:
+            asmcheck.load(path).explore(engine=engine)
+        assert e.value.message == message
+        assert (e.value.span.line, e.value.span.col) == (line, col)
+    with pytest.raises(asmcheck.UsageError) as e:
+        asmcheck.load(path).explore(engine="native")
+    assert str(e.value) == (f"the native explorer cannot run {Path(path).name}: a derived function or rule called "
+                            f"more than 1,000 times within itself, reached at run time")

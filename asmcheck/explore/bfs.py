@@ -17,6 +17,7 @@ from ..semantics.choice import DeadlineReached
 from ..semantics.machine import Machine, ScriptChooser, TooManySuccessors, Undetermined
 from ..semantics import types as T
 from ..semantics.state import is_dom_key, same_value
+from ..semantics.values import BagV, MapV, SeqV, SetV
 from .canonical import Canonicalizer, ranged_domains
 from .store import Layout
 
@@ -136,6 +137,35 @@ def drifted(prev, window) -> bool:
     return (wlo >= phi and whi > phi) or (whi <= plo and wlo < plo)
 
 
+class SizeWatch:
+    """Watches the sequences, sets, bags, maps and strings of the states found for one that keeps
+    growing: each call looks at the state found last, and a location whose value is longer than
+    ever before at three calls is named (the search may then not end, and each state is larger
+    than the one before)."""
+
+    def __init__(self, machine):
+        self.m = machine
+        self.best: dict = {}          # location -> the greatest size met at a call
+        self.streak: dict = {}
+
+    def watch(self, state: dict, depth: int) -> list[str]:
+        out = []
+        for k, v in state.items():
+            if not isinstance(v, (SeqV, SetV, BagV, MapV, str)):
+                continue
+            n = len(v)
+            best = self.best.get(k)
+            self.best[k] = n if best is None else max(best, n)
+            if best is None or n <= best or self.streak.get(k, 0) >= 3:
+                continue
+            self.streak[k] = self.streak.get(k, 0) + 1
+            if self.streak[k] == 3:
+                out.append(f"{self.m.location_text(k)} keeps growing level after level (size {n:,} at depth "
+                           f"{depth}): the search may not end; bound it in the model (a guard on its size), "
+                           f"or stop the search with --max-depth or --max-states")
+        return out
+
+
 class _Growth:
     """Watches the Integer locations of the states found for one that keeps taking new values
     level after level (a counter without a bound, a growing population): the search may then
@@ -233,6 +263,7 @@ class Explorer:
         self.warn = warn                  # called with each warning found while the search runs
         self.warnings: list = []
         self.growth = _Growth(machine, self.layout)
+        self.sizes = SizeWatch(machine)
         self.keep_graph = keep_graph
         self.edges: list = []
         # the branches whose step fails (keep_graph): (state id, choices, the AsmError), in the
@@ -439,7 +470,9 @@ class Explorer:
                             break
                         if self.progress is not None:
                             self.progress(len(self.frozen), depth, transitions, now - t0)
-                        for msg in self.growth.watch(depth):
+                        watched = [] if depth == self.growth.depth else (
+                            self.growth.watch(depth) + self.sizes.watch(self.state(len(self.frozen) - 1), depth))
+                        for msg in watched:
                             self.warnings.append(msg)
                             if self.warn is not None:
                                 self.warn(msg)

@@ -55,6 +55,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+MAX_RECURSION = 1000      # nested calls of derived functions (each rule call too) in the C code, at most
 MAX_SLOTS = 1 << 18       # locations laid out, at most (200,000 compile in about 6 s)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
 CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
@@ -378,6 +379,7 @@ class Generator:
         self.invar_pre = False           # an INVAR reads monitored functions: checked before the step too
         self.unlaid: dict = {}           # function index -> why it has no slots (it is never used)
         self.site_reasons: list = []     # reasons of the run-time refusals (site 1000 + i)
+        self._recursion_site = None
         self._used = None
         self._loose = None
         self._any_read = False           # the term being translated may be a location of type Any
@@ -453,6 +455,11 @@ class Generator:
             elif ra in (T.REAL, T.CHAR, T.COMPLEX) or (isinstance(ra, T.Domain) and ra.kind == "any"):
                 return False
         return True
+
+    @property
+    def composite_slots(self) -> bool:
+        """Whether a location holds a sequence, set, bag, map or string (whose size may grow)."""
+        return any(not isinstance(t, tuple) and self.composite(t) for t in self.slot_types)
 
     def map_function(self, f) -> bool:
         """A function whose arguments range over an infinite domain, held as one map value: its
@@ -1052,11 +1059,22 @@ class Generator:
             env[p.uid] = v
             params.append(v)
         sig = "".join(f", V {p}" for p in params)
-        # declare first (recursion is not supported: a derived function calling itself)
+        # declared first: a derived function may call itself.  A recursion deeper than
+        # MAX_RECURSION calls goes to the Python engine (which reports one that does not end)
+        # before it overflows the C stack
         self.funcs.append(f"static V {name}(Ctx *c{sig});")
         body = self.term(f.body, env)
-        self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {body}; }}")
+        site = self.recursion_site()
+        self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ if (c->err) return UNDEF; "
+                          f"if (++c->rdepth > {MAX_RECURSION}) {{ c->rdepth--; fail(c, E_UNSUPPORTED, {site}); "
+                          f"return UNDEF; }} V r = {body}; c->rdepth--; return r; }}")
         return name
+
+    def recursion_site(self) -> int:
+        if self._recursion_site is None:
+            self._recursion_site = self.runtime_site(f"a derived function or rule called more than "
+                                                     f"{MAX_RECURSION:,} times within itself")
+        return self._recursion_site
 
     BIN = {"eq": "v_eq", "neq": "v_neq", "lt": "v_lt", "le": "v_le", "gt": "v_gt", "ge": "v_ge",
            "plus": "v_add", "minus": "v_sub", "mult": "v_mul", "min": "v_min", "max": "v_max"}
@@ -2482,7 +2500,12 @@ class Generator:
         sig = "".join(f", V {p}" for p in params)
         self.funcs.append(f"static void {name}(Ctx *c{sig});")
         body = self.rule(rd.body, env)
-        self.funcs.append(f"static void {name}(Ctx *c{sig}) {{ {body} }}")
+        # the body may return early; the call that counts its depth (MAX_RECURSION) wraps it
+        self.funcs.append(f"static inline void {name}_body(Ctx *c{sig}) {{ {body} }}")
+        site = self.recursion_site()
+        args = "".join(f", {p}" for p in params)
+        self.funcs.append(f"static void {name}(Ctx *c{sig}) {{ if (++c->rdepth > {MAX_RECURSION}) {{ c->rdepth--; "
+                          f"fail(c, E_UNSUPPORTED, {site}); return; }} {name}_body(c{args}); c->rdepth--; }}")
         return name
 
     # -------------------------------------------------------------- the whole model
@@ -2571,6 +2594,7 @@ class Generator:
         for i, e in enumerate(invs):
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
+        inv_code += self.invariant_slots_table()
         inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
@@ -2600,6 +2624,73 @@ class Generator:
             self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         src += "\n" + self.label_entry(label_exprs)
         return src
+
+    def invariant_read_slots(self, term) -> set | None:
+        """The slots an invariant reads (through the derived functions it calls), or None when its
+        value may depend on more than them: a monitored function, self, a lazily laid out
+        function, a domain extended at run time."""
+        slots_of: dict = {}
+        for s, key in enumerate(self.slots):
+            fi = key if type(key) is int else key[1] if type(key) is tuple and key[0] == "map" else \
+                key[0] if type(key) is tuple and type(key[0]) is int else None
+            if fi is not None:
+                slots_of.setdefault(fi, set()).add(s)
+        lazy = getattr(self.m, "lazy", ()) or ()
+        dyn_names = set(self.dyn)
+        out: set = set()
+        seen: set = set()
+        todo = [term]
+        while todo:
+            x = todo.pop()
+            if id(x) in seen:
+                continue
+            seen.add(id(x))
+            if isinstance(x, ir.Function):
+                if x is self.spec.self_func or x.index in lazy or x.kind in ("monitored", "local"):
+                    return None
+                if x.kind in ("controlled", "shared", "out"):
+                    out |= slots_of.get(x.index, set())
+                if x.body is not None:
+                    todo.append(x.body)
+                continue
+            if isinstance(x, ir.DomainTerm):
+                d = x.domain
+                for _ in range(50):
+                    if getattr(d, "name", None) in dyn_names:
+                        return None
+                    d = getattr(d, "base", None) if getattr(d, "kind", None) == "subset" else None
+                    if d is None:
+                        break
+            if isinstance(x, ir.Term):
+                todo.extend(vars(x).values())
+            elif isinstance(x, (list, tuple)):
+                todo.extend(x)
+        return out
+
+    def invariant_slots_table(self) -> list:
+        """The bits of the state each invariant reads: for invariant k, the pairs (INV_W[i],
+        INV_M[i]) for INV_OFF[k] <= i < INV_OFF[k + 1], a word and the bits of its slots that k
+        reads; INV_ALL[k] when it may read more than locations.  native_bfs.c checks an
+        invariant in a state only when one of those bits differs from the parent's, where it
+        held."""
+        offs, ws, ms, alls = [0], [], [], []
+        for p in self.props:
+            sl = self.invariant_read_slots(p.prop.body)
+            alls.append(1 if sl is None else 0)
+            masks: dict = {}
+            for s in sl or ():
+                b = self.bits[s]
+                masks[self.words[s]] = masks.get(self.words[s], 0) | (
+                    (1 << 64) - 1 if b == 64 else ((1 << b) - 1) << self.shifts[s])
+            for w in sorted(masks):
+                ws.append(w)
+                ms.append(masks[w])
+            offs.append(len(ws))
+
+        def arr(ctype, name, xs, suffix=""):
+            return f"static const {ctype} {name}[] = {{{', '.join(f'{x}{suffix}' for x in xs) or '0'}}};"
+        return [arr("int", "INV_OFF", offs), arr("int", "INV_W", ws), arr("uint64_t", "INV_M", ms, "ULL"),
+                arr("int", "INV_ALL", alls)]
 
     # -------------------------------------------------------------- state atoms of temporal properties
     def label_code(self) -> list:
@@ -3539,7 +3630,7 @@ _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
-    pk_par_ok wide_slots nwide
+    pk_par_ok pk_first pk_act ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
@@ -3800,6 +3891,8 @@ class NativeExplorer:
         growth_depth = -1
         streak: dict = {}
         self._windows = {}
+        from .bfs import SizeWatch
+        sizes = SizeWatch(self.m)
         while True:
             status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
                       if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))
@@ -3811,6 +3904,14 @@ class NativeExplorer:
             depth = out[8]
             if depth != growth_depth:
                 growth_depth = depth
+                if self.gen.composite_slots:
+                    # the last state found: a sequence, set, map or string that keeps growing
+                    buf = (ctypes.c_uint64 * self.gen.nwords)()
+                    self.dll.asm_state(out[0] - 1, buf)
+                    for msg in sizes.watch(self.gen.unpack(buf[:]), depth):
+                        self.warnings.append(msg)
+                        if self.warn is not None:
+                            self.warn(msg)
                 for name, lo, hi in self._growing(depth):
                     streak[name] = streak.get(name, 0) + 1
                     if streak[name] == 3:

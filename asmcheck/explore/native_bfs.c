@@ -81,12 +81,11 @@ static int grow_table(void) {
 
 /* the number of the state stored as the nw words w (adding it if new); *isnew tells which; -1
    when out of memory */
-static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t *w, int64_t nw, uint32_t parent,
-                                                                   int *isnew) {
+static inline __attribute__((always_inline)) int64_t intern_hashed(const uint64_t *w, int64_t nw, uint64_t hh,
+                                                                    uint32_t parent, int *isnew) {
     if ((tcount + 1) * 4 > (int64_t)(tmask + 1) * 3) {
         if (!grow_table()) return -1;
     }
-    uint64_t hh = hash_words(w, nw);
     uint32_t fp = (uint32_t)(hh >> 32);
     uint64_t h = HPOS(hh) & tmask;
     while (table[h].id != 0xffffffffu) {
@@ -114,6 +113,10 @@ static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t
     *isnew = 1;
     return nstates++;
 }
+static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t *w, int64_t nw, uint32_t parent,
+                                                                   int *isnew) {
+    return intern_hashed(w, nw, hash_words(w, nw), parent, isnew);
+}
 
 /* ------------------------------------------------------------------ the packed store
  * With one thread (asm_pack(1) before asm_start) and at least PK_MIN_WORDS words a state, a
@@ -125,6 +128,11 @@ static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t
  * numbered as in the plain store (the codes only decide equality); the threaded search keeps
  * the plain store.  intern() keeps the codes of the state being expanded (pk_par_*): a word
  * equal to its parent's takes the parent's code without a dictionary lookup.
+ * The hash of a stored state is that of its plain words (pk_state_hash): a sum of one term per word
+ * that differs from the first state's, so that it depends neither on the fields' layout nor on
+ * the dictionaries (a repack moves no entry of the table), and a successor's hash is its
+ * parent's with the terms of the words that changed replaced.  Only the words with a field
+ * (pk_act) are read or written when states are packed, decoded or repacked.
  */
 #define PK_MIN_WORDS 6
 #define PK_RAW_AFTER 65536
@@ -133,19 +141,30 @@ static int pk_allow = 0, pk_on = 0;
 static int64_t PW = NWORDS;                      /* words of a stored state */
 static int pk_bits[PK_NW], pk_raw[PK_NW], pk_at[PK_NW], pk_sh[PK_NW];
 static uint64_t *pk_vals[PK_NW];                 /* by word: code -> value */
-static int64_t pk_n[PK_NW], pk_cap[PK_NW];
+static int64_t pk_n[PK_NW], pk_cap[PK_NW], pk_vcap = 0;    /* (pk_vcap: the sum of pk_cap) */
 typedef struct { uint64_t v; uint32_t j, code; } PkEnt;
 static PkEnt *pk_tab = 0;                        /* (word, value) -> code */
 static uint64_t pk_mask = 0;
 static int64_t pk_count = 0;
-static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW];
-static int pk_par_ok = 0;
+static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW], pk_par_h;
+static int pk_par_ok = 0, pk_par_set = 0;
+static uint64_t pk_first[PK_NW], pk_first_h[PK_NW];   /* the first stored state's words, their terms */
+static int pk_act[PK_NW], pk_nact = 0;             /* the words with a field (bits > 0) */
 
 /* 1: the next search (asm_start) keeps the packed store, when it runs on one thread */
 void asm_pack(int64_t on) { pk_allow = on != 0; }
 int64_t asm_packed_words(void) { return pk_on ? PW : -1; }
 
 static inline uint64_t pk_hash(uint32_t j, uint64_t v) { return mix64(v * HP1 + j); }
+
+/* word j holding v: its term of a state's hash */
+static inline uint64_t pk_term(int j, uint64_t v) { return mix64(v + (uint64_t)(j + 1) * HP2); }
+/* the hash of the state of plain words w */
+static inline uint64_t pk_state_hash(const uint64_t *w) {
+    uint64_t h = 0;
+    for (int j = 0; j < NWORDS; j++) if (w[j] != pk_first[j]) h += pk_term(j, w[j]) - pk_first_h[j];
+    return h;
+}
 
 static int pk_grow_tab(void) {
     uint64_t ncap = pk_mask ? (pk_mask + 1) * 2 : 256, nm = ncap - 1;
@@ -179,6 +198,7 @@ static int64_t pk_lookup(uint32_t j, uint64_t v, int add) {
         uint64_t *x = (uint64_t *)realloc(pk_vals[j], nc * sizeof(uint64_t));
         if (!x) return -1;
         pk_vals[j] = x;
+        pk_vcap += nc - pk_cap[j];
         pk_cap[j] = nc;
     }
     pk_vals[j][pk_n[j]] = v;
@@ -194,18 +214,17 @@ static inline uint64_t pk_field(const uint64_t *rec, int j) {
     return (rec[pk_at[j]] >> pk_sh[j]) & ((1ULL << b) - 1);
 }
 
-/* the words (and codes) of a stored state */
-static void pk_decode(const uint64_t *rec, uint64_t *w, uint64_t *codes) {
+/* the words of a stored state */
+static void pk_decode(const uint64_t *rec, uint64_t *w) {
     for (int j = 0; j < NWORDS; j++) {
         uint64_t x = pk_field(rec, j);
-        if (codes) codes[j] = x;
         w[j] = pk_raw[j] ? x : pk_vals[j][x];
     }
 }
 
 static void pk_pack(const uint64_t *codes, uint64_t *rec) {
     memset(rec, 0, PW * sizeof(uint64_t));
-    for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) rec[pk_at[j]] |= codes[j] << pk_sh[j];
+    for (int i = 0; i < pk_nact; i++) { int j = pk_act[i]; rec[pk_at[j]] |= codes[j] << pk_sh[j]; }
 }
 
 /* the offsets of the fields, widest first (PW: the words they take) */
@@ -216,10 +235,12 @@ static void pk_place(void) {
             if (pk_bits[j] == b) { pk_at[j] = (int)(pos / 64); pk_sh[j] = (int)(pos % 64); pos += b; }
     PW = (pos + 63) / 64;
     if (PW < 1) PW = 1;
+    pk_nact = 0;
+    for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) pk_act[pk_nact++] = j;
 }
 
-/* wider fields for the words whose dictionaries outgrew them, every state repacked and the table
-   filled again; 0 when out of memory */
+/* wider fields for the words whose dictionaries outgrew them, every state repacked (the table
+   stays); 0 when out of memory */
 static int pk_widen(void) {
     int obits[PK_NW], oraw[PK_NW], oat[PK_NW], osh[PK_NW];
     memcpy(obits, pk_bits, sizeof(obits)); memcpy(oraw, pk_raw, sizeof(oraw));
@@ -229,35 +250,32 @@ static int pk_widen(void) {
         if (pk_raw[j] || pk_bits[j] == 64 || pk_n[j] <= (1LL << pk_bits[j])) continue;
         if (pk_n[j] > PK_RAW_AFTER) { pk_raw[j] = 1; pk_bits[j] = 64; continue; }
         int b = pk_bits[j] ? pk_bits[j] : 1;
-        while ((1LL << b) < 2 * pk_n[j]) b *= 2;       /* room for as many again */
+        while ((1LL << b) < 4 * pk_n[j]) b *= 2;       /* room for three times as many again */
         pk_bits[j] = b;
     }
     pk_place();
     uint64_t *ns = (uint64_t *)malloc((cap_states > 0 ? cap_states : 1) * PW * sizeof(uint64_t));
     if (!ns) return 0;
-    uint64_t codes[PK_NW];
+    /* (a word without a field had code 0 in every state: the new field stays 0) */
+    int oact[PK_NW], noact = 0;
+    for (int j = 0; j < NWORDS; j++) if (obits[j]) oact[noact++] = j;
     for (int64_t s = 0; s < nstates; s++) {
         const uint64_t *rec = states + s * opw;
-        for (int j = 0; j < NWORDS; j++) {
-            int b = obits[j];
-            uint64_t x = b == 0 ? 0 : b == 64 ? rec[oat[j]] : (rec[oat[j]] >> osh[j]) & ((1ULL << b) - 1);
-            codes[j] = (pk_raw[j] && !oraw[j]) ? pk_vals[j][x] : x;
+        uint64_t *nr = ns + s * PW;
+        memset(nr, 0, PW * sizeof(uint64_t));
+        for (int i = 0; i < noact; i++) {
+            int j = oact[i], b = obits[j];
+            uint64_t x = b == 64 ? rec[oat[j]] : (rec[oat[j]] >> osh[j]) & ((1ULL << b) - 1);
+            if (pk_raw[j] && !oraw[j]) x = pk_vals[j][x];
+            nr[pk_at[j]] |= x << pk_sh[j];
         }
-        pk_pack(codes, ns + s * PW);
     }
     free(states);
     states = ns;
     for (int j = 0; j < NWORDS; j++)
         if (pk_raw[j] && !oraw[j]) pk_par_c[j] = pk_par_w[j];     /* the parent's code: the word */
     pk_pack(pk_par_c, pk_par_rec);
-    memset(table, 0xff, (tmask + 1) * sizeof(Entry));
-    for (int64_t s = 0; s < nstates; s++) {
-        uint64_t hh = hash_words(states + s * PW, PW);
-        uint64_t h = HPOS(hh) & tmask;
-        while (table[h].id != 0xffffffffu) h = (h + 1) & tmask;
-        table[h].id = (uint32_t)s;
-        table[h].fp = (uint32_t)(hh >> 32);
-    }
+    /* (the table stays: a state's hash is that of its plain words) */
     return 1;
 }
 
@@ -275,27 +293,40 @@ static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
     return 0;
 }
 
+/* the record and hash of a successor w of the state decoded last (pk_par_*): the parent's record
+   with the fields of the words that differ written over.  0 when a field is too narrow (or out of
+   memory): pk_intern then takes the whole way */
+static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp) {
+    memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
+    uint64_t hh = pk_par_h;
+    for (int j = 0; j < NWORDS; j++) {
+        uint64_t x = w[j];
+        if (x == pk_par_w[j]) continue;
+        hh += pk_term(j, x) - pk_term(j, pk_par_w[j]);
+        uint64_t k = x;
+        if (!pk_raw[j]) {
+            int64_t q = pk_lookup((uint32_t)j, x, 1);
+            if (q < 0) return 0;
+            k = (uint64_t)q;
+        }
+        int b = pk_bits[j];
+        if (b == 64) { rec[pk_at[j]] = k; continue; }
+        if (k >> b) return 0;
+        rec[pk_at[j]] = (rec[pk_at[j]] & ~(((1ULL << b) - 1) << pk_sh[j])) | (k << pk_sh[j]);
+    }
+    *hp = hh;
+    return 1;
+}
+
 static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
     uint64_t codes[PK_NW], rec[PK_NW];
     int wide = 0;
-    if (pk_par_ok) {    /* the parent's record with the fields of the words that differ written over */
-        memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
-        int j = 0;
-        for (; j < NWORDS; j++) {
-            uint64_t x = w[j];
-            if (x == pk_par_w[j]) continue;
-            uint64_t k = x;
-            if (!pk_raw[j]) {
-                int64_t q = pk_lookup((uint32_t)j, x, 1);
-                if (q < 0) return -1;
-                k = (uint64_t)q;
-            }
-            int b = pk_bits[j];
-            if (b == 64) { rec[pk_at[j]] = k; continue; }
-            if (k >> b) break;            /* the field is too narrow: the whole way below */
-            rec[pk_at[j]] = (rec[pk_at[j]] & ~(((1ULL << b) - 1) << pk_sh[j])) | (k << pk_sh[j]);
-        }
-        if (j == NWORDS) return intern_words(rec, PW, parent, isnew);
+    if (nstates == 0 && !pk_par_ok) {      /* the first state: the words the hash is relative to */
+        for (int j = 0; j < NWORDS; j++) { pk_first[j] = w[j]; pk_first_h[j] = pk_term(j, w[j]); }
+    }
+    if (pk_par_ok) {
+        uint64_t hh;
+        if (pk_prepare(w, rec, &hh)) return intern_hashed(rec, PW, hh, parent, isnew);
     }
     if (pk_codes(w, codes, 1, &wide) < 0) return -1;
     if (wide) {
@@ -303,8 +334,7 @@ static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
         for (int j = 0; j < NWORDS; j++) if (pk_raw[j]) codes[j] = w[j];
     }
     pk_pack(codes, rec);
-    int64_t r = intern_words(rec, PW, parent, isnew);
-    return r;
+    return intern_hashed(rec, PW, pk_state_hash(w), parent, isnew);
 }
 
 /* the number of state w (adding it if new); *isnew tells which; -1 when out of memory */
@@ -316,8 +346,24 @@ static int64_t intern(const uint64_t *w, uint32_t parent, int *isnew) {
    is given next) */
 static const uint64_t *state_words(int64_t sid) {
     if (!pk_on) return states + sid * NWORDS;
-    pk_decode(states + sid * PW, pk_par_w, pk_par_c);
-    memcpy(pk_par_rec, states + sid * PW, PW * sizeof(uint64_t));
+    const uint64_t *rec = states + sid * PW;
+    if (!pk_par_set) {      /* a word without a field holds the first state's word in every state */
+        memcpy(pk_par_w, pk_first, sizeof(pk_par_w));
+        memset(pk_par_c, 0, sizeof(pk_par_c));
+        pk_par_h = 0;        /* (the hash of the first state's words) */
+        pk_par_set = 1;
+    }
+    /* the words that differ from the state decoded before, and the hash with their terms replaced */
+    for (int i = 0; i < pk_nact; i++) {
+        int j = pk_act[i];
+        uint64_t x = pk_field(rec, j);
+        if (x == pk_par_c[j]) continue;
+        uint64_t v = pk_raw[j] ? x : pk_vals[j][x];
+        pk_par_h += pk_term(j, v) - pk_term(j, pk_par_w[j]);
+        pk_par_c[j] = x;
+        pk_par_w[j] = v;
+    }
+    memcpy(pk_par_rec, rec, PW * sizeof(uint64_t));
     pk_par_ok = 1;
     return pk_par_w;
 }
@@ -328,27 +374,36 @@ static void pk_start(void) {
     for (int j = 0; j < NWORDS; j++) { pk_bits[j] = 0; pk_raw[j] = 0; pk_n[j] = 0; }
     pk_place();
     if (!pk_on) PW = NWORDS;
-    pk_par_ok = 0;
+    pk_par_ok = 0; pk_par_set = 0;
 }
 
 static void pk_free(void) {
     for (int j = 0; j < NWORDS; j++) { free(pk_vals[j]); pk_vals[j] = 0; pk_n[j] = pk_cap[j] = 0; }
-    free(pk_tab); pk_tab = 0; pk_mask = 0; pk_count = 0;
-    pk_on = 0; PW = NWORDS; pk_par_ok = 0;
+    free(pk_tab); pk_tab = 0; pk_mask = 0; pk_count = 0; pk_vcap = 0;
+    pk_on = 0; PW = NWORDS; pk_par_ok = 0; pk_par_set = 0; pk_nact = 0;
 }
 
 static int64_t pk_bytes(void) {
     if (!pk_on) return 0;
-    int64_t b = (pk_mask + 1) * (int64_t)sizeof(PkEnt);
-    for (int j = 0; j < NWORDS; j++) b += pk_cap[j] * (int64_t)sizeof(uint64_t);
-    return b;
+    return (pk_mask + 1) * (int64_t)sizeof(PkEnt) + pk_vcap * (int64_t)sizeof(uint64_t);
 }
 
 static inline V slot_decode(int s, V code) {
     return (s >= NSLOTS || SLOT_BITS[s] == 64) ? code : SLOT_DECODE[s][code];
 }
 
+/* asm_run keeps its working state c->cur from one expanded state to the next and decodes again
+   only the slots of the words that differ (load_state_delta): ld_w are the words c->cur holds,
+   while ld_ok (any other load_state of that context ends it); ws_slot[ws_off[j] ..
+   ws_off[j + 1]) are the slots of word j */
+static Ctx ctx_static;
+static uint64_t ld_w[NWORDS > 0 ? NWORDS : 1];
+static int ld_ok = 0, ld_check = 0;
+static int64_t ld_bad = 0;
+static int ws_off[NWORDS + 1], ws_slot[NSLOTS > 0 ? NSLOTS : 1];
+
 static void load_state(Ctx *c, const uint64_t *w) {
+    if (c == &ctx_static) ld_ok = 0;
     for (int s = 0; s < NSLOTS; s++) {
         uint64_t word = w[SLOT_WORD[s]];
         if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
@@ -356,6 +411,36 @@ static void load_state(Ctx *c, const uint64_t *w) {
         c->cur[s] = SLOT_DECODE[s][code];
     }
 }
+
+static void load_state_delta(Ctx *c, const uint64_t *w) {
+    if (!ld_ok) {
+        load_state(c, w);
+        memcpy(ld_w, w, NWORDS * sizeof(uint64_t));
+        ld_ok = 1;
+        return;
+    }
+    for (int j = 0; j < NWORDS; j++) {
+        uint64_t word = w[j];
+        if (word == ld_w[j]) continue;
+        ld_w[j] = word;
+        for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
+            int s = ws_slot[i];
+            if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
+            int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
+            c->cur[s] = SLOT_DECODE[s][code];
+        }
+    }
+    if (ld_check) {     /* (tests) the working state is what a whole load gives */
+        V full[NSLOTS > 0 ? NSLOTS : 1];
+        memcpy(full, c->cur, sizeof(full));
+        load_state(c, w);
+        if (memcmp(full, c->cur, NSLOTS * sizeof(V)) != 0) ld_bad++;
+        ld_ok = 1;
+    }
+}
+/* tests: compare each delta load with a whole one (on), and count the differences */
+void asm_check_loads(int64_t on) { ld_check = on != 0; ld_bad = 0; }
+int64_t asm_load_differences(void) { return ld_bad; }
 
 static void store_state(Ctx *c, const uint64_t *old, uint64_t *w) {
     memcpy(w, old, NWORDS * sizeof(uint64_t));
@@ -371,8 +456,6 @@ static void store_state(Ctx *c, const uint64_t *old, uint64_t *w) {
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)c->upd_code[i] << SLOT_SHIFT[s]);
     }
 }
-
-static Ctx ctx_static;
 
 /* the successor's values (for step properties and INVAR) */
 static void make_post(Ctx *c) {
@@ -440,11 +523,12 @@ static int add_edge(uint32_t a, uint32_t b) {
 
 /* the wide slots (64 bits), listed by asm_start */
 static int wide_slots[NSLOTS > 0 ? NSLOTS : 1], nwide = 0;
-static void note_range(const uint64_t *w, int64_t depth) {
+static void note_range(const uint64_t *w, int64_t depth, const uint64_t *par) {
     for (int i = 0; i < nwide; i++) {
         int s = wide_slots[i];
         V v = (V)w[SLOT_WORD[s]];
         if (v == UNDEF) continue;
+        if (par && (V)par[SLOT_WORD[s]] == v) continue;    /* noted when the parent was new */
         if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
         if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
         if (v < S.wlo[s]) S.wlo[s] = v;
@@ -457,6 +541,15 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     asm_free();                      /* a previous search in this process */
     pk_start();
     memset(&ctx_static, 0, sizeof(Ctx));
+    ld_ok = 0;
+    memset(ws_off, 0, sizeof(ws_off));
+    for (int s = 0; s < NSLOTS; s++) ws_off[SLOT_WORD[s] + 1]++;
+    for (int j = 0; j < NWORDS; j++) ws_off[j + 1] += ws_off[j];
+    {
+        int fill[NWORDS + 1];
+        memcpy(fill, ws_off, sizeof(fill));
+        for (int s = 0; s < NSLOTS; s++) ws_slot[fill[SLOT_WORD[s]]++] = s;
+    }
     ctx_static.seqstart = -1;
     ctx_static.rd = ctx_static.cur;
     memset(&S, 0, sizeof(S));
@@ -479,7 +572,7 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     for (int64_t i = 0; i < ninit; i++) {
         int isnew;
         if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { S.status = 5; return 5; }
-        note_range(inits + i * NWORDS, 0);
+        note_range(inits + i * NWORDS, 0, 0);
     }
     S.level_end = nstates;
     S.status = -1;                   /* running */
@@ -816,10 +909,11 @@ static void fill_out(int64_t *out, int status) {
 /* the bookkeeping of successor tid of state sid (in the enumeration's order; isnew: first met
    here; w its words, mask its step-property masks): depth and ranges, the transition and its edge,
    the step properties it violates.  0: out of memory */
-static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint64_t *w, const uint64_t *mask) {
+static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint64_t *w, const uint64_t *mask,
+                                 const uint64_t *par) {
     if (isnew) {
         if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
-        note_range(w, S.depth + 1);
+        note_range(w, S.depth + 1, par);
     }
     if (sset_first(&succs, tid)) {
         S.transitions++;
@@ -900,6 +994,52 @@ static int step_failed_at(int64_t sid, int steperr) {
     return ef_state(sid) ? 1 : -1;
 }
 
+static uint64_t *pre_h = 0, *pre_rec = 0;     /* asm_run: its successors' hashes and records */
+static int64_t pre_cap = 0;
+
+/* The invariants a state must be checked for: those that read a bit (INV_W, INV_M, from the code
+ * generator) that differs from the parent's, where every invariant not violated yet held (it was
+ * checked, or held in its own parent, and so on up to an initial state, checked for all).  asm_run
+ * notes them when it first meets the state (inv_need[sid]); a state it did not meet (an initial
+ * one, one the threaded search stored) is checked for all. */
+#if NINV <= 8
+typedef uint8_t InvNeed;
+#elif NINV <= 16
+typedef uint16_t InvNeed;
+#elif NINV <= 32
+typedef uint32_t InvNeed;
+#else
+typedef uint64_t InvNeed;
+#endif
+#define INV_SKIP (NINV > 0 && NINV <= 64)
+static InvNeed *inv_need = 0;
+static int64_t inv_cap = 0;
+
+/* the invariants to check in state tid, first met as a successor of the state of words par */
+static int inv_note(int64_t tid, const uint64_t *w, const uint64_t *par) {
+#if INV_SKIP
+    if (tid >= inv_cap) {
+        int64_t nc = inv_cap ? inv_cap * 2 : 4096;
+        while (nc <= tid) nc *= 2;
+        InvNeed *x = (InvNeed *)realloc(inv_need, nc * sizeof(InvNeed));
+        if (!x) return 0;
+        memset(x + inv_cap, 0xff, (nc - inv_cap) * sizeof(InvNeed));
+        inv_need = x;
+        inv_cap = nc;
+    }
+    InvNeed need = 0;
+    for (int k = 0; k < NINV; k++) {
+        if (INV_ALL[k]) { need |= (InvNeed)1 << k; continue; }
+        for (int i = INV_OFF[k]; i < INV_OFF[k + 1]; i++)
+            if ((w[INV_W[i]] ^ par[INV_W[i]]) & INV_M[i]) { need |= (InvNeed)1 << k; break; }
+    }
+    inv_need[tid] = need;
+#else
+    (void)tid; (void)w; (void)par;
+#endif
+    return 1;
+}
+
 int64_t asm_run(double slice_seconds, int64_t *out) {
     Ctx *c = &ctx_static;
     /* Ctrl-C while the search runs in C: noted here, answered by returning (status 7) */
@@ -926,12 +1066,17 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             S.level_end = nstates;
         }
         const uint64_t *sw = state_words(sid);
-        load_state(c, sw);
+        load_state_delta(c, sw);
         c->self = UNDEF;
         c->epoch = ++global_epoch;
-        /* invariants */
+        /* invariants (those whose words differ from the parent's) */
+#if INV_SKIP
+        uint64_t need = sid < inv_cap ? (uint64_t)inv_need[sid] : ~0ULL;
+#else
+        uint64_t need = ~0ULL;
+#endif
         for (int k = 0; k < NINV; k++) {
-            if (S.violated[k]) continue;
+            if (S.violated[k] || !((need >> (k & 63)) & 1)) continue;
             c->err = 0;
             V v = check_invariant(c, k);
             if (c->err == E_UNSUPPORTED || c->err == E_CHOICES || c->err == E_MEMORY) {
@@ -966,11 +1111,43 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         const uint64_t *sbuf = sb0.w, *smask = sb0.m;
         int only_self = 1;
         if (!sset_reset(&succs, nbuf)) { status = 5; goto finish; }
+        /* the successors' records and hashes first (as far as no field must widen), their table
+           entries fetched meanwhile */
+        int64_t npre = 0;
+        if (nbuf > pre_cap) {
+            int64_t nc = pre_cap ? pre_cap : 64;
+            while (nc < nbuf) nc *= 2;
+            uint64_t *x = (uint64_t *)realloc(pre_h, nc * sizeof(uint64_t));
+            if (!x) { status = 5; goto finish; }
+            pre_h = x;
+            x = (uint64_t *)realloc(pre_rec, nc * (PW > NWORDS ? PW : NWORDS) * sizeof(uint64_t));
+            if (!x) { status = 5; goto finish; }
+            pre_rec = x;
+            pre_cap = nc;
+        }
+        if (pk_on && pk_par_ok) {
+            for (; npre < nbuf; npre++) {
+                if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre)) break;
+                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
+            }
+        } else if (!pk_on) {
+            for (; npre < nbuf; npre++) {
+                pre_h[npre] = hash_state(sbuf + npre * NWORDS);
+                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
+            }
+        }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
             int isnew;
-            int64_t tid = intern(wb, (uint32_t)sid, &isnew);
-            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b)) { status = 5; goto finish; }
+            int64_t tid = b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
+                pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
+                intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
+            /* (the parent's words: the plain store's may have moved as it grew) */
+            const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
+            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par)) {
+                status = 5; goto finish;
+            }
+            if (isnew && !inv_note(tid, wb, par)) { status = 5; goto finish; }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid) only_self = 0;
         }
@@ -991,7 +1168,7 @@ done:
 int64_t asm_parent(int64_t sid) { return parents[sid] == 0xffffffffu ? -1 : (int64_t)parents[sid]; }
 
 void asm_state(int64_t sid, uint64_t *out) {
-    if (pk_on) pk_decode(states + sid * PW, out, 0);
+    if (pk_on) pk_decode(states + sid * PW, out);
     else memcpy(out, states + sid * NWORDS, NWORDS * sizeof(uint64_t));
 }
 
@@ -1011,7 +1188,7 @@ int64_t asm_find(const uint64_t *w) {
         pk_pack(codes, rec);
         key = rec;
         nw = PW;
-        hh = hash_words(rec, PW);
+        hh = pk_state_hash(w);
     } else {
         hh = hash_state(w);
     }
@@ -1075,6 +1252,8 @@ int64_t asm_values(void) { return nvals; }
 void asm_free(void) {
     vt_free();
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
+    free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
+    free(inv_need); inv_need = 0; inv_cap = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     pk_free();
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
@@ -1857,7 +2036,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             if (tid < 0) tid = C.anum[-1 - tid];
             int isnew = tid == run_n;
             if (isnew) run_n++;
-            if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q)) { status = 5; break; }
+            if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q, 0)) { status = 5; break; }
             if (failing && !ef_succ(tid)) { status = 5; break; }
             if (tid != sid) only_self = 0;
         }

@@ -79,6 +79,7 @@ typedef struct {
     uint32_t pgen_cur;
     uint32_t pgen[NMON > 0 ? NMON : 1];
     V pmon[NMON > 0 ? NMON : 1];
+    int32_t rdepth;      /* calls of derived functions and rules within one another (MAX_RECURSION) */
 } Ctx;
 
 static int choice(Ctx *c, int n) {
