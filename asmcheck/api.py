@@ -21,13 +21,13 @@ import signal
 import threading
 import time
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from .errors import AsmError, UsageError, interrupt_reason
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
-from .explore.bfs import Explorer, ReplayError, Result, TimeUp
+from .explore.bfs import Explorer, ReplayError, Result, TimeLimit, TimeUp
 from .explore.store import memory_in_use  # noqa: F401  (part of the API)
 from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
@@ -417,11 +417,27 @@ def _deadline(machine, seconds):
         machine.deadline = old
 
 
-ONE_WORKER_NOTE = ("a step fails: the search ran again on one worker, which explores the well-defined successors "
-                   "of a state where a step fails (the partitioned search stops there)")
-
 # the grace a search has past its time limit before the watchdog stops it from outside
 WATCHDOG_GRACE = 1.0
+
+
+def _checked_out_of_time(ex, state_props, deadlock, seconds) -> Result:
+    """The result of a native search whose time limit ended the check of the states where a step
+    fails (the Python step function recovers their errors, :meth:`NativeExplorer._failed_steps`):
+    incomplete, with the search's counts and how far the check got; no violation is reported, as
+    the errors (and the order of the violations) are not known."""
+    states, transitions, depth = getattr(ex, "counts", (getattr(ex, "nstates", 0), 0, 0))
+    done, total = getattr(ex, "failed_checked", (0, 0))
+    stop = TimeLimit(ex.max_seconds, f" while the Python step function recovered the errors of the states where "
+                                     f"a step fails ({done:,} of {total:,} checked, after a search of "
+                                     f"{states:,} states)")
+    result = Result("incomplete", states, transitions, depth, seconds, [], stop.text(), list(state_props))
+    result.time_limit = stop
+    result.deadlock_checked = deadlock
+    result.engine = "native"
+    result.workers = ex.workers
+    result.compile_seconds = getattr(ex, "compile_seconds", 0.0)
+    return result
 
 
 def _label_atoms(machine, temporal):
@@ -503,21 +519,6 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                                           max_memory=max_memory, deadlock=deadlock, engine=engine,
                                           keep_graph=keep_graph, progress=progress)
-        if (not (scaling or {}).get("bitstate") and not getattr(result, "interrupted", False)
-                and any(v.prop.name == "error" for v in result.violations)):
-            # the partitioned search stops at a state where a step fails; the sequential search
-            # keeps the state's well-defined successors (docs/run-time-errors.md), so it runs again
-            search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
-            ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
-                          deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
-                          step_props=step_props, max_memory=max_memory, memory=memory_in_use, warn=warn)
-            with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
-                    _deadline(machine, search_seconds):
-                result = ex.run()
-            result.engine = "python"
-            result.notes = [ONE_WORKER_NOTE]
-            result.scaling_note = ONE_WORKER_NOTE
-            interrupted = getattr(result, "interrupted", False)
     elif which == "native":
         from .explore.native import NativeExplorer, Unsupported
         try:
@@ -532,7 +533,13 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             try:
-                result = ex.run()
+                # the Python step function that recovers the errors of the states where a step
+                # fails has the time the search had
+                ex.check_deadline = None if search_seconds is None else time.monotonic() + search_seconds
+                try:
+                    result = ex.run()
+                except DeadlineReached:
+                    result = _checked_out_of_time(ex, state_props, deadlock, time.perf_counter() - t0)
                 if graph:
                     # every step with its choices, checked against the native edges (else the Python engine)
                     if result.verdict == "incomplete":
@@ -567,11 +574,12 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.engine = "python"
         result.native_refused = refused
         interrupted = getattr(result, "interrupted", False)
-    if max_seconds is not None and result.reason.startswith("time limit"):
+    stop = getattr(result, "time_limit", None)
+    if max_seconds is not None and stop is not None:
         # the whole command's limit (the search had what was left of it); what the search was
         # doing when it stopped stays
-        rest = result.reason.split(" reached", 1)[1] if " reached" in result.reason else ""
-        result.reason = f"time limit {max_seconds} s reached{rest}"
+        result.time_limit = replace(stop, seconds=max_seconds)
+        result.reason = result.time_limit.text()
     temporal_results = []
     temporal_note = ""
     temporal_error = ""
@@ -585,7 +593,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             with _watchdog(left), _deadline(machine, left):
                 temporal_results = check_temporal(ex, temporal, fair=list(fair or []))
         except (TimeUp, DeadlineReached):
-            temporal_note = f"time limit {max_seconds} s reached in the LTL/CTL phase"
+            temporal_note = TimeLimit(max_seconds, " in the LTL/CTL phase").text()
             temporal_results = []
         except KeyboardInterrupt as exc:
             interrupted = True
@@ -1100,7 +1108,7 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         return _gate.error_outcome(path, located_recursion_error(exc, path), root, clock() - t0)
     except (KeyboardInterrupt, MemoryError, TimeUp) as exc:
         why = (interrupt_reason(exc) if isinstance(exc, KeyboardInterrupt) else
-               "out of memory" if isinstance(exc, MemoryError) else "time limit reached")
+               "out of memory" if isinstance(exc, MemoryError) else TimeLimit().text())
         out = _gate.SpecOutcome(_gate.display_path(path, root), "", "incomplete", reason=why, seconds=clock() - t0)
         out.properties = [_gate.judge(_gate.PropertyOutcome("(not checked)", "input", "incomplete", message=why),
                                       False, False)]

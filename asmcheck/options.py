@@ -7,6 +7,7 @@ import os
 import re
 
 from .errors import AsmError, UsageError
+from .semantics.advice import monitored_hint, too_big
 from .explore.store import default_max_memory  # noqa: F401  (part of the options' API)
 
 # 64-bit integers, as the step function computes them
@@ -60,7 +61,7 @@ def parse_range(text: str, what: str = "--monitored"):
     if ".." in text and not text.strip().startswith('"'):
         lo, hi = parse_int_range(text, what)
         return range(lo, hi + 1)
-    parts = [p.strip() for p in text.split(",")]
+    parts = [p.strip() for p in split_values(text)]
     if any(p == "" for p in parts):
         raise UsageError(f"{what}: {text!r} has an empty value")
     return [Word(p) for p in parts]
@@ -68,6 +69,83 @@ def parse_range(text: str, what: str = "--monitored"):
 
 class Word(str):
     """A value as written on the command line, to be read against a codomain."""
+
+
+def split_values(text: str) -> list:
+    """``v1,v2,...`` cut at the commas outside brackets and quotes (a set ``{1, 2}``, a tuple
+    ``(0, 1)`` or a sequence ``[a, b]`` is one value)."""
+    out, depth, quote, cur = [], 0, False, []
+    for ch in text:
+        if ch == '"':
+            quote = not quote
+        elif not quote and ch in "({[":
+            depth += 1
+        elif not quote and ch in ")}]":
+            depth -= 1
+        elif ch == "," and depth == 0 and not quote:
+            out.append("".join(cur))
+            cur = []
+            continue
+        cur.append(ch)
+    out.append("".join(cur))
+    return out
+
+
+def _squeeze(text: str) -> str:
+    """``text`` without the blanks outside quotes (``{1,2}`` and ``{1, 2}`` are one value)."""
+    return "".join(p if i % 2 else re.sub(r"\s+", "", p) for i, p in enumerate(text.split('"')))
+
+
+def _parse_value(word: str, typ, machine, what: str, f):
+    """A composite value written on the command line (tuples ``(a, b)``, sets ``{a, b}``,
+    sequences ``[a, b]`` of numbers, booleans, strings and enum constants), read against ``typ``."""
+    from .semantics import types as T
+    from .semantics.values import SeqV, SetV, show
+    root = typ.root() if hasattr(typ, "root") else typ
+    word = word.strip()
+
+    def bad():
+        return UsageError(f"{what}: {word!r} is not a value of {typ} ({f.name} ranges over {f.codomain})")
+    if isinstance(root, T.Struct) and root.kind in ("Prod", "Powerset", "Seq"):
+        opener, closer = {"Prod": "()", "Powerset": "{}", "Seq": "[]"}[root.kind]
+        if not (word.startswith(opener) and word.endswith(closer)):
+            raise bad()
+        inner = word[1:-1].strip()
+        parts = [p for p in split_values(inner)] if inner else []
+        if root.kind == "Prod":
+            if len(parts) != len(root.args):
+                raise bad()
+            v = tuple(_parse_value(p, a, machine, what, f) for p, a in zip(parts, root.args))
+        else:
+            items = [_parse_value(p, root.args[0], machine, what, f) for p in parts]
+            v = SetV(items) if root.kind == "Powerset" else SeqV(items)
+    elif root is T.BOOLEAN:
+        if word not in ("true", "false"):
+            raise bad()
+        v = word == "true"
+    elif root in (T.INTEGER, T.NATURAL):
+        v = _int(word, what)
+        if root is T.NATURAL and v < 0:
+            raise bad()
+    elif root is T.REAL:
+        try:
+            v = float(word)
+        except ValueError:
+            raise bad() from None
+    elif root is T.STRING:
+        v = word[1:-1] if len(word) >= 2 and word[0] == word[-1] == '"' else word
+    elif isinstance(root, T.Domain) and root.kind == "enum":
+        v = next((e for e in root.elements if show(e) == word), None)
+        if v is None:
+            raise bad()
+    else:
+        raise UsageError(f"{what}: asmcheck cannot read values of {typ} ({f.name}) from the command line")
+    # a subset domain's elements: the value must be one of them
+    if (machine is not None and typ is not root and isinstance(typ, T.Domain) and typ.kind == "subset"
+            and typ.definition is not None):
+        if v not in set(machine.domain_values(typ, None, f.span)):
+            raise UsageError(f"{what}: {show(v)} is not in {typ} ({f.name} ranges over {f.codomain})")
+    return v
 
 
 def _codomain_values(machine, f):
@@ -79,13 +157,14 @@ def _codomain_values(machine, f):
         return None
 
 
-def _read_value(word: str, f, codomain, what: str):
+def _read_value(word: str, f, codomain, what: str, machine=None):
     """A word of the command line as a value of ``f``'s codomain."""
     from .semantics import types as T
     from .semantics.values import show
     if codomain is not None:
+        squeezed = _squeeze(word)
         for v in codomain:
-            if show(v) == word or (isinstance(v, str) and v == word.strip('"')):
+            if show(v) == word or (isinstance(v, str) and v == word.strip('"')) or _squeeze(show(v)) == squeezed:
                 return v
         shown = ", ".join(show(v) for v in list(codomain)[:12]) + (", ..." if len(codomain) > 12 else "")
         raise UsageError(f"{what}: {word!r} is not a value of {f.name}'s codomain {f.codomain} ({shown})")
@@ -102,15 +181,15 @@ def _read_value(word: str, f, codomain, what: str):
             raise UsageError(f"{what}: {word!r} is not a Real ({f.name} ranges over {f.codomain})") from None
     if root is T.STRING:
         return word[1:-1] if len(word) >= 2 and word[0] == word[-1] == '"' else word
-    raise UsageError(f"{what}: asmcheck cannot read values of {f.codomain} ({f.name}) from the command line")
+    return _parse_value(word, f.codomain, machine, what, f)
 
 
-def _check_value(v, f, codomain, what: str):
+def _check_value(v, f, codomain, what: str, machine=None):
     """A Python value given for ``f`` through the API: it must belong to the codomain."""
     from .semantics import types as T
     from .semantics.values import show
     if isinstance(v, Word):
-        return _read_value(str(v), f, codomain, what)
+        return _read_value(str(v), f, codomain, what, machine)
     if codomain is not None:
         for c in codomain:
             if c is v or (type(c) is type(v) and c == v):
@@ -138,7 +217,9 @@ def monitored_ranges(machine, monitored: dict) -> dict:
     from .semantics import types as T
     by_name = {}
     for f in machine.spec.functions:
-        by_name.setdefault(f.name, f)
+        # (a name declared in several modules: the monitored declaration is the one given values)
+        if f.name not in by_name or (f.kind == "monitored" and by_name[f.name].kind != "monitored"):
+            by_name[f.name] = f
     mons = sorted(f.name for f in machine.spec.functions if f.kind == "monitored")
     out = {}
     for name, values in monitored.items():
@@ -182,7 +263,7 @@ def monitored_ranges(machine, monitored: dict) -> dict:
             raise UsageError(f"{what}: no values given")
         seen = []
         for v in items:
-            cv = _check_value(v, f, codomain, what)
+            cv = _check_value(v, f, codomain, what, machine)
             if not any(cv is s or (type(cv) is type(s) and cv == s) for s in seen):
                 seen.append(cv)
         out[name] = seen
@@ -225,10 +306,14 @@ def unbounded_monitored(machine) -> None:
         return
     f = bad[0]
     if len(bad) == 1:
-        raise AsmError(f.span, f"monitored function {f.name} ranges over {f.codomain}, which is infinite: give its "
-                               f"values with --monitored {f.name}=LO..HI (or --int-range LO..HI)")
-    names = ", ".join(g.name for g in bad)
-    opts = " ".join(f"--monitored {g.name}=LO..HI" for g in bad)
-    raise AsmError(f.span, f"{len(bad)} monitored functions range over infinite domains ({names}): give their "
-                           f"values with {opts} (or --int-range LO..HI)",
+        raise AsmError(f.span, f"monitored function {f.name} ranges over {f.codomain}, which is "
+                               f"{too_big(f)}: give its values with {monitored_hint(f)}")
+    # (functions of the same name in several modules: --monitored NAME gives the values of all)
+    first = list({g.name: g for g in reversed(bad)}.values())[::-1]
+    names = ", ".join(g.name for g in first)
+    ints = [g for g in first if monitored_hint(g).endswith("(or --int-range LO..HI)")]
+    opts = "; ".join([" ".join(f"--monitored {g.name}=LO..HI" for g in ints) + " (or --int-range LO..HI)"] * bool(ints)
+                     + [monitored_hint(g) for g in first if g not in ints])
+    big = "infinite domains" if all(too_big(g) == "infinite" for g in first) else "infinite or too large domains"
+    raise AsmError(f.span, f"{len(first)} monitored functions range over {big} ({names}): give their values with {opts}",
                    notes=[(g.span, f"monitored function {g.name} ranges over {g.codomain}") for g in bad[1:]])

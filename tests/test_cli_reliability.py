@@ -229,15 +229,15 @@ def test_max_seconds_bounds_the_whole_command_even_inside_one_step(tmp_path):
     assert wall < 2 + 4, wall                 # the step alone runs for minutes
 
 
-def sequences_before_the_limit(stdout: str, seconds: str, after_a: str) -> int:
+def sequences_before_the_limit(stdout: str, seconds: str, after_a: str, a_values: str = "2,001") -> int:
     """The report's 'incomplete:' line for a time limit met inside state 0's enumeration of the
-    inputs a and b (2,001 values each; ``after_a``: the pattern of what the line names after a):
-    the number of sequences of choices it gives."""
+    inputs a and b (``a_values`` values each; ``after_a``: the pattern of what the line names
+    after a): the number of sequences of choices it gives."""
     import re
     line = next(ln for ln in stdout.splitlines() if ln.startswith("incomplete:"))
     m = re.fullmatch(rf"incomplete: time limit {re.escape(seconds)} s reached, while enumerating the successors "
                      rf"of state 0 \(([\d,]+) sequences of choices so far; its step chooses among "
-                     rf"a \(2,001 values\){after_a}\); bound the monitored inputs with --monitored "
+                     rf"a \({a_values} values\){after_a}\); bound the monitored inputs with --monitored "
                      rf"NAME=LO\.\.HI or NAME=V1,V2", line)
     assert m, line
     return int(m.group(1).replace(",", ""))
@@ -279,7 +279,7 @@ signature:
 	monitored a: D
 	monitored b: D
 definitions:
-	domain D = {0 : 2000}
+	domain D = {0 : 999}
 	invariant inv_x over x: x >= 0
 	main rule r_main = par
 		x := a + b
@@ -292,14 +292,15 @@ default init s0:
 
 @pytest.mark.engines("native")
 def test_the_native_engine_also_names_the_inputs_that_multiply_at_a_time_limit(tmp_path):
-    # the same diagnosis from the compiled search, stopped inside state 0's 4 M sequences of
-    # inputs (each with up to 2,000 updates: far fewer than the 1,000,000 it would refuse at)
+    # the same diagnosis from the compiled search, stopped inside state 0's 1,000,000 sequences of
+    # inputs (each with up to 1,000 updates: the time limit comes far before the last of them; a
+    # state whose choice sizes multiply beyond 1,000,000 is refused before its enumeration)
     path = write(tmp_path, WIDE_HEAVY)
     res = run_cli("explore", path, "--max-seconds", "3", "--engine", "native")
     clean(res.stdout + res.stderr)
     assert res.returncode == 3
     assert "native engine" in res.stdout.splitlines()[0]
-    assert 1000 <= sequences_before_the_limit(res.stdout, "3.0", r", b \(2,001 values\)") < 1_000_000
+    assert 1000 <= sequences_before_the_limit(res.stdout, "3.0", r", b \(1,000 values\)", "1,000") < 1_000_000
 
 
 def test_a_limit_keeps_every_property_in_every_report(tmp_path, capsys):

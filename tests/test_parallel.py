@@ -324,16 +324,16 @@ default init s0:
 @pytest.mark.parametrize("workers", [1, 2, 3])
 def test_a_failing_step_gives_the_sequential_report_whatever_the_workers(write_spec, workers):
     """A step fails from n = 1 when go is true: every worker count gives the sequential report (the
-    well-defined successor of n = 1 kept, the invariant broken beyond the error); with more than
-    one worker the search runs again on one, and the report says so.  (Pickling the step's error
-    between processes once crashed the run.)"""
+    well-defined successor of n = 1 kept, the invariant broken beyond the error), from the
+    partitioned search itself, with no note.  (Pickling the step's error between processes once
+    crashed the run.)"""
     import asmcheck
-    from asmcheck.api import ONE_WORKER_NOTE
     run = asmcheck.load(write_spec(CLASH_ON_INPUT)).explore(workers=workers, engine="python")
     assert (run.states, run.transitions, run.verdict) == (4, 4, "violated")
     assert [v.property for v in run.violations] == ["error", "inv_small"]
     assert [len(v.trace.raw.steps) - 1 for v in run.violations] == [1, 3]
-    assert run.scaling_lines() == ([] if workers == 1 else [ONE_WORKER_NOTE])
+    assert run.scaling_lines() == []
+    assert getattr(run.result, "workers", 1) == workers
 
 
 def test_a_step_error_survives_pickling():

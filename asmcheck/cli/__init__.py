@@ -22,6 +22,7 @@ import threading
 
 from ..version import __version__
 from ..errors import AsmError, Terminated, UsageError
+from .startup import python_interrupts, quiet_interrupts
 from . import advise, bmc, check, common, conform, explore, lsp, parse, scenario, simulate, testgen
 from .common import EXIT_ERROR, EXIT_INCOMPLETE
 
@@ -71,6 +72,23 @@ def _sigterm_as_interrupt():
 
 
 def main(argv: list[str] | None = None) -> int:
+    started = False
+    try:
+        try:
+            # started as the program (asmcheck/cli/startup.py): Python's handler of Ctrl-C again
+            started = python_interrupts()
+            return _main(argv)
+        finally:
+            if started:
+                # (the report is out: a Ctrl-C from here on ends the program quietly)
+                quiet_interrupts(after=True)
+    except KeyboardInterrupt:
+        # before the command took over its interrupts (the arguments, the parser)
+        common.error("asmcheck: interrupted before any result")
+        return EXIT_INCOMPLETE
+
+
+def _main(argv: list[str] | None = None) -> int:
     argv = common.join_range_arguments(list(sys.argv[1:] if argv is None else argv))
     parser = build_parser()
     with common.guarded_stdout():

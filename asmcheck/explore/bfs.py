@@ -32,6 +32,20 @@ class Violation:
     error: AsmError | None = None
 
 
+@dataclass(frozen=True)
+class TimeLimit:
+    """Why a run stopped on its time limit, in fields: ``seconds``, the limit (None: not known);
+    ``detail``, what the run was doing then (', while enumerating the successors of state 4 (...)',
+    ' in the LTL/CTL phase'; '' for a search stopped between two states).  :meth:`text` is the
+    one place that writes it as a reason."""
+    seconds: float | None = None
+    detail: str = ""
+
+    def text(self) -> str:
+        head = "time limit reached" if self.seconds is None else f"time limit {self.seconds} s reached"
+        return head + self.detail
+
+
 @dataclass
 class Result:
     verdict: str                 # holds violated incomplete
@@ -42,6 +56,7 @@ class Result:
     violations: list = field(default_factory=list)
     reason: str = ""             # why incomplete
     checked: list = field(default_factory=list)    # the properties checked
+    time_limit: TimeLimit | None = None            # the reason in fields, when the time limit ended the run
 
     @property
     def stopped_early(self) -> bool:
@@ -363,6 +378,7 @@ class Explorer:
         last_report = t0
         interrupted = False
         current = None
+        time_limit = None
         try:
             while frontier:
                 next_frontier = []
@@ -451,7 +467,8 @@ class Explorer:
                     now = time.perf_counter()
                     if self.max_seconds is not None and now - t0 >= self.max_seconds:
                         incomplete = True
-                        reason = f"time limit {self.max_seconds} s reached"
+                        time_limit = TimeLimit(self.max_seconds)
+                        reason = time_limit.text()
                         next_frontier = []
                         frontier = []
                         break
@@ -494,13 +511,15 @@ class Explorer:
                                                             getattr(exc, "choices", None), current)
         except (TimeUp, DeadlineReached) as exc:
             incomplete = True
-            reason = f"time limit {self.max_seconds} s reached" if self.max_seconds is not None else "time limit reached"
-            reason += stopped_inside(getattr(exc, "enumerated", 0) or 0, getattr(exc, "choices", None), current)
+            time_limit = TimeLimit(self.max_seconds, stopped_inside(getattr(exc, "enumerated", 0) or 0,
+                                                                    getattr(exc, "choices", None), current))
+            reason = time_limit.text()
         except MemoryError:
             incomplete = True
             reason = "out of memory"
-        if reason.startswith("time limit") and self.warnings:
-            reason += "; " + self.warnings[-1]
+        if time_limit is not None and self.warnings:
+            time_limit = TimeLimit(time_limit.seconds, time_limit.detail + "; " + self.warnings[-1])
+            reason = time_limit.text()
         self.finishing = True       # the search is over: what follows makes its result
         secs = time.perf_counter() - t0
         if violations:
@@ -513,6 +532,7 @@ class Explorer:
                      secs, violations, reason if incomplete else "", all_props)
         res.deadlock_checked = self.deadlock
         res.interrupted = interrupted
+        res.time_limit = time_limit
         return res
 
     # -------------------------------------------------------------- traces

@@ -4205,6 +4205,8 @@ class NativeExplorer:
             self._step_error(-1, 9, PseudoProperty, Violation)
         if self.keep_graph and (not self.qf or self._qf_edges_too):
             self._take_edges(out[9])
+        # (what the search counted: the result of a run whose time limit ends the check below)
+        self.counts = (nstates, transitions, depth)
         failed = self._failed_steps()
         violations = []
         for i in range(out[7]):
@@ -4239,10 +4241,12 @@ class NativeExplorer:
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
+        time_limit = None
         if status == 3:
-            reason += self._stopped_inside(out[5], out[4])
-        if status == 3 and self.warnings:
-            reason += "; " + self.warnings[-1]
+            from .bfs import TimeLimit
+            time_limit = TimeLimit(self.max_seconds, self._stopped_inside(out[5], out[4])
+                                   + ("; " + self.warnings[-1] if self.warnings else ""))
+            reason = time_limit.text()
         verdict = "violated" if violations else ("incomplete" if incomplete else "holds")
         res = Result(verdict, nstates, transitions, depth, secs, violations, reason if incomplete else "",
                      list(self.state_props) + list(self.step_props))
@@ -4250,6 +4254,7 @@ class NativeExplorer:
         res.engine = "native"
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
+        res.time_limit = time_limit
         return res
 
     def _take_edges(self, n: int) -> None:
@@ -4259,7 +4264,7 @@ class NativeExplorer:
         if take is not None:
             ends = []
             for which in (0, 1):
-                a = array("I", bytes(4 * max(n, 1)))
+                a = array("I", [0]) * max(n, 1)     # (no bytes object of the same size beside it)
                 take(which, (ctypes.c_uint32 * len(a)).from_buffer(a))
                 del a[n:]
                 ends.append(a)
@@ -4491,15 +4496,23 @@ class NativeExplorer:
         py = Explorer(self.m)          # its admitted_successors: the INVAR constraints, canonical names
         out: dict = {}
         for i, sid in enumerate(sids):
+            self.failed_checked = (i, n)   # (how far the check got, where a time limit ends it)
             m = self.dll.asm_err_succ(i, None, 0)
             buf = (ctypes.c_int64 * max(m, 1))()
             self.dll.asm_err_succ(i, buf, m)
             errors: list = []
+            # the check has the time the search had (``check_deadline``, time.monotonic(); the
+            # caller turns DeadlineReached into an incomplete result)
+            old_deadline = self.m.deadline
+            if getattr(self, "check_deadline", None) is not None:
+                self.m.deadline = self.check_deadline
             try:
                 succ = py.admitted_successors(self.state(sid), errors)
             except AsmError as exc:
                 raise Unsupported(f"the steps from a state where a step fails cannot be enumerated "
                                   f"({exc.message})") from None
+            finally:
+                self.m.deadline = old_deadline
             if not errors:
                 raise Unsupported("a run-time error of the native search that the Python step function does not make")
             # each successor once, in the order first made (a choose whose alternatives have the same

@@ -950,10 +950,21 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
     c->plen = 0;
     b->n = 0;
     *steperr = 0;
+    int first_run = 1;
     for (;;) {
         begin_run(c);
         step_main(c);
         if (MISSED()) return EXP_MISSED;
+        if (first_run) {
+            /* the sizes of the first run's choices multiplied: beyond MAX_SUCC the state is refused
+               now (as after MAX_SUCC runs), not after a million runs that leave the Python engine
+               no time; a product that overestimates an irregular tree of choices only hands the
+               spec to the Python engine */
+            double product = 1.0;
+            first_run = 0;
+            for (int32_t q = 0; q < c->pos; q++) product *= (double)c->cnt[q];
+            if (product > (double)MAX_SUCC) { *steperr = E_TOOMANY; b->n = 0; return EXP_OK; }
+        }
         if (c->err) {
             if (hard_error(c->err)) { *err = c->err; *site = c->err_site; return EXP_HARD; }
             /* a branch whose step fails: noted (the first error's code), and the enumeration goes
@@ -1632,9 +1643,10 @@ static int64_t table_bytes(int64_t n) {
 
 static int64_t memory_bytes(int64_t n) {
     return n * (int64_t)(PW * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n) + pk_bytes()
-        /* an edge is two ends here, and again in the arrays Python copies them into (with a
-           bytes object of one array's size while it fills) before these are freed */
-        + S.nedges * 5 * (int64_t)sizeof(uint32_t)
+        /* the edges: two arrays of ends here, as allocated (cap_edges, a function of nedges);
+           at the hand-over one more array of nedges ends, the one Python copies into before
+           asm_edges_take frees this one (three arrays at most at a time) */
+        + (2 * S.cap_edges + S.nedges) * (int64_t)sizeof(uint32_t)
         /* the temporal quotient's lists (asm_qf), here and in Python's copy, and its pairs */
         + QF.n * 2 * (int64_t)sizeof(uint32_t) + QF.noff * (int64_t)sizeof(int64_t) + QF.np * 20
         + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);

@@ -15,6 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..errors import AsmError
+from ..explore.bfs import error_edge, too_many_reason
+from ..semantics.choice import TooManySuccessors
 from .stable import StateHasher
 
 # kinds of property check results, in the order the sequential search meets them per state
@@ -26,6 +28,8 @@ class Expansion:
     """What expanding one state gives."""
     state_failures: list = field(default_factory=list)   # [(state property index, message, error)]
     error: tuple | None = None                           # (message, error) when no step can be computed
+    failed: list = field(default_factory=list)            # [error] of each branch whose step fails, in order
+    too_many: str | None = None                           # why the successors were not all enumerated
     succ: list = field(default_factory=list)              # [(key, picks)] in enumeration order
     step_failures: list = field(default_factory=list)    # [(successor index, step property index, message, error)]
     distinct: int = 0                                     # distinct successor states
@@ -95,11 +99,21 @@ class PythonExpander:
         res = Expansion(self.check_state(st, skip))
         if not successors:
             return res
+        # the well-defined successors; each branch whose step fails is an error, kept in the
+        # order the sequential search meets it (that search goes on past it, and so does this one)
+        failed: list = []
         try:
-            succ = ex.admitted_successors(st)
+            succ = ex.admitted_successors(st, failed)
+        except TooManySuccessors as e:
+            # a limit, not a property of the spec: the search stops at this state
+            res.too_many = too_many_reason(m, e)
+            return res
         except AsmError as e:
             res.error = (e.message, e)
             return res
+        for e in failed:
+            error_edge(0, e)            # (drops the frames of the step the error holds)
+        res.failed = failed
         layout = ex.layout
         me = layout.freeze(st)
         targets = set()
@@ -118,6 +132,7 @@ class PythonExpander:
                 if not ok:
                     res.step_failures.append((j, i, "", None))
         res.distinct = len(targets)
-        if self.deadlock and all(t == me for t in targets):
+        # a state where a step fails is not a deadlock: the error is reported
+        if self.deadlock and not failed and all(t == me for t in targets):
             res.deadlock = "no successor" if not targets else "the only successor is the state itself"
         return res

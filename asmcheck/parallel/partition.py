@@ -24,6 +24,7 @@ import time
 from array import array
 
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
+from ..explore.bfs import error_edge
 from .native_expand import Refused
 
 SHIFT = 32                       # discovery key = parent number << SHIFT | successor position
@@ -96,7 +97,10 @@ class Partition:
         failures = []
         transitions = 0
         self.sources = []
-        report = {"transitions": 0, "failures": failures, "stopped": None, "expanded": 0}
+        broken = []                 # states none of whose successors can be computed
+        branches = []               # (state, choices, error) of each failing branch (graph kept)
+        report = {"transitions": 0, "failures": failures, "stopped": None, "expanded": 0,
+                  "broken": broken, "error_edges": branches}
         try:
             self._check_memory()
             for count, sid in enumerate(self.frontier):
@@ -111,10 +115,23 @@ class Partition:
                     failures.append(((sid, K_STATE, 0, i), i, sid, None, (), msg, err))
                 if not successors:
                     continue
+                if e.too_many is not None:
+                    # the sequential search stops at this state: so does this partition (the
+                    # coordinator cuts the level there)
+                    report["too_many"] = (sid, e.too_many)
+                    break
                 if e.error is not None:
                     failures.append(((sid, K_ERROR, 0, 0), -1, sid, None, (), e.error[0], e.error[1]))
+                    broken.append(sid)
                     self.sources.append((sid, 0))
                     continue
+                if e.failed:
+                    # the state's well-defined successors are kept; its first failing branch is
+                    # its candidate for the 'error' violation
+                    err = e.failed[0]
+                    failures.append(((sid, K_ERROR, 0, 0), -1, sid, None, (), err.message, err))
+                    if self.keep_graph:
+                        branches.extend(error_edge(sid, err) for err in e.failed)
                 base = sid << SHIFT
                 succ = e.succ
                 for j, (k, picks) in enumerate(succ):

@@ -21,7 +21,7 @@ from __future__ import annotations
 import time
 from array import array
 
-from ..explore.bfs import DEADLOCK, PseudoProperty, Result, Violation
+from ..explore.bfs import DEADLOCK, PseudoProperty, Result, TimeLimit, Violation
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
 from .native_expand import MoreSlots, Refused
 from .partition import SHIFT, Partition
@@ -79,6 +79,7 @@ class PartitionedSearch:
         self.edges: list = []
         self.levels: list = []          # per level: (depth, frontier size, new states, seconds)
         self.peak_rss: list = [0] * self.n
+        self.error_edges: list = []     # (state, choices, error) of each failing branch (graph kept)
 
     def owner_of_key(self, key) -> int:
         return self.x.owner_hash(key) % self.n
@@ -97,6 +98,7 @@ class PartitionedSearch:
         transitions = 0
         n_states = 0
         depth_seen = 0
+        time_limit = None
 
         # level 0: the initial states, numbered in enumeration order
         seen = {}
@@ -132,8 +134,9 @@ class PartitionedSearch:
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,
                                      f"worker {w + 1} went over its memory share at depth {depth}")
             if stopped:
-                return self._partial(t0, n_states, transitions, depth_seen, chosen,
-                                     f"time limit {self.max_seconds} s reached")
+                res = self._partial(t0, n_states, transitions, depth_seen, chosen, TimeLimit(self.max_seconds).text())
+                res.time_limit = TimeLimit(self.max_seconds)
+                return res
             level_fail = {}
             for r in reports:
                 for rec in r["failures"]:
@@ -161,16 +164,23 @@ class PartitionedSearch:
                 tagged.extend(keys)
             new_total = len(tagged)
             level_transitions = sum(r["transitions"] for r in reports)
-            errors = {rec[0][0] for r in reports for rec in r["failures"] if rec[0][1] == K_ERROR}
+            # the states none of whose successors can be computed (a state with a failing branch
+            # keeps its well-defined successors, as in the sequential search)
+            errors = {s for r in reports for s in r["broken"]}
+            branches = [b for r in reports for b in r["error_edges"]]
+            too_many = min((r["too_many"] for r in reports if r.get("too_many")), default=None)
             lo = n_states - frontier_size
-            cut = self._cut(level_fail, errors, chosen, n_states, lo, n_states, new_total, received)
+            cut = self._cut(level_fail, errors, chosen, n_states, lo, n_states, new_total, received, too_many)
             if cut is not None:
                 cut_sid, why = cut
                 stop = True
                 limit = (cut_sid + 1) << SHIFT
                 counts = {s: c for w in range(n) for s, c in self.b.call(w, "source_counts")}
                 level_transitions = sum(c for s, c in counts.items() if s <= cut_sid)
-                level_fail = {k: v for k, v in level_fail.items() if v[0][0] <= cut_sid}
+                # (the state where the enumeration stopped had its state properties checked)
+                level_fail = {k: v for k, v in level_fail.items() if v[0][0] <= cut_sid
+                              or (why == "too many" and v[0][0] == cut_sid + 1 and v[0][1] == K_STATE)}
+                branches = [b for b in branches if b[0] <= cut_sid]
                 # errors before the cut leave the run incomplete
                 if any(s <= cut_sid for s in errors):
                     incomplete = True
@@ -178,11 +188,17 @@ class PartitionedSearch:
                 if why == "state limit":
                     incomplete = True
                     reason = f"state limit {self.max_states} reached"
+                elif why == "too many":
+                    incomplete = True
+                    reason = too_many[1]
             else:
                 limit = None
-                if any(v[0][1] == K_ERROR for v in level_fail.values()):
+                if errors:
                     incomplete = True
                     reason = reason or "a step could not be computed"
+            if branches:
+                branches.sort(key=lambda b: b[0])       # (stable: a state's branches in their order)
+                self.error_edges.extend(branches)
             for name, rec in sorted(level_fail.items(), key=lambda kv: kv[1][0]):
                 if name not in chosen:
                     chosen[name] = (rec[0], rec)
@@ -229,7 +245,8 @@ class PartitionedSearch:
                 self.on_level(self, depth)
             if not stop and self.max_seconds is not None and time.time() > deadline and frontier_size:
                 incomplete = True
-                reason = f"time limit {self.max_seconds} s reached"
+                time_limit = TimeLimit(self.max_seconds)
+                reason = time_limit.text()
                 break
         self.n_states = n_states
         violations = [self._violation(chosen[name][1]) for name in
@@ -238,6 +255,7 @@ class PartitionedSearch:
         res = Result(verdict, n_states, transitions, depth_seen, time.perf_counter() - t0, violations,
                      reason if incomplete else "", all_props)
         res.deadlock_checked = self.deadlock
+        res.time_limit = time_limit if incomplete else None
         return res
 
     # -------------------------------------------------------------- helpers
@@ -249,22 +267,29 @@ class PartitionedSearch:
             return self.step_props[i].name
         return "error" if kind == K_ERROR else "deadlock"
 
-    def _cut(self, level_fail, errors, chosen, n_states, lo, hi, new_total, received):
+    def _cut(self, level_fail, errors, chosen, n_states, lo, hi, new_total, received, too_many=None):
         """Where inside this level (states lo..hi-1) the sequential search stops, or None: the
         state after whose successors it stops, and why.  The sequential search checks its limits
-        after each state whose successors it computed (not after a state whose step failed)."""
+        after each state whose successors it computed (not after a state none of whose steps
+        could be computed).  ``too_many``: (the first state whose successors could not all be
+        enumerated, why), where the sequential search stops before that state's successors."""
         def first_full(s):
             while s < hi and s in errors:
                 s += 1
             return s if s < hi else None
 
         cands = []
+        if too_many is not None:
+            cands.append((too_many[0] - 1, "too many"))
         total = len(self.state_props) + len(self.step_props) + (1 if self.deadlock else 0)
         if total and not self.keep_graph:
-            names = set(chosen)
+            # (as in the sequential search, an error is not one of the properties)
+            names = set(chosen) - {"error"}
             trigger = lo if len(names) >= total else None
-            if trigger is None and len(names | set(level_fail)) >= total:
+            if trigger is None and len(names | (set(level_fail) - {"error"})) >= total:
                 for name, rec in sorted(level_fail.items(), key=lambda kv: kv[1][0]):
+                    if name == "error":
+                        continue
                     names.add(name)
                     if len(names) >= total:
                         trigger = rec[0][0]
@@ -292,8 +317,9 @@ class PartitionedSearch:
                         break
         if not cands:
             return None
-        # at the same state the sequential search checks the state limit first
-        return min(cands, key=lambda c: (c[0], c[1] != "state limit"))
+        # at the same state the sequential search checks the state limit first; it stops at a
+        # limit after a state's successors before it meets the next state's enumeration
+        return min(cands, key=lambda c: (c[0], c[1] == "too many", c[1] != "state limit"))
 
     def _partial(self, t0, n_states, transitions, depth_seen, chosen, reason) -> Result:
         """The report of a search that a worker's limit ended: what the completed levels found."""

@@ -52,6 +52,8 @@ class PartitionedExplorer(Explorer):
         """After the search: gather the graph (when kept) or fetch the states the traces need."""
         s = self.search
         self._n = s.n_states
+        # the failing branches, in the sequential search's order (for asmcheck.temporal's halts)
+        self.error_edges = list(s.error_edges)
         if self.keep_graph:
             self._gather()
         else:

@@ -165,6 +165,9 @@ class Machine(TermEvaluator, RuleExecutor):
                                      f"(bound it with a subset domain, or give --int-range LO..HI)")
         if isinstance(dom, T.Struct):
             if dom.kind == "Prod":
+                size = self._product_size(dom, ctx, span)
+                if size > self.MAX_PRODUCT:
+                    raise Undetermined(span, f"the domain {dom} has {size:,} elements: too many to enumerate")
                 parts = [self.domain_values(a, ctx, span) for a in dom.args]
                 # a product is read again at every read of a monitored location over it: kept
                 # for the same factors (an abstract factor may have grown since)
@@ -184,6 +187,10 @@ class Machine(TermEvaluator, RuleExecutor):
                     self._domain_cache[key] = out
                 return out
             if dom.kind == "Powerset":
+                # (the size of a product of domains first: its elements are not made to be counted)
+                size = self._product_size(dom.args[0], ctx, span)
+                if size is not None and size > 16:
+                    raise Undetermined(span, f"Powerset of a domain with {size:,} elements is too large to enumerate")
                 base = self.domain_values(dom.args[0], ctx, span)
                 if len(base) > 16:
                     raise Undetermined(span, f"Powerset of a domain with {len(base)} elements is too large to enumerate")
@@ -193,6 +200,22 @@ class Machine(TermEvaluator, RuleExecutor):
                         out.append(SetV(c))
                 return out
         raise Undetermined(span, f"the domain {dom} cannot be enumerated")
+
+    #: the elements of a product domain enumerated, at most (its elements are made one by one)
+    MAX_PRODUCT = 10_000_000
+
+    def _product_size(self, dom, ctx, span):
+        """The number of elements of a product domain (or of a subset of one without a definition),
+        from its factors' sizes; None for any other domain."""
+        if isinstance(dom, T.Domain) and dom.kind == "subset" and dom.definition is None and dom.root() is not dom:
+            dom = dom.root()
+        if not (isinstance(dom, T.Struct) and dom.kind == "Prod"):
+            return None
+        size = 1
+        for a in dom.args:
+            sub = self._product_size(a, ctx, span)
+            size *= sub if sub is not None else len(self.domain_values(a, ctx, span))
+        return size
 
     def _enumerable(self, types) -> bool:
         try:

@@ -284,8 +284,9 @@ class TermEvaluator:
         try:
             return self.domain_values(f.codomain, ctx, span)
         except Undetermined:
-            raise Undetermined(f.span, f"monitored function {f.name} ranges over {f.codomain}, which is infinite: "
-                                       f"give its values with --monitored {f.name}=LO..HI (or --int-range LO..HI)")
+            from .advice import monitored_hint, too_big
+            raise Undetermined(f.span, f"monitored function {f.name} ranges over {f.codomain}, which is "
+                                       f"{too_big(f)}: give its values with {monitored_hint(f)}")
 
     def c_Call(self, t: ir.Call):
         name = t.name
