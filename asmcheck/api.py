@@ -498,7 +498,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             search_seconds = None if max_seconds is None else max(max_seconds - (time.perf_counter() - begin), 0.0)
             ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                           deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
-                          step_props=step_props, max_memory=max_memory, memory=memory_in_use)
+                          step_props=step_props, max_memory=max_memory, memory=memory_in_use, warn=warn)
             with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
                     _deadline(machine, search_seconds):
                 result = ex.run()
@@ -547,7 +547,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if ex is None:
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
-                      step_props=step_props, max_memory=max_memory, memory=memory_in_use)
+                      step_props=step_props, max_memory=max_memory, memory=memory_in_use, warn=warn)
         with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
                 _deadline(machine, search_seconds):
             result = ex.run()

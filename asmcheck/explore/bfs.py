@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from ..errors import AsmError, AsmRuntimeError, InconsistentUpdate, interrupt_reason
 from ..semantics.choice import DeadlineReached
 from ..semantics.machine import Machine, ScriptChooser, TooManySuccessors, Undetermined
+from ..semantics import types as T
 from ..semantics.state import is_dom_key, same_value
 from .canonical import Canonicalizer, ranged_domains
 from .store import Layout
@@ -109,12 +110,99 @@ def error_edge(sid: int, err) -> tuple:
     return sid, tuple(c.pick for c in (err.choices or ())), err
 
 
+def drifted(prev, window) -> bool:
+    """Whether an Integer location's values moved past those of the previous watch: ``prev`` and
+    ``window`` are the (least, greatest) values of the states stored between two watches (None:
+    no state).  A counter whose values wrapped round at 64 bits keeps taking new values without
+    a new least or greatest value; its windows still move, one beyond the other."""
+    if prev is None or window is None:
+        return False
+    (plo, phi), (wlo, whi) = prev, window
+    return (wlo >= phi and whi > phi) or (whi <= plo and wlo < plo)
+
+
+class _Growth:
+    """Watches the Integer locations of the states found for one that keeps taking new values
+    level after level (a counter without a bound, a growing population): the search may then
+    not end, and the user is told which location it is while it runs.  Each location keeps the
+    least and greatest value met and the depth where the last new one was met; :meth:`watch`,
+    called a few times a second, names a location that took a new least or greatest value at
+    the level just searched, or whose values moved past those of the previous call
+    (:func:`drifted`), at three of its calls (as the native engine does between slices)."""
+
+    def __init__(self, machine, layout):
+        self.m = machine
+        self.layout = layout
+        self.known = 0                # layout slots classified so far
+        self.slots: list[int] = []    # the slots of Integer and Natural locations
+        self.lo: dict = {}
+        self.hi: dict = {}
+        self.grew: dict = {}
+        self.window: dict = {}        # slot -> [least, greatest] of the states noted since the last watch
+        self.prev: dict = {}          # the same, before the last watch
+        self.depth = -1               # the depth of the last call of watch
+        self.streak: dict = {}
+
+    def _classify(self) -> None:
+        keys = self.layout.keys
+        fns = self.m.functions
+        for i in range(self.known, len(keys)):
+            k = keys[i]
+            f = k if type(k) is int else (k[0] if type(k) is tuple and type(k[0]) is int else None)
+            if f is not None and f < len(fns) and T.root(fns[f].codomain) in (T.INTEGER, T.NATURAL):
+                self.slots.append(i)
+        self.known = len(keys)
+
+    def note(self, fz: tuple, depth: int) -> None:
+        if self.known != len(self.layout.keys):
+            self._classify()
+        lo, hi, grew = self.lo, self.hi, self.grew
+        n = len(fz)
+        for i in self.slots:
+            if i >= n:
+                continue
+            v = fz[i]
+            if type(v) is not int:
+                continue
+            w = self.window.get(i)
+            if w is None:
+                self.window[i] = [v, v]
+            elif v < w[0]:
+                w[0] = v
+            elif v > w[1]:
+                w[1] = v
+            if v < lo.get(i, v + 1):
+                lo[i] = v
+                grew[i] = depth
+            if v > hi.get(i, v - 1):
+                hi[i] = v
+                grew[i] = depth
+
+    def watch(self, depth: int) -> list[str]:
+        """The warnings of this call (a location is named once)."""
+        if depth == self.depth:
+            return []
+        self.depth = depth
+        out = []
+        window, self.window = self.window, {}
+        prev, self.prev = self.prev, window
+        for i, d in self.grew.items():
+            if (d >= depth - 1 or drifted(prev.get(i), window.get(i))) and self.streak.get(i, 0) < 3:
+                self.streak[i] = self.streak.get(i, 0) + 1
+                if self.streak[i] == 3:
+                    out.append(f"{self.m.location_text(self.layout.keys[i])} keeps taking new values level after "
+                               f"level (range {self.lo[i]}..{self.hi[i]} at depth {depth}): the search may not end; "
+                               f"bound it in the model (a subset domain or a guard), or stop the search with "
+                               f"--max-depth or --max-states")
+        return out
+
+
 class Explorer:
     MAX_SUCCESSORS = 1_000_000      # the sequences of choices enumerated from one state, at most
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
                  deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
-                 stop_at_first=False, max_memory=None, memory=None):
+                 stop_at_first=False, max_memory=None, memory=None, warn=None):
         self.m = machine
         self.layout = Layout()
         gc = {d.name for d in machine.spec.domains if getattr(d, "dynamic", False)} - ranged_domains(machine.spec)
@@ -127,6 +215,9 @@ class Explorer:
         self.memory = memory
         self.deadlock = deadlock
         self.progress = progress
+        self.warn = warn                  # called with each warning found while the search runs
+        self.warnings: list = []
+        self.growth = _Growth(machine, self.layout)
         self.keep_graph = keep_graph
         self.edges: list = []
         # the branches whose step fails (keep_graph): (state id, choices, the AsmError), in the
@@ -179,6 +270,7 @@ class Explorer:
         self.parent.append(parent)
         self.depth_of.append(depth)
         self.via.append(picks)
+        self.growth.note(fz, depth)
         return sid, True
 
     def state(self, sid: int) -> dict:
@@ -330,6 +422,10 @@ class Explorer:
                             break
                         if self.progress is not None:
                             self.progress(len(self.frozen), depth, transitions, now - t0)
+                        for msg in self.growth.watch(depth):
+                            self.warnings.append(msg)
+                            if self.warn is not None:
+                                self.warn(msg)
                     if self.stop_at_first and violations:
                         incomplete = True
                         reason = reason or "stopped at the first violation"
@@ -357,6 +453,8 @@ class Explorer:
         except MemoryError:
             incomplete = True
             reason = "out of memory"
+        if reason.startswith("time limit") and self.warnings:
+            reason += "; " + self.warnings[-1]
         self.finishing = True       # the search is over: what follows makes its result
         secs = time.perf_counter() - t0
         if violations:

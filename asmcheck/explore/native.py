@@ -55,6 +55,7 @@ UNDEF_C = "UNDEF"
 UNDEF_V = -(1 << 63)
 MASK64 = (1 << 64) - 1
 MAX_CANDIDATES = 1 << 16
+MAX_SLOTS = 1 << 18       # locations laid out, at most (200,000 compile in about 6 s)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
 CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
@@ -521,6 +522,11 @@ class Generator:
                 self.slot_types.append(("map", f))
                 self.map_slot[f.index] = s_
                 continue
+            n = 1
+            for vals in arg_values:
+                n *= len(vals)
+            if len(self.slots) + n > MAX_SLOTS:
+                raise Unsupported(f"more than {MAX_SLOTS:,} locations (the C compiler fails on a million)")
             cod = self.codomain_values(f)
             combos = [()]
             for vals in arg_values:
@@ -533,8 +539,8 @@ class Generator:
                 self.slot_values.append(cod)
                 self.slot_types.append(f.codomain)
             self.fn_base[f.index] = (base, arg_values, cod)
-            if len(self.slots) > 1 << 20:
-                raise Unsupported("more than a million locations")
+            if len(self.slots) > MAX_SLOTS:
+                raise Unsupported(f"more than {MAX_SLOTS:,} locations (the C compiler fails on a million)")
         self.dyn_slots()
         self.layout_result()
         self.layout_local()
@@ -3658,7 +3664,11 @@ class NativeExplorer:
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
-        src = self.gen.generate()
+        try:
+            src = self.gen.generate()
+        except AsmRuntimeError as e:
+            # a step of the Python engine fails there too: it reports the failure (with its trace)
+            raise Unsupported(f"{e.message} (while the C code was generated)") from None
         self._first_src = src
         k = self._slots_needed(src)
         if k:
@@ -3732,17 +3742,22 @@ class NativeExplorer:
         return max(int(self.max_memory) - memory_in_use(), 0)
 
     def _growing(self, depth: int) -> list:
-        """Integer locations that took a new least or greatest value at each of the last levels."""
+        """Integer locations that took a new least or greatest value at the last level, or whose
+        values moved past those of the last call (see :func:`asmcheck.explore.bfs.drifted`)."""
+        from .bfs import drifted
         g = self.gen
         out = []
-        buf = (ctypes.c_int64 * 3)()
+        buf = (ctypes.c_int64 * 5)()
+        windows = self._windows
         for s, vals in enumerate(g.slot_values):
             typ = g.slot_types[s]
             if vals is not None or isinstance(typ, tuple) or T.root(typ) not in (T.INTEGER, T.NATURAL):
                 continue
             self.dll.asm_range(s, buf)
             lo, hi, grew = buf[0], buf[1], buf[2]
-            if grew >= 0 and grew >= depth - 1:
+            window = (buf[3], buf[4]) if buf[3] <= buf[4] else None
+            prev, windows[s] = windows.get(s), window
+            if grew >= 0 and (grew >= depth - 1 or drifted(prev, window)):
                 out.append((self.m.location_text(g.slots[s]), lo, hi))
         return out
 
@@ -3789,6 +3804,7 @@ class NativeExplorer:
         # watches for integer locations that grow level after level
         growth_depth = -1
         streak: dict = {}
+        self._windows = {}
         while True:
             status = (self.dll.asm_run_par(self.SLICE, out, -self.workers if self.threaded else self.workers)
                       if self.workers > 1 or self.threaded else self.dll.asm_run(self.SLICE, out))

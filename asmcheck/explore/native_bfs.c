@@ -405,6 +405,8 @@ static struct {
     /* wide slots: the least and greatest value reached, and the depth where each last grew */
     V lo[NSLOTS > 0 ? NSLOTS : 1], hi[NSLOTS > 0 ? NSLOTS : 1];
     int64_t grew[NSLOTS > 0 ? NSLOTS : 1];
+    /* and the least and greatest value of the states stored since asm_range last read the slot */
+    V wlo[NSLOTS > 0 ? NSLOTS : 1], whi[NSLOTS > 0 ? NSLOTS : 1];
     int64_t viol[3 * (NINV + 2 + NSTEP)];
 } S;
 
@@ -445,6 +447,8 @@ static void note_range(const uint64_t *w, int64_t depth) {
         if (v == UNDEF) continue;
         if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
         if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
+        if (v < S.wlo[s]) S.wlo[s] = v;
+        if (v > S.whi[s]) S.whi[s] = v;
     }
 }
 
@@ -456,7 +460,9 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     ctx_static.seqstart = -1;
     ctx_static.rd = ctx_static.cur;
     memset(&S, 0, sizeof(S));
-    for (int s = 0; s < NSLOTS; s++) { S.lo[s] = INT64_MAX; S.hi[s] = INT64_MIN + 1; S.grew[s] = -1; }
+    for (int s = 0; s < NSLOTS; s++) {
+        S.lo[s] = S.wlo[s] = INT64_MAX; S.hi[s] = S.whi[s] = INT64_MIN + 1; S.grew[s] = -1;
+    }
     nwide = 0;
     for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) wide_slots[nwide++] = s;
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
@@ -1035,8 +1041,13 @@ void asm_edges_take(int64_t which, uint32_t *out) {
     *a = 0;
 }
 
-/* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set) */
-void asm_range(int64_t slot, int64_t *out) { out[0] = S.lo[slot]; out[1] = S.hi[slot]; out[2] = S.grew[slot]; }
+/* a wide slot's range: [0] least [1] greatest [2] depth where it last grew (-1: never set);
+   [3] least [4] greatest value of the states stored since the last call (greatest < least: none) */
+void asm_range(int64_t slot, int64_t *out) {
+    out[0] = S.lo[slot]; out[1] = S.hi[slot]; out[2] = S.grew[slot];
+    out[3] = S.wlo[slot]; out[4] = S.whi[slot];
+    S.wlo[slot] = INT64_MAX; S.whi[slot] = INT64_MIN + 1;
+}
 
 int64_t asm_inv_error(int64_t k) { return S.inv_err[k]; }
 
@@ -1870,6 +1881,8 @@ static void chunk_done(const Plan *pl, int nt) {
             for (int u = 0; u < nt; u++) {
                 if (W[u].lo[par][s] < S.lo[s]) { S.lo[s] = W[u].lo[par][s]; S.grew[s] = S.depth + 1; }
                 if (W[u].hi[par][s] > S.hi[s]) { S.hi[s] = W[u].hi[par][s]; S.grew[s] = S.depth + 1; }
+                if (W[u].lo[par][s] < S.wlo[s]) S.wlo[s] = W[u].lo[par][s];
+                if (W[u].hi[par][s] > S.whi[s]) S.whi[s] = W[u].hi[par][s];
             }
         }
     }

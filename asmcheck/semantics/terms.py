@@ -44,6 +44,9 @@ LONG_MIN = -(1 << 63)
 
 
 LONG_MAX = (1 << 63) - 1
+# the elements of one interval ({lo : hi} or {lo : hi, step}) that are built, at most: ten million
+# Integers are about a gigabyte of Python objects
+MAX_INTERVAL = 10_000_000
 
 
 
@@ -59,6 +62,9 @@ def _real_interval(lo, hi, step) -> list:
     d_lo, d_hi, d_st = (Decimal(repr(float(x))) if type(x) is float else Decimal(x) for x in (lo, hi, step))
     if not all(d.is_finite() for d in (d_lo, d_hi, d_st)):
         raise ValueError("an interval bound is not a finite number")
+    n = int((d_hi - d_lo) // d_st) + 1 if d_hi >= d_lo else 0
+    if n > MAX_INTERVAL:
+        raise OverflowError(n)
     out = []
     x = d_lo
     while x <= d_hi:
@@ -681,11 +687,15 @@ class TermEvaluator:
                     vals = _real_interval(lo, hi, st)
                 except ValueError:
                     raise AsmRuntimeError(span, "an interval bound is not a finite number") from None
+                except OverflowError as e:
+                    raise AsmRuntimeError(span, f"this interval has {e.args[0]:,} elements: more than asmcheck "
+                                                f"builds ({MAX_INTERVAL:,}); narrow it") from None
             else:
-                x = lo
-                while x <= hi:
-                    vals.append(x)
-                    x += st
+                n = (hi - lo) // st + 1 if hi >= lo else 0
+                if n > MAX_INTERVAL:
+                    raise AsmRuntimeError(span, f"this interval has {n:,} elements: more than asmcheck builds "
+                                                f"({MAX_INTERVAL:,}); narrow it")
+                vals = list(range(lo, hi + 1, st))
             if kind == "set":
                 return SetV(vals)
             if kind == "seq":

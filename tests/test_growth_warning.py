@@ -1,0 +1,91 @@
+"""A search that may not end says why while it runs: an Integer location that keeps taking new
+values level after level is named, with its range and the way to bound it, on both engines,
+and the reason of a time limit repeats it.  A bounded Integer location in a long search is not
+named."""
+from __future__ import annotations
+
+import re
+
+import pytest
+
+import asmcheck
+
+from helpers import write
+
+pytestmark = pytest.mark.engines("native")
+
+# a counter without a bound: the state at depth d has x = d
+UNBOUNDED = """asm Unbounded
+import StandardLibrary
+signature:
+	controlled x: Integer
+	controlled b: Boolean
+definitions:
+	main rule r_main = par x := x + 1 b := not b endpar
+default init s0:
+	function x = 0
+	function b = false
+"""
+
+# 26 Boolean locations count in binary (67,108,864 states on one path) while the Integer phase
+# goes round 0, 1, 2, 3: a long search whose Integer location is bounded
+BITS = 26
+BOUNDED = ("asm Bounded\nimport StandardLibrary\nsignature:\n\tcontrolled phase: Integer\n"
+           + "".join(f"\tcontrolled b{i}: Boolean\n" for i in range(BITS))
+           + "definitions:\n\tmain rule r_main = par\n\t\tphase := (phase + 1) mod 4\n"
+           + "".join(f"\t\tif {' and '.join(f'b{j}' for j in range(i)) or 'true'} then b{i} := not b{i} endif\n"
+                     for i in range(BITS))
+           + "\tendpar\ndefault init s0:\n\tfunction phase = 0\n"
+           + "".join(f"\tfunction b{i} = false\n" for i in range(BITS)))
+
+MESSAGE = re.compile(r"^x keeps taking new values level after level \(range 0\.\.(\d+) at depth (\d+)\): the "
+                     r"search may not end; bound it in the model \(a subset domain or a guard\), or stop the "
+                     r"search with --max-depth or --max-states$")
+
+
+@pytest.mark.parametrize("engine", ["python", "native"])
+def test_an_unbounded_counter_is_named_while_the_search_runs(tmp_path, engine):
+    warnings: list[str] = []
+    run = asmcheck.load(write(tmp_path, UNBOUNDED)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    assert run.result.engine == engine
+    assert run.result.verdict == "incomplete"
+    assert len(warnings) == 1, warnings
+    m = MESSAGE.match(warnings[0])
+    assert m, warnings[0]
+    # the greatest value met is that of the level below the one being searched
+    assert int(m.group(1)) == int(m.group(2)) + 1
+    assert run.result.reason == f"time limit 2.5 s reached; {warnings[0]}"
+
+
+@pytest.mark.parametrize("engine", ["python", "native"])
+def test_a_bounded_integer_in_a_long_search_is_not_named(tmp_path, engine):
+    warnings: list[str] = []
+    run = asmcheck.load(write(tmp_path, BOUNDED)).explore(engine=engine, max_seconds=1.5, warn=warnings.append)
+    assert run.result.engine == engine
+    assert run.result.reason.startswith("time limit 1.5 s reached"), run.result.reason
+    assert warnings == []
+    assert "keeps taking" not in run.result.reason
+
+
+# x wraps round at 64 bits after 3 and then counts up from the least Integer: its values are new
+# at every level but never a new least or greatest value
+WRAPPED = """asm Wrapped
+import StandardLibrary
+signature:
+	controlled x: Integer
+definitions:
+	main rule r_main = if x < 3 then x := x + 1 else x := 9223372036854775807 + x endif
+default init s0:
+	function x = 0
+"""
+
+
+@pytest.mark.parametrize("engine", ["python", "native"])
+def test_a_counter_that_wrapped_round_is_still_named(tmp_path, engine):
+    warnings: list[str] = []
+    run = asmcheck.load(write(tmp_path, WRAPPED)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    assert run.result.engine == engine
+    assert len(warnings) == 1, warnings
+    assert warnings[0].startswith("x keeps taking new values level after level "
+                                  "(range -9223372036854775806..3 at depth "), warnings[0]
+    assert run.result.reason == f"time limit 2.5 s reached; {warnings[0]}"
