@@ -204,3 +204,86 @@ def test_a_damaged_cached_library_is_built_again(cache):
     os.chmod(cache / name, 0o700)
     assert probe(SRC % 11).asm_probe(0) == 11
     assert native_build.last_compile_seconds > 0
+
+
+def fake_compiler(bindir, name, version_text):
+    exe = bindir / name
+    exe.write_text("#!/bin/sh\ncat <<'END'\n" + version_text + "\nEND\n")
+    exe.chmod(0o755)
+    return [str(exe)]
+
+
+def test_gcc_gets_its_own_flags_and_any_other_compiler_o2(tmp_path):
+    bindir = tmp_path / "bin"
+    bindir.mkdir()
+    gcc = fake_compiler(bindir, "gcc", "gcc (Debian 12.2.0-14) 12.2.0\nCopyright (C) 2022 Free Software Foundation, Inc.")
+    clang = fake_compiler(bindir, "clang", "Debian clang version 14.0.6\nTarget: x86_64-pc-linux-gnu")
+    cc = fake_compiler(bindir, "cc", "some other compiler 1.0")
+    assert native_build.compile_flags(gcc) == native_build.GCC_FLAGS
+    assert native_build.GCC_FLAGS[:2] == ["-O1", "-finline-small-functions"]
+    assert native_build.compile_flags(clang) == native_build.FLAGS == ["-O2", "-shared", "-fPIC"]
+    assert native_build.compile_flags(cc) == native_build.FLAGS
+    # zig cc (clang inside) is not even asked
+    assert native_build.compile_flags([str(bindir / "python"), "-m", "ziglang", "cc"]) == native_build.FLAGS
+
+
+def test_the_cache_key_names_the_compiler_itself_not_only_its_name(tmp_path, cache):
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.mkdir()
+    b.mkdir()
+    gcc_a = fake_compiler(a, "gcc", "gcc 12.2.0\nFree Software Foundation")
+    gcc_b = fake_compiler(b, "gcc", "gcc 13.1.0\nFree Software Foundation")
+    src = SRC % 1
+    assert native_build.library_path(src, gcc_a) == native_build.library_path(src, list(gcc_a))
+    assert native_build.library_path(src, gcc_a)[1] != native_build.library_path(src, gcc_b)[1]
+    assert native_build.library_path(src, gcc_a)[1] != native_build.library_path(SRC % 2, gcc_a)[1]
+    assert native_build.compiler_identity(gcc_a).startswith(os.path.realpath(gcc_a[0]) + " ")
+
+
+def test_a_kept_note_is_read_back_only_when_it_is_ours(cache):
+    assert native_build.recall("key one") is None
+    native_build.remember("key one", "32")
+    assert native_build.recall("key one") == "32" and native_build.recall("key two") is None
+    (note,) = [p for p in cache.iterdir() if p.name.startswith("note-")]
+    assert stat.S_IMODE(os.stat(note).st_mode) == 0o600
+    os.chmod(note, 0o666)                   # others may write it: not read, removed
+    assert native_build.recall("key one") is None and not note.exists()
+
+
+def stack20():
+    # 20 cells at once: more than the first 16 element slots (test_native_extend's stack, bounded)
+    from test_native_extend import STACK
+    return STACK.replace("asm Stack", "asm Stack20").replace(
+        "\t\textend Cell with $c do", "\t\tif size < 20 then extend Cell with $c do").replace(
+        "\t\t\tendpar\n", "\t\t\tendpar\n\t\tendif\n").replace(
+        "\tcontrolled below: Cell -> Cell\n", "\tcontrolled below: Cell -> Cell\n\tcontrolled size: Integer\n").replace(
+        "\t\t\t\ttop := $c\n", "\t\t\t\ttop := $c\n\t\t\t\tsize := size + 1\n") + "default init s0:\n\tfunction size = 0\n"
+
+
+def test_the_element_slots_a_search_needed_are_where_the_next_one_starts(tmp_path, cache):
+    need_compiler()
+    from asmcheck.semantics.machine import Machine
+    from asmcheck.semantics.resolve import check_file
+    spec = check_file(write(tmp_path, stack20()))
+
+    def search():
+        ex = NativeExplorer(Machine(spec, {}))
+        first = ex.gen.cn_k
+        try:
+            r = ex.run()
+            return first, ex.gen.cn_k, (r.verdict, r.states, r.transitions, r.depth)
+        finally:
+            ex.close()
+
+    # the first search runs with 16 slots, stops, and runs again with 32
+    assert search() == (16, 32, ("holds", 21, 21, 20))
+    notes = [p for p in cache.iterdir() if p.name.startswith("note-")]
+    assert len(notes) == 1 and notes[0].read_text() == "32"
+    # the next one starts with 32, from the cached engine, with the same result
+    assert search() == (32, 32, ("holds", 21, 21, 20))
+    assert native_build.last_compile_seconds == 0.0
+    # a number the retry could not have reached is not believed
+    for bad in ("48", "128", "8", "x32", ""):
+        notes[0].write_text(bad)
+        assert search() == (16, 32, ("holds", 21, 21, 20)), bad
+        assert notes[0].read_text() == "32"

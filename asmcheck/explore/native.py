@@ -4007,6 +4007,11 @@ class NativeExplorer:
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
+        self._first_src = src
+        k = self._slots_needed(src)
+        if k:
+            self.gen = self._regenerate(cn_k=k)
+            src = self.gen.generate()
         self._src = src                  # thread_unsafe(src): worked out when threads are asked for
         self._thread_unsafe = None
         self.dll = build_library(src)
@@ -4405,19 +4410,47 @@ class NativeExplorer:
         if why:
             raise Unsupported("a state with elements made by extend that the native canonical form does not handle")
 
-    def _more_element_slots(self):
-        """The search again, on an engine with twice the element slots per extended domain."""
+    def _regenerate(self, cn_k: int) -> "Generator":
+        """A generator for the same spec, properties and layout, with ``cn_k`` element slots per
+        extended domain."""
         gen = Generator(self.m, self.state_props)
         gen.step_props = self.gen.step_props
         gen.invars = self.gen.invars
+        gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
-        gen.cn_k = self.gen.cn_k * 2
+        gen.cn_k = cn_k
+        if getattr(self.gen, "undef_args", None):
+            gen.undef_args = set(self.gen.undef_args)
+        return gen
+
+    def _slots_needed(self, src: str) -> int:
+        """The element slots per extended domain an earlier search of the same engine source
+        (with the first number of slots) needed, when it needed more (kept in the private cache
+        folder by :meth:`_more_element_slots`); else 0.  The search then starts with them, and
+        does not run first with too few, then again."""
+        if not self.gen.dyn:
+            return 0
+        k = native_build.recall(src)
+        if k is None or not k.isdigit():
+            return 0
+        k = int(k)
+        # what _more_element_slots can reach: the first number doubled, up to CN_K_MAX
+        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+
+    def _more_element_slots(self):
+        """The search again, on an engine with twice the element slots per extended domain.
+        The first search's memory is freed, and the number of slots is kept for the next run of
+        the same spec (:meth:`_slots_needed`)."""
+        gen = self._regenerate(cn_k=self.gen.cn_k * 2)
         src = gen.generate()
-        dll = build_library(src)
-        gen.codec.dll = dll
+        native_build.remember(self._first_src, str(gen.cn_k))
         self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
+        native_build.forget(self.dll)
+        dll = build_library(src)
+        gen.codec.dll = dll
         self.gen, self.dll = gen, dll
+        self._src, self._thread_unsafe = src, None
         self.compile_seconds += native_build.last_compile_seconds
         self._states = {}
         self._parent = None
