@@ -597,16 +597,7 @@ class Generator:
         self.__dict__.setdefault("lazy_init", {})[f.index] = (params, body)
 
     def has_choose(self) -> bool:
-        todo: list = [rd.body for rd in self.spec.rules]
-        while todo:
-            x = todo.pop()
-            if isinstance(x, ir.Choose):
-                return True
-            if isinstance(x, ir.Rule):
-                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
-            elif isinstance(x, (list, tuple)):
-                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
-        return False
+        return _contains([rd.body for rd in self.spec.rules], ir.Choose)
 
     def reads_no_location(self, t) -> bool:
         todo = [t]
@@ -1955,7 +1946,7 @@ class Generator:
         working state is then the caller's again (a recursive rule has one x per call).  x's
         slots are hidden from the caller's updates of them while the rule runs."""
         f = r.func
-        if (f.index not in self.fn_base and f.index not in self.map_slot) or self.has_extend(r.init):
+        if (f.index not in self.fn_base and f.index not in self.map_slot) or _has_extend(r.init):
             raise Unsupported(f"the local function {f.name} at {r.span.short() if r.span else '?'} (a location of "
                               f"one call of its rule, which the native state has no slot for: a codomain Any, a codomain Real "
                               f"over an infinite domain or more than {LOCAL_SLOTS} locations, or extend in its initial rule)")
@@ -2024,18 +2015,6 @@ class Generator:
                 f"for (int i = 0; i < nv_{v}; i++) if (c->vs_slot[i] == {hide}) c->vs_slot[i] = {m}; "
                 f"c->cur[{m}] = cv_{v}; "
                 f"if (c->err) return; }}")
-
-    def has_extend(self, r) -> bool:
-        todo = [r]
-        while todo:
-            x = todo.pop()
-            if isinstance(x, ir.Extend):
-                return True
-            if isinstance(x, ir.Rule):
-                todo.extend(v for v in vars(x).values() if isinstance(v, (ir.Rule, list, tuple)))
-            elif isinstance(x, (list, tuple)):
-                todo.extend(y for y in x if isinstance(y, (ir.Rule, list, tuple)))
-        return False
 
     def r_Update(self, r, env):
         f = r.func
@@ -3360,14 +3339,19 @@ class Generator:
 
 
 def _has_extend(rule) -> bool:
-    """Does ``rule`` (or a rule inside it) extend a domain?"""
-    stack, seen = [rule], set()
+    """Does ``rule`` (or a rule inside it, or one it calls) extend a domain?"""
+    return _contains([rule], ir.Extend)
+
+
+def _contains(roots: list, kind) -> bool:
+    """Is there a ``kind`` node in the rules and terms ``roots``, or in a rule they call?"""
+    stack, seen = list(roots), set()
     while stack:
         x = stack.pop()
         if id(x) in seen:
             continue
         seen.add(id(x))
-        if isinstance(x, ir.Extend):
+        if isinstance(x, kind):
             return True
         if isinstance(x, ir.CallRule):
             stack.append(x.rule.body)
@@ -3951,24 +3935,14 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
                         if (nrec >= cap) return -2;
                         out[2 * nrec] = dst; out[2 * nrec + 1] = vec; nrec++;
                     }
-                    int j = c->pos - 1;
-                    while (j >= P && c->idx[j] + 1 >= c->cnt[j]) j--;
-                    if (j < P) break;
-                    for (int q = P; q < j; q++) c->prefix[q] = c->idx[q];
-                    c->prefix[j] = c->idx[j] + 1;
-                    c->plen = j + 1;
+                    if (!next_choices(c, P)) break;
                 }
                 c->pos = P;
                 memcpy(c->mon, smon, sizeof(smon));
                 memcpy(c->mgen, smgen, sizeof(smgen));
             }
         }
-        int j = c->pos - 1;
-        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
-        if (j < 0) break;
-        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
-        c->prefix[j] = c->idx[j] + 1;
-        c->plen = j + 1;
+        if (!next_choices(c, 0)) break;
     }
     return nrec;
 }

@@ -930,12 +930,7 @@ static int qf_atoms(Ctx *c, int64_t bi) {
             QF.capr = cr;
             QF.rb[QF.nr] = bi; QF.rv[QF.nr] = vec; QF.nr++;
         }
-        int j = c->pos - 1;
-        while (j >= P && c->idx[j] + 1 >= c->cnt[j]) j--;
-        if (j < P) break;
-        for (int q = P; q < j; q++) c->prefix[q] = c->idx[q];
-        c->prefix[j] = c->idx[j] + 1;
-        c->plen = j + 1;
+        if (!next_choices(c, P)) break;
     }
     c->pos = P;
     c->plen = plen;
@@ -1032,12 +1027,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         }
     next_choice: ;
         /* the next sequence of choices */
-        int j = c->pos - 1;
-        while (j >= 0 && c->idx[j] + 1 >= c->cnt[j]) j--;
-        if (j < 0) return EXP_OK;
-        for (int q = 0; q < j; q++) c->prefix[q] = c->idx[q];
-        c->prefix[j] = c->idx[j] + 1;
-        c->plen = j + 1;
+        if (!next_choices(c, 0)) return EXP_OK;
     }
 }
 

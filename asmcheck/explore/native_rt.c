@@ -92,6 +92,18 @@ static int choice(Ctx *c, int n) {
     return i;
 }
 
+/* the sequence of choices to run after the one just run, the first p choices kept (an odometer
+   over c->idx / c->cnt, last choice fastest): 0 when every sequence has run */
+static inline int next_choices(Ctx *c, int p) {
+    int j = c->pos - 1;
+    while (j >= p && c->idx[j] + 1 >= c->cnt[j]) j--;
+    if (j < p) return 0;
+    for (int q = p; q < j; q++) c->prefix[q] = c->idx[q];
+    c->prefix[j] = c->idx[j] + 1;
+    c->plen = j + 1;
+    return 1;
+}
+
 static inline void fail(Ctx *c, int code, int site) {
     if (!c->err) { c->err = code; c->err_site = site; }
 }

@@ -372,32 +372,49 @@ def _every_step(explorer, ok_state):
                 yield src, dst, tuple(c.pick for c in log), mon
 
 
-class _PicksOfSteps:
-    """Node -> the choices of the first step (of the Python step function) from the node's
-    source to its target whose monitored values give the node's atom values; found only for the
-    steps a trace prints."""
+class _LazyPicks:
+    """Node -> the choices of its step, worked out only for the few steps a trace prints
+    (:meth:`pick`); the nodes added after the first :meth:`count` (halt nodes) keep theirs in
+    ``extra``.  ``sid`` (when there is one) gives each node's source."""
 
-    def __init__(self, explorer, items, sid, tgt, vecs):
-        self.explorer, self.items = explorer, items
-        self.sid, self.tgt, self.vecs = sid, tgt, vecs
-        self.n = len(sid)
+    sid = None
+
+    def __init__(self):
         self.extra: list = []        # the choices of the nodes added after these (halt nodes)
 
+    def count(self) -> int:
+        return len(self.sid)
+
     def __len__(self):
-        return self.n + len(self.extra)
+        return self.count() + len(self.extra)
 
     def append(self, picks):
         self.extra.append(picks)
 
     def __getitem__(self, v):
-        if v >= self.n:
-            return self.extra[v - self.n]
-        return self.at(v, self.sid[v])
+        return self.at(v, self.sid[v] if self.sid is not None and v < self.count() else None)
 
     def at(self, v, src):
         """The choices of the node's step taken from state ``src``."""
-        if v >= self.n:
-            return self.extra[v - self.n]
+        n = self.count()
+        if v >= n:
+            return self.extra[v - n]
+        return self.pick(v, src)
+
+    def pick(self, v, src):
+        raise NotImplementedError
+
+
+class _PicksOfSteps(_LazyPicks):
+    """Node -> the choices of the first step (of the Python step function) from the node's
+    source to its target whose monitored values give the node's atom values."""
+
+    def __init__(self, explorer, items, sid, tgt, vecs):
+        super().__init__()
+        self.explorer, self.items = explorer, items
+        self.sid, self.tgt, self.vecs = sid, tgt, vecs
+
+    def pick(self, v, src):
         ex = self.explorer
         m = ex.m
         st = ex.state(src)
@@ -407,73 +424,45 @@ class _PicksOfSteps:
         raise AtomError(None, f"no step from state {src} to state {self.tgt[v]} gives the atoms' values")
 
 
-class _PicksOfEdges:
-    """Node -> the choices of its step (``explorer.edges[i][2]`` of the node's edge), read only
-    for the few steps a trace prints."""
+class _PicksOfEdges(_LazyPicks):
+    """Node -> the choices of its step (``explorer.edges[i][2]`` of the node's edge)."""
 
     def __init__(self, explorer, eix):
+        super().__init__()
         self.explorer = explorer
         self.eix = eix
-        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
 
-    def __len__(self):
-        return len(self.eix) + len(self.extra)
+    def count(self) -> int:
+        return len(self.eix)
 
-    def append(self, picks):
-        self.extra.append(picks)
-
-    def __getitem__(self, v):
-        if v >= len(self.eix):
-            return self.extra[v - len(self.eix)]
+    def pick(self, v, src):
         return self.explorer.edges[self.eix[v]][2]
 
 
-class _EdgePicksOf:
+class _EdgePicksOf(_LazyPicks):
     """Quotient node -> the choices of the first explored step from a source to the node's target
-    (the explorer's edges, looked up by (source, target) for the steps a trace prints)."""
+    (the explorer's edges, looked up by (source, target)); ``sid`` and ``tgt`` are set once the
+    quotient is made."""
 
     def __init__(self, edge_picks):
+        super().__init__()
         self.edge_picks = edge_picks
         self.sid = self.tgt = None
-        self.extra: list = []
 
-    def __len__(self):
-        return len(self.sid) + len(self.extra)
-
-    def append(self, picks):
-        self.extra.append(picks)
-
-    def __getitem__(self, v):
-        return self.at(v, self.sid[v])
-
-    def at(self, v, src):
-        if v >= len(self.sid):
-            return self.extra[v - len(self.sid)]
+    def pick(self, v, src):
         return self.edge_picks[(src, self.tgt[v])]
 
 
-class _PicksOfKeys:
+class _PicksOfKeys(_LazyPicks):
     """Quotient node -> the choices of the step with the node's target and atom values taken from
     a source, found among the steps the structure was built from (``index``: (source, target,
     atom values) -> position in ``picks``)."""
 
     def __init__(self, picks, index, tgt, vecs, sid):
+        super().__init__()
         self.picks, self.index, self.tgt, self.vecs, self.sid = picks, index, tgt, vecs, sid
-        self.n = len(tgt)
-        self.extra: list = []
 
-    def __len__(self):
-        return self.n + len(self.extra)
-
-    def append(self, picks):
-        self.extra.append(picks)
-
-    def __getitem__(self, v):
-        return self.at(v, self.sid[v])
-
-    def at(self, v, src):
-        if v >= self.n:
-            return self.extra[v - self.n]
+    def pick(self, v, src):
         i = self.index.get((src, self.tgt[v], self.vecs[v]))
         if i is None:
             raise AtomError(None, f"no step from state {src} to state {self.tgt[v]} gives the atoms' values")
@@ -576,29 +565,15 @@ def _quotient_recorded(explorer, S, mon_items, ok_state, need, slab, st_atoms, i
     return got
 
 
-class _PicksBetween:
+class _PicksBetween(_LazyPicks):
     """Quotient node -> the choices of the first step of the Python step function from a source to
     the node's target (``explorer.picks_between``), for the steps a trace prints."""
 
     def __init__(self, explorer, sid, tgt):
+        super().__init__()
         self.explorer, self.sid, self.tgt = explorer, sid, tgt
-        self.n = len(sid)
-        self.extra: list = []        # the choices of the nodes added after these (halt nodes)
 
-    def __len__(self):
-        return self.n + len(self.extra)
-
-    def append(self, picks):
-        self.extra.append(picks)
-
-    def __getitem__(self, v):
-        if v >= self.n:
-            return self.extra[v - self.n]
-        return self.at(v, self.sid[v])
-
-    def at(self, v, src):
-        if v >= self.n:
-            return self.extra[v - self.n]
+    def pick(self, v, src):
         return self.explorer.picks_between(src, self.tgt[v])
 
 
