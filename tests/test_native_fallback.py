@@ -1,33 +1,23 @@
 """What the searches do where the fast path ends: a failing step in the partitioned search, the
 time limit of the check that recovers a failing state's errors, the refusal of a state with too
 many sequences of choices, the time-limit reason, the memory bound of the hand-over, the advice
-on an unbounded input and the monitored values a trace prints.
+on an unbounded input and a Ctrl-C at start-up.
 
 Engines: both (each test names the one it pins)."""
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import re
 
 import pytest
 
-from asmcheck.cli import main
 from asmcheck.explore.bfs import Explorer
 from asmcheck.parallel import explore_partitioned
 from asmcheck.props import spec_properties
 from asmcheck.props.load import load_machine
 from helpers import write
 from test_error_graph import HALT, STUCK
-from test_native_errors import BRANCHY, too_many
-
-
-def cli(*args) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main([str(a) for a in args])
-    return code, out.getvalue(), err.getvalue()
+from test_native_errors import BRANCHY, cli, too_many
 
 
 def json_report(*args) -> tuple[int, dict]:
