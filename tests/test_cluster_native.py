@@ -138,15 +138,16 @@ default init s0:
 
 
 def test_a_failing_step_is_expanded_by_the_python_step_function(write_spec):
-    """The compiled step fails from n = 1: that state is expanded again by the Python step function
-    (its error, as the Python expander reports it)."""
+    """The compiled step fails from n = 1 when go holds: that state is expanded again by the Python
+    step function (its error, as the Python expander reports it), and the search goes on past it
+    to the violation of inv_small at n = 3, as the sequential search does."""
     path = write_spec(CLASH)
     m, sp, stp = load(path)
     ex1, r1 = explore_partitioned(m, workers=2, backend="inline", state_props=sp, step_props=stp, expander="python")
     ex2, r2 = explore_partitioned(m, workers=2, backend="inline", state_props=sp, step_props=stp, expander="native")
     assert r2.engine == "native"
-    assert summary(ex2, r2) == summary(ex1, r1)
-    assert [(v.prop.name, v.state) for v in r2.violations] == [("error", 1)]
+    assert summary(ex2, r2) == summary(ex1, r1) == sequential(path)
+    assert [(v.prop.name, v.state) for v in r2.violations] == [("error", 1), ("inv_small", 3)]
     assert r2.violations[0].message == r1.violations[0].message != ""
 
 
@@ -346,9 +347,12 @@ def test_cli_cluster_worker_memory_gives_a_partial_report():
 
 
 def test_choices_of_a_trace_step_whose_position_differs_in_the_python_enumeration():
-    """RushHourMon with --deadlock: a step of the trace is the successor at a position where the
-    Python step function enumerates another state; its choices are those of the first Python
-    successor that is the trace's state, as the native engine's own replay finds them."""
+    """RushHourMon with --deadlock, partitioned on the native expander: the same result as the
+    one-process native search.  The native engine used to enumerate this spec's inputs in another
+    order than the Python step function (a trace step was the successor at a position where the
+    Python step function has another state, and the deadlock was state 815); it now reads the
+    arguments that make choices left to right, as the Python engine does, and numbers the states
+    as it does (the deadlock is state 816 on both)."""
     from asmcheck.explore.native import NativeExplorer
     path = SHARED / "asmeta" / "asm_examples" / "examples" / "RushHour" / "RushHourMon.asm"
     if not path.exists():
@@ -356,7 +360,7 @@ def test_choices_of_a_trace_step_whose_position_differs_in_the_python_enumeratio
     m, sp, stp = load(path)
     nx = NativeExplorer(m, state_props=sp, step_props=stp, deadlock=True)
     ref = summary(nx, nx.run())
-    assert (ref["states"], ref["transitions"], ref["violations"][0][:2]) == (838, 5714, ("deadlock", 815))
+    assert (ref["states"], ref["transitions"], ref["violations"][0][:2]) == (838, 5714, ("deadlock", 816))
     assert native(path, 3, "inline", deadlock=True) == ref
 
 

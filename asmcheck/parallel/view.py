@@ -125,7 +125,8 @@ class PartitionedExplorer(Explorer):
         from ..explore.bfs import ReplayError
         cache = self._picks_src
         if cache is None or cache[0] != src:
-            succ = self.admitted_successors(self.state(src))
+            # (a state where some branch fails has its well-defined successors in the graph)
+            succ = self.admitted_successors(self.state(src), errors=[])
             cache = self._picks_src = (src, [(s[0], self.layout.freeze(s[3])) for s in succ])
         succ = cache[1]
         if 0 <= position < len(succ) and succ[position][1] == target:
