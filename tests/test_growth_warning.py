@@ -136,3 +136,22 @@ def test_windows_that_move_past_each_other_count_only_over_a_wide_span():
     assert not drifted(None, (0, 5000)) and not drifted((0, 5000), None)
     assert not drifted((0, DRIFT_SPAN - 2), (DRIFT_SPAN - 2, DRIFT_SPAN - 1))
     assert drifted((0, DRIFT_SPAN - 2), (DRIFT_SPAN - 2, DRIFT_SPAN))
+
+
+class _Names:
+    def location_text(self, k):
+        return k
+
+
+def test_a_bounded_queue_watched_at_its_growing_sizes_is_not_named():
+    from asmcheck.explore.bfs import SIZE_SPAN, SizeWatch
+    from asmcheck.semantics.values import SeqV
+    watch = SizeWatch(_Names())
+    # the last state found at each watch happens to hold a queue of 0, 1, 2, 3 elements, its bound
+    assert [watch.watch({"q": SeqV(tuple(range(n)))}, 10 * n) for n in (0, 1, 2, 3, 3, 2, 3)] == [[]] * 7
+    # a sequence that keeps growing is named once, at the first watch SIZE_SPAN above the first size
+    watch = SizeWatch(_Names())
+    sizes = [0, 5, 9, SIZE_SPAN - 1, SIZE_SPAN, SIZE_SPAN + 7, SIZE_SPAN + 9]
+    named = [watch.watch({"s": SeqV(tuple(range(n)))}, n) for n in sizes]
+    assert [len(w) for w in named] == [0, 0, 0, 0, 1, 0, 0]
+    assert named[4][0].startswith(f"s keeps growing level after level (size {SIZE_SPAN} at depth {SIZE_SPAN})")

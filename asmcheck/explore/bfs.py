@@ -142,16 +142,24 @@ def drifted(prev, window) -> bool:
         max(whi, phi) - min(wlo, plo) >= DRIFT_SPAN
 
 
+#: a sequence, set, bag, map or string is named as growing only once its size is this much
+#: above the size first watched: a bounded buffer (a queue of three) takes new greatest sizes
+#: at a few watches by chance, from the empty one up to its bound
+SIZE_SPAN = 16
+
+
 class SizeWatch:
     """Watches the sequences, sets, bags, maps and strings of the states found for one that keeps
     growing: each call looks at the state found last, and a location whose value is longer than
-    ever before at three calls is named (the search may then not end, and each state is larger
-    than the one before)."""
+    ever before at three calls, and at least SIZE_SPAN longer than at the first call, is named
+    (the search may then not end, and each state is larger than the one before)."""
 
     def __init__(self, machine):
         self.m = machine
+        self.first: dict = {}         # location -> the size met at the first call
         self.best: dict = {}          # location -> the greatest size met at a call
         self.streak: dict = {}
+        self.named: set = set()
 
     def watch(self, state: dict, depth: int) -> list[str]:
         out = []
@@ -160,11 +168,15 @@ class SizeWatch:
                 continue
             n = len(v)
             best = self.best.get(k)
-            self.best[k] = n if best is None else max(best, n)
-            if best is None or n <= best or self.streak.get(k, 0) >= 3:
+            if best is None:
+                self.first[k] = self.best[k] = n
                 continue
+            if n <= best or k in self.named:
+                continue
+            self.best[k] = n
             self.streak[k] = self.streak.get(k, 0) + 1
-            if self.streak[k] == 3:
+            if self.streak[k] >= 3 and n - self.first[k] >= SIZE_SPAN:
+                self.named.add(k)
                 out.append(f"{self.m.location_text(k)} keeps growing level after level (size {n:,} at depth "
                            f"{depth}): the search may not end; bound it in the model (a guard on its size), "
                            f"or stop the search with --max-depth or --max-states")
