@@ -584,7 +584,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     temporal_note = ""
     temporal_error = ""
     checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
-    if checked_temporal and result.verdict != "incomplete" and not interrupted:
+    if checked_temporal and result.stopped_early and not interrupted and _partial_ok(ex):
+        temporal_results, temporal_note = _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine)
+    elif checked_temporal and result.verdict != "incomplete" and not interrupted:
         from .temporal import check_temporal
         left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
         try:
@@ -618,7 +620,46 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     result.seconds = time.perf_counter() - t0
     run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
     run.temporal_error = temporal_error
+    if any(getattr(t, "decided_on", None) is not None for t in temporal_results) and result.verdict == "incomplete":
+        # every property decided on the partial state space, none violated: the run's verdict
+        # is the rows' (the gate's), not the search's
+        if all(r["verdict"] == "holds" for r in run.rows):
+            result.verdict = "holds"
     return run
+
+
+def _partial_ok(ex) -> bool:
+    """Whether the explorer's partial state graph can decide LTL/CTL properties: the Python
+    explorer's, or the native one's on one thread (both record every step of an expanded state)."""
+    if type(ex) is Explorer:
+        return bool(getattr(ex, "keep_graph", False))
+    if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
+        return bool(ex.keep_graph) and ex.workers <= 1 and not ex.threaded
+    return False
+
+
+def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine):
+    """The LTL/CTL properties decided on the state graph a search left when it stopped early
+    (:func:`asmcheck.temporal.partial.check_partial`): (results, note).  A violated one makes the
+    run's verdict violated."""
+    from .temporal.partial import check_partial
+    note = result.reason
+    left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
+    got: list = []
+    try:
+        if left is not None and left <= 0:
+            raise TimeUp()
+        with _watchdog(left), _deadline(machine, left):
+            # the Python explorer records a state's steps as they come: a stop other than the
+            # state or depth limit (checked between two states) may have cut the last state's
+            got = check_partial(ex, temporal, fair=list(fair or []), stopped_inside=type(ex) is Explorer and not (
+                result.reason or "").startswith(("state limit", "depth limit")))
+    except (TimeUp, DeadlineReached, MemoryError):
+        got = []
+    for t in got:
+        if not t.holds and not t.message and result.verdict != "violated":
+            result.verdict = "violated"
+    return got, note
 
 
 # ----------------------------------------------------------------- results
@@ -667,10 +708,17 @@ def verdict_text(row: dict) -> str:
     """A row's verdict as the text report shows it: ``holds, relative to the run-time error at
     FILE:LINE:COL`` for a verdict relative to an error."""
     rel = row.get("relative_to")
+    part = partial_text(row.get("decided_on"))
     if rel is None:
-        return row["verdict"]
+        return row["verdict"] + part
     where = f" at {Path(rel.rsplit(':', 2)[0]).name}:{':'.join(rel.rsplit(':', 2)[1:])}" if rel else ""
-    return f"{row['verdict']}, relative to the run-time error{where}"
+    return f"{row['verdict']}, relative to the run-time error{where}{part}"
+
+
+def partial_text(decided_on) -> str:
+    """`` (decided on the N states explored)`` for a verdict decided on a partial state space
+    ("" for one on the whole state space)."""
+    return "" if decided_on is None else f" (decided on the {decided_on:,} states explored)"
 
 
 def _property_place(prop) -> dict:
@@ -792,6 +840,8 @@ class Exploration:
             if verdict == "error":
                 verdict = "cannot be checked"
             rows.append(row(t.name, t.kind, verdict, getattr(t, "relative_to", None) is not None))
+            if getattr(t, "decided_on", None) is not None:
+                rows[-1]["decided_on"] = t.decided_on
             done.add(t.name)
         for p in self.checked_temporal:
             if p.name not in done:
@@ -858,7 +908,8 @@ class Exploration:
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]
-                          + [{**temporal_json(t, self.model.machine), **_property_place(t.prop)}
+                          + [{**temporal_json(t, self.model.machine), **_property_place(t.prop),
+                              **({"decided_on": t.decided_on} if getattr(t, "decided_on", None) is not None else {})}
                              for t in self.temporal if not t.holds],
         }
         if self.engine_note:

@@ -78,6 +78,8 @@ class PropertyOutcome:
     # a step of the spec fails: the verdict is relative to that run-time error (its location),
     # the property having been checked on the well-defined steps
     relative_to: Location | None = None
+    # a temporal verdict decided on a partial state space: the states explored (None: the whole)
+    decided_on: int | None = None
 
     @property
     def tolerated(self) -> bool:
@@ -165,6 +167,8 @@ def judge(row: PropertyOutcome, declares_expectations: bool, strict: bool) -> Pr
         row.status, row.label = ERROR, "cannot be checked"
     if row.relative_to is not None and v in ("holds", "violated"):
         row.label += f", relative to the run-time error at {row.relative_to}"
+    if row.decided_on is not None and v in ("holds", "violated"):
+        row.label += f" (decided on the {row.decided_on:,} states explored)"
     return row
 
 
@@ -279,6 +283,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
                                                          avalla_dir=avalla_dir, spec_name=spec.name)
         if not msg and getattr(t, "relative_to", None) is not None:
             row.relative_to = relative
+        if not msg:
+            row.decided_on = getattr(t, "decided_on", None)
         rows.append(row)
         seen.add(t.name)
     seen |= {r.name for r in rows}
