@@ -843,9 +843,14 @@ class Exploration:
             if getattr(t, "decided_on", None) is not None:
                 rows[-1]["decided_on"] = t.decided_on
             done.add(t.name)
+        first = len(rows) - len(done)
         for p in self.checked_temporal:
             if p.name not in done:
                 rows.append({"property": p.name, "kind": p.kind, "verdict": "incomplete"})
+        if any("decided_on" in r for r in rows[first:]):
+            # verdicts decided on a partial state space beside incomplete ones: in declaration order
+            order = {p.name: i for i, p in enumerate(self.checked_temporal)}
+            rows[first:] = sorted(rows[first:], key=lambda r: order.get(r["property"], -1))
         return rows
 
     @property
