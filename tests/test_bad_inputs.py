@@ -119,6 +119,20 @@ CASES = [
      "unknown function 'g' (g is defined in LTLLibrary: import LTLLibrary)"),
     ("a bare name that is also an LTL operator",
      HEAD + "\tcontrolled x: Integer\ndefinitions:\n\tmain rule r_main = x := y\n", 6, 26, "unknown function 'y'"),
+    ("JUSTICE after a property",
+     HEAD + "\tmonitored go: Boolean\ndefinitions:\n\tinvariant over go: go or not go\n\tJUSTICE go\n", 7, 2,
+     "unexpected 'JUSTICE'; expected 'CTLSPEC', 'LTLSPEC', 'ctlspec', 'default', 'init', 'invariant', 'ltlspec', "
+     "'main', ... (JUSTICE and COMPASSION constraints come before the properties (invariant, CTLSPEC, LTLSPEC))"),
+    ("rule declaration after the main rule",
+     HEAD + "\tcontrolled x: Integer\ndefinitions:\n\tmain rule r_main = r_a[]\n\trule r_a = x := 1\n", 7, 2,
+     "(rule declarations come before the main rule)"),
+    ("function definition after a rule declaration",
+     HEAD + "\tderived y: Integer\ndefinitions:\n\trule r_a = skip\n\tfunction y = 1\n", 7, 2,
+     "(function definitions come before rule declarations)"),
+    ("domain initialisation after a function initialisation",
+     HEAD + "\tdomain D subsetof Integer\n\tcontrolled x: Integer\ndefinitions:\n\tmain rule r_main = skip\n"
+            "default init s0:\n\tfunction x = 0\n\tdomain D = {1 : 2}\n", 10, 2,
+     "(domain definitions come before function definitions)"),
     ("file name differs from the asm name", "asm Other\nimport StandardLibrary\nsignature:\ndefinitions:\n",
      1, 5, "differs from its file name"),
 ]
