@@ -670,7 +670,13 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine):
             # state or depth limit (checked between two states) may have cut the last state's
             got = check_partial(ex, temporal, fair=list(fair or []), stopped_inside=type(ex) is Explorer and not (
                 result.reason or "").startswith(("state limit", "depth limit")))
-    except (TimeUp, DeadlineReached, MemoryError):
+    except (TimeUp, DeadlineReached, MemoryError, KeyboardInterrupt):
+        got = []                # (the properties stay incomplete, as the search is)
+    except AsmError:
+        raise
+    except Exception as exc:        # an internal error: the properties stay incomplete, and say why
+        result.reason = f"{result.reason}; LTL/CTL on the partial state space: internal error: " \
+                        f"{type(exc).__name__}: {exc}"
         got = []
     for t in got:
         if not t.holds and not t.message and result.verdict != "violated":

@@ -191,8 +191,11 @@ def with_sink(K, frontier, unknown_steps: bool = False, init_states=()):
         tgt = array(K.tgt.typecode if isinstance(K.tgt, array) else "q", K.tgt)
         tgt.extend(array(tgt.typecode, [0]) * (nu + 1))
         K2.sid, K2.tgt = sid, tgt
-        init_fr = {int(t): K.n + k for k, t in enumerate(fr.tolist())}
-        K2.init = list(K.init) + [init_fr[t] for t in init_states if t in init_fr]
+        ini = np.asarray(sorted(init_states), dtype=np.int64)
+        at = np.searchsorted(fr, ini)
+        hit = at < len(fr)
+        hit[hit] = fr[at[hit]] == ini[hit]
+        K2.init = list(K.init) + (K.n + at[hit]).tolist()
         K2.unknown = (K.n, fr)
     K2.cls_succ = Classes(_to_array(off), _to_array(adj))
     K2.label = {}
