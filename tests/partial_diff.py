@@ -32,15 +32,18 @@ def corpus_specs(asmeta: Path) -> list:
     return sorted(out)
 
 
-def bounds(states: int, depth: int) -> list:
-    """(max_states, max_depth) pairs below the full run's."""
-    ms = sorted({b for b in (1, 2, 3, 5, 10, 30, states // 10, states // 3, states // 2, states - 1)
-                 if 1 <= b < states})
-    md = sorted({d for d in (1, 2, 3, depth // 2, depth - 1) if 1 <= d < depth})
-    return [(b, None) for b in ms] + [(None, d) for d in md]
+def bounds(states: int, depth: int, few: bool = False) -> list:
+    """(max_states, max_depth) pairs below the full run's (``few``: six state bounds and three
+    depth bounds, else ten and five)."""
+    ms = (1, 3, 10, states // 10, states // 2, states - 1) if few else \
+        (1, 2, 3, 5, 10, 30, states // 10, states // 3, states // 2, states - 1)
+    md = (1, 2, depth // 2) if few else (1, 2, 3, depth // 2, depth - 1)
+    return [(b, None) for b in sorted({b for b in ms if 1 <= b < states})] + \
+        [(None, d) for d in sorted({d for d in md if 1 <= d < depth})]
 
 
-def check_spec(path: Path, engines=("auto", "python"), python_states: int = 3000, seconds: float = 10.0):
+def check_spec(path: Path, engines=("auto", "python"), python_states: int = 3000, seconds: float = 10.0,
+               few: bool = False):
     """{"full": rows, "runs": n, "decided": n, "wrong": [..], "skipped": reason}."""
     from asmcheck import api
     from asmcheck.errors import AsmError
@@ -60,7 +63,7 @@ def check_spec(path: Path, engines=("auto", "python"), python_states: int = 3000
         return out
     out["full"] = want
     out["states"] = full.states
-    for ms, md in bounds(full.states, full.depth):
+    for ms, md in bounds(full.states, full.depth, few):
         for engine in engines:
             if engine == "python" and (ms or full.states) > python_states:
                 continue

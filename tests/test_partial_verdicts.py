@@ -272,16 +272,16 @@ def test_with_sink_structure():
 @pytest.mark.corpus
 @pytest.mark.engines("native")
 def test_corpus_differential():
-    """Every corpus spec with CTLSPEC/LTLSPEC that explores to the end within 10 s, at up to ten
-    state bounds and five depth bounds, on the native engine and (up to 3,000 states) the Python
+    """Every corpus spec with CTLSPEC/LTLSPEC that explores to the end within 10 s, at up to six
+    state bounds and three depth bounds, on the native engine and (up to 1,500 states) the Python
     one: no verdict decided with a bound differs from the whole run's, and an undecided one is
-    incomplete."""
+    incomplete (``python tests/partial_diff.py`` runs ten state bounds and five depth bounds)."""
     need_asmeta()
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from partial_diff import check_spec, corpus_specs
     wrong, decided, runs, specs = [], 0, 0, 0
     for p in corpus_specs(ASMETA):
-        r = check_spec(p)
+        r = check_spec(p, python_states=1500, few=True)
         if r["skipped"]:
             continue
         specs += 1
@@ -289,4 +289,4 @@ def test_corpus_differential():
         decided += r["decided"]
         wrong += [(str(p.relative_to(ASMETA)),) + w for w in r["wrong"]]
     assert not wrong
-    assert specs >= 40 and runs >= 800 and decided >= 1000, (specs, runs, decided)
+    assert specs >= 40 and runs >= 400 and decided >= 400, (specs, runs, decided)

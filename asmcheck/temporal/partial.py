@@ -262,6 +262,15 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
     if invars:
         notes.append("with INVAR constraints a partial state space decides no LTL/CTL property")
         return []
+    if getattr(explorer, "engine", "") == "native" and any(kind == "ltl" and f is not None
+                                                            for _, kind, f, _ in checks):
+        # LTL on the state graph reads the edge arrays: a native search that recorded the
+        # quotient's steps instead runs again to record them, before the frontier is found
+        try:
+            explorer.edge_arrays()
+        except Exception:       # (the structures say it again, or need no edges)
+            pass
+        S = explorer.n_states
     has_succ = getattr(explorer, "has_successor", None)
     has_out = has_succ() if has_succ is not None else None
     if has_out is None:
