@@ -218,6 +218,36 @@ def _cut(nodes, loop, sink, K=None):
 
 
 # ----------------------------------------------------------------- the entry point
+class _Literals(dict):
+    """The labels of the literals (atom keys ``base + 4 i + k``: k = 0 p and 1 not p with every
+    literal false at the sink, 2 p and 3 not p with every literal true there), made when a check
+    first reads one.  ``slab``: the state atoms' labels of the explored states, for the nodes of
+    the frontier states whose steps are unknown (``nu`` of them, in the order of ``frontier``);
+    a monitored atom is unknown there: false or true as at the sink."""
+
+    def __init__(self, K, slab, frontier, nu, base, used):
+        super().__init__()
+        # (the atoms' labels only: the structure's own successor arrays are not kept alive)
+        self.labels, self.mon = K.label, set(K.mon_atoms)
+        self.slab, self.frontier, self.nu, self.base, self.used = slab, frontier, nu, base, set(used)
+
+    def __missing__(self, key):
+        import numpy as np
+        i, k = divmod(key - self.base, 4)
+        if key < self.base or i not in self.used:
+            raise KeyError(key)
+        hi = k >= 2
+        known = bytes(self.labels[i])
+        if self.nu and i not in self.mon:
+            known += np.frombuffer(bytes(self.slab[i]), dtype=np.uint8)[self.frontier].tobytes()
+        if k % 2:
+            known = known.translate(_NOT)
+        if self.nu and i in self.mon:
+            known += (b"\x01" if hi else b"\x00") * self.nu
+        lab = self[key] = bytearray(known + (b"\x01" if hi else b"\x00"))
+        return lab
+
+
 def frontier_states(explorer, has_out, stopped_inside: bool):
     """The states whose successors are unknown (a sorted numpy array): those without any recorded
     step (well-defined or failing), and, when the search may have stopped inside a state's steps
@@ -310,23 +340,7 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
             if unknown and slab is None:
                 slab = state_labels(explorer, atoms, st_atoms)
             nu = K2.n - K.n - 1
-            for i in sorted(used):
-                lab = K.label[i]
-                if not unknown:
-                    known = bytes(lab)
-                    lo = hi = b""
-                elif i in K.mon_atoms:
-                    # the steps of a frontier state: their inputs unknown
-                    known = bytes(lab)
-                    lo, hi = bytes(nu), b"\x01" * nu
-                else:
-                    known = bytes(lab) + np.frombuffer(bytes(slab[i]), dtype=np.uint8)[frontier].tobytes()
-                    lo = hi = b""
-                neg = known.translate(_NOT)
-                K2.label[key_lo(i, True)] = bytearray(known + lo + b"\x00")
-                K2.label[key_lo(i, False)] = bytearray(neg + lo + b"\x00")
-                K2.label[key_hi(i, True)] = bytearray(known + hi + b"\x01")
-                K2.label[key_hi(i, False)] = bytearray(neg + hi + b"\x01")
+            K2.label = _Literals(K, slab if unknown else None, frontier, nu, base, sorted(used))
             if not kernel.all_succ(K2):
                 structures[step] = None          # a node without successors: the argument needs a total structure
                 return None
