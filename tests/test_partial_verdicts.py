@@ -290,3 +290,30 @@ def test_corpus_differential():
         wrong += [(str(p.relative_to(ASMETA)),) + w for w in r["wrong"]]
     assert not wrong
     assert specs >= 40 and runs >= 400 and decided >= 400, (specs, runs, decided)
+
+
+@pytest.mark.slow
+@pytest.mark.corpus
+@pytest.mark.engines("native")
+def test_tombola_two_million_states():
+    """tombola.asm (about 10^9 states): 2,000,003 states explored decide its first two CTL
+    properties, as NuSMV does (true, true); the third (false for NuSMV) needs a state where both
+    cards are complete, nine numbers deep, and stays incomplete."""
+    need_asmeta()
+    path = ASMETA / "asm_examples" / "examples" / "tombola.asm"
+    nusmv = (ASMETA / "verdicts" / "asm_examples" / "examples" / "tombola.verdicts").read_text().splitlines()
+    assert [ln.rsplit(" ", 1)[1] for ln in nusmv if ln.startswith("-- specification")] == ["true", "true", "false"]
+    m = api.load(str(path))
+    run = m.explore(engine="native", max_states=2_000_000)
+    assert rows(run) == [("ctl_1", "holds", 2_000_003), ("ctl_2", "holds", 2_000_003), ("ctl_3", "incomplete", None)]
+    assert run.verdict == "incomplete"
+
+    def drawn(state):
+        return sorted(int(k[7:-1]) for k, v in state.items() if k.startswith("uscito(") and v is True)
+    got = {}
+    for t in run.temporal:
+        j = temporal_json(t, m.machine)
+        got[t.name] = ([drawn(s["state"]) for s in j["trace"]][-1], len(j["trace"]), j.get("loop_start"))
+    # ef(A complete): 1 first, then A's five numbers; eg(not A complete): B's card completes first,
+    # then the game stays there for ever
+    assert got == {"ctl_1": ([1, 2, 7, 12, 18, 25], 7, None), "ctl_2": ([1, 5, 14, 18, 26], 6, 4)}
