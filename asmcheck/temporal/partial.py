@@ -187,9 +187,9 @@ def with_sink(K, frontier, unknown_steps: bool = False, init_states=()):
     K2.cls = cls
     if nu:
         sid = array(K.sid.typecode if isinstance(K.sid, array) else "q", K.sid)
-        sid.extend(array(sid.typecode, fr.tolist() + [0]))
+        sid.frombytes(np.append(fr, 0).astype(np.dtype(sid.typecode)).tobytes())
         tgt = array(K.tgt.typecode if isinstance(K.tgt, array) else "q", K.tgt)
-        tgt.extend(array(tgt.typecode, [0]) * (nu + 1))
+        tgt.frombytes(bytes(tgt.itemsize * (nu + 1)))
         K2.sid, K2.tgt = sid, tgt
         ini = np.asarray(sorted(init_states), dtype=np.int64)
         at = np.searchsorted(fr, ini)
@@ -328,13 +328,18 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
 
     cache: dict = {}
     structures: dict = {}
+    timing: dict = {}
 
     def kripke(step: bool):
         if step not in structures:
+            t_build = time.perf_counter()
             K = build_kripke(explorer, atoms, used, invars, [], [], [], step=step, cache=cache, halts=halts,
                              quotient=True)
             unknown = K.mode == "step"
+            t_sink = time.perf_counter()
             K2, sink = with_sink(K, frontier, unknown, init_sids)
+            timing["structure_seconds"] = timing.get("structure_seconds", 0.0) + t_sink - t_build
+            timing["sink_seconds"] = timing.get("sink_seconds", 0.0) + time.perf_counter() - t_sink
             st_atoms = [i for i in sorted(used) if i not in K.mon_atoms]
             slab = cache.get(("slab", tuple(st_atoms)))
             if unknown and slab is None:
@@ -407,5 +412,6 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
         results.append(t)
     for r in results:
         r.stats["total_seconds"] = time.perf_counter() - t_start
+        r.stats.update(timing)
         r.relative_to = relative_to
     return results
