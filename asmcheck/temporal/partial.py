@@ -221,7 +221,7 @@ def _cut(nodes, loop, sink, K=None):
 class _Literals(dict):
     """The labels of the literals (atom keys ``base + 4 i + k``: k = 0 p and 1 not p with every
     literal false at the sink, 2 p and 3 not p with every literal true there), made when a check
-    first reads one.  ``slab``: the state atoms' labels of the explored states, for the nodes of
+    first reads one; an atom's own key gives its label where it is known (false elsewhere).  ``slab``: the state atoms' labels of the explored states, for the nodes of
     the frontier states whose steps are unknown (``nu`` of them, in the order of ``frontier``);
     a monitored atom is unknown there: false or true as at the sink."""
 
@@ -233,9 +233,13 @@ class _Literals(dict):
 
     def __missing__(self, key):
         import numpy as np
-        i, k = divmod(key - self.base, 4)
-        if key < self.base or i not in self.used:
-            raise KeyError(key)
+        if isinstance(key, int) and 0 <= key < self.base and key in self.used:
+            # an atom itself (what a trace shows): as known, false where it is not known
+            i, k = key, 0
+        else:
+            i, k = divmod(key - self.base, 4)
+            if key < self.base or i not in self.used:
+                raise KeyError(key)
         hi = k >= 2
         known = bytes(self.labels[i])
         if self.nu and i not in self.mon:
