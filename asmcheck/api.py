@@ -544,6 +544,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                     step_quotient=_quotient_plan(machine, temporal, fair, graph))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
+            if max_seconds is not None:
+                # the engine's compile (a cache miss) comes out of the whole run's time: the search
+                # gets what is left (the compile itself is not cut short: it is cached for the next run)
+                ex.max_seconds = search_seconds = max(max_seconds - (time.perf_counter() - begin), 0.0)
             try:
                 # the Python step function that recovers the errors of the states where a step
                 # fails has the time the search had
