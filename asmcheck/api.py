@@ -544,6 +544,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                     step_quotient=_quotient_plan(machine, temporal, fair, graph))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
+            if max_seconds is not None:
+                # the engine's compile (a cache miss) comes out of the whole run's time: the search
+                # gets what is left (the compile itself is not cut short: it is cached for the next run)
+                ex.max_seconds = search_seconds = max(max_seconds - (time.perf_counter() - begin), 0.0)
             try:
                 # the Python step function that recovers the errors of the states where a step
                 # fails has the time the search had
@@ -596,6 +600,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     temporal_note = ""
     temporal_error = ""
     checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
+    # the invariants, step properties and deadlock are decided by the search alone: a limit met in
+    # the LTL/CTL phase after a complete search leaves them decided
+    result.search_stopped_early = result.stopped_early
     if checked_temporal and result.stopped_early and not interrupted and _partial_ok(ex):
         temporal_results, temporal_note = _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine)
     elif checked_temporal and result.verdict != "incomplete" and not interrupted:
@@ -838,7 +845,7 @@ class Exploration:
         run-time error's location, on the verdicts relative to it)."""
         result = self.result
         bad = {v.prop.name for v in result.violations}
-        incomplete = result.stopped_early
+        incomplete = getattr(result, "search_stopped_early", result.stopped_early)
         rel = self.relative_to
         rows = []
 

@@ -243,8 +243,9 @@ def add_explore_options(p) -> None:
     p.add_argument("--max-states", type=int, metavar="N", help="stop after N distinct states (verdict incomplete)")
     p.add_argument("--max-depth", type=int, metavar="N", help="do not go deeper than N steps (verdict incomplete)")
     p.add_argument("--max-seconds", type=float, metavar="S",
-                   help="stop after S seconds of wall-clock time for the whole command, LTL/CTL included "
-                        "(verdict incomplete)")
+                   help="stop after S seconds of wall-clock time for the whole command, LTL/CTL and the "
+                        "native engine's compile included (verdict incomplete; a compile is not cut short: it "
+                        "is cached for the next run)")
     p.add_argument("--max-memory", metavar="SIZE",
                    help="stop when the process holds more than SIZE of memory (2G, 512M; verdict incomplete); "
                         "default: three quarters of the physical memory; 0: no limit")
