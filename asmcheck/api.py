@@ -925,7 +925,18 @@ class Exploration:
 
     def temporal_text(self, color: bool = False) -> list[list[str]]:
         """The text of each violated temporal property (with its replayed counterexample)."""
-        return [temporal_text(t, self.model.machine, color) for t in self.temporal if not t.holds]
+        out = []
+        for t in self.temporal:
+            if t.holds:
+                continue
+            lines = list(temporal_text(t, self.model.machine, color))
+            n = getattr(t, "decided_on", None)
+            if n is not None and not t.message:
+                # a verdict of the partial state space: the path holds whatever the rest would be
+                lines.insert(1, f"  decided on the {n:,} states explored: every continuation of the states "
+                                f"not expanded keeps this counterexample")
+            out.append(lines)
+        return out
 
     def json(self) -> dict:
         """The report of ``asmcheck explore --format json``."""

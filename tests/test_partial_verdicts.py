@@ -194,7 +194,9 @@ def test_explore_text_and_json(write_spec, capsys):
     assert "ctl_2                                    violated (decided on the 4 states explored)" in lines
     assert "ctl_3                                    incomplete" in lines
     assert "incomplete: state limit 4 reached" in lines and "verdict: violated" in lines
-    assert [ln for ln in lines if ln.startswith("ctl_2 (")] == ["ctl_2 (Chain.asm:11:2) is violated -- counterexample, 3 steps:"]
+    at = lines.index("ctl_2 (Chain.asm:11:2) is violated -- counterexample, 3 steps:")
+    assert lines[at + 1:at + 3] == ["decided on the 4 states explored: every continuation of the states not expanded "
+                                    "keeps this counterexample", "formula: ag(x < 3)"]
     code = main(["explore", "--max-states", "4", "--format", "json", path])
     doc = json.loads(capsys.readouterr().out)
     assert code == 1
@@ -228,6 +230,8 @@ def test_gate_expectations(write_spec, capsys, tmp_path):
     text = capsys.readouterr().out
     assert code == 1          # the decided violation of ltl_1 is not expected
     assert "gate: FAIL (exit 1)" in text
+    assert f"FAIL {path}: ltl_1 ({path}:14:2) is violated (decided on the 4 states explored) -- counterexample, " \
+        f"3 steps:" in text.splitlines()
 
 
 # ----------------------------------------------------------------- the pieces
