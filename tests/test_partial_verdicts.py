@@ -321,3 +321,19 @@ def test_tombola_two_million_states():
     # ef(A complete): 1 first, then A's five numbers; eg(not A complete): B's card completes first,
     # then the game stays there for ever
     assert got == {"ctl_1": ([1, 2, 7, 12, 18, 25], 7, None), "ctl_2": ([1, 5, 14, 18, 26], 6, 4)}
+
+
+@pytest.mark.slow
+@pytest.mark.corpus
+@pytest.mark.engines("native")
+def test_tombola_memory_bound_leaves_no_room():
+    """A search stopped by the memory bound leaves no memory for the check of the states explored:
+    it is not tried, and the reason says what to do."""
+    need_asmeta()
+    m = api.load(str(ASMETA / "asm_examples" / "examples" / "tombola.asm"))
+    run = m.explore(engine="native", max_memory=300 * 2**20)
+    assert [v for _, v, _ in rows(run)] == ["incomplete"] * 3
+    head, _, tail = run.result.reason.partition("; ")
+    assert head == "memory limit 300 MB reached"
+    assert tail.startswith("no memory left to decide LTL/CTL properties on the states explored (about ")
+    assert tail.endswith(" MB more, over the bound of 300 MB): bound the search with --max-states")
