@@ -108,6 +108,13 @@ def _to_array(x) -> array:
     return out
 
 
+def _copy(a, typecode: str) -> array:
+    """A new array of ``typecode`` with the items of ``a`` (a slice when it is one already)."""
+    if isinstance(a, array) and a.typecode == typecode:
+        return a[:]
+    return array(typecode, a)
+
+
 def with_sink(K, frontier, unknown_steps: bool = False, init_states=()):
     """A copy of the Kripke structure K with one more node, the sink, that loops on itself and is
     the only successor of every node whose successor class is in ``frontier`` (classes are
@@ -182,13 +189,13 @@ def with_sink(K, frontier, unknown_steps: bool = False, init_states=()):
         if not name.startswith("_"):
             setattr(K2, name, value)
     K2.n = K.n + nu + 1
-    cls = array("i", K.cls)
+    cls = _copy(K.cls, "i")
     cls.extend(array("i", [len(off) - 2]) * (nu + 1))
     K2.cls = cls
     if nu:
-        sid = array(K.sid.typecode if isinstance(K.sid, array) else "q", K.sid)
+        sid = _copy(K.sid, K.sid.typecode if isinstance(K.sid, array) else "q")
         sid.frombytes(np.append(fr, 0).astype(np.dtype(sid.typecode)).tobytes())
-        tgt = array(K.tgt.typecode if isinstance(K.tgt, array) else "q", K.tgt)
+        tgt = _copy(K.tgt, K.tgt.typecode if isinstance(K.tgt, array) else "q")
         tgt.frombytes(bytes(tgt.itemsize * (nu + 1)))
         K2.sid, K2.tgt = sid, tgt
         ini = np.asarray(sorted(init_states), dtype=np.int64)
