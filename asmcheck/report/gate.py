@@ -307,6 +307,12 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
                                             location=span_location(prop.span, prop.name, root),
                                             text=property_text(prop), message="the exploration is incomplete"))
                 seen.add(prop.name)
+    if any(r.decided_on is not None for r in rows):
+        # verdicts decided on a partial state space beside incomplete ones: in declaration order
+        order = {getattr(p, "name", None): i for i, p in enumerate(temporal)}
+        at = [i for i, r in enumerate(rows) if r.kind in TEMPORAL_KINDS and r.name in order]
+        for i, r in zip(at, sorted((rows[i] for i in at), key=lambda r: order[r.name])):
+            rows[i] = r
     for name in sorted(expected - seen):
         prop = by_name.get(name)
         if prop is not None and getattr(prop, "kind", "") in TEMPORAL_KINDS:

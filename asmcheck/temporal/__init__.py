@@ -15,6 +15,10 @@ LTL / CTL / invariant property, in the order given.
   implies q infinitely often), and ``fair`` = the ``--fair`` domains: weak fairness of
   every agent of the domain (``all``: of every alternative of every choose rule).
 
+A search stopped by a limit leaves a partial state graph: :mod:`.partial` decides the properties
+that have the same value whatever the unexplored part holds (:func:`.partial.check_partial`;
+its results carry ``decided_on``, the states explored).
+
 Counterexamples (and witnesses of existential CTL properties) are replayed through the
 step function; :func:`asmcheck.report.trace.temporal_text` and ``temporal_json`` render them.
 
