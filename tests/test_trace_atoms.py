@@ -253,3 +253,46 @@ def test_the_printed_values_are_checked(tmp_path, asmcheck_engine, monkeypatch):
     r = run.temporal[1]
     with pytest.raises(AtomError, match="do not give the values of the path"):
         r.trace()
+
+
+# an INVAR over a monitored function excludes values: the values shown satisfy it (level LOW is
+# never shown), and a monitored Integer bounded by --monitored
+INV = """asm Inv
+import StandardLibrary
+import LTLLibrary
+import CTLLibrary
+signature:
+	enum domain Level = {LOW | MID | HIGH}
+	domain Cnt subsetof Integer
+	controlled x: Cnt
+	monitored level: Level
+	monitored temp: Integer
+	monitored tick: Boolean
+definitions:
+	domain Cnt = {0 : 2}
+	INVAR level != LOW
+	CTLSPEC ag(x = 1 implies level = MID)
+	LTLSPEC g(x = 2 implies temp < 3)
+	main rule r_main =
+		if tick then
+			if x < 2 then x := x + 1 endif
+		endif
+default init s0:
+	function x = 0
+"""
+
+
+def test_values_satisfy_the_invar(tmp_path, asmcheck_engine):
+    from asmcheck.explore.native_build import compiler
+    model = api.load(write(tmp_path, INV), monitored={"temp": "0..4"})
+    run = model.explore(engine=asmcheck_engine)
+    assert run.engine == ("native" if asmcheck_engine == "auto" and compiler() is not None else "python")
+    heads = [[ln for ln in temporal_text(r, model.machine) if ln.startswith("  step")] for r in run.temporal]
+    assert heads == [
+        ["  step 1: r_main; reads level = MID, tick = false",
+         "  step 2: r_main; reads level = MID, tick = true",
+         "  step 3: r_main; reads level = HIGH, tick = false"],
+        ["  step 1: r_main; reads level = MID, tick = true",
+         "  step 2: r_main; reads level = MID, tick = true",
+         "  step 3: r_main; reads level = MID, temp = 3, tick = false  <- the loop starts here (state 3)",
+         "  step 4: r_main; reads level = MID, temp = 0, tick = false  <- back to state 3"]]
