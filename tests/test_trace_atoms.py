@@ -9,11 +9,11 @@ import json
 import pytest
 
 from asmcheck import api
+from asmcheck.explore.bfs import ReplayError
 from asmcheck.explore.trace import atom_reads
 from asmcheck.report.avalla_export import trace_scenario
 from asmcheck.report.trace import temporal_json, temporal_text
 from asmcheck.semantics.values import show
-from asmcheck.temporal.kripke import AtomError
 
 from helpers import write
 
@@ -251,7 +251,7 @@ def test_the_printed_values_are_checked(tmp_path, asmcheck_engine, monkeypatch):
         return {k: (not v if isinstance(v, bool) else v) for k, v in (got or {}).items()}
     monkeypatch.setattr(T, "atom_reads", wrong)
     r = run.temporal[1]
-    with pytest.raises(AtomError, match="do not give the values of the path"):
+    with pytest.raises(ReplayError, match="do not give the values of the path"):
         r.trace()
 
 

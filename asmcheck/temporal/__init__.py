@@ -84,6 +84,7 @@ def _replay(explorer, K, nodes, loop, prop=None):
     A step of the path shows the monitored values that only the atoms of ``prop`` (and of the
     fairness constraints and INVARs the structure has) read, not the step: the first in the
     enumeration order that give the node's truth values."""
+    from ..explore.bfs import ReplayError
     from ..explore.trace import Trace, atom_reads, atom_values, term_ids, trace_steps
     from ..semantics.choice import Choice
 
@@ -146,12 +147,12 @@ def _replay(explorer, K, nodes, loop, prop=None):
                 continue
             reads = atom_reads(explorer.m, items, state, mon, vec)
             if reads is None:
-                raise AtomError(None, f"no monitored values give the atoms' values of the step from state "
-                                      f"{sids[i]} in the trace")
+                raise ReplayError(f"no monitored values give the atoms' values of the step from state "
+                                  f"{sids[i]} in the trace")
             shown, _ = atom_values(explorer.m, items, state, {**(mon or {}), **reads})
             if shown != tuple(bool(x) for x in vec):
-                raise AtomError(None, f"the atoms evaluated with the values shown in the step from state "
-                                      f"{sids[i]} do not give the values of the path")
+                raise ReplayError(f"the atoms evaluated with the values shown in the step from state "
+                                  f"{sids[i]} do not give the values of the path")
             if i + 1 < len(got):
                 tsteps[i + 1].atom_reads = reads
             elif reads:
