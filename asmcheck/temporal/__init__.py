@@ -126,8 +126,7 @@ def _replay(explorer, K, nodes, loop, prop=None):
         # structure shares its atoms among the properties checked together)
         ids = term_ids([getattr(prop, "body", None), getattr(prop, "body2", None)] +
                        [p.body for p in explorer.m.spec.properties if p.kind == "invar"])
-        fair = {id(x) for _, lab in K.justice for x in (lab,)} | \
-            {id(x) for _, a, b in K.compassion for x in (a, b)}
+        fair = {id(lab) for _, lab in K.justice} | {id(x) for _, a, b in K.compassion for x in (a, b)}
         keep = [k for k, a in enumerate(items) if id(a.term) in ids or
                 id(K.label.get(K.mon_atoms[k])) in fair]
         items = [items[k] for k in keep]
