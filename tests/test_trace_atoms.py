@@ -296,3 +296,36 @@ def test_values_satisfy_the_invar(tmp_path, asmcheck_engine):
          "  step 2: r_main; reads level = MID, tick = true",
          "  step 3: r_main; reads level = MID, temp = 3, tick = false  <- the loop starts here (state 3)",
          "  step 4: r_main; reads level = MID, temp = 0, tick = false  <- back to state 3"]]
+
+
+# a JUSTICE over a monitored function the rule does not read: the lasso's loop shows where it holds
+FAIR = """asm Fair
+import StandardLibrary
+import LTLLibrary
+signature:
+	enum domain Level = {LOW | MID | HIGH}
+	domain Cnt subsetof Integer
+	controlled x: Cnt
+	monitored level: Level
+	monitored tick: Boolean
+definitions:
+	domain Cnt = {0 : 2}
+	JUSTICE level = HIGH
+	LTLSPEC g(x < 2)
+	main rule r_main =
+		if tick then
+			if x < 2 then x := x + 1 endif
+		endif
+default init s0:
+	function x = 0
+"""
+
+
+def test_the_justice_atoms_values_are_shown(tmp_path, asmcheck_engine):
+    model, run = _run(tmp_path, FAIR, asmcheck_engine)
+    heads = [ln for ln in temporal_text(run.temporal[0], model.machine) if ln.startswith("  step")]
+    assert heads == ["  step 1: r_main; reads level = LOW, tick = true",
+                     "  step 2: r_main; reads level = LOW, tick = true",
+                     "  step 3: r_main; reads level = LOW, tick = false  <- the loop starts here (state 3)",
+                     "  step 4: r_main; reads level = LOW, tick = false",
+                     "  step 5: r_main; reads level = HIGH, tick = false  <- back to state 3"]
