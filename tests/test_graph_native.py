@@ -134,3 +134,27 @@ def test_swapboard_graph_counts(tmp_path):
     # 36 unordered pairs of cells (each printed as the first ordered pair of its effect, in some
     # state) with swap = CELL, and the swap of rows
     assert sum(1 for x in labels if "swap = ROW" in x) == 1
+
+
+def test_ctrl_c_while_the_graph_is_made(tmp_path, capsys, monkeypatch):
+    """Ctrl-C while the steps of the graph are enumerated: the run is incomplete and the graph
+    holds the steps found so far; writing it does not enumerate every step again (it did, so a
+    Ctrl-C did not stop swapBoard)."""
+    from asmcheck.explore import native
+    path = write(tmp_path, PICK)
+    calls = []
+    real = native._made_step
+
+    def counted(*a):
+        calls.append(1)
+        if len(calls) == 10:
+            raise KeyboardInterrupt
+        return real(*a)
+    monkeypatch.setattr(native, "_made_step", counted)
+    out = tmp_path / "pick.dot"
+    code = main(["explore", path, "--engine", "native", "--graph", str(out)])
+    text = capsys.readouterr().out
+    assert code == 3
+    assert "incomplete" in text
+    assert len(calls) == 10
+    assert sum(1 for ln in out.read_text().splitlines() if " -> " in ln) == 9

@@ -4639,29 +4639,37 @@ class NativeExplorer:
         steps: list = []
         e = 0
         ne = len(src_a)
-        for src in range(self.nstates):
-            want = set()
-            while e < ne and src_a[e] == src:
-                want.add(dst_a[e])
-                e += 1
-            st = self.state(src)
-            try:
-                succ = m.successors(st, limit=py.MAX_SUCCESSORS, errors=[])
-            except AsmError as exc:
-                raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated ({exc.message})") from None
-            got_dst = set()
-            for log, _ups, raw, mon in succ:
-                # as Explorer.admitted_successors: the steps the INVAR constraints admit
-                if py.invars and not (py._invar_ok(st, mon) and py._invar_ok(raw)):
-                    continue
-                dst = self.find(py._norm(raw))
-                if dst is None:
-                    raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
-                got_dst.add(dst)
-                out.append((src, dst, tuple(c.pick for c in log)))
-                steps.append(_made_step(made, m, log, mon))
-            if got_dst != want:
-                raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        try:
+            for src in range(self.nstates):
+                want = set()
+                while e < ne and src_a[e] == src:
+                    want.add(dst_a[e])
+                    e += 1
+                st = self.state(src)
+                try:
+                    succ = m.successors(st, limit=py.MAX_SUCCESSORS, errors=[])
+                except AsmError as exc:
+                    raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated "
+                                      f"({exc.message})") from None
+                got_dst = set()
+                for log, _ups, raw, mon in succ:
+                    # as Explorer.admitted_successors: the steps the INVAR constraints admit
+                    if py.invars and not (py._invar_ok(st, mon) and py._invar_ok(raw)):
+                        continue
+                    dst = self.find(py._norm(raw))
+                    if dst is None:
+                        raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
+                    got_dst.add(dst)
+                    out.append((src, dst, tuple(c.pick for c in log)))
+                    steps.append(_made_step(made, m, log, mon))
+                if got_dst != want:
+                    raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        except KeyboardInterrupt:
+            # Ctrl-C: the run is incomplete, and the steps found so far are its graph (writing the
+            # graph then does not enumerate every step again)
+            n = min(len(out), len(steps))
+            self._graph_edges, self._graph_made = out[:n], steps[:n]
+            raise
         if e != ne:
             raise Unsupported("--graph: the native edges are not ordered by source")
         self._graph_edges, self._graph_made = out, steps
