@@ -563,11 +563,18 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                     ex.graph_edges()
             except KeyboardInterrupt as exc:
                 interrupted = True
-                result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
-                                interrupt_reason(exc), list(state_props))
-                result.deadlock_checked = deadlock
-                result.engine = "native"
-                result.workers = ex.workers
+                if result is not None:
+                    # the search was over: the Ctrl-C came while the graph's steps were enumerated
+                    # (the counts and verdicts of the search stay)
+                    result.reason = f"{interrupt_reason(exc)} while the state graph's steps were enumerated"
+                    if result.verdict == "holds":
+                        result.verdict = "incomplete"
+                else:
+                    result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
+                                    interrupt_reason(exc), list(state_props))
+                    result.deadlock_checked = deadlock
+                    result.engine = "native"
+                    result.workers = ex.workers
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
