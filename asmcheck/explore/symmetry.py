@@ -1,0 +1,598 @@
+"""Symmetry reduction: interchangeable domain elements, and one state per class.
+
+Detection.  For an enum domain, or a finite subset of Integer given by its elements, the
+elements that no literal names (anywhere: rules, static and derived definitions, the initial
+state, every property checked, the values given with ``--monitored``) are interchangeable
+when the spec and its properties never tell them apart: a value of the domain may only be
+compared by equality (with another value of the domain or with a literal), passed as an
+argument where the domain is declared, stored in a location of the domain, bound by a
+``let``, or chosen or quantified over the whole domain.  Any other use (arithmetic, an order
+comparison, a library function, a collection, a comprehension over the domain, a value of
+another type where the domain is expected, ...) leaves the domain without symmetry, with the
+first such use as the reason.  The spec must not use ``extend``, and every stored function
+must have at most one position (an argument or its value) over a symmetric domain: then the
+canonical form below is exact.
+
+Reduction.  Each interchangeable element gets a signature: the sorted list of the locations
+where it occurs (function, position, the other arguments, the value).  The elements are
+renamed so that their signatures come in the order of the elements; elements with equal
+signatures play the same part (swapping them leaves the state as it is), so the result is
+the same for every state of a class: a canonical representative.
+
+Counts of a reduced search are counts of classes (orbits); invariants, deadlock and LTL/CTL
+properties keep their verdicts, since no property names an interchangeable element and each
+is evaluated by the same equality-only operations; traces are made concrete again by
+:meth:`Symmetry.image` and a replay through the step function.
+"""
+from __future__ import annotations
+
+from ..semantics import ir
+from ..semantics import types as T
+from ..semantics.values import EnumValue, vkey
+
+
+class SymmetricDomain:
+    """A domain with interchangeable elements: ``free`` (in the domain's order) and the
+    elements literals name."""
+
+    def __init__(self, domain, values: list, named: list):
+        self.domain = domain
+        self.name = domain.name
+        self.values = values
+        self.named = named
+        nameset = set(map(_vid, named))
+        self.free = [v for v in values if _vid(v) not in nameset]
+        self.free_ids = {_vid(v): i for i, v in enumerate(self.free)}
+
+    def describe(self) -> str:
+        return f"{self.name}'s {len(self.free):,} unnamed elements"
+
+
+_MISSING = object()
+
+#: a domain with more elements is not considered
+MAX_ELEMENTS = 100_000
+
+
+def _vid(v):
+    """A key telling values apart (1 and True differ)."""
+    return (type(v) is bool, v)
+
+
+class Symmetry:
+    """What detection found: ``domains`` (SymmetricDomain, possibly none), ``lines`` (one
+    explanation per candidate domain) and ``reason`` (why no reduction is possible, or '')."""
+
+    def __init__(self, domains: list, lines: list, reason: str = "", positions: dict | None = None):
+        self.domains = domains
+        self.lines = lines
+        self.reason = reason
+        # function index -> (position, SymmetricDomain): the argument (or -1, the value) of a
+        # stored function over a symmetric domain
+        self.positions = positions or {}
+        n = 0
+        for d in domains:
+            d.offset = n
+            n += len(d.free)
+        self._n = n
+        self._keys: dict = {}           # location key -> _key_info
+
+    @property
+    def active(self) -> bool:
+        return bool(self.domains)
+
+    def describe(self) -> str:
+        """'the symmetry of Numero's 21 unnamed elements' (and others)."""
+        parts = [d.describe() for d in self.domains]
+        return "the symmetry of " + _and(parts)
+
+    # ---------------------------------------------------------------- the canonical form
+    def _key_info(self, k):
+        """What location key ``k`` is to :meth:`canon`: None (no interchangeable element can
+        occur in it), else (position, SymmetricDomain, global index of the element at an
+        argument position or -1, the location's signature entry prefix)."""
+        if type(k) is tuple:
+            if k[0] == "#dom":
+                return None
+            info = self.positions.get(k[0])
+            if info is None:
+                return None
+            p, sd = info
+            args = k[1]
+            if p >= 0:
+                ix = sd.free_ids.get(_vid(args[p]))
+                if ix is None:
+                    return None
+                return (p, sd, sd.offset + ix, (k[0], p, tuple([vkey(a) for i, a in enumerate(args) if i != p])), {})
+            return (p, sd, -1, (k[0], -1, tuple([vkey(a) for a in args])), None)
+        info = self.positions.get(k)
+        if info is None:
+            return None
+        return (-1, info[1], -1, (k, -1, ()), None)
+
+    def canon(self, state: dict) -> tuple[dict, dict]:
+        """(the canonical representative of ``state``'s class, the renaming that makes it from
+        ``state``: element -> element, for the elements that move)."""
+        kc = self._keys
+        sigs = [[] for _ in range(self._n)]
+        occ = [[] for _ in range(self._n)]
+        for k, v in state.items():
+            info = kc.get(k, _MISSING)
+            if info is _MISSING:
+                if len(kc) > 1 << 18:
+                    kc.clear()
+                info = kc[k] = self._key_info(k)
+            if info is None:
+                continue
+            g = info[2]
+            if g < 0:
+                if v is None:
+                    continue
+                ix = info[1].free_ids.get(_vid(v))
+                if ix is None:
+                    continue
+                g = info[1].offset + ix
+                sigs[g].append((info[3], 0, 0))
+            else:
+                ents = info[4]
+                ent = ents.get(v)
+                if ent is None or ent[0] is not v.__class__:
+                    if len(ents) > 64:
+                        ents.clear()
+                    ent = ents[v] = (v.__class__, (info[3], 1, v) if v.__class__ is bool else (info[3], 2, vkey(v)))
+                sigs[g].append(ent[1])
+            occ[g].append(k)
+        perm: dict = {}
+        for sd in self.domains:
+            free = sd.free
+            off = sd.offset
+            order = sorted(range(len(free)), key=lambda i: (sorted(sigs[off + i]), i))
+            for j, i in enumerate(order):
+                if i != j:
+                    perm[free[i]] = free[j]
+        if not perm:
+            return state, {}
+        # only the locations of the elements that move change
+        out = dict(state)
+        new = []
+        for sd in self.domains:
+            off = sd.offset
+            for e in sd.free:
+                n = perm.get(e)
+                if n is None:
+                    continue
+                for k in occ[off + sd.free_ids[_vid(e)]]:
+                    v = out.pop(k)
+                    p = kc[k][0]
+                    if p >= 0:
+                        args = k[1]
+                        new.append(((k[0], args[:p] + (n,) + args[p + 1:]), v))
+                    else:
+                        new.append((k, n))
+        out.update(new)
+        return out, perm
+
+    def apply(self, state: dict, perm: dict) -> dict:
+        """``state`` with the elements renamed by ``perm`` (element -> element) at the positions
+        of the symmetric domains."""
+        if not perm:
+            return state
+        pos_of = self.positions
+        ren = {_vid(a): b for a, b in perm.items()}
+        out = {}
+        for k, v in state.items():
+            if type(k) is tuple:
+                info = pos_of.get(k[0]) if k[0] != "#dom" else None
+                if info is not None:
+                    p = info[0]
+                    if p >= 0:
+                        args = k[1]
+                        e = args[p]
+                        n = ren.get(_vid(e))
+                        if n is not None:
+                            k = (k[0], args[:p] + (n,) + args[p + 1:])
+                    elif v is not None:
+                        v = ren.get(_vid(v), v)
+            else:
+                info = pos_of.get(k)
+                if info is not None and v is not None:
+                    v = ren.get(_vid(v), v)
+            out[k] = v
+        return out
+
+    @staticmethod
+    def inverse(perm: dict) -> dict:
+        return {b: a for a, b in perm.items()}
+
+    @staticmethod
+    def compose(first: dict, then: dict) -> dict:
+        """The renaming ``then`` after ``first``."""
+        out = {}
+        for a in list(first) + [k for k in then if k not in first]:
+            b = first.get(a, a)
+            c = then.get(b, b)
+            if c != a:
+                out[a] = c
+        return out
+
+
+def _and(parts: list) -> str:
+    if len(parts) <= 1:
+        return "".join(parts)
+    return ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+# -------------------------------------------------------------------- detection
+class _Refused(Exception):
+    pass
+
+
+def _contains(t, cands) -> list:
+    """The candidate domains inside the structured type ``t``."""
+    out = []
+    stack = [t]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, T.Struct):
+            stack.extend(x.args)
+        elif x in cands and x not in out:
+            out.append(x)
+    return out
+
+
+class _Uses:
+    """Walks the spec and its properties: the literals, and the first use of each candidate
+    domain's values that could tell its elements apart."""
+
+    def __init__(self, cands: dict):
+        self.cands = cands              # Domain -> set of value ids
+        self.why: dict = {}             # Domain -> reason
+        self.named: dict = {d: [] for d in cands}
+        self.seen: set = set()
+
+    # -- helpers
+    def refuse(self, d, reason: str, span=None) -> None:
+        if d in self.why:
+            return
+        where = ""
+        if span is not None and getattr(span, "line", 0):
+            where = f" (line {span.line}, column {span.col})"
+        self.why[d] = reason + where
+
+    def cand(self, t):
+        return t if t in self.cands else None
+
+    def literal(self, v) -> None:
+        if type(v) is bool or v is None:
+            return
+        for d, ids in self.cands.items():
+            if _vid(v) in ids and not any(_vid(x) == _vid(v) for x in self.named[d]):
+                self.named[d].append(v)
+
+    # -- terms
+    def term(self, t, ctx, what: str) -> None:
+        """``t`` appears where a value of ``ctx`` (a candidate domain, or None: any other type)
+        is expected; ``what`` says where, for the reasons."""
+        if t is None:
+            return
+        typ = getattr(t, "type", None)
+        d = self.cand(typ)
+        if isinstance(t, ir.Const):
+            self.literal(t.value)
+            if d is not None and ctx is not d:
+                self.refuse(d, f"a value of {d.name} is {what}", t.span)
+            return
+        if d is not None and ctx is not d:
+            self.refuse(d, f"a value of {d.name} is {what}", t.span)
+        if ctx is not None and d is None:
+            self.refuse(ctx, f"a value of {typ} is used where {ctx.name} is expected ({what})", t.span)
+        if isinstance(typ, T.Struct):
+            for c in _contains(typ, self.cands):
+                self.refuse(c, f"a value of {typ} holds elements of {c.name} ({what})", t.span)
+        if isinstance(t, ir.Loc):
+            f = t.func
+            for i, a in enumerate(t.args):
+                dt = f.domain[i] if i < len(f.domain) else None
+                self.term(a, self.cand(dt), f"an argument of {f.name}")
+        elif isinstance(t, ir.Call):
+            self.call(t)
+        elif isinstance(t, (ir.Temporal, ir.StepOp)):
+            for a in t.args:
+                self.term(a, None, f"an argument of {t.op}")
+        elif isinstance(t, ir.DomainTerm):
+            c = self.cand(t.domain)
+            if c is not None:
+                self.refuse(c, f"the domain {c.name} is used as a value", t.span)
+        elif isinstance(t, ir.Cond):
+            self.term(t.cond, None, "a condition")
+            self.term(t.then, self.cand(typ), "a branch of a conditional term")
+            self.term(t.other, self.cand(typ), "a branch of a conditional term")
+        elif isinstance(t, ir.Switch):
+            ds = self.cand(t.subject.type)
+            self.term(t.subject, ds, "the subject of a switch")
+            for c, r in t.cases:
+                self.term(c, ds, "a case of a switch")
+                self.term(r, self.cand(typ), "a result of a switch")
+            self.term(t.other, self.cand(typ), "a result of a switch")
+        elif isinstance(t, ir.Let):
+            for v, x in t.bindings:
+                self.term(x, self.cand(v.type), f"bound to {v.name}")
+            self.term(t.body, self.cand(typ), "the result of a let")
+        elif isinstance(t, ir.Quant):
+            self.bindings(t.bindings)
+            self.term(t.guard, None, "a guard")
+        elif isinstance(t, ir.Compr):
+            for v, rng in t.bindings:
+                for c in self._ranges(v, rng):
+                    self.refuse(c, f"a comprehension ranges over {c.name}", t.span)
+            self.bindings(t.bindings)
+            self.term(t.guard, None, "a guard")
+            self.term(t.body, self.cand(t.body.type), "the body of a comprehension")
+        elif isinstance(t, ir.Collection):
+            for x in t.items:
+                self.term(x, self.cand(x.type), "an item of a collection")
+        elif isinstance(t, ir.Range):
+            for x in (t.start, t.end, t.step):
+                self.term(x, None, "a bound of a range")
+        elif isinstance(t, ir.MapLit):
+            for a, b in t.pairs:
+                self.term(a, self.cand(a.type), "a key of a map")
+                self.term(b, self.cand(b.type), "a value of a map")
+        elif isinstance(t, ir.TupleLit):
+            for x in t.items:
+                self.term(x, self.cand(x.type), "an item of a tuple")
+        elif isinstance(t, ir.RuleRef):
+            self.rule_decl(t.rule)
+        elif isinstance(t, (ir.VarRef,)):
+            pass
+        elif isinstance(t, ir.Term):
+            # a term this walk does not know: every candidate it may touch is refused
+            for c in list(self.cands):
+                self.refuse(c, f"a {type(t).__name__} term is not analysed", t.span)
+
+    def _ranges(self, v, rng) -> list:
+        out = []
+        if isinstance(rng, ir.DomainTerm) and self.cand(rng.domain) is not None:
+            out.append(rng.domain)
+        if self.cand(v.type) is not None and v.type not in out:
+            out.append(v.type)
+        return out
+
+    def bindings(self, bindings) -> None:
+        for v, rng in bindings:
+            dv = self.cand(v.type)
+            if isinstance(rng, ir.DomainTerm):
+                dr = self.cand(rng.domain)
+                if dr is not None or dv is not None:
+                    if dr is not dv:
+                        c = dr or dv
+                        self.refuse(c, f"{v.name} of {v.type} ranges over {rng.domain}", rng.span)
+                continue
+            if dv is not None:
+                self.refuse(dv, f"{v.name} ranges over a part of {dv.name}", rng.span)
+            self.term(rng, None, f"the range of {v.name}")
+
+    def call(self, t) -> None:
+        name = t.name
+        if name in ("eq", "neq") and len(t.args) == 2:
+            ds = [self.cand(a.type) for a in t.args]
+            d = ds[0] or ds[1]
+            if d is not None:
+                for a, da in zip(t.args, ds):
+                    if da is d:
+                        self.term(a, d, "compared")
+                    elif isinstance(a, ir.Const):
+                        self.literal(a.value)
+                    else:
+                        self.refuse(d, f"a value of {d.name} is compared with a value of {a.type}", t.span)
+                        self.term(a, None, "compared")
+                return
+        if name in ("isDef", "isUndef") and len(t.args) == 1:
+            a = t.args[0]
+            self.term(a, self.cand(a.type), "tested for undef")
+            return
+        what = f"an argument of {t.op or name}"
+        for a in t.args:
+            self.term(a, None, what)
+
+    # -- rules
+    def rule_decl(self, r) -> None:
+        if id(r) in self.seen:
+            return
+        self.seen.add(id(r))
+        self.rule(r.body)
+
+    def rule(self, r) -> None:
+        if r is None:
+            return
+        if isinstance(r, ir.Skip):
+            return
+        if isinstance(r, ir.Update):
+            f = r.func
+            for i, a in enumerate(r.args):
+                dt = f.domain[i] if i < len(f.domain) else None
+                self.term(a, self.cand(dt), f"an argument of {f.name}")
+            self.term(r.value, self.cand(f.codomain), f"stored in {f.name}")
+        elif isinstance(r, ir.UpdateVar):
+            self.term(r.value, self.cand(r.var.type), f"stored in {r.var.name}")
+        elif isinstance(r, ir.Block):
+            for x in r.rules:
+                self.rule(x)
+        elif isinstance(r, ir.If):
+            self.term(r.cond, None, "a condition")
+            self.rule(r.then)
+            self.rule(r.other)
+        elif isinstance(r, ir.SwitchRule):
+            ds = self.cand(r.subject.type)
+            self.term(r.subject, ds, "the subject of a switch")
+            for c, x in r.cases:
+                self.term(c, ds, "a case of a switch")
+                self.rule(x)
+            self.rule(r.other)
+        elif isinstance(r, ir.LetRule):
+            for v, x in r.bindings:
+                self.term(x, self.cand(v.type), f"bound to {v.name}")
+            self.rule(r.body)
+        elif isinstance(r, ir.Choose):
+            self.bindings(r.bindings)
+            self.term(r.guard, None, "a guard")
+            self.rule(r.body)
+            self.rule(r.ifnone)
+        elif isinstance(r, ir.Forall):
+            self.bindings(r.bindings)
+            self.term(r.guard, None, "a guard")
+            self.rule(r.body)
+        elif isinstance(r, ir.Extend):
+            for c in list(self.cands):
+                self.refuse(c, "the spec uses extend", r.span)
+            self.rule(r.body)
+        elif isinstance(r, ir.CallRule):
+            params = r.rule.params
+            for i, a in enumerate(r.args):
+                pt = params[i].type if i < len(params) else None
+                self.term(a, self.cand(pt), f"an argument of {r.rule.name}")
+            self.rule_decl(r.rule)
+        elif isinstance(r, ir.TurboReturn):
+            self.rule(r.target)
+            self.rule(r.call)
+        elif isinstance(r, ir.TermCall):
+            self.term(r.term, None, "a called rule value")
+            for a in r.args:
+                self.term(a, None, "an argument of a called rule value")
+        elif isinstance(r, ir.Loop):
+            self.term(r.cond, None, "a condition")
+            self.rule(r.body)
+        elif isinstance(r, ir.LocalRule):
+            self.function(r.func)
+            self.rule(r.init)
+            self.rule(r.body)
+        else:
+            for c in list(self.cands):
+                self.refuse(c, f"a {type(r).__name__} rule is not analysed", getattr(r, "span", None))
+
+    def function(self, f) -> None:
+        for dt in list(f.domain) + [f.codomain]:
+            if isinstance(dt, T.Struct):
+                for c in _contains(dt, self.cands):
+                    self.refuse(c, f"{f.name} is declared over {dt}", f.span)
+        if f.body is not None:
+            for p in f.params or ():
+                if isinstance(p.type, T.Struct):
+                    for c in _contains(p.type, self.cands):
+                        self.refuse(c, f"a parameter of {f.name} ranges over {p.type}", f.span)
+            self.term(f.body, self.cand(f.codomain), f"the value of {f.name}")
+
+
+def _candidates(machine) -> tuple[dict, list]:
+    """Candidate domains (Domain -> their values) and the lines for the domains left out."""
+    spec = machine.spec
+    out = {}
+    lines = []
+    doms = [d for d in spec.domains if isinstance(d, T.Domain)]
+    for d in doms:
+        if d.kind == "enum":
+            vals = list(d.elements)
+        elif d.kind == "subset" and T.root(d) in (T.INTEGER, T.NATURAL) and d.definition is not None \
+                and not d.dynamic:
+            try:
+                vals = list(machine.domain_values(d, None, d.span))
+            except Exception as exc:        # noqa: BLE001 - its elements cannot be listed: no symmetry
+                lines.append(f"{d.name}: no symmetry: its elements cannot be listed ({exc})")
+                continue
+            if len(vals) > MAX_ELEMENTS:
+                lines.append(f"{d.name}: no symmetry: {len(vals):,} elements (more than {MAX_ELEMENTS:,})")
+                continue
+        else:
+            continue
+        subs = [e.name for e in doms if e.kind == "subset" and e.base is d]
+        if subs:
+            lines.append(f"{d.name}: no symmetry: {', '.join(subs)} is declared a subset of it")
+            continue
+        out[d] = vals
+    return out, lines
+
+
+def detect(machine, properties=()) -> Symmetry:
+    """The interchangeable elements of ``machine``'s spec, given the ``properties`` checked
+    (objects with a ``prop`` or ``body``: ir.Property or the checker's property objects) on
+    top of the spec's own."""
+    spec = machine.spec
+    cands, lines = _candidates(machine)
+    if not cands:
+        return Symmetry([], lines or ["no enum domain or finite Integer subset domain"],
+                        "no enum domain or finite Integer subset domain")
+    uses = _Uses({d: {_vid(v) for v in vals} for d, vals in cands.items()})
+    for f in list(spec.functions) + list(getattr(spec, "local_functions", []) or []):
+        uses.function(f)
+    for r in spec.rules:
+        uses.rule_decl(r)
+    if spec.main is not None:
+        uses.rule_decl(spec.main)
+    for init in spec.inits:
+        for _dom, x in init.domains:
+            uses.term(x, None, "the initial elements of a domain")
+        for f, params, body, _span in init.functions:
+            uses.term(body, uses.cand(f.codomain), f"the initial value of {f.name}")
+        for a in init.agents:
+            params = a.rule.params
+            for i, x in enumerate(a.args):
+                pt = params[i].type if i < len(params) else None
+                uses.term(x, uses.cand(pt), f"an argument of {a.rule.name}")
+            uses.rule_decl(a.rule)
+    props = list(spec.properties)
+    for p in properties:
+        ip = getattr(p, "prop", None)
+        if ip is None and getattr(p, "body", None) is not None:
+            ip = p
+        if ip is not None and ip not in props:
+            props.append(ip)
+    for p in props:
+        what = f"in property {p.name}"
+        uses.term(p.body, None, what)
+        uses.term(getattr(p, "body2", None), None, what)
+    # values given to monitored functions of a candidate domain are named
+    ranges = getattr(machine, "monitored_ranges", {}) or {}
+    for f in spec.functions:
+        if f.kind == "monitored" and f.name in ranges and f.codomain in cands:
+            for v in ranges[f.name]:
+                uses.literal(v)
+    # every stored function has at most one position over the symmetric domains
+    positions: dict = {}
+    multi: dict = {}
+    for f in spec.functions:
+        if f.kind in ("derived",) or (f.kind == "static" and f.body is not None):
+            continue
+        ps = [(i, dt) for i, dt in enumerate(f.domain) if dt in cands] + \
+             ([(-1, f.codomain)] if f.codomain in cands else [])
+        if len(ps) == 1:
+            positions[f.index] = ps[0]
+        elif len(ps) > 1:
+            multi[f.name] = [dt for _, dt in ps]
+    for name, dts in multi.items():
+        for c in dts:
+            uses.refuse(c, f"{name} has several positions over {_and(sorted({x.name for x in dts}))} "
+                           f"(no exact canonical form is built for it)")
+    doms = []
+    by_dom = {}
+    for d, vals in cands.items():
+        if d in uses.why:
+            lines.append(f"{d.name}: no symmetry: {uses.why[d]}")
+            continue
+        named = sorted(uses.named[d], key=vkey)
+        sd = SymmetricDomain(d, vals, named)
+        if len(sd.free) < 2:
+            lines.append(f"{d.name}: no symmetry: {len(sd.free)} of its {len(vals):,} elements "
+                         f"{'is' if len(sd.free) == 1 else 'are'} named by no literal")
+            continue
+        shown = ", ".join(_show(v) for v in named[:12]) + (", ..." if len(named) > 12 else "")
+        lines.append(f"{d.name}: {len(sd.free):,} of its {len(vals):,} elements are interchangeable"
+                     + (f" (named: {shown})" if named else ""))
+        doms.append(sd)
+        by_dom[d] = sd
+    pos = {fi: (p, by_dom[dt]) for fi, (p, dt) in positions.items() if dt in by_dom}
+    reason = "" if doms else "no domain has interchangeable elements"
+    return Symmetry(doms, lines, reason, pos)
+
+
+def _show(v) -> str:
+    return v.name if isinstance(v, EnumValue) else repr(v)
