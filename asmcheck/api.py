@@ -517,7 +517,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     ex = None
     result = None
     interrupted = False
-    refused = SYMMETRY_PYTHON if sym is not None and sym.active else ""
+    refused = SYMMETRY_PYTHON if sym is not None and sym.active and engine != "python" else ""
     from .parallel import run as scaled
     # more workers on the native engine: threads inside its search (the same result as one);
     # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned

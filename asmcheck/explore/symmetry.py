@@ -556,42 +556,54 @@ def detect(machine, properties=()) -> Symmetry:
         if f.kind == "monitored" and f.name in ranges and f.codomain in cands:
             for v in ranges[f.name]:
                 uses.literal(v)
-    # every stored function has at most one position over the symmetric domains
-    positions: dict = {}
-    multi: dict = {}
-    for f in spec.functions:
-        if f.kind in ("derived",) or (f.kind == "static" and f.body is not None):
-            continue
-        ps = [(i, dt) for i, dt in enumerate(f.domain) if dt in cands] + \
-             ([(-1, f.codomain)] if f.codomain in cands else [])
-        if len(ps) == 1:
-            positions[f.index] = ps[0]
-        elif len(ps) > 1:
-            multi[f.name] = [dt for _, dt in ps]
-    for name, dts in multi.items():
-        for c in dts:
-            uses.refuse(c, f"{name} has several positions over {_and(sorted({x.name for x in dts}))} "
-                           f"(no exact canonical form is built for it)")
-    doms = []
-    by_dom = {}
+    # the domains left with interchangeable elements
+    doms = {}
     for d, vals in cands.items():
         if d in uses.why:
-            lines.append(f"{d.name}: no symmetry: {uses.why[d]}")
             continue
-        named = sorted(uses.named[d], key=vkey)
-        sd = SymmetricDomain(d, vals, named)
-        if len(sd.free) < 2:
-            lines.append(f"{d.name}: no symmetry: {len(sd.free)} of its {len(vals):,} elements "
-                         f"{'is' if len(sd.free) == 1 else 'are'} named by no literal")
-            continue
-        shown = ", ".join(_show(v) for v in named[:12]) + (", ..." if len(named) > 12 else "")
-        lines.append(f"{d.name}: {len(sd.free):,} of its {len(vals):,} elements are interchangeable"
-                     + (f" (named: {shown})" if named else ""))
-        doms.append(sd)
-        by_dom[d] = sd
-    pos = {fi: (p, by_dom[dt]) for fi, (p, dt) in positions.items() if dt in by_dom}
-    reason = "" if doms else "no domain has interchangeable elements"
-    return Symmetry(doms, lines, reason, pos)
+        sd = SymmetricDomain(d, vals, sorted(uses.named[d], key=vkey))
+        if len(sd.free) >= 2:
+            doms[d] = sd
+    # every stored function has at most one position over them (a domain whose elements share
+    # a location with others is dropped, until none does)
+    stored = [f for f in spec.functions if not (f.kind == "derived" or (f.kind == "static" and f.body is not None))]
+    while True:
+        positions = {}
+        multi = None
+        for f in stored:
+            ps = [(i, dt) for i, dt in enumerate(f.domain) if dt in doms] + \
+                 ([(-1, f.codomain)] if f.codomain in doms else [])
+            if len(ps) == 1:
+                positions[f.index] = (ps[0][0], doms[ps[0][1]])
+            elif len(ps) > 1:
+                multi = (f, ps)
+                break
+        if multi is None:
+            break
+        f, ps = multi
+        names = _and(sorted({dt.name for _, dt in ps}))
+        for _, dt in ps:
+            uses.refuse(dt, f"{f.name} has several positions over {names} (no exact canonical form is built "
+                            f"for it)", f.span)
+            doms.pop(dt, None)
+    lines_out = list(lines)
+    for d, vals in cands.items():
+        if d in doms:
+            sd = doms[d]
+            named = sd.named
+            shown = ", ".join(_show(v) for v in named[:12]) + (", ..." if len(named) > 12 else "")
+            lines_out.append(f"{d.name}: {len(sd.free):,} of its {len(vals):,} elements are interchangeable"
+                             + (f" (named: {shown})" if named else ""))
+        elif d in uses.why:
+            lines_out.append(f"{d.name}: no symmetry: {uses.why[d]}")
+        else:
+            free = len(vals) - len(uses.named[d])
+            lines_out.append(f"{d.name}: no symmetry: " + (
+                f"every one of its {len(vals):,} elements is named by a literal" if free <= 0 else
+                f"only one of its {len(vals):,} elements is named by no literal"))
+    found = list(doms.values())
+    reason = "" if found else "no domain has interchangeable elements"
+    return Symmetry(found, lines_out, reason, positions)
 
 
 def _show(v) -> str:
