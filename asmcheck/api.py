@@ -509,7 +509,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if engine == "auto":
         engine = auto_engine()
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
-    sym = _symmetry(model, state_props, step_props, temporal, engine, scaling) if symmetry else None
+    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling) if symmetry else None
     if sym is not None and sym.active:
         which = "python"
     # the searches get the time left of the whole run
@@ -639,13 +639,14 @@ SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
 LIMIT_REASONS = ("state limit", "depth limit", "time limit", "memory limit", "out of memory")
 
 
-def _symmetry(model, state_props, step_props, temporal, engine, scaling):
+def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling):
     """The symmetry a search with ``symmetry=True`` reduces (explore.symmetry.Symmetry, possibly
     without any interchangeable element: its ``lines`` say why)."""
     from .explore.symmetry import detect
     from .parallel import run as scaled
-    if any((scaling or {}).get(k) for k in ("cluster", "bitstate")):
-        raise UsageError("--symmetry runs in one process: it cannot be combined with --cluster or --bitstate")
+    if scaled.wanted(workers, **(scaling or {})):
+        raise UsageError("--symmetry runs in one process: it cannot be combined with --workers, --cluster or "
+                         "--bitstate")
     sym = detect(model.machine, list(state_props) + list(step_props) + list(temporal))
     if sym.active and engine == "native":
         raise UsageError(f"the native explorer cannot run {Path(model.path).name} with --symmetry: "

@@ -336,6 +336,9 @@ def test_the_native_engine_is_not_asked(tmp_path, monkeypatch):
                                                   r"reduction \(--symmetry\) runs on the Python engine \(use --engine "
                                                   r"auto or python\)$"):
         model.explore(engine="native", symmetry=True)
+    with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process: it cannot be combined with "
+                                                  "--workers, --cluster or --bitstate$"):
+        model.explore(engine="python", symmetry=True, workers=2)
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     run = model.explore(engine="auto", symmetry=True)
     assert run.engine == "python" and (run.states, run.transitions) == (48, 113)
