@@ -1173,6 +1173,8 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         run = model.explore(**explore)
         out = run.outcome(strict=strict, root=root, avalla_dir=avalla_dir, temporal_error=run.temporal_error)
         out.interrupted = run.interrupted
+        # symmetry=True: the states are classes (the gate's table says so under it)
+        out.symmetry = run.symmetry.describe() if run.symmetry is not None and run.symmetry.active else ""
         if not out.properties:
             out.properties = [_gate.judge(_gate.PropertyOutcome("(no property)", "input", "none",
                                                                 message=no_property_message(model)), False, False)]

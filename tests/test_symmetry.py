@@ -362,3 +362,19 @@ def test_cli(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "hint: Num's 5 unnamed elements are interchangeable; --symmetry explores one state per class of such " \
            "states" in text.splitlines()
+
+
+def test_check_cli(tmp_path, capsys):
+    from asmcheck.cli import main
+    path = write(tmp_path, MUTEX)
+    code = main(["check", "--symmetry", "--engine", "python", path])
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1        # ctl_3 and ltl_2 are violated
+    rows = [ln.split() for ln in lines if ln.startswith(path)]
+    assert [(r[1], r[2], r[3]) for r in rows] == [
+        ("invariant_1", "holds", "17"), ("ctl_1", "holds", "17"), ("ctl_2", "holds", "17"),
+        ("ctl_3", "VIOLATED", "17"), ("ltl_1", "holds", "17"), ("ltl_2", "VIOLATED", "17")]
+    assert lines[-1] == f"symmetry: the states of {path} are counted up to the symmetry of Proc's 4 unnamed elements"
+    main(["check", "--engine", "python", path])
+    plain = capsys.readouterr().out
+    assert "symmetry" not in plain and " 112 " in plain

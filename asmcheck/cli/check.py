@@ -47,6 +47,9 @@ def run(args) -> int:
         sys.stdout.write(gate.text(True, traces=args.traces, table=False))
     else:
         sys.stdout.write(gate.text(False, traces=args.traces))
+    for o in gate.outcomes:
+        if getattr(o, "symmetry", ""):
+            sys.stdout.write(f"symmetry: the states of {o.path} are counted up to {o.symmetry}\n")
     return code
 
 
