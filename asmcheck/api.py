@@ -521,7 +521,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if engine == "auto":
         engine = auto_engine()
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
-    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling) if symmetry else None
+    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair) if symmetry else None
     if sym is not None and sym.active:
         which = "python"
     # the searches get the time left of the whole run
@@ -659,15 +659,22 @@ SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
 LIMIT_REASONS = ("state limit", "depth limit", "time limit", "memory limit", "out of memory")
 
 
-def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling):
+def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair):
     """The symmetry a search with ``symmetry=True`` reduces (explore.symmetry.Symmetry, possibly
     without any interchangeable element: its ``lines`` say why)."""
-    from .explore.symmetry import detect
+    from .explore.symmetry import Symmetry, detect
     from .parallel import run as scaled
     if scaled.wanted(workers, **(scaling or {})):
         raise UsageError("--symmetry runs in one process: it cannot be combined with --workers, --cluster or "
                          "--bitstate")
-    sym = detect(model.machine, list(state_props) + list(step_props) + list(temporal))
+    if fair:
+        why = "--fair makes each agent or choice fair on its own, which a class of states does not keep"
+        return Symmetry([], [why], why)
+    try:
+        sym = detect(model.machine, list(state_props) + list(step_props) + list(temporal))
+    except Exception as exc:        # noqa: BLE001 - an analysis that fails reduces nothing
+        why = f"the analysis failed ({type(exc).__name__}: {exc})"
+        return Symmetry([], [why], why)
     if sym.active and engine == "native":
         raise UsageError(f"the native explorer cannot run {Path(model.path).name} with --symmetry: "
                          f"{SYMMETRY_PYTHON} (use --engine auto or python)")

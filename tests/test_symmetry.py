@@ -378,3 +378,50 @@ def test_check_cli(tmp_path, capsys):
     main(["check", "--engine", "python", path])
     plain = capsys.readouterr().out
     assert "symmetry" not in plain and " 112 " in plain
+
+
+# a property quantified around a temporal operator is checked once per process, each time with
+# atoms that name it: no symmetry (the reduced search would give ctl_1 violated here)
+PER_JOB = """asm PerJob
+import StandardLibrary
+import CTLLibrary
+signature:
+	enum domain Job = {JA | JB | JC}
+	enum domain Status = {RDY | RUN | FIN}
+	controlled st: Job -> Status
+	monitored fin: Job -> Boolean
+definitions:
+	INVAR (forall $j in Job with fin($j) implies st($j) = RUN)
+	CTLSPEC (forall $j in Job with ag(fin($j) implies ax(st($j) = FIN)))
+	CTLSPEC ef((forall $j in Job with st($j) = FIN))
+	main rule r_Main =
+		par
+			choose $j1 in Job with st($j1) = RDY do st($j1) := RUN
+			forall $j2 in Job with st($j2) = RUN do if fin($j2) then st($j2) := FIN endif
+		endpar
+default init s0:
+	function st($j in Job) = RDY
+"""
+
+
+def test_a_quantifier_around_a_temporal_operator(tmp_path):
+    model = asmcheck.load(write(tmp_path, PER_JOB))
+    red = model.explore(engine="python", symmetry=True)
+    full = model.explore(engine="python")
+    assert (red.states, red.transitions) == (full.states, full.transitions) == (21, 66)
+    assert _rows(red) == _rows(full) == [("ctl_1", "holds"), ("ctl_2", "holds")]
+    assert red.symmetry_lines() == [
+        "symmetry: no reduction (no domain has interchangeable elements)",
+        "  symmetry: Job: no symmetry: a property binds a variable of Job around a temporal operator "
+        "(line 11, column 10)",
+        "  symmetry: Status: no symmetry: every one of its 3 elements is named by a literal"]
+
+
+def test_fairness_keeps_every_state(tmp_path):
+    model = asmcheck.load(write(tmp_path, MUTEX))
+    red = model.explore(engine="python", symmetry=True, fair=["all"])
+    assert (red.states, red.transitions) == (112, 428)
+    assert red.symmetry_lines() == [
+        "symmetry: no reduction (--fair makes each agent or choice fair on its own, which a class of states "
+        "does not keep)",
+        "  symmetry: --fair makes each agent or choice fair on its own, which a class of states does not keep"]

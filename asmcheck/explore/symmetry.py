@@ -315,11 +315,13 @@ class _Uses:
                 self.term(r, self.cand(typ), "a result of a switch")
             self.term(t.other, self.cand(typ), "a result of a switch")
         elif isinstance(t, ir.Let):
+            self.around_temporal(t.bindings, (t.body,), t.span)
             for v, x in t.bindings:
                 self.term(x, self.cand(v.type), f"bound to {v.name}")
             self.term(t.body, self.cand(typ), "the result of a let")
         elif isinstance(t, ir.Quant):
             self.bindings(t.bindings)
+            self.around_temporal(t.bindings, (t.guard,), t.span)
             self.term(t.guard, None, "a guard")
         elif isinstance(t, ir.Compr):
             for v, rng in t.bindings:
@@ -357,6 +359,14 @@ class _Uses:
         if self.cand(v.type) is not None and v.type not in out:
             out.append(v.type)
         return out
+
+    def around_temporal(self, bindings, parts, span) -> None:
+        """A variable of a candidate domain bound around a temporal operator: the property is
+        checked once per element, each time with atoms that name that element."""
+        doms = [c for v, rng in bindings for c in self._ranges(v, rng)]
+        if doms and any(_has_temporal(x) for x in parts):
+            for c in doms:
+                self.refuse(c, f"a property binds a variable of {c.name} around a temporal operator", span)
 
     def bindings(self, bindings) -> None:
         for v, rng in bindings:
@@ -481,6 +491,23 @@ class _Uses:
                     for c in _contains(p.type, self.cands):
                         self.refuse(c, f"a parameter of {f.name} ranges over {p.type}", f.span)
             self.term(f.body, self.cand(f.codomain), f"the value of {f.name}")
+
+
+def _has_temporal(t) -> bool:
+    seen = set()
+    stack = [t]
+    while stack:
+        x = stack.pop()
+        if x is None or id(x) in seen:
+            continue
+        seen.add(id(x))
+        if isinstance(x, (ir.Temporal, ir.StepOp)):
+            return True
+        if isinstance(x, ir.Term):
+            stack.extend(vars(x).values())
+        elif isinstance(x, (list, tuple)):
+            stack.extend(x)
+    return False
 
 
 def _candidates(machine) -> tuple[dict, list]:
