@@ -455,9 +455,9 @@ class Explorer:
                     targets = []
                     moved = False       # (symmetry) a successor in the state's class, but not the state
                     for picks, ups, raw, nxt, mon in succ:
-                        if self.sym is not None and not moved:
-                            moved = self.layout.freeze(raw) != self.frozen[sid]
                         tid, new = self._add(nxt, sid, picks, depth + 1)
+                        if tid == sid and self.sym is not None and not moved:
+                            moved = self.layout.freeze(raw) != self.frozen[sid]
                         targets.append(tid)
                         if self.keep_graph:
                             self.edges.append((sid, tid, picks))
