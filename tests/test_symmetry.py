@@ -425,3 +425,29 @@ def test_fairness_keeps_every_state(tmp_path):
         "symmetry: no reduction (--fair makes each agent or choice fair on its own, which a class of states "
         "does not keep)",
         "  symmetry: --fair makes each agent or choice fair on its own, which a class of states does not keep"]
+
+
+@pytest.mark.parametrize("text,free", [(MUTEX, {"Proc": ("PA", "PB", "PC", "PD")}), (BINGO, {"Num": (1, 3, 5, 6, 8)})])
+def test_the_canonical_form_is_one_per_class(tmp_path, text, free):
+    """Over every state of the full exploration and every renaming of the interchangeable
+    elements: the canonical form of the renamed state is the state's own, and the form worked
+    out from a parent (canon_from) is the one worked out from scratch."""
+    model = asmcheck.load(write(tmp_path, text))
+    sym = _detect(model)
+    (dom, names), = free.items()
+    els = _enum(model, dom, set(names)) if isinstance(names[0], str) else list(names)
+    assert [d.free for d in sym.domains] == [els]
+    ex, states = _full(model)
+    m = model.machine
+    forms = set()
+    for st in states:
+        rep, perm = sym.canon(st)
+        assert sym.apply(st, perm) == rep
+        forms.add(repr(sorted((repr(k), repr(v)) for k, v in rep.items())))
+        for q in permutations(els):
+            image = _perm_state(m, st, {dom}, dict(zip(els, q)))
+            assert sym.canon(image)[0] == rep
+        for _, _, nxt, _ in m.successors(st):
+            assert sym.canon_from(st, nxt) == sym.canon(nxt)
+    keys = _classes(m, states, {dom: els})
+    assert len(forms) == len(set(keys))

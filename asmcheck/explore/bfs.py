@@ -646,7 +646,8 @@ class Explorer:
                 continue
             # stored under canonical names; step properties see the successor as the step made it,
             # so an extend-made element keeps its identity across the step
-            out.append((tuple(c.pick for c in log), ups, nxt, self._norm(nxt), mon))
+            out.append((tuple(c.pick for c in log), ups, nxt,
+                        self._norm(nxt) if self.sym is None else self.sym.canon_from(st, nxt)[0], mon))
         if failed:
             for e in failed:
                 if not self.invars or self._invar_ok(st, getattr(e, "mon", None)):

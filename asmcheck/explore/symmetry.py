@@ -76,6 +76,7 @@ class Symmetry:
             n += len(d.free)
         self._n = n
         self._keys: dict = {}           # location key -> _key_info
+        self._base = None               # (state, its scan, sorted signatures): see canon_from
 
     @property
     def active(self) -> bool:
@@ -110,43 +111,115 @@ class Symmetry:
             return None
         return (-1, info[1], -1, (k, -1, ()), None)
 
+    def _info(self, k):
+        kc = self._keys
+        info = kc.get(k, _MISSING)
+        if info is _MISSING:
+            if len(kc) > 1 << 18:
+                kc.clear()
+            info = kc[k] = self._key_info(k)
+        return info
+
+    def _entry(self, info, v):
+        """(global index of the element location ``info`` holding ``v`` is about, its signature
+        entry), or None when it is about no interchangeable element."""
+        g = info[2]
+        if g < 0:
+            if v is None:
+                return None
+            ix = info[1].free_ids.get(_vid(v))
+            if ix is None:
+                return None
+            return info[1].offset + ix, (info[3], 0, 0)
+        ents = info[4]
+        ent = ents.get(v)
+        if ent is None or ent[0] is not v.__class__:
+            if len(ents) > 64:
+                ents.clear()
+            ent = ents[v] = (v.__class__, (info[3], 1, v) if v.__class__ is bool else (info[3], 2, vkey(v)))
+        return g, ent[1]
+
+    def _scan(self, state: dict):
+        """Per interchangeable element (global index): its signature entries, and the keys of
+        its locations."""
+        sigs = [[] for _ in range(self._n)]
+        occ = [[] for _ in range(self._n)]
+        info_of = self._info
+        entry = self._entry
+        for k, v in state.items():
+            info = info_of(k)
+            if info is None:
+                continue
+            e = entry(info, v)
+            if e is None:
+                continue
+            sigs[e[0]].append(e[1])
+            occ[e[0]].append(k)
+        return sigs, occ
+
     def canon(self, state: dict) -> tuple[dict, dict]:
         """(the canonical representative of ``state``'s class, the renaming that makes it from
         ``state``: element -> element, for the elements that move)."""
-        kc = self._keys
-        sigs = [[] for _ in range(self._n)]
-        occ = [[] for _ in range(self._n)]
-        for k, v in state.items():
-            info = kc.get(k, _MISSING)
-            if info is _MISSING:
-                if len(kc) > 1 << 18:
-                    kc.clear()
-                info = kc[k] = self._key_info(k)
+        sigs, occ = self._scan(state)
+        return self._finish(state, [sorted(x) for x in sigs], occ)
+
+    def canon_from(self, parent: dict, state: dict) -> tuple[dict, dict]:
+        """:meth:`canon` of ``state``, a successor of ``parent`` (mostly the same value objects):
+        the scan of ``parent`` is kept for its next successor, and only the locations whose value
+        object differs are looked at again."""
+        base = self._base
+        if base is None or base[0] is not parent:
+            sigs, occ = self._scan(parent)
+            base = self._base = (parent, sigs, occ, [sorted(x) for x in sigs])
+        _, psigs, pocc, pkeys = base
+        diff = [k for k, v in state.items() if parent.get(k, _MISSING) is not v]
+        if len(state) - sum(1 for k in diff if k not in parent) != len(parent):
+            diff.extend(k for k in parent if k not in state)
+        sigs = psigs
+        occ = pocc
+        touched: set = set()
+        info_of = self._info
+        entry = self._entry
+        for k in diff:
+            info = info_of(k)
             if info is None:
                 continue
-            g = info[2]
-            if g < 0:
-                if v is None:
+            for v, add in ((parent.get(k, _MISSING), False), (state.get(k, _MISSING), True)):
+                if v is _MISSING:
                     continue
-                ix = info[1].free_ids.get(_vid(v))
-                if ix is None:
+                e = entry(info, v)
+                if e is None:
                     continue
-                g = info[1].offset + ix
-                sigs[g].append((info[3], 0, 0))
-            else:
-                ents = info[4]
-                ent = ents.get(v)
-                if ent is None or ent[0] is not v.__class__:
-                    if len(ents) > 64:
-                        ents.clear()
-                    ent = ents[v] = (v.__class__, (info[3], 1, v) if v.__class__ is bool else (info[3], 2, vkey(v)))
-                sigs[g].append(ent[1])
-            occ[g].append(k)
+                g = e[0]
+                if g not in touched:
+                    if not touched:
+                        sigs = list(psigs)
+                        occ = list(pocc)
+                    touched.add(g)
+                    sigs[g] = list(sigs[g])
+                    occ[g] = list(occ[g])
+                if add:
+                    sigs[g].append(e[1])
+                    occ[g].append(k)
+                else:
+                    sigs[g].remove(e[1])
+                    occ[g].remove(k)
+        if touched:
+            keys = list(pkeys)
+            for g in touched:
+                keys[g] = sorted(sigs[g])
+        else:
+            keys = pkeys
+        return self._finish(state, keys, occ)
+
+    def _finish(self, state: dict, keys: list, occ: list) -> tuple[dict, dict]:
+        """The canonical form from each element's sorted signature (``keys``) and locations."""
+        kc = self._keys
         perm: dict = {}
         for sd in self.domains:
             free = sd.free
             off = sd.offset
-            order = sorted(range(len(free)), key=lambda i: (sorted(sigs[off + i]), i))
+            order = sorted(range(len(free)), key=lambda i: (keys[off + i], i))
             for j, i in enumerate(order):
                 if i != j:
                     perm[free[i]] = free[j]
