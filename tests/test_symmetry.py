@@ -451,3 +451,46 @@ def test_the_canonical_form_is_one_per_class(tmp_path, text, free):
             assert sym.canon_from(st, nxt) == sym.canon(nxt)
     keys = _classes(m, states, {dom: els})
     assert len(forms) == len(set(keys))
+
+
+# an abstract domain: its elements are its static constants; boss is used (named), the three
+# others are not
+PHILS = """asm Phils
+import StandardLibrary
+signature:
+	abstract domain Phil
+	enum domain PState = {THINK | HUNGRY | EAT}
+	dynamic controlled ps: Phil -> PState
+	static ph1: Phil
+	static ph2: Phil
+	static ph3: Phil
+	static boss: Phil
+definitions:
+	invariant over ps: not(ps(boss) = EAT and (exists $p in Phil with $p != boss and ps($p) = EAT))
+	main rule r_Main =
+		choose $p in Phil with true do
+			switch ps($p)
+				case THINK: ps($p) := HUNGRY
+				case HUNGRY: ps($p) := EAT
+				case EAT: ps($p) := THINK
+			endswitch
+default init s0:
+	function ps($p in Phil) = THINK
+"""
+
+
+def test_an_abstract_domain(tmp_path):
+    model = asmcheck.load(write(tmp_path, PHILS))
+    els = [e for e in next(v for d, v in model.machine.static_elements.items() if d.name == "Phil")
+           if e.name != "boss"]
+    assert [e.name for e in els] == ["ph1", "ph2", "ph3"]
+    classes, class_edges, states, _ = _expected_counts(model, {"Phil": els})
+    assert (states, classes, class_edges) == (81, 30, 84)
+    full = model.explore(engine="python", deadlock=True)
+    red = model.explore(engine="python", deadlock=True, symmetry=True)
+    assert (red.states, red.transitions) == (30, 84)
+    assert _rows(red) == _rows(full) == [("invariant_1", "violated"), ("deadlock", "holds")]
+    assert red.symmetry_lines()[1] == "  symmetry: Phil: 3 of its 4 elements are interchangeable (named: boss)"
+    (v,) = red.violations
+    sts = _check_concrete(model, v.trace)
+    assert len(sts) == len(full.violations[0].trace.raw.steps) == 5

@@ -1,7 +1,8 @@
 """Symmetry reduction: interchangeable domain elements, and one state per class.
 
-Detection.  For an enum domain, or a finite subset of Integer given by its elements, the
-elements that no literal names (anywhere: rules, static and derived definitions, the initial
+Detection.  For an enum domain, a static abstract domain (its elements are the static constants
+declared in it) or a finite subset of Integer given by its elements, the elements that no
+literal (or, for an abstract domain, no use of the static constant) names (anywhere: rules, static and derived definitions, the initial
 state, every property checked, the values given with ``--monitored``) are interchangeable
 when the spec and its properties never tell them apart: a value of the domain may only be
 compared by equality (with another value of the domain or with a literal), passed as an
@@ -28,7 +29,8 @@ from __future__ import annotations
 
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.values import EnumValue, vkey
+from ..semantics.analysis import abstract_codomain
+from ..semantics.values import EnumValue, abstract_value, vkey
 
 
 class SymmetricDomain:
@@ -364,6 +366,9 @@ class _Uses:
                 self.refuse(c, f"a value of {typ} holds elements of {c.name} ({what})", t.span)
         if isinstance(t, ir.Loc):
             f = t.func
+            if f.kind == "static" and not t.args and abstract_codomain(f):
+                # a static constant of an abstract domain names its element
+                self.literal(abstract_value(f.codomain.name, f.name))
             for i, a in enumerate(t.args):
                 dt = f.domain[i] if i < len(f.domain) else None
                 self.term(a, self.cand(dt), f"an argument of {f.name}")
@@ -602,6 +607,8 @@ def _candidates(machine) -> tuple[dict, list]:
             if len(vals) > MAX_ELEMENTS:
                 lines.append(f"{d.name}: no symmetry: {len(vals):,} elements (more than {MAX_ELEMENTS:,})")
                 continue
+        elif d.kind == "abstract" and not d.dynamic and not T.agent_like(d) and d is not T.AGENT:
+            vals = list(spec.static_elements.get(d, []))
         else:
             continue
         subs = [e.name for e in doms if e.kind == "subset" and e.base is d]
@@ -619,8 +626,8 @@ def detect(machine, properties=()) -> Symmetry:
     spec = machine.spec
     cands, lines = _candidates(machine)
     if not cands:
-        return Symmetry([], lines or ["no enum domain or finite Integer subset domain"],
-                        "no enum domain or finite Integer subset domain")
+        return Symmetry([], lines or ["no enum, static abstract or finite Integer subset domain"],
+                        "no enum, static abstract or finite Integer subset domain")
     uses = _Uses({d: {_vid(v) for v in vals} for d, vals in cands.items()})
     for f in list(spec.functions) + list(getattr(spec, "local_functions", []) or []):
         uses.function(f)
@@ -666,7 +673,8 @@ def detect(machine, properties=()) -> Symmetry:
             doms[d] = sd
     # every stored function has at most one position over them (a domain whose elements share
     # a location with others is dropped, until none does)
-    stored = [f for f in spec.functions if not (f.kind == "derived" or (f.kind == "static" and f.body is not None))]
+    stored = [f for f in spec.functions if not (f.kind == "derived" or (f.kind == "static" and f.body is not None)
+                                                or (f.kind == "static" and f.arity == 0 and abstract_codomain(f)))]
     while True:
         positions = {}
         multi = None
