@@ -27,6 +27,9 @@ is evaluated by the same equality-only operations; traces are made concrete agai
 """
 from __future__ import annotations
 
+import math
+from itertools import permutations
+
 from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.analysis import abstract_codomain
@@ -54,6 +57,9 @@ _MISSING = object()
 
 #: a domain with more elements is not considered
 MAX_ELEMENTS = 100_000
+#: a function with several positions over a domain whose interchangeable elements have more
+#: renamings than this leaves that domain without symmetry (6! = 720)
+MAX_RENAMINGS = 720
 
 
 def _vid(v):
@@ -65,8 +71,17 @@ class Symmetry:
     """What detection found: ``domains`` (SymmetricDomain, possibly none), ``lines`` (one
     explanation per candidate domain) and ``reason`` (why no reduction is possible, or '')."""
 
-    def __init__(self, domains: list, lines: list, reason: str = "", positions: dict | None = None):
+    def __init__(self, domains: list, lines: list, reason: str = "", positions: dict | None = None,
+                 multi: dict | None = None):
         self.domains = domains
+        # function index -> [(position, SymmetricDomain)]: stored functions with several positions
+        # over symmetric domains (their canonical form is worked out by refinement and, for the
+        # elements refinement does not tell apart, by trying their renamings: canon_multi)
+        self.multi = multi or {}
+        # function index -> the positions apply renames
+        self._all_positions = {f: [p] for f, (p, _) in (positions or {}).items()}
+        for f, ps in self.multi.items():
+            self._all_positions[f] = [p for p, _ in ps]
         self.lines = lines
         self.reason = reason
         # function index -> (position, SymmetricDomain): the argument (or -1, the value) of a
@@ -162,6 +177,8 @@ class Symmetry:
     def canon(self, state: dict) -> tuple[dict, dict]:
         """(the canonical representative of ``state``'s class, the renaming that makes it from
         ``state``: element -> element, for the elements that move)."""
+        if self.multi:
+            return self.canon_multi(state)
         sigs, occ = self._scan(state)
         return self._finish(state, [sorted(x) for x in sigs], occ)
 
@@ -169,6 +186,8 @@ class Symmetry:
         """:meth:`canon` of ``state``, a successor of ``parent`` (mostly the same value objects):
         the scan of ``parent`` is kept for its next successor, and only the locations whose value
         object differs are looked at again."""
+        if self.multi:
+            return self.canon_multi(state)
         base = self._base
         if base is None or base[0] is not parent:
             sigs, occ = self._scan(parent)
@@ -214,6 +233,87 @@ class Symmetry:
             keys = pkeys
         return self._finish(state, keys, occ)
 
+    def canon_multi(self, state: dict) -> tuple[dict, dict]:
+        """The canonical form when some stored function has several positions over symmetric
+        domains.  Each element is coloured by the locations it occurs in (the other elements there
+        shown by their colours), refined until the colours no longer split; the elements are
+        numbered by colour, and among the numberings that keep the colours' order (the elements of
+        equal colour in every order), the one whose renamed state is least is taken."""
+        parts_of = []               # per location: (key, value, [(position, global index or -1, const)])
+        occurs: dict = {}           # global index -> [(location number, position)]
+        for k, v in state.items():
+            if type(k) is tuple:
+                if k[0] == "#dom":
+                    continue
+                f, args = k
+            else:
+                f, args = k, ()
+            ps = self.multi.get(f)
+            if ps is None:
+                one = self.positions.get(f)
+                if one is None:
+                    continue
+                ps = [one]
+            holes = []
+            for p, sd in ps:
+                e = args[p] if p >= 0 else v
+                ix = sd.free_ids.get(_vid(e)) if (p >= 0 or v is not None) else None
+                holes.append((p, -1 if ix is None else sd.offset + ix))
+            if all(g < 0 for _, g in holes):
+                continue
+            n = len(parts_of)
+            parts_of.append((k, v, holes))
+            for p, g in holes:
+                if g >= 0:
+                    occurs.setdefault(g, []).append((n, p))
+        const = {}                  # location number -> its text with the free elements left out
+        for n, (k, v, holes) in enumerate(parts_of):
+            f, args = (k if type(k) is tuple else (k, ()))
+            free_pos = {p for p, g in holes if g >= 0}
+            const[n] = (f, tuple(vkey(a) if i not in free_pos else None for i, a in enumerate(args)),
+                        None if -1 in free_pos else vkey(v))
+        colour = [0] * self._n
+        for sd in self.domains:
+            for i in range(len(sd.free)):
+                colour[sd.offset + i] = 0
+        classes = -1
+        for _ in range(self._n + 1):
+            sig = {}
+            for g in range(self._n):
+                entries = []
+                for n, p in occurs.get(g, ()):
+                    holes = parts_of[n][2]
+                    entries.append((const[n], p, tuple((q, -1 if h < 0 else (-2 if h == g else colour[h]))
+                                                       for q, h in holes)))
+                entries.sort()
+                sig[g] = (colour[g], tuple(entries))
+            new = [0] * self._n
+            count = 0
+            for sd in self.domains:
+                idx = range(sd.offset, sd.offset + len(sd.free))
+                ranks = {x: r for r, x in enumerate(sorted({sig[g] for g in idx}))}
+                for g in idx:
+                    new[g] = ranks[sig[g]]
+                count += len(ranks)
+            colour = new
+            if count == classes:
+                break
+            classes = count
+        # the numberings that keep the colours' order
+        choices = []
+        for sd in self.domains:
+            groups: dict = {}
+            for i in range(len(sd.free)):
+                groups.setdefault(colour[sd.offset + i], []).append(i)
+            choices.append((sd, [groups[c] for c in sorted(groups)]))
+        best = None
+        for perm in _numberings(choices):
+            out = self.apply(state, perm)
+            key = sorted((vkey(k), vkey(x)) for k, x in out.items())
+            if best is None or key < best[0]:
+                best = (key, out, perm)
+        return best[1], best[2]
+
     def _finish(self, state: dict, keys: list, occ: list) -> tuple[dict, dict]:
         """The canonical form from each element's sorted signature (``keys``) and locations."""
         kc = self._keys
@@ -252,26 +352,23 @@ class Symmetry:
         of the symmetric domains."""
         if not perm:
             return state
-        pos_of = self.positions
+        pos_of = self._all_positions
         ren = {_vid(a): b for a, b in perm.items()}
         out = {}
         for k, v in state.items():
             if type(k) is tuple:
-                info = pos_of.get(k[0]) if k[0] != "#dom" else None
-                if info is not None:
-                    p = info[0]
+                ps = pos_of.get(k[0]) if k[0] != "#dom" else None
+            else:
+                ps = pos_of.get(k)
+            if ps is not None:
+                for p in ps:
                     if p >= 0:
                         args = k[1]
-                        e = args[p]
-                        n = ren.get(_vid(e))
+                        n = ren.get(_vid(args[p]))
                         if n is not None:
                             k = (k[0], args[:p] + (n,) + args[p + 1:])
                     elif v is not None:
                         v = ren.get(_vid(v), v)
-            else:
-                info = pos_of.get(k)
-                if info is not None and v is not None:
-                    v = ren.get(_vid(v), v)
             out[k] = v
         return out
 
@@ -289,6 +386,29 @@ class Symmetry:
             if c != a:
                 out[a] = c
         return out
+
+
+def _numberings(choices):
+    """Every renaming (element -> element, the moving ones) that numbers each domain's elements
+    group by group, the groups in their order and the elements of a group in any order."""
+    per_domain = []
+    for sd, groups in choices:
+        options = [[]]
+        for grp in groups:
+            options = [o + list(q) for o in options for q in permutations(grp)]
+        per_domain.append((sd, options))
+    out = [{}]
+    for sd, options in per_domain:
+        nxt = []
+        for base in out:
+            for order in options:
+                perm = dict(base)
+                for j, i in enumerate(order):
+                    if i != j:
+                        perm[sd.free[i]] = sd.free[j]
+                nxt.append(perm)
+        out = nxt
+    return out
 
 
 def _and(parts: list) -> str:
@@ -677,22 +797,28 @@ def detect(machine, properties=()) -> Symmetry:
                                                 or (f.kind == "static" and f.arity == 0 and abstract_codomain(f)))]
     while True:
         positions = {}
-        multi = None
+        multi = {}
+        bad = None
         for f in stored:
             ps = [(i, dt) for i, dt in enumerate(f.domain) if dt in doms] + \
                  ([(-1, f.codomain)] if f.codomain in doms else [])
             if len(ps) == 1:
                 positions[f.index] = (ps[0][0], doms[ps[0][1]])
             elif len(ps) > 1:
-                multi = (f, ps)
-                break
-        if multi is None:
+                multi[f.index] = [(i, doms[dt]) for i, dt in ps]
+                big = list(dict.fromkeys(dt for _, dt in ps if math.factorial(len(doms[dt].free)) > MAX_RENAMINGS))
+                if big:
+                    bad = (f, ps, big)
+                    break
+        if bad is None:
             break
-        f, ps = multi
+        f, ps, big = bad
         names = _and(sorted({dt.name for _, dt in ps}))
-        for _, dt in ps:
-            uses.refuse(dt, f"{f.name} has several positions over {names} (no exact canonical form is built "
-                            f"for it)", f.span)
+        for dt in big:
+            n = len(doms[dt].free)
+            uses.refuse(dt, f"{f.name} has several positions over {names}, and {dt.name} has {n} interchangeable "
+                            f"elements (the exact canonical form of such a function tries up to {n}! renamings; "
+                            f"at most {MAX_RENAMINGS:,} are tried)", f.span)
             doms.pop(dt, None)
     lines_out = list(lines)
     for d, vals in cands.items():
@@ -711,7 +837,7 @@ def detect(machine, properties=()) -> Symmetry:
                 f"only one of its {len(vals):,} elements is named by no literal"))
     found = list(doms.values())
     reason = "" if found else "no domain has interchangeable elements"
-    return Symmetry(found, lines_out, reason, positions)
+    return Symmetry(found, lines_out, reason, positions, multi)
 
 
 def _show(v) -> str:
