@@ -270,8 +270,8 @@ class Symmetry:
         for n, (k, v, holes) in enumerate(parts_of):
             f, args = (k if type(k) is tuple else (k, ()))
             free_pos = {p for p, g in holes if g >= 0}
-            const[n] = (f, tuple(vkey(a) if i not in free_pos else None for i, a in enumerate(args)),
-                        None if -1 in free_pos else vkey(v))
+            const[n] = (f, tuple(vkey(a) if i not in free_pos else (-1,) for i, a in enumerate(args)),
+                        (-1,) if -1 in free_pos else vkey(v))
         colour = [0] * self._n
         for sd in self.domains:
             for i in range(len(sd.free)):
