@@ -14,6 +14,7 @@ import asmcheck
 from asmcheck.explore.bfs import Explorer
 from asmcheck.semantics.values import EnumValue
 
+from conftest import ASMETA
 from helpers import write
 
 pytestmark = pytest.mark.engines("python")
@@ -558,3 +559,39 @@ definitions:
         "  symmetry: Pos: no symmetry: nxt has several positions over Pos, and Pos has 7 interchangeable elements "
         "(the exact canonical form of such a function tries up to 7! renamings; at most 720 are tried) "
         "(line 5, column 21)"]
+
+
+def _corpus(rel):
+    path = ASMETA / rel
+    if not path.exists():
+        pytest.skip(f"the ASMETA corpus is not at {ASMETA}")
+    return asmcheck.load(str(path))
+
+
+def test_battleship_against_nusmv():
+    """battleship.asm: the columns 1 and 4 are interchangeable (2 and 3 are named); its board
+    functions have two positions over Coord.  NuSMV: true, true, true, true."""
+    model = _corpus("asm_examples/examples/battleship.asm")
+    red = model.explore(engine="python", symmetry=True)
+    assert (red.states, red.transitions) == (296, 832)
+    assert _rows(red) == [("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "holds"), ("ctl_4", "holds")]
+    assert red.symmetry_lines()[:2] == [
+        "symmetry: states and transitions are counted up to the symmetry of Coord's 2 unnamed elements",
+        "  symmetry: Coord: 2 of its 4 elements are interchangeable (named: 2, 3)"]
+    classes, class_edges, states, _ = _expected_counts(model, {"Coord": [1, 4]})
+    assert (states, classes, class_edges) == (480, 296, 832)
+
+
+@pytest.mark.slow
+def test_tombola_against_nusmv():
+    """tombola.asm: about 10^9 states; 21 of its 30 numbers are on no card and in no property.
+    NuSMV: EF true, EG true, AG false."""
+    model = _corpus("asm_examples/examples/tombola.asm")
+    red = model.explore(engine="python", symmetry=True, deadlock=True)
+    assert (red.states, red.transitions, red.depth) == (11_264, 60_063, 30)
+    assert _rows(red) == [("deadlock", "violated"), ("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "violated")]
+    assert red.symmetry_lines()[1] == ("  symmetry: Numero: 21 of its 30 elements are interchangeable "
+                                       "(named: 1, 2, 5, 7, 12, 14, 18, 25, 26)")
+    ctl3 = next(v for v in red.violations if v.property == "ctl_3")
+    sts = _check_concrete(model, ctl3.trace)
+    assert len(sts) == 10       # the ten numbers of the two cards, drawn one by one
