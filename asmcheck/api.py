@@ -521,6 +521,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if engine == "auto":
         engine = auto_engine()
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
+    if not isinstance(symmetry, bool):
+        raise UsageError(f"symmetry must be True or False, not {symmetry!r}")
     sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair) if symmetry else None
     if sym is not None and sym.active:
         which = "python"

@@ -338,6 +338,8 @@ def test_the_native_engine_is_not_asked(tmp_path, monkeypatch):
     with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process: it cannot be combined with "
                                                   "--workers, --cluster or --bitstate$"):
         model.explore(engine="python", symmetry=True, workers=2)
+    with pytest.raises(asmcheck.UsageError, match="^symmetry must be True or False, not 'yes'$"):
+        model.explore(engine="python", symmetry="yes")
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     run = model.explore(engine="auto", symmetry=True)
     assert run.engine == "python" and (run.states, run.transitions) == (48, 113)
