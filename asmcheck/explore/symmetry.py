@@ -28,6 +28,7 @@ is evaluated by the same equality-only operations; traces are made concrete agai
 from __future__ import annotations
 
 import math
+import os
 from itertools import permutations
 
 from ..semantics import ir
@@ -439,8 +440,9 @@ class _Uses:
     """Walks the spec and its properties: the literals, and the first use of each candidate
     domain's values that could tell its elements apart."""
 
-    def __init__(self, cands: dict):
+    def __init__(self, cands: dict, path: str = ""):
         self.cands = cands              # Domain -> set of value ids
+        self.path = path                # the spec's file (places in others are named with their file)
         self.why: dict = {}             # Domain -> reason
         self.named: dict = {d: [] for d in cands}
         self.seen: set = set()
@@ -451,7 +453,11 @@ class _Uses:
             return
         where = ""
         if span is not None and getattr(span, "line", 0):
-            where = f" (line {span.line}, column {span.col})"
+            other = getattr(span, "path", "") or ""
+            if other and self.path and os.path.abspath(other) != os.path.abspath(self.path):
+                where = f" ({os.path.basename(other)}, line {span.line}, column {span.col})"
+            else:
+                where = f" (line {span.line}, column {span.col})"
         self.why[d] = reason + where
 
     def cand(self, t):
@@ -748,7 +754,7 @@ def detect(machine, properties=()) -> Symmetry:
     if not cands:
         return Symmetry([], lines or ["no enum, static abstract or finite Integer subset domain"],
                         "no enum, static abstract or finite Integer subset domain")
-    uses = _Uses({d: {_vid(v) for v in vals} for d, vals in cands.items()})
+    uses = _Uses({d: {_vid(v) for v in vals} for d, vals in cands.items()}, getattr(spec, "path", "") or "")
     for f in list(spec.functions) + list(getattr(spec, "local_functions", []) or []):
         uses.function(f)
     for r in spec.rules:
