@@ -1207,6 +1207,7 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         out.interrupted = run.interrupted
         # symmetry=True: the states are classes (the gate's table says so under it)
         out.symmetry = run.symmetry.describe() if run.symmetry is not None and run.symmetry.active else ""
+        out.symmetry_hint = run.symmetry_hint
         if not out.properties:
             out.properties = [_gate.judge(_gate.PropertyOutcome("(no property)", "input", "none",
                                                                 message=no_property_message(model)), False, False)]

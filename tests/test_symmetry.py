@@ -379,6 +379,10 @@ def test_check_cli(tmp_path, capsys):
     main(["check", "--engine", "python", path])
     plain = capsys.readouterr().out
     assert "symmetry" not in plain and " 112 " in plain
+    main(["check", "--engine", "python", "--max-states", "20", path])
+    assert capsys.readouterr().out.splitlines()[-1] == (
+        f"{path}: hint: Proc's 4 unnamed elements are interchangeable; --symmetry explores one state per class of "
+        f"such states")
 
 
 # a property quantified around a temporal operator is checked once per process, each time with

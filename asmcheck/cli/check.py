@@ -50,6 +50,8 @@ def run(args) -> int:
     for o in gate.outcomes:
         if getattr(o, "symmetry", ""):
             sys.stdout.write(f"symmetry: the states of {o.path} are counted up to {o.symmetry}\n")
+        if getattr(o, "symmetry_hint", ""):
+            sys.stdout.write(f"{o.path}: {o.symmetry_hint}\n")
     return code
 
 
