@@ -108,8 +108,9 @@ class _NoProgress:
 def add_symmetry_option(p) -> None:
     p.add_argument("--symmetry", action="store_true",
                    help="explore one state per class of states that differ only by a renaming of interchangeable "
-                        "elements (the elements of an enum or Integer subset domain that no literal names, when the "
-                        "spec and its properties only compare them by equality); the counts are then counts of "
+                        "elements (the elements of an enum, static abstract or Integer subset domain that no literal "
+                        "names, when the spec and its properties only compare them by equality); the counts are then "
+                        "counts of "
                         "classes, on the Python engine; the report says which domains are reduced, or why none is")
 
 

@@ -9,16 +9,20 @@ compared by equality (with another value of the domain or with a literal), passe
 argument where the domain is declared, stored in a location of the domain, bound by a
 ``let``, or chosen or quantified over the whole domain.  Any other use (arithmetic, an order
 comparison, a library function, a collection, a comprehension over the domain, a value of
-another type where the domain is expected, ...) leaves the domain without symmetry, with the
-first such use as the reason.  The spec must not use ``extend``, and every stored function
-must have at most one position (an argument or its value) over a symmetric domain: then the
-canonical form below is exact.
+another type where the domain is expected, a variable of the domain bound around a temporal
+operator, ...) leaves the domain without symmetry, with the first such use as the reason.  The
+spec must not use ``extend``, and ``--fair`` (fairness of each choice on its own) turns the
+reduction off.
 
 Reduction.  Each interchangeable element gets a signature: the sorted list of the locations
 where it occurs (function, position, the other arguments, the value).  The elements are
 renamed so that their signatures come in the order of the elements; elements with equal
 signatures play the same part (swapping them leaves the state as it is), so the result is
-the same for every state of a class: a canonical representative.
+the same for every state of a class: a canonical representative.  A stored function with
+several positions over symmetric domains (``link: Node -> Node``, ``edge: Prod(Node, Node) ->
+Boolean``) needs more (:meth:`Symmetry.canon_multi`): colours refined over the locations, then
+the least renamed state among the numberings that keep the colours' order; a domain of more than
+six interchangeable elements in such a function is left without symmetry.
 
 Counts of a reduced search are counts of classes (orbits); invariants, deadlock and LTL/CTL
 properties keep their verdicts, since no property names an interchangeable element and each
