@@ -700,6 +700,9 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     note = result.reason
     left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
     got: list = []
+    if "a step could not be computed" in (result.reason or ""):
+        # a state without successors: the complete check could not run either
+        return [], note
     need = PARTIAL_BYTES_PER_STATE * int(getattr(ex, "n_states", 0) or 0)
     if max_memory is not None and need > 2**24:
         used = memory_in_use() or 0
