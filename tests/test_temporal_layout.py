@@ -210,3 +210,24 @@ def test_kernel_reads_targets_through_table():
     K.cls_succ[2] = [0, 4]
     assert K.cls_succ.layout() is None
     assert K.cls_succ.arrays() == (array("i", [0, 2, 4, 6]), array("i", [1, 2, 3, 4, 0, 4]))
+
+
+# ----------------------------------------------------------------- the memory bound
+@needs_cc
+def test_memory_bound_counts_the_canonical_forms(tmp_path):
+    """A spec that extends a domain: the search's memory count holds the canonical forms' tables
+    (the memo of texts, the kept forms), as allocated; a spec without extend has none."""
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.props.load import load_machine
+    from test_native_extend import QUEUE
+    _, m = load_machine(write(tmp_path, QUEUE))
+    ex = NativeExplorer(m)
+    ex.run()
+    canon = ex.dll.asm_canon_bytes()
+    # one search context's tables: more than its fixed part (some 450 KB of location tables)
+    assert canon > 400_000
+    assert ex.dll.asm_memory_bytes() > canon
+    _, m2 = load_machine(write(tmp_path, WIDE))
+    ex2 = NativeExplorer(m2)
+    ex2.run()
+    assert ex2.dll.asm_canon_bytes() == 0

@@ -3823,6 +3823,7 @@ _SYMBOLS = {
     "asm_run_par": (_i64, [_f64, _i64p, _i64]),
     "asm_limit_memory": (None, [_i64]),
     "asm_memory_bytes": (_i64, []),
+    "asm_canon_bytes": (_i64, []),
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
     "asm_par_min_chunk": (None, [_i64]),
     "asm_par_max_chunk": (None, [_i64]),

@@ -1703,6 +1703,26 @@ static int64_t table_bytes(int64_t n) {
     return cap * (int64_t)sizeof(Entry);
 }
 
+/* the canonical forms' tables of a spec that extends domains (native_canon.c: each search context's
+   memo of texts, its kept forms and buffers), as allocated */
+static int64_t canon_bytes(void) {
+#if CN_NDYN > 0
+    int64_t b = 0;
+    for (int i = 0; i < CN_MAXW; i++) {
+        CnW *w = cn_ws[i].w;
+        if (!w) continue;
+        b += (int64_t)sizeof(CnW) + (w->memo ? (int64_t)(w->mmask + 1) * (int64_t)sizeof(CnMemo) : 0)
+             + w->mtext.cap + w->tb.cap + (int64_t)w->capsp * (int64_t)sizeof(CnSpan)
+             + w->dcap * (int64_t)sizeof(V) + (w->dtab ? (int64_t)(w->dmask + 1) * (int64_t)sizeof(int64_t) : 0);
+    }
+    return b;
+#else
+    return 0;
+#endif
+}
+
+int64_t asm_canon_bytes(void) { return canon_bytes(); }
+
 static int64_t memory_bytes(int64_t n) {
     return n * (int64_t)(PW * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n) + pk_bytes()
         /* the edges: two arrays of ends here, as allocated (cap_edges, a function of nedges);
@@ -1711,7 +1731,8 @@ static int64_t memory_bytes(int64_t n) {
         + (2 * S.cap_edges + S.nedges) * (int64_t)sizeof(uint32_t)
         /* the temporal quotient's lists (asm_qf), here and in Python's copy, and its pairs */
         + QF.n * 2 * (int64_t)(QF.w16 ? sizeof(uint16_t) : sizeof(uint32_t)) + QF.noff * (int64_t)sizeof(int64_t) + QF.np * 20
-        + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);
+        + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V)
+        + canon_bytes();
 }
 
 static int over_memory(int64_t n) { return P.max_bytes >= 0 && memory_bytes(n) > P.max_bytes; }
