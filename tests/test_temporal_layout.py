@@ -94,10 +94,6 @@ def _rows(model, run):
     return [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes")) for r in run.temporal]
 
 
-def off_entries(K) -> int:
-    return K.cls_succ.off[-1]
-
-
 def _layout(K):
     lay = K.cls_succ.layout()
     return lay[2], lay[1].typecode
@@ -131,12 +127,15 @@ def test_layout_same_as_edges(tmp_path, monkeypatch, text, states, transitions, 
         assert _layout(old.temporal[0].K) == (0, "i")
         assert _arrays(old.temporal[0].K) == arrays
         assert _rows(old_model, old) == rows
-    # E[f U g] by passes over the forward lists (the structures above made backward lists): the same
-    assert off_entries(K) < kernel.EU_FORWARD_ENTRIES
-    monkeypatch.setattr(kernel, "EU_FORWARD_ENTRIES", 0)
-    again_model = api.load(path)
-    again = again_model.explore(engine="native")
-    assert _rows(again_model, again) == rows
+    # E[f U g] by passes over the forward lists (above), by the backward lists, and by one pass
+    # finished by the backward lists: the same
+    assert getattr(K, "_kernel_rev", None) is None
+    for entries, passes in ((1 << 40, 8), (0, 1)):
+        monkeypatch.setattr(kernel, "EU_FORWARD_ENTRIES", entries)
+        monkeypatch.setattr(kernel, "EU_FORWARD_PASSES", passes)
+        again_model = api.load(path)
+        again = again_model.explore(engine="native")
+        assert _rows(again_model, again) == rows
 
 
 def _structure(off, adj, cls, key=None, tab=None, nstates=0):
@@ -173,8 +172,9 @@ def test_kernel_reads_each_layout(name):
     g = bytearray([0, 0, 0, 0, 1, 0])
     assert kernel.ex(K, g) == bytearray([0, 1, 0, 1, 0, 0])
     f = bytearray([1, 1, 1, 1, 0, 1])
-    for entries in (0, 1 << 40):
-        kernel.EU_FORWARD_ENTRIES, keep = entries, kernel.EU_FORWARD_ENTRIES
+    for entries, passes in ((0, 8), (1 << 40, 8), (0, 1)):
+        keep = kernel.EU_FORWARD_ENTRIES, kernel.EU_FORWARD_PASSES
+        kernel.EU_FORWARD_ENTRIES, kernel.EU_FORWARD_PASSES = entries, passes
         try:
             K2 = _structure(OFF, cls=CLS, **LAYOUTS[name])
             # 4 is in class 1's list (nodes 1, 3 join), 1 in class 0's (0, 5), 5 in class 2's (2; 4
@@ -182,7 +182,7 @@ def test_kernel_reads_each_layout(name):
             assert kernel.eu(K2, f, g) == bytearray([1, 1, 1, 1, 1, 1])
             assert kernel.eu(K2, bytearray([1, 1, 0, 1, 0, 0]), g) == bytearray([1, 1, 0, 1, 1, 0])
         finally:
-            kernel.EU_FORWARD_ENTRIES = keep
+            kernel.EU_FORWARD_ENTRIES, kernel.EU_FORWARD_PASSES = keep
     assert kernel.bfs(K, [0], bytearray([0, 0, 0, 0, 1, 0])) == [0, 1, 4]
     assert CTL(K).fair == bytearray(b"\x01" * 6)
 
@@ -196,15 +196,15 @@ def test_kernel_reads_targets_through_table():
     assert K.cls_succ.arrays() == (array("i", [0, 2, 4, 5]), array("i", [1, 2, 3, 4, 0]))
     assert kernel.ex(K, bytearray([0, 0, 0, 0, 1])) == bytearray([0, 1, 0, 1, 0])
     f = bytearray(b"\x01" * 5)
-    for entries in (0, 1 << 40):
-        keep = kernel.EU_FORWARD_ENTRIES
-        kernel.EU_FORWARD_ENTRIES = entries
+    for entries, passes in ((0, 8), (1 << 40, 8), (0, 1)):
+        keep = kernel.EU_FORWARD_ENTRIES, kernel.EU_FORWARD_PASSES
+        kernel.EU_FORWARD_ENTRIES, kernel.EU_FORWARD_PASSES = entries, passes
         try:
             K2 = _structure([0, 2, 4, 5], array("H", [1, 2, 1, 2, 0]), [0, 1, 2, 1, 2], array("i", [0, 1, 1]), TAB, 3)
             # node 4 from nodes of class 1 (1, 3), from those of class 0 (0), from those of class 2 (2, 4)
             assert kernel.eu(K2, f, bytearray([0, 0, 0, 0, 1])) == bytearray([1, 1, 1, 1, 1])
         finally:
-            kernel.EU_FORWARD_ENTRIES = keep
+            kernel.EU_FORWARD_ENTRIES, kernel.EU_FORWARD_PASSES = keep
     assert kernel.bfs(K, [0], bytearray([0, 0, 0, 0, 1])) == [0, 1, 4]
     # a replaced list (a halt node): the kernel reads 32-bit arrays made from the decoded lists
     K.cls_succ[2] = [0, 4]
@@ -231,3 +231,26 @@ def test_memory_bound_counts_the_canonical_forms(tmp_path):
     ex2 = NativeExplorer(m2)
     ex2.run()
     assert ex2.dll.asm_canon_bytes() == 0
+
+
+@needs_cc
+@pytest.mark.parametrize("down", [False, True], ids=["chain-up", "chain-down"])
+@pytest.mark.parametrize("passes", [8, 100_000], ids=["then-backward", "forward-only"])
+def test_forward_passes(monkeypatch, down, passes):
+    """E[f U start] on a chain of 5,000 nodes, each node's class its successor: passes over the forward
+    lists walk the classes from the last, so a chain whose edges go up (v -> v + 1) is done in one
+    pass (and one more to see nothing change); a chain going down (v -> v - 1) takes a pass a node,
+    and after EU_FORWARD_PASSES of them a backward search from what was found finishes it.  The
+    backward lists are made only then."""
+    n = 5000
+    monkeypatch.setattr(kernel, "EU_FORWARD_PASSES", passes)
+    nxt = [max(v - 1, 0) for v in range(n)] if down else [min(v + 1, n - 1) for v in range(n)]
+    K = _structure(list(range(n + 1)), array("i", range(n)), nxt)
+    f = bytearray(b"\x01") * n
+    f[n // 2] = 0
+    start = bytearray(n)
+    start[0 if down else n - 1] = 1
+    y = kernel.eu(K, f, start)
+    assert y == bytearray((v < n // 2) if down else (v > n // 2) for v in range(n))
+    made = getattr(K, "_kernel_rev", None) is not None
+    assert made == (down and passes == 8)

@@ -4361,7 +4361,7 @@ class NativeExplorer:
         code = "i" if lay[0] == 0 else "H"
         # the lists a part at a time (a long one is not held twice), then the rest
         adj = array(code)
-        part = array(code, [0]) * min(max(na, 1), 1 << 20)
+        part = array(code, [0]) * min(max(na, 1), 1 << 16)
         view = memoryview(part).cast("B")
         for start in range(0, na, len(part)):
             k = min(len(part), na - start)

@@ -1633,7 +1633,7 @@ void asm_qf_chunk(int64_t start, int64_t n, void *out) {
     memcpy(out, base + start * w, (size_t)n * w);
 #if defined(MADV_DONTNEED)
     uintptr_t lo = ((uintptr_t)base + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)(base + (start + n) * w)) & ~(uintptr_t)4095;
-    if (hi > lo && QF.n * w >= ((size_t)1 << 22)) madvise((void *)lo, hi - lo, MADV_DONTNEED);
+    if (hi > lo && QF.n * w >= ((size_t)1 << 18)) madvise((void *)lo, hi - lo, MADV_DONTNEED);
 #endif
 }
 

@@ -316,17 +316,18 @@ oom:
  * off/adj; ncls classes; noff/nadj: the nodes of each class, kn_class_nodes): y = the nodes from
  * which a path of f nodes reaches a start node, by passes over the forward lists until nothing
  * changes (a class whose list meets y gives its f nodes to y at once, so that one pass may go
- * several steps back); a class none of whose nodes can still join y is not read again.  For
- * structures whose backward lists would take much memory.  Returns the number of passes, -1 when
- * out of memory. */
+ * several steps back); a class none of whose nodes can still join y is not read again.  Returns
+ * the number of passes; -2 when max_passes passes did not reach the fixpoint (y then holds part of
+ * it: a backward search from y finishes it); -1 when out of memory. */
 int64_t kn_eu_fwd(int64_t n, int64_t ncls, const int32_t *off, const void *adj, const int32_t *noff,
-                  const int32_t *nadj, const uint8_t *f, const uint8_t *start, uint8_t *y) {
+                  const int32_t *nadj, const uint8_t *f, const uint8_t *start, uint8_t *y, int64_t max_passes) {
     uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);
     if (!done) return -1;
     for (int64_t v = 0; v < n; v++) y[v] = start[v] ? 1 : 0;
     int64_t passes = 0;
     int changed = 1;
     while (changed) {
+        if (passes == max_passes) { free(done); return -2; }
         changed = 0;
         passes++;
         for (int64_t c = ncls - 1; c >= 0; c--) {

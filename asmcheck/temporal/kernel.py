@@ -16,9 +16,11 @@ from itertools import accumulate, chain
 from .classes import Classes
 
 ENABLED = True                 # tests switch the kernel off to compare with the Python code
-# E[f U g] on a structure whose lists hold more entries than this runs by passes over the forward
-# lists (kn_eu_fwd) instead of making the backward lists (2 or 4 bytes an entry); tests set it to 0
-EU_FORWARD_ENTRIES = 1 << 24
+# E[f U g] on a structure whose lists hold more entries than this runs first by passes over the
+# forward lists (kn_eu_fwd), and makes the backward lists (2 or 4 bytes an entry) only when
+# EU_FORWARD_PASSES passes did not reach the fixpoint; tests change both
+EU_FORWARD_ENTRIES = 0
+EU_FORWARD_PASSES = 8
 
 _i64, _p = ctypes.c_int64, ctypes.c_void_p
 _SYMBOLS = {
@@ -32,7 +34,7 @@ _SYMBOLS = {
     "kn_fair": (_i64, [_i64, _p, _i64, _p, _p, _p]),
     "kn_free": (None, []),
     "kn_fair_graph": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
-    "kn_eu_fwd": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p]),
+    "kn_eu_fwd": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p, _i64]),
     "kn_class_nodes": (None, [_i64, _i64, _p, _p, _p]),
     "kn_layout": (None, [_i64, _p, _p, _i64]),
     "kn_csr": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
@@ -376,8 +378,11 @@ def eu(K, f: bytearray, start: bytearray):
     ncls = len(off) - 1
     fb, sb = bytearray(f), bytearray(start)
     y = bytearray(n)
-    if off[ncls] > EU_FORWARD_ENTRIES:
-        # passes over the forward lists: no backward lists (they would take 2 or 4 bytes an entry)
+    rev = getattr(K, "_kernel_rev", None)
+    if rev is None and off[ncls] > EU_FORWARD_ENTRIES:
+        # passes over the forward lists: no backward lists (they would take 2 or 4 bytes an entry),
+        # unless the passes do not reach the fixpoint soon; then a backward search from the part
+        # found finishes it (the same set)
         nodes = getattr(K, "_kernel_nodes", None)
         if nodes is None:
             noff = array("i", bytes(4 * (ncls + 1)))
@@ -386,11 +391,14 @@ def eu(K, f: bytearray, start: bytearray):
             nodes = K._kernel_nodes = (noff, nadj)
         noff, nadj = nodes
         cls, off, adj = _csr(K)
-        if dll.kn_eu_fwd(n, ncls, _addr(off), _addr(adj), _addr(noff), _addr(nadj), _addr(fb), _addr(sb),
-                         _addr(y)) < 0:
+        got = dll.kn_eu_fwd(n, ncls, _addr(off), _addr(adj), _addr(noff), _addr(nadj), _addr(fb), _addr(sb),
+                            _addr(y), EU_FORWARD_PASSES)
+        if got == -1:
             return None
-        return y
-    rev = getattr(K, "_kernel_rev", None)
+        if got >= 0:
+            return y
+        sb = bytearray(y)
+        cls, off, adj = _csr(K)
     if rev is None:
         # the backward lists, made once for the structure's searches (the classes in 16 bits
         # when there are fewer than 65,536 of them)
