@@ -80,6 +80,27 @@ default init s0:
 """
 
 
+# the next state is the input: every state has the same 10 successors.  One atom, x = 0, holds in
+# the initial state only, so a node is (initial or not, target): 20 nodes; the nine states other
+# than the initial one have the same list, 11 states share 2 lists
+RESET = """asm Reset
+import StandardLibrary
+import CTLLibrary
+signature:
+	domain Val subsetof Integer
+	controlled x: Val
+	monitored inp: Val
+definitions:
+	domain Val = {0 : 9}
+	CTLSPEC ag(ef(x = 0))
+	CTLSPEC ag(not(x = 0) implies ax(not(x = 0)))
+	CTLSPEC eg(not(x = 0))
+	main rule r_main = x := inp
+default init s0:
+	function x = 0
+"""
+
+
 def _old_route(monkeypatch):
     """Explorations that record the edges (the route before the search recorded the steps)."""
     monkeypatch.setattr(api, "_quotient_plan", lambda *a: None)
@@ -100,13 +121,18 @@ def _layout(K):
 
 
 @needs_cc
-@pytest.mark.parametrize("text,states,transitions,nodes,layout,verdicts", [
-    (FLIP, 8192, 745472, 100437, (2, "H"), ["holds", "violated", "holds", "violated", "violated", "violated"]),
-    (NOISE, 8192, 745472, 187562, (0, "i"),
+# (entries: of all the states' lists, a step per transition and value of noise; lists: how many
+# different lists)
+@pytest.mark.parametrize("text,states,transitions,nodes,entries,lists,layout,verdicts", [
+    (RESET, 10, 100, 20, 100, 2, (1, "H"), ["holds", "violated", "violated"]),
+    (FLIP, 8192, 745472, 100437, 745472, 8192, (2, "H"),
+     ["holds", "violated", "holds", "violated", "violated", "violated"]),
+    (NOISE, 8192, 745472, 187562, 2 * 745472, 8192, (0, "i"),
      ["holds", "violated", "violated", "holds", "violated", "violated", "violated"]),
-    (WIDE, 131072, 2228224, 327696, (0, "i"), ["holds", "violated", "holds"]),
-], ids=["targets-through-table", "nodes-32-bit", "widened"])
-def test_layout_same_as_edges(tmp_path, monkeypatch, text, states, transitions, nodes, layout, verdicts):
+    (WIDE, 131072, 2228224, 327696, 2228224, 131072, (0, "i"), ["holds", "violated", "holds"]),
+], ids=["shared-lists", "targets-through-table", "nodes-32-bit", "widened"])
+def test_layout_same_as_edges(tmp_path, monkeypatch, text, states, transitions, nodes, entries, lists, layout,
+                              verdicts):
     path = write(tmp_path, text)
     model = api.load(path)
     run = model.explore(engine="native")
@@ -114,6 +140,8 @@ def test_layout_same_as_edges(tmp_path, monkeypatch, text, states, transitions, 
     assert run.explorer.edge_src is None                 # recorded: the lists, no edges
     K = run.temporal[0].K
     assert K.n == nodes
+    assert K.cls_succ.off[-1] == entries
+    assert len({tuple(c) for c in K.cls_succ}) == lists
     assert _layout(K) == layout
     assert [r.verdict for r in run.temporal] == verdicts
     rows = _rows(model, run)

@@ -201,8 +201,9 @@ def _csr(K):
         got = K._kernel_csr = (cls, off, adj, (mode, key, tab, ns))
     dll = library()
     mode, key, tab, ns = got[3]
-    dll.kn_layout(mode, _addr(key) if key is not None and len(key) else 0,
-                  _addr(tab) if tab is not None and len(tab) else 0, ns)
+    if dll is not None:
+        dll.kn_layout(mode, _addr(key) if key is not None and len(key) else 0,
+                      _addr(tab) if tab is not None and len(tab) else 0, ns)
     return got[:3]
 
 
