@@ -282,3 +282,23 @@ def test_forward_passes(monkeypatch, down, passes):
     assert y == bytearray((v < n // 2) if down else (v > n // 2) for v in range(n))
     made = getattr(K, "_kernel_rev", None) is not None
     assert made == (down and passes == 8)
+
+
+@needs_cc
+def test_pairs_coded_then_numbered(tmp_path, monkeypatch):
+    """With few atoms that read monitored functions the search records a step's (target, values) pair
+    as one code (target << atoms | values), without a table of pairs; a code that does not fit (here
+    made to overflow at 2^12, half way through the search) turns the entries recorded so far into pair
+    numbers: the same structure, verdicts and paths."""
+    from asmcheck.explore.native import NativeExplorer
+    path = write(tmp_path, NOISE)
+    model = api.load(path)
+    run = model.explore(engine="native")
+    K = run.temporal[0].K
+    assert len(K.mon_atoms) == 3 and run.explorer.qf_direct
+    monkeypatch.setattr(NativeExplorer, "QF_DIRECT_BITS", 12)
+    model2 = api.load(path)
+    run2 = model2.explore(engine="native")
+    assert run2.explorer.edge_src is None and not run2.explorer.qf_direct
+    assert _arrays(run2.temporal[0].K) == _arrays(K)
+    assert _rows(model2, run2) == _rows(model, run)

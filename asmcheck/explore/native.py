@@ -3844,6 +3844,7 @@ _SYMBOLS = {
     "asm_qf_take": (None, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_layout": (None, [_i64p]),
     "asm_qf_keys": (None, [ctypes.c_void_p, ctypes.c_void_p]),
+    "asm_qf_direct_bits": (None, [_i64]),
 }
 
 
@@ -4295,6 +4296,8 @@ class NativeExplorer:
         self.dll.asm_qf(len(ks), (ctypes.c_int64 * max(len(ks), 1))(*ks), 1 if self._qf_edges_too else 0)
         if self.QF_TABLE is not None:
             self.dll.asm_qf_table_limit(self.QF_TABLE)
+        if self.QF_DIRECT_BITS is not None:
+            self.dll.asm_qf_direct_bits(self.QF_DIRECT_BITS)
         return True
 
     def _qf_recorded(self) -> bool:
@@ -4356,8 +4359,9 @@ class NativeExplorer:
         st = (ctypes.c_int64 * 3)()
         self.dll.asm_qf_status(st)
         na = st[1]
-        lay = (ctypes.c_int64 * 2)()
+        lay = (ctypes.c_int64 * 3)()
         self.dll.asm_qf_layout(lay)
+        self.qf_direct = bool(lay[2])      # (the tests read it)
         code = "i" if lay[0] == 0 else "H"
         # the lists a part at a time (a long one is not held twice), then the rest
         adj = array(code)
@@ -4583,6 +4587,7 @@ class NativeExplorer:
     # -------------------------------------------------------------- the explorer's interface
     STATE_CACHE = 65536
     QF_TABLE = None       # the most entries of the table that merges the quotient's nodes (tests: 0)
+    QF_DIRECT_BITS = None  # the bits of a recorded pair's direct code (tests: few, so that it overflows)
 
     @property
     def n_states(self) -> int:

@@ -819,6 +819,9 @@ static struct {
     int64_t ks[64];
     /* the lists, state after state: 16-bit entries (w16) while every entry fits, then 32-bit */
     uint32_t *item; int64_t n, cap; int w16;
+    /* direct: an entry is a pair's code (target << nk | bits) while codes stay below 2^dbits (up to
+       8 atoms; no table of pairs), else the pair's number */
+    int direct, dbits;
     int64_t *off; int64_t noff, capoff;        /* off[0 .. noff - 1] are set */
     uint32_t *pd; uint64_t *pv; int64_t np, capp;      /* the pairs */
     uint32_t *ph; int64_t phcap;               /* their hash table (number + 1; 0: empty) */
@@ -832,6 +835,9 @@ static struct {
 } QF;
 
 #define QI(e) (QF.w16 ? (uint32_t)((const uint16_t *)QF.item)[e] : QF.item[e])
+/* the target and the bits of the pair at entry e */
+#define QD(e) (QF.direct ? QI(e) >> QF.nk : QF.pd[QI(e)])
+#define QV(e) (QF.direct ? (uint64_t)(QI(e) & ((1u << QF.nk) - 1)) : QF.pv[QI(e)])
 
 static void qf_free(void) {
     free(QF.item); free(QF.off); free(QF.pd); free(QF.pv); free(QF.ph); free(QF.rb); free(QF.rv);
@@ -844,6 +850,7 @@ void asm_qf(int64_t nk, const int64_t *ks, int64_t edges_too) {
     qf_free();
     if (nk < 0 || nk > 64) return;
     QF.on = 1; QF.nk = (int)nk; QF.edges_too = edges_too != 0; QF.table_limit = -1; QF.w16 = 1;
+    QF.direct = nk >= 1 && nk <= 8; QF.dbits = 32;
     for (int64_t k = 0; k < nk; k++) QF.ks[k] = ks[k];
 }
 
@@ -887,8 +894,35 @@ static inline int qf_item(uint32_t x) {
     return 1;
 }
 
-/* the number of the pair (d, v), added when new; -1 when out of memory */
+static int64_t qf_pair(uint32_t d, uint64_t v);
+
+/* the entries made pair numbers (a code no longer fits): the expanded state's pairs so far are the
+   pairs met under their numbers; 0 when out of memory */
+static int qf_undirect(void) {
+    QF.direct = 0;
+    for (int64_t e = 0; e < QF.n; e++) {
+        uint32_t x = QI(e);
+        int64_t p = qf_pair(x >> QF.nk, x & ((1u << QF.nk) - 1));
+        if (p < 0 || (QF.w16 && p > 0xffff && !qf_widen())) return 0;
+        if (QF.w16) ((uint16_t *)QF.item)[e] = (uint16_t)p;
+        else QF.item[e] = (uint32_t)p;
+    }
+    if (QF.noff && !sset_reset(&QF.seen, QF.nr)) return 0;
+    for (int64_t e = QF.noff ? QF.off[QF.noff - 1] : QF.n; e < QF.n; e++) sset_first(&QF.seen, QI(e));
+    return 1;
+}
+
+/* the tests' limit of direct codes (bits) */
+void asm_qf_direct_bits(int64_t bits) { QF.dbits = (int)bits; }
+
+/* the number of the pair (d, v) (its code while the entries are direct), added when new; -1 when
+   out of memory */
 static int64_t qf_pair(uint32_t d, uint64_t v) {
+    if (QF.direct) {
+        uint64_t code = ((uint64_t)d << QF.nk) | v;
+        if (code < (1ULL << QF.dbits)) return (int64_t)code;
+        if (!qf_undirect()) return -1;
+    }
     if (2 * (QF.np + 1) > QF.phcap) {
         int64_t nc = QF.phcap ? QF.phcap * 2 : 1024;
         uint32_t *h = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
@@ -1441,7 +1475,7 @@ int64_t asm_qf_steps(const uint8_t *ok, uint32_t *src, int32_t *dst, uint64_t *v
         if (!ok[s]) continue;
         if (src)
             for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++, w++) {
-                src[w] = (uint32_t)s; dst[w] = (int32_t)QF.pd[QI(e)]; vec[w] = QF.pv[QI(e)];
+                src[w] = (uint32_t)s; dst[w] = (int32_t)QD(e); vec[w] = QV(e);
             }
         else w += QF.off[s + 1] - QF.off[s];
     }
@@ -1493,7 +1527,7 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
         if (!ok[s] || QF.off[s + 1] == QF.off[s]) continue;
         if (!QF.nk) { if (qk_id(&kt, sig[s], 0) < 0) goto oom; continue; }
         for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++) {
-            uint64_t v = QF.pv[QI(e)];
+            uint64_t v = QV(e);
             if ((v & need) == need && qk_id(&kt, sig[s], v) < 0) goto oom;
         }
     }
@@ -1518,8 +1552,8 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
         uint64_t g = sig[s];
         int64_t k = QF.nk ? -1 : qk_id(&kt, g, 0);
         for (int64_t e = a; e < b; e++) {
-            uint32_t d = QF.nk ? QF.pd[QI(e)] : QI(e);
-            uint64_t v = QF.nk ? QF.pv[QI(e)] : 0;
+            uint32_t d = QF.nk ? QD(e) : QI(e);
+            uint64_t v = QF.nk ? QV(e) : 0;
             if ((v & need) != need) continue;
             if (QF.nk) k = qk_id(&kt, g, v);
             int64_t q = -1;
@@ -1609,10 +1643,12 @@ oom:
 }
 
 /* after asm_qf_quotient: [0] the lists' layout (0: 32-bit nodes, 1: 16-bit nodes, 2: 16-bit
-   targets through the table) [1] the table's rows (layout 2) */
+   targets through the table) [1] the table's rows (layout 2) [2] whether the search's entries were
+   pair codes to the end */
 void asm_qf_layout(int64_t *out) {
     out[0] = QF.lay;
     out[1] = QF.nkeys;
+    out[2] = QF.direct;
 }
 
 /* layout 2: each state's row (n) and the table (rows x n: the node of (row, target), -1: none) */
