@@ -600,6 +600,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     temporal_note = ""
     temporal_error = ""
     checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
+    # the invariants, step properties and deadlock are decided by the search alone: a limit met in
+    # the LTL/CTL phase after a complete search leaves them decided
+    result.search_stopped_early = result.stopped_early
     if checked_temporal and result.verdict != "incomplete" and not interrupted:
         from .temporal import check_temporal
         left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
@@ -788,7 +791,7 @@ class Exploration:
         run-time error's location, on the verdicts relative to it)."""
         result = self.result
         bad = {v.prop.name for v in result.violations}
-        incomplete = result.stopped_early
+        incomplete = getattr(result, "search_stopped_early", result.stopped_early)
         rel = self.relative_to
         rows = []
 

@@ -65,3 +65,25 @@ def test_a_failure_inside_the_temporal_phase_is_not_a_pass(tmp_path, monkeypatch
     assert run.result.verdict == "incomplete"
     assert run.result.reason == "internal error in LTL/CTL checking: RuntimeError: boom"
     assert run.exit_code == 3
+
+
+INV_AND_LTL = SPEC.replace("\tLTLSPEC", "\tinvariant inv_color over c: c = RED or c = GREEN\n\tLTLSPEC")
+
+
+def test_a_limit_in_the_temporal_phase_leaves_the_invariants_decided(tmp_path, monkeypatch):
+    """The search was complete: its invariants hold; only the LTL/CTL properties are incomplete
+    (they were all reported incomplete, in explore's report and in the gate)."""
+    import asmcheck.temporal as temporal
+    from asmcheck.explore.bfs import TimeUp
+
+    def out_of_time(*args, **kwargs):
+        raise TimeUp()
+
+    monkeypatch.setattr(temporal, "check_temporal", out_of_time)
+    path = write(tmp_path, INV_AND_LTL)
+    run = asmcheck.load(path).explore(engine="python", max_seconds=60)
+    assert (run.result.verdict, run.result.reason) == ("incomplete", "time limit 60 s reached in the LTL/CTL phase")
+    assert [(r["property"], r["verdict"]) for r in run.rows] == [("inv_color", "holds"), ("ltl_1", "incomplete")]
+    gate = asmcheck.check([path], max_seconds=60, engine="python")
+    assert [(p.name, p.verdict) for p in gate.outcomes[0].properties] == [("inv_color", "holds"),
+                                                                          ("ltl_1", "incomplete")]
