@@ -271,6 +271,27 @@ def test_with_sink_structure():
     assert list(K3.sid[5:7]) == [2, 3]
 
 
+@pytest.mark.engines("none")
+def test_with_sink_reads_lists_of_states_through_the_table_of_nodes():
+    """Lists kept as 16-bit target states read through a table of nodes (the quotient of a spec
+    whose atoms read no monitored function): the sink's structure has the nodes, not the states
+    (it read the states as nodes, and a trace then asked for a step between unrelated states)."""
+    from array import array
+    from asmcheck.temporal.classes import Classes
+    from asmcheck.temporal.kripke import Kripke
+    # 3 states, two atom keys: node of (key k, state t) is tab[k * 3 + t]; classes 0..2 are states
+    tab = array("i", [0, 1, 2, 3, 4, 5])
+    K = Kripke()
+    K.n = 6
+    K.cls = array("i", [0, 1, 2, 0, 1, 2])
+    K.cls_succ = Classes(array("i", [0, 2, 3, 3]), array("H", [1, 2, 0]), array("i", [1, 0, 0]), tab, 3)
+    assert list(K.cls_succ) == [[4, 5], [0], []]
+    K.init = [0]
+    K2, sink = with_sink(K, [2])
+    assert sink == 6
+    assert [K2.succ(v) for v in range(7)] == [[4, 5], [0], [6], [4, 5], [0], [6], [6]]
+
+
 # ----------------------------------------------------------------- the corpus
 @pytest.mark.slow
 @pytest.mark.corpus

@@ -129,6 +129,11 @@ def with_sink(K, frontier, unknown_steps: bool = False, init_states=()):
     cs = K.cls_succ
     if isinstance(cs, Classes):
         off0, adj0 = _np_of(cs.off).astype(np.int64), _np_of(cs.adj).astype(np.int32)
+        if cs.tab is not None:
+            # 16-bit target states read through the table of nodes: the nodes themselves
+            lens = np.diff(off0)
+            keys = np.repeat(_np_of(cs.key).astype(np.int64)[:len(lens)], lens)
+            adj0 = _np_of(cs.tab).astype(np.int32)[keys * cs.nstates + adj0]
         over, extra = dict(cs.over), list(cs.extra)
     else:
         lists = list(cs)
