@@ -108,3 +108,17 @@ def test_a_ctrl_c_while_the_graph_is_made_keeps_the_searchs_counts(tmp_path, mon
     assert (r.engine, r.verdict, r.states, r.transitions, r.depth) == ("native", "incomplete", 2, 3, 1)
     assert r.reason == "interrupted (Ctrl-C) while the state graph's steps were enumerated"
     assert run.interrupted
+
+
+def test_fair_all_is_named_for_what_it_constrains(tmp_path):
+    """--fair all constrains the alternatives of the choose rules, not the monitored inputs: the
+    trace says so (it said 'weak fairness of every choice' over a lasso where go stays false)."""
+    from asmcheck.cli import main
+    import contextlib
+    import io
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["explore", write(tmp_path, SPEC.replace("c = RED or c = GREEN", "f(c = GREEN)")),
+                     "--fair", "all", "--engine", "python"]) == 1
+    assert "  under fairness: weak fairness of every alternative of every choose rule\n" in out.getvalue()
+    assert "reads go = false  <- the loop starts here" in out.getvalue()

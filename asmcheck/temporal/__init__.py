@@ -238,7 +238,7 @@ def formulas(machine, props, fair, state):
             else:
                 checks.append((p, kind, None, e.message))
     for d in fair:
-        fairness_text.append(f"weak fairness of every {d}" if d != "all" else "weak fairness of every choice")
+        fairness_text.append(f"weak fairness of every {d}" if d != "all" else "weak fairness of every alternative of every choose rule")
     invars = []
     for p in machine.spec.properties:
         if p.kind == "invar":
