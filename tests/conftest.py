@@ -51,8 +51,16 @@ def write_spec(tmp_path):
 ENGINE_KINDS = ("python", "native", "both", "none")
 
 
+# The native engine's C is compiled with -Og in the tests (set here for the whole run, its workers and
+# their child processes, unless ASMCHECK_CFLAGS is set already; ASMCHECK_CFLAGS= runs the suite with the
+# compiler's own flags): half the compile time of GCC_FLAGS and as fast a search. The reports do not
+# depend on the flags; tests/test_native_build.py builds with the real ones and compares the two.
+TEST_CFLAGS = "-Og"
+
+
 def pytest_configure(config):
     config.addinivalue_line("markers", "engines(kind): the exploration engine a test pins: " + ", ".join(ENGINE_KINDS))
+    os.environ.setdefault("ASMCHECK_CFLAGS", TEST_CFLAGS)
 
 
 def _engine_kind(node):
@@ -75,6 +83,29 @@ def pytest_collection_modifyitems(config, items):
     if missing:
         raise pytest.UsageError("tests that do not say which engine they pin (add pytestmark = "
                                 "pytest.mark.engines(...) ; see tests/conftest.py): " + ", ".join(missing))
+    items[:] = longest_modules_first(items)
+
+
+SLOW_WEIGHT = 20.0      # the seconds a test marked slow counts for, when the modules are ordered
+TEST_WEIGHT = 0.3       # and any other test
+
+
+def longest_modules_first(items: list) -> list:
+    """The tests module by module, the modules with the most work first (tests marked slow count
+    SLOW_WEIGHT, others TEST_WEIGHT), each module's tests in their order.  The test workers
+    (pytest-xdist, --dist worksteal) take the collection in two halves and the one that runs out
+    takes the tail of the other's queue: long tests at the front start early instead of being
+    the last ones running while the other worker idles, and a module's module-scoped fixtures are
+    set up once per worker (its tests stay together)."""
+    modules: dict[str, list] = {}
+    for item in items:
+        modules.setdefault(item.nodeid.split("::")[0], []).append(item)
+
+    def weight(name: str) -> float:
+        return sum(SLOW_WEIGHT if it.get_closest_marker("slow") else TEST_WEIGHT for it in modules[name])
+
+    order = sorted(modules, key=lambda name: -weight(name))         # stable: ties keep their order
+    return [item for name in order for item in modules[name]]
 
 
 @pytest.fixture(autouse=True)

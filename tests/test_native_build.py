@@ -27,6 +27,13 @@ def need_compiler():
         pytest.skip("no C compiler: the native explorer cannot run here")
 
 
+@pytest.fixture(autouse=True)
+def real_flags(monkeypatch):
+    """This module builds with the compiler's own flags (GCC_FLAGS, FLAGS): the suite's quicker
+    optimisation flags ($ASMCHECK_CFLAGS, see conftest.py) are not used here."""
+    monkeypatch.delenv("ASMCHECK_CFLAGS", raising=False)
+
+
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
     d = tmp_path / "cache"
@@ -225,6 +232,40 @@ def test_gcc_gets_its_own_flags_and_any_other_compiler_o2(tmp_path):
     assert native_build.compile_flags(cc) == native_build.FLAGS
     # zig cc (clang inside) is not even asked
     assert native_build.compile_flags([str(bindir / "python"), "-m", "ziglang", "cc"]) == native_build.FLAGS
+
+
+def test_asmcheck_cflags_replaces_the_optimisation_flags_and_keys_the_cache(tmp_path, cache, monkeypatch):
+    bindir = tmp_path / "bin"
+    bindir.mkdir()
+    gcc = fake_compiler(bindir, "gcc", "gcc (Debian 12.2.0-14) 12.2.0\nCopyright (C) 2022 Free Software Foundation, Inc.")
+    clang = fake_compiler(bindir, "clang", "Debian clang version 14.0.6\nTarget: x86_64-pc-linux-gnu")
+    real = native_build.library_path(SRC % 1, gcc)[1]
+    monkeypatch.setenv("ASMCHECK_CFLAGS", "-O0  -g")
+    assert native_build.compile_flags(gcc) == native_build.compile_flags(clang) == ["-O0", "-g", "-shared", "-fPIC"]
+    quick = native_build.library_path(SRC % 1, gcc)[1]
+    assert quick != real
+    monkeypatch.setenv("ASMCHECK_CFLAGS", "-Og")
+    assert native_build.compile_flags(gcc) == ["-Og", "-shared", "-fPIC"]
+    assert native_build.library_path(SRC % 1, gcc)[1] not in (real, quick)
+    monkeypatch.setenv("ASMCHECK_CFLAGS", " ")          # empty: the compiler's own flags
+    assert native_build.compile_flags(gcc) == native_build.GCC_FLAGS
+    assert native_build.library_path(SRC % 1, gcc)[1] == real
+
+
+def test_a_spec_built_with_the_real_and_the_quick_flags_gives_the_same_report(tmp_path, cache, monkeypatch, capsys):
+    need_compiler()
+    path = write(tmp_path, COUNTER)
+    reports = []
+    for flags in (None, "-O0"):
+        if flags:
+            monkeypatch.setenv("ASMCHECK_CFLAGS", flags)
+        assert main(["explore", path, "--engine", "native", "--format", "json", "--deadlock"]) == 1
+        report = json.loads(capsys.readouterr().out)
+        assert report["engine"] == "native" and report["compile_seconds"] > 0
+        reports.append({k: v for k, v in report.items() if k not in ("seconds", "compile_seconds")})
+    assert len([p for p in cache.iterdir() if p.suffix == ".so"]) == 2
+    assert reports[0] == reports[1]
+    assert (reports[0]["states"], reports[0]["transitions"]) == (6, 6)
 
 
 def test_the_cache_key_names_the_compiler_itself_not_only_its_name(tmp_path, cache):

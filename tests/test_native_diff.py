@@ -204,13 +204,34 @@ def summary(results: dict) -> tuple[float, str]:
     return share, "\n".join(lines)
 
 
-def test_native_engine_matches_the_python_engine():
+# The survey runs as SHARDS tests, each over every SHARDS-th spec of the corpus (in its order), so that
+# the test workers share it; every shard checks what the whole survey checks, on its own specs (no
+# difference, no known difference gone, the native share at least MIN_NATIVE_SHARE), which implies it
+# for the whole corpus.
+SHARDS = 8
+
+
+def shard(index: int, paths: list[Path] | None = None) -> list[Path]:
+    """The specs of shard ``index`` (of :data:`SHARDS`): every SHARDS-th spec of the corpus."""
+    return (corpus() if paths is None else paths)[index::SHARDS]
+
+
+def test_the_shards_cover_the_corpus_once():
+    paths = corpus()
+    parts = [shard(i) for i in range(SHARDS)]
+    assert sorted(p for part in parts for p in part) == sorted(paths)
+    assert len({p for part in parts for p in part}) == len(paths) == sum(map(len, parts))
+    assert max(map(len, parts)) - min(map(len, parts)) <= 1
+
+
+@pytest.mark.parametrize("index", range(SHARDS))
+def test_native_engine_matches_the_python_engine(index):
     if not (ASMETA / "MANIFEST.tsv").exists():
         pytest.skip(f"the ASMETA corpus is not at {ASMETA} (set ASMCHECK_SHARED to the shared folder)")
     from asmcheck.explore.native_build import compiler
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
-    results = survey()
+    results = survey(shard(index))
     share, text = summary(results)
     print(text)
     print(f"{len(message_only)} runs differ only in the wording of the deadlock message")

@@ -4,7 +4,9 @@
   toolchain shipped as the Python package ``ziglang`` (``pip install 'asmcheck[native]'``),
   run as ``python -m ziglang cc``.
 * **Flags.**  GCC gets :data:`GCC_FLAGS` (-O1 with -O2's inlining: as fast a search, about 40 %
-  less compile time); any other compiler :data:`FLAGS` (-O2).
+  less compile time); any other compiler :data:`FLAGS` (-O2).  ``$ASMCHECK_CFLAGS``, when set,
+  replaces the optimisation flags of either (``-O0`` compiles about three times faster and searches
+  slower: the test suite's setting); it is part of the cache key.
 * **Cache.**  A compiled library is kept under the hash of its source, the compiler (its
   resolved path, size and modification time) and the flags, in asmcheck's private cache folder (:mod:`asmcheck.cache`: ``$ASMCHECK_CACHE``, else
   ``$XDG_CACHE_HOME/asmcheck``, else ``~/.cache/asmcheck``, mode 0700), so a second run of the
@@ -135,7 +137,15 @@ def compile_flags(cmd: list[str]) -> list[str]:
             if "Free Software Foundation" in out and "clang" not in out.lower():
                 family = "gcc"
         _families[key] = family
-    return GCC_FLAGS if _families[key] == "gcc" else FLAGS
+    flags = GCC_FLAGS if _families[key] == "gcc" else FLAGS
+    chosen = optimisation_override()
+    return flags if chosen is None else [*chosen, "-shared", "-fPIC"]
+
+
+def optimisation_override() -> list[str] | None:
+    """The words of ``$ASMCHECK_CFLAGS`` (they replace the optimisation flags), or None when unset."""
+    env = os.environ.get("ASMCHECK_CFLAGS")
+    return shlex.split(env) if env and env.strip() else None
 
 
 # ----------------------------------------------------------------- the cache folder
@@ -198,6 +208,9 @@ def library_path(src: str, cmd: list[str] | None = None) -> tuple[Path, str]:
     for part in (src, "\0", " ".join(FLAGS + LIBS), "\0", " ".join(GCC_FLAGS), "\0",
                  compiler_identity(cmd) if cmd else ""):
         h.update(part.encode())
+    override = optimisation_override()
+    if override is not None:
+        h.update(("\0ASMCHECK_CFLAGS\0" + " ".join(override)).encode())
     return cache_dir(), f"model-{h.hexdigest()[:32]}.so"
 
 
