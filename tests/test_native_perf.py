@@ -250,3 +250,63 @@ def test_invariants_are_checked_where_their_locations_change(tmp_path, capsys):
     assert got == {"inv_grid": 16, "inv_y": 19, "inv_dz": 24}
     code, out = both(tmp_path, capsys, SKIPPY, "--deadlock")
     assert {v["property"] for v in out["violations"]} == {"inv_grid", "inv_y", "inv_dz"}
+
+
+# ----------------------------------------------------------------- the time limit while the store grows
+def limited_search(path, delay, log2_piece, max_seconds):
+    """The one-thread search of ``path`` with the time limit ``max_seconds``, each piece of a table
+    growth or repack (2^log2_piece entries or states) followed by a pause of ``delay`` seconds, as
+    on a very slow machine: (result, explorer, growths and repacks given up)."""
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.props import spec_properties
+    from asmcheck.props.load import load_machine
+    need_cc()
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, max_seconds=max_seconds)
+    ex.dll.asm_grow_test(delay, log2_piece)
+    try:
+        r = ex.run()
+    finally:
+        ex.dll.asm_grow_test(0.0, -1)
+    return r, ex, ex.dll.asm_grow_abandoned()
+
+
+def stored_words(ex, n):
+    import ctypes
+    words = (ctypes.c_uint64 * ex.gen.nwords)()
+    out = []
+    for i in range(n):
+        ex.dll.asm_state(i, words)
+        out.append(tuple(words))
+    return out
+
+
+def test_a_table_growth_that_meets_the_time_limit_is_given_up(tmp_path):
+    path = write(tmp_path, GROWTH)
+    # the table of 1,024 entries is full at 768 states; its growth pauses longer than the limit:
+    # the search stops there, with the table as it was (before, the growth went on to its end and
+    # the search past it, overshooting the limit by the growth's length)
+    r, ex, given_up = limited_search(path, 1.5, 18, 1.0)
+    assert (r.verdict, r.states, r.transitions, given_up) == ("incomplete", 768, 767, 1)
+    assert r.reason == "time limit 1.0 s reached" and r.time_limit is not None
+    # the states stored are the first 768 of the whole search, each found again
+    full, _, parents, states = native_search(path)
+    assert full.states == 70001
+    assert stored_words(ex, 768) == states[:768]
+    for sid in (0, 1, 500, 767):
+        assert ex.find(ex.state(sid)) == sid
+
+
+def test_a_repack_that_meets_the_time_limit_is_given_up(tmp_path):
+    path = write(tmp_path, GROWTH)
+    # pieces of one state: the first repack (n's dictionary outgrows its field at the second
+    # state) pauses past the limit and is given up; the state that needed it is not stored
+    r, ex, given_up = limited_search(path, 1.5, 0, 1.0)
+    assert (r.verdict, r.states, r.transitions, given_up) == ("incomplete", 1, 0, 1)
+    assert r.reason == "time limit 1.0 s reached"
+    assert ex.find(ex.state(0)) == 0
+    assert stored_words(ex, 1) == native_search(path)[3][:1]       # the layout as it was
+    # no limit: no growth is given up
+    r, ex, given_up = limited_search(path, 0.0, 18, None)
+    assert (r.verdict, r.states, given_up) == ("holds", 70001, 0)

@@ -44,23 +44,58 @@ static inline uint64_t hround(uint64_t acc, uint64_t x) {
     return acc * HP1;
 }
 static inline __attribute__((always_inline)) uint64_t hash_words(const uint64_t *w, int64_t nw) {
-    if (nw < 8) {       /* a short state: one chain (as cheap as it gets for one word) */
+    /* (counts unsigned, the blocks of four counted before the loop: no index arithmetic that
+       could overflow, so the compiler infers no impossible iteration) */
+    uint64_t n = nw > 0 ? (uint64_t)nw : 0;
+    if (n < 8) {       /* a short state: one chain (as cheap as it gets for one word) */
         uint64_t h = 0x9e3779b97f4a7c15ULL;
-        for (int64_t i = 0; i < nw; i++) h = mix64(h ^ w[i]);
+        for (uint64_t i = 0; i < n; i++) h = mix64(h ^ w[i]);
         return h;
     }
     uint64_t a = 0x9e3779b97f4a7c15ULL, b = HP2, c = 0x165667b19e3779f9ULL, d = HP1;
-    int64_t i = 0;
-    for (; i + 4 <= nw; i += 4) {
-        a = hround(a, w[i]); b = hround(b, w[i + 1]); c = hround(c, w[i + 2]); d = hround(d, w[i + 3]);
+    uint64_t nb = n / 4;
+    const uint64_t *x = w;
+    for (uint64_t q = 0; q < nb; q++, x += 4) {
+        a = hround(a, x[0]); b = hround(b, x[1]); c = hround(c, x[2]); d = hround(d, x[3]);
     }
     uint64_t h = mix64(a) ^ mix64(b + 1) ^ mix64(c + 2) ^ mix64(d + 3);
-    for (; i < nw; i++) h = mix64(h ^ w[i]);
-    return mix64(h + (uint64_t)nw);
+    for (uint64_t i = nb * 4; i < n; i++) h = mix64(h ^ w[i]);
+    return mix64(h + n);
 }
 static inline uint64_t hash_state(const uint64_t *w) { return hash_words(w, NWORDS); }
 #define HPOS(hh) ((uint64_t)(hh) >> 32)
 
+/* The time limit during the long steps of the one-thread search's store (a table growth, a
+ * repack): they look at the clock every grow_mask + 1 entries or states (and a growth once more
+ * at its end) and give up when the limit has passed, leaving the store as it was, so that a
+ * growth near the limit does not overshoot it by the growth's length.  grow_deadline: the
+ * clock's reading at the limit (< 0: none).  Tests (asm_grow_test): pieces of 2^k, each followed
+ * by a pause of delay seconds, as on a very slow machine. */
+#define GROW_PIECE 262144
+static double grow_deadline = -1.0, grow_delay = 0.0;
+static uint64_t grow_mask = GROW_PIECE - 1;
+static int64_t grow_abandoned = 0;
+static double now_seconds(void);
+void asm_grow_test(double delay, int64_t log2_piece) {
+    grow_delay = delay;
+    grow_mask = log2_piece >= 0 && log2_piece < 40 ? (1ULL << log2_piece) - 1 : GROW_PIECE - 1;
+}
+/* how many growths or repacks the time limit ended (since the search started) */
+int64_t asm_grow_abandoned(void) { return grow_abandoned; }
+/* a piece done: 1 when the time limit has passed (the work is to be given up) */
+static int grow_late(void) {
+    if (grow_delay > 0) {
+        struct timespec ts;
+        ts.tv_sec = (time_t)grow_delay;
+        ts.tv_nsec = (long)((grow_delay - (double)ts.tv_sec) * 1e9);
+        nanosleep(&ts, 0);
+    }
+    if (grow_deadline >= 0 && now_seconds() >= grow_deadline) { grow_abandoned++; return 1; }
+    return 0;
+}
+
+/* twice the table: 1, 0 when out of memory, -2 when the time limit passed meanwhile (the
+   table stays as it was) */
 static int grow_table(void) {
     uint64_t ncap = tmask ? (tmask + 1) * 2 : 1024;
     Entry *nt = (Entry *)malloc(ncap * sizeof(Entry));
@@ -68,11 +103,13 @@ static int grow_table(void) {
     memset(nt, 0xff, ncap * sizeof(Entry));
     uint64_t nmask = ncap - 1;
     for (uint64_t e = 0; tmask && e <= tmask; e++) {
+        if ((e & grow_mask) == grow_mask && grow_late()) { free(nt); return -2; }
         if (table[e].id == 0xffffffffu) continue;
         uint64_t h = table[e].fp & nmask;
         while (nt[h].id != 0xffffffffu) h = (h + 1) & nmask;
         nt[h] = table[e];
     }
+    if (tmask && grow_late()) { free(nt); return -2; }
     free(table);
     table = nt;
     tmask = nmask;
@@ -80,11 +117,12 @@ static int grow_table(void) {
 }
 
 /* the number of the state stored as the nw words w (adding it if new); *isnew tells which; -1
-   when out of memory */
+   when out of memory, -2 when the time limit passed while the table grew */
 static inline __attribute__((always_inline)) int64_t intern_hashed(const uint64_t *w, int64_t nw, uint64_t hh,
                                                                     uint32_t parent, int *isnew) {
     if ((tcount + 1) * 4 > (int64_t)(tmask + 1) * 3) {
-        if (!grow_table()) return -1;
+        int g = grow_table();
+        if (g <= 0) return g == 0 ? -1 : -2;
     }
     uint32_t fp = (uint32_t)(hh >> 32);
     uint64_t h = HPOS(hh) & tmask;
@@ -240,7 +278,8 @@ static void pk_place(void) {
 }
 
 /* wider fields for the words whose dictionaries outgrew them, every state repacked (the table
-   stays); 0 when out of memory */
+   stays); 0 when out of memory, -2 when the time limit passed meanwhile (the layout and the
+   states stay as they were) */
 static int pk_widen(void) {
     int obits[PK_NW], oraw[PK_NW], oat[PK_NW], osh[PK_NW];
     memcpy(obits, pk_bits, sizeof(obits)); memcpy(oraw, pk_raw, sizeof(oraw));
@@ -260,6 +299,12 @@ static int pk_widen(void) {
     int oact[PK_NW], noact = 0;
     for (int j = 0; j < NWORDS; j++) if (obits[j]) oact[noact++] = j;
     for (int64_t s = 0; s < nstates; s++) {
+        if (((uint64_t)s & grow_mask) == grow_mask && grow_late()) {
+            free(ns);
+            memcpy(pk_bits, obits, sizeof(obits)); memcpy(pk_raw, oraw, sizeof(oraw));
+            pk_place();      /* (the same layout again: it depends on the widths alone) */
+            return -2;
+        }
         const uint64_t *rec = states + s * opw;
         uint64_t *nr = ns + s * PW;
         memset(nr, 0, PW * sizeof(uint64_t));
@@ -330,7 +375,8 @@ static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
     }
     if (pk_codes(w, codes, 1, &wide) < 0) return -1;
     if (wide) {
-        if (!pk_widen()) return -1;
+        int g = pk_widen();
+        if (g <= 0) return g == 0 ? -1 : -2;
         for (int j = 0; j < NWORDS; j++) if (pk_raw[j]) codes[j] = w[j];
     }
     pk_pack(codes, rec);
@@ -561,6 +607,8 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
+    grow_deadline = max_seconds >= 0 ? S.t0 + max_seconds : -1.0;
+    grow_abandoned = 0;
     {   /* the composite values the generated code names, numbered as the generator numbered them */
         int64_t p = 0;
         for (int64_t i = 0; i < NSEED; i++) {
@@ -571,7 +619,8 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     }
     for (int64_t i = 0; i < ninit; i++) {
         int isnew;
-        if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { S.status = 5; return 5; }
+        int64_t t = intern(inits + i * NWORDS, 0xffffffffu, &isnew);
+        if (t < 0) { S.status = t == -2 ? 3 : 5; return S.status; }
         note_range(inits + i * NWORDS, 0, 0);
     }
     S.level_end = nstates;
@@ -1284,6 +1333,10 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
                 intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
             /* (the parent's words: the plain store's may have moved as it grew) */
+            if (tid == -2) {       /* the time limit passed while the store grew */
+                out[4] = 0; out[5] = sid;
+                status = 3; goto finish;
+            }
             const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
             if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par)) {
                 status = 5; goto finish;
