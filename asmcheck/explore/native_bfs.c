@@ -344,9 +344,18 @@ static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
 static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp) {
     memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
     uint64_t hh = pk_par_h;
+    /* the words that differ, their dictionary entries fetched before any is read (a successor
+       changes several words: the look-ups' cache misses overlap) */
+    int ch[PK_NW], nch = 0;
     for (int j = 0; j < NWORDS; j++) {
         uint64_t x = w[j];
         if (x == pk_par_w[j]) continue;
+        ch[nch++] = j;
+        if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[pk_hash((uint32_t)j, x) & pk_mask]);
+    }
+    for (int q = 0; q < nch; q++) {
+        int j = ch[q];
+        uint64_t x = w[j];
         hh += pk_term(j, x) - pk_term(j, pk_par_w[j]);
         uint64_t k = x;
         if (!pk_raw[j]) {
@@ -399,11 +408,21 @@ static const uint64_t *state_words(int64_t sid) {
         pk_par_h = 0;        /* (the hash of the first state's words) */
         pk_par_set = 1;
     }
-    /* the words that differ from the state decoded before, and the hash with their terms replaced */
+    /* the words that differ from the state decoded before (their values fetched before any is
+       read), and the hash with their terms replaced */
+    int ch[PK_NW], nch = 0;
+    uint64_t cx[PK_NW];
     for (int i = 0; i < pk_nact; i++) {
         int j = pk_act[i];
         uint64_t x = pk_field(rec, j);
         if (x == pk_par_c[j]) continue;
+        if (!pk_raw[j]) __builtin_prefetch(&pk_vals[j][x]);
+        cx[nch] = x;
+        ch[nch++] = j;
+    }
+    for (int q = 0; q < nch; q++) {
+        int j = ch[q];
+        uint64_t x = cx[q];
         uint64_t v = pk_raw[j] ? x : pk_vals[j][x];
         pk_par_h += pk_term(j, v) - pk_term(j, pk_par_w[j]);
         pk_par_c[j] = x;
@@ -569,17 +588,22 @@ static int add_edge(uint32_t a, uint32_t b) {
 
 /* the wide slots (64 bits), listed by asm_start */
 static int wide_slots[NSLOTS > 0 ? NSLOTS : 1], nwide = 0;
+static int wide_of_word[NWORDS > 0 ? NWORDS : 1];      /* the wide slot a word holds (it takes the word), or -1 */
+static inline void note_value(int s, V v, int64_t depth) {
+    if (v == UNDEF) return;
+    if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
+    if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
+    if (v < S.wlo[s]) S.wlo[s] = v;
+    if (v > S.whi[s]) S.whi[s] = v;
+}
 static void note_range(const uint64_t *w, int64_t depth, const uint64_t *par) {
-    for (int i = 0; i < nwide; i++) {
-        int s = wide_slots[i];
-        V v = (V)w[SLOT_WORD[s]];
-        if (v == UNDEF) continue;
-        if (par && (V)par[SLOT_WORD[s]] == v) continue;    /* noted when the parent was new */
-        if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
-        if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
-        if (v < S.wlo[s]) S.wlo[s] = v;
-        if (v > S.whi[s]) S.whi[s] = v;
+    if (!par) {
+        for (int i = 0; i < nwide; i++) note_value(wide_slots[i], (V)w[SLOT_WORD[wide_slots[i]]], depth);
+        return;
     }
+    /* only the words that differ from the parent's (the others were noted when the parent was new) */
+    for (int j = 0; j < NWORDS; j++)
+        if (w[j] != par[j] && wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth);
 }
 
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
@@ -603,7 +627,8 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
         S.lo[s] = S.wlo[s] = INT64_MAX; S.hi[s] = S.whi[s] = INT64_MIN + 1; S.grew[s] = -1;
     }
     nwide = 0;
-    for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) wide_slots[nwide++] = s;
+    for (int j = 0; j < NWORDS; j++) wide_of_word[j] = -1;
+    for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) { wide_slots[nwide++] = s; wide_of_word[SLOT_WORD[s]] = s; }
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
@@ -1324,6 +1349,14 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
         }
+        /* then the stored records their first entries name, when the fingerprint matches (a
+           successor met before is compared with its record) */
+        if (table && npre > 1)
+            for (int64_t q = 0; q < npre; q++) {
+                const Entry *e = &table[HPOS(pre_h[q]) & tmask];
+                if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q] >> 32))
+                    __builtin_prefetch(states + (int64_t)e->id * PW);
+            }
         int64_t qr = 0;        /* the pairs of the temporal quotient (asm_qf) */
         if (QF.on && QF.nk && !QF.failed && !sset_reset(&QF.seen, QF.nr)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {

@@ -768,6 +768,17 @@ static int canon_state_(Ctx *c, uint64_t *w) {
             int j = i + 1;
             while (j < ne && els[j].dom == els[i].dom && els[j].col == els[i].col) j++;
             if (j - i == 1) { newcol[els[i].e] = rank++; i = j; continue; }
+            if (r == 0 && W->memo) {      /* the kept texts of the group's locations fetched first */
+                for (int q = i; q < j; q++) {
+                    int e = els[q].e;
+                    for (int li = eoff[e]; li < eoff[e + 1]; li++) {
+                        const CnLoc *L = &W->locs[W->eloc[li]];
+                        if (L->ent >= 0) continue;
+                        uint64_t h = cn_mix((uint64_t)W->val[L->slot] ^ ((uint64_t)L->slot << 40) ^ ((uint64_t)e << 20));
+                        __builtin_prefetch(&W->memo[h & W->mmask]);
+                    }
+                }
+            }
             for (int q = i; q < j; q++) {
                 int e = els[q].e;
                 W->me = e;
