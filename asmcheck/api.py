@@ -487,6 +487,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         state_props = [p for p in state_props if p.name in want]
         step_props = [p for p in step_props if p.name in want]
         temporal = [p for p in temporal if p.name in want or p.kind in ("justice", "compassion")]
+    for name, v, kinds in (("workers", workers, (int,)), ("max_states", max_states, (int,)),
+                           ("max_depth", max_depth, (int,)), ("max_seconds", max_seconds, (int, float)),
+                           ("max_memory", max_memory, (int, float))):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, kinds)):
+            raise UsageError(f"{name} must be {'an integer' if kinds == (int,) else 'a number'}, not {v!r}")
     if workers is not None and workers < 1:
         raise UsageError("workers must be 1 or more")
     for name, v in (("max_states", max_states), ("max_depth", max_depth)):
@@ -494,6 +499,13 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             raise UsageError(f"{name} must be 0 or more")
     if max_seconds is not None and not max_seconds >= 0:
         raise UsageError("max_seconds must be 0 or more")
+    if isinstance(fair, str):
+        raise UsageError(f"fair must be a list of domain names (or 'all'), not the string {fair!r}")
+    domains = {getattr(d, "name", None) for d in spec.domains}
+    for name in fair or ():
+        if name != "all" and name not in domains:
+            raise UsageError(f"--fair {name}: the spec has no domain {name}"
+                             + (f" (its domains: {', '.join(sorted(n for n in domains if n))})" if domains else ""))
     if max_memory is None:
         max_memory = default_max_memory()
     elif max_memory <= 0:
@@ -532,6 +544,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                     step_quotient=_quotient_plan(machine, temporal, fair, graph))
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
+            if max_seconds is not None:
+                # the engine's compile (a cache miss) comes out of the whole run's time: the search
+                # gets what is left (the compile itself is not cut short: it is cached for the next run)
+                ex.max_seconds = search_seconds = max(max_seconds - (time.perf_counter() - begin), 0.0)
             try:
                 # the Python step function that recovers the errors of the states where a step
                 # fails has the time the search had
@@ -584,6 +600,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     temporal_note = ""
     temporal_error = ""
     checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
+    # the invariants, step properties and deadlock are decided by the search alone: a limit met in
+    # the LTL/CTL phase after a complete search leaves them decided
+    result.search_stopped_early = result.stopped_early
     if checked_temporal and result.verdict != "incomplete" and not interrupted:
         from .temporal import check_temporal
         left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
@@ -618,6 +637,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     result.seconds = time.perf_counter() - t0
     run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
     run.temporal_error = temporal_error
+    if temporal_error and result.verdict == "holds":
+        # the LTL/CTL properties were not checked: nothing says they hold
+        result.verdict = "incomplete"
+        result.reason = result.reason or temporal_error
     return run
 
 
@@ -768,7 +791,7 @@ class Exploration:
         run-time error's location, on the verdicts relative to it)."""
         result = self.result
         bad = {v.prop.name for v in result.violations}
-        incomplete = result.stopped_early
+        incomplete = getattr(result, "search_stopped_early", result.stopped_early)
         rel = self.relative_to
         rows = []
 

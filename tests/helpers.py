@@ -100,3 +100,16 @@ def native_search(path, workers=1, packed=None, **kw):
         ex.dll.asm_state(i, words)
         states.append(tuple(words))
     return r, ex, list(parents), states
+
+
+def warm_native(path: str, *args: str) -> None:
+    """Compiles (and caches) the native engine ``explore path *args`` uses, searching no state: a
+    timed run that follows spends its time limit searching, not compiling (the compile of a cache
+    miss comes out of --max-seconds).  ``args``: the run's other options, without --engine and
+    --max-seconds."""
+    import contextlib
+    import io
+
+    from asmcheck.cli import main
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        main(["explore", path, *args, "--engine", "native", "--max-states", "0"])

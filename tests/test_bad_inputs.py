@@ -111,6 +111,28 @@ CASES = [
      HEAD + "definitions:\n\tmain rule r_main($x in Integer) = skip\n", 5, 12, "no parameters"),
     ("import not found",
      "asm T\nimport StandardLibrary\nimport ./nowhere/Missing\nsignature:\ndefinitions:\n", 3, 1, "import not found"),
+    ("a CTL operator without its library",
+     HEAD + "\tcontrolled x: Integer\ndefinitions:\n\tCTLSPEC ag(x >= 0)\n", 6, 10,
+     "unknown function 'ag' (ag is defined in CTLLibrary: import CTLLibrary)"),
+    ("an LTL operator without its library",
+     HEAD + "\tcontrolled x: Integer\ndefinitions:\n\tLTLSPEC g(x >= 0)\n", 6, 10,
+     "unknown function 'g' (g is defined in LTLLibrary: import LTLLibrary)"),
+    ("a bare name that is also an LTL operator",
+     HEAD + "\tcontrolled x: Integer\ndefinitions:\n\tmain rule r_main = x := y\n", 6, 26, "unknown function 'y'"),
+    ("JUSTICE after a property",
+     HEAD + "\tmonitored go: Boolean\ndefinitions:\n\tinvariant over go: go or not go\n\tJUSTICE go\n", 7, 2,
+     "unexpected 'JUSTICE'; expected 'CTLSPEC', 'LTLSPEC', 'ctlspec', 'default', 'init', 'invariant', 'ltlspec', "
+     "'main', ... (JUSTICE and COMPASSION constraints come before the properties (invariant, CTLSPEC, LTLSPEC))"),
+    ("rule declaration after the main rule",
+     HEAD + "\tcontrolled x: Integer\ndefinitions:\n\tmain rule r_main = r_a[]\n\trule r_a = x := 1\n", 7, 2,
+     "(rule declarations come before the main rule)"),
+    ("function definition after a rule declaration",
+     HEAD + "\tderived y: Integer\ndefinitions:\n\trule r_a = skip\n\tfunction y = 1\n", 7, 2,
+     "(function definitions come before rule declarations)"),
+    ("domain initialisation after a function initialisation",
+     HEAD + "\tdomain D subsetof Integer\n\tcontrolled x: Integer\ndefinitions:\n\tmain rule r_main = skip\n"
+            "default init s0:\n\tfunction x = 0\n\tdomain D = {1 : 2}\n", 10, 2,
+     "(domain definitions come before function definitions)"),
     ("file name differs from the asm name", "asm Other\nimport StandardLibrary\nsignature:\ndefinitions:\n",
      1, 5, "differs from its file name"),
 ]
@@ -141,3 +163,16 @@ def test_circular_import(tmp_path):
 
 def test_count_of_labelled_cases():
     assert len(CASES) >= 30
+
+
+@pytest.mark.parametrize("body,message", [
+    ("CTLSPEC ag(true)", "unknown function 'ag' (ag is defined in CTLLibrary: import CTLLibrary)"),
+    ("main rule r_main = x := y", "unknown function 'y'"),
+    ("main rule r_main = x := max(x, 1)", "unknown function 'max' (max is defined in StandardLibrary: import StandardLibrary)"),
+])
+def test_an_unknown_name_from_a_library_names_the_import(tmp_path, body, message):
+    path = tmp_path / "T.asm"
+    path.write_text(f"asm T\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n\t{body}\n", encoding="utf-8")
+    with pytest.raises(AsmError) as info:
+        check_file(str(path))
+    assert info.value.message == message

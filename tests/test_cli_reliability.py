@@ -15,7 +15,7 @@ import pytest
 
 from asmcheck.cli import main
 
-from helpers import write
+from helpers import warm_native, write
 
 pytestmark = pytest.mark.engines("both")
 
@@ -296,6 +296,7 @@ def test_the_native_engine_also_names_the_inputs_that_multiply_at_a_time_limit(t
     # inputs (each with up to 1,000 updates: the time limit comes far before the last of them; a
     # state whose choice sizes multiply beyond 1,000,000 is refused before its enumeration)
     path = write(tmp_path, WIDE_HEAVY)
+    warm_native(path)
     res = run_cli("explore", path, "--max-seconds", "3", "--engine", "native")
     clean(res.stdout + res.stderr)
     assert res.returncode == 3

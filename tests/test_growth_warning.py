@@ -10,7 +10,7 @@ import pytest
 
 import asmcheck
 
-from helpers import write
+from helpers import warm_native, write
 
 pytestmark = pytest.mark.engines("native")
 
@@ -48,7 +48,10 @@ MESSAGE = re.compile(r"^x keeps taking new values level after level \(range 0\.\
 @pytest.mark.parametrize("engine", ["python", "native"])
 def test_an_unbounded_counter_is_named_while_the_search_runs(tmp_path, engine):
     warnings: list[str] = []
-    run = asmcheck.load(write(tmp_path, UNBOUNDED)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    path = write(tmp_path, UNBOUNDED)
+    if engine == "native":
+        warm_native(path)
+    run = asmcheck.load(path).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
     assert run.result.engine == engine
     assert run.result.verdict == "incomplete"
     assert len(warnings) == 1, warnings
@@ -62,7 +65,10 @@ def test_an_unbounded_counter_is_named_while_the_search_runs(tmp_path, engine):
 @pytest.mark.parametrize("engine", ["python", "native"])
 def test_a_bounded_integer_in_a_long_search_is_not_named(tmp_path, engine):
     warnings: list[str] = []
-    run = asmcheck.load(write(tmp_path, BOUNDED)).explore(engine=engine, max_seconds=1.5, warn=warnings.append)
+    path = write(tmp_path, BOUNDED)
+    if engine == "native":
+        warm_native(path)
+    run = asmcheck.load(path).explore(engine=engine, max_seconds=1.5, warn=warnings.append)
     assert run.result.engine == engine
     assert run.result.reason.startswith("time limit 1.5 s reached"), run.result.reason
     assert warnings == []
@@ -85,7 +91,10 @@ default init s0:
 @pytest.mark.parametrize("engine", ["python", "native"])
 def test_a_counter_that_wrapped_round_is_still_named(tmp_path, engine):
     warnings: list[str] = []
-    run = asmcheck.load(write(tmp_path, WRAPPED)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    path = write(tmp_path, WRAPPED)
+    if engine == "native":
+        warm_native(path)
+    run = asmcheck.load(path).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
     assert run.result.engine == engine
     assert len(warnings) == 1, warnings
     assert warnings[0].startswith("x keeps taking new values level after level "
@@ -111,7 +120,10 @@ SIZE = re.compile(r"^s keeps growing level after level \(size ([\d,]+) at depth 
 @pytest.mark.parametrize("engine", ["python", "native"])
 def test_a_sequence_that_keeps_growing_is_named_while_the_search_runs(tmp_path, engine):
     warnings: list[str] = []
-    run = asmcheck.load(write(tmp_path, GROWING)).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
+    path = write(tmp_path, GROWING)
+    if engine == "native":
+        warm_native(path)
+    run = asmcheck.load(path).explore(engine=engine, max_seconds=2.5, warn=warnings.append)
     assert run.result.engine == engine
     assert len(warnings) == 1, warnings
     m = SIZE.match(warnings[0])

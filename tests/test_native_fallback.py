@@ -15,7 +15,7 @@ from asmcheck.explore.bfs import Explorer
 from asmcheck.parallel import explore_partitioned
 from asmcheck.props import spec_properties
 from asmcheck.props.load import load_machine
-from helpers import write
+from helpers import warm_native, write
 from test_error_graph import HALT, STUCK
 from test_native_errors import BRANCHY, cli, too_many
 
@@ -137,6 +137,7 @@ def test_the_check_of_the_failing_states_keeps_to_the_time_limit(tmp_path):
     if compiler() is None:
         pytest.skip("no C compiler: the native explorer cannot run here")
     path = write(tmp_path, slow_errors())
+    warm_native(path, "--format", "json")
     code, doc = json_report(path, "--max-seconds", 1)
     assert (code, doc["verdict"], doc["states"], doc["transitions"], doc["violations"]) == (3, "incomplete", 41, 41, [])
     assert re.fullmatch(r"time limit 1\.0 s reached while the Python step function recovered the errors of the "

@@ -128,3 +128,28 @@ def test_a_recursion_that_does_not_end_is_reported_where_it_recurses_whatever_th
         asmcheck.load(path).explore(engine="native")
     assert str(e.value) == (f"the native explorer cannot run {Path(path).name}: a derived function or rule called "
                             f"more than 1,000 times within itself, reached at run time")
+
+
+@pytest.mark.engines("native")
+def test_the_native_compile_comes_out_of_the_time_limit(tmp_path, monkeypatch):
+    """--max-seconds bounds the whole run: a compile (a cache miss) that takes longer than the
+    limit leaves the search no time; before, the search had the whole limit after the compile."""
+    import time
+
+    from asmcheck.explore import native_build
+    if native_build.compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    monkeypatch.setenv("ASMCHECK_CACHE", str(tmp_path / "cache"))
+    real = native_build._compile
+
+    def slow(*args, **kwargs):
+        time.sleep(1.2)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(native_build, "_compile", slow)
+    text = ("asm Counter\nimport StandardLibrary\nsignature:\n\tcontrolled x: Integer\ndefinitions:\n"
+            "\tmain rule r_main = x := x + 1\ndefault init s0:\n\tfunction x = 0\n")
+    run = asmcheck.load(write(tmp_path, text)).explore(engine="native", max_seconds=1.0)
+    assert (run.result.engine, run.result.verdict) == ("native", "incomplete")
+    assert run.result.reason.startswith("time limit 1.0 s reached")
+    assert run.explorer.max_seconds == 0.0

@@ -243,8 +243,9 @@ def add_explore_options(p) -> None:
     p.add_argument("--max-states", type=int, metavar="N", help="stop after N distinct states (verdict incomplete)")
     p.add_argument("--max-depth", type=int, metavar="N", help="do not go deeper than N steps (verdict incomplete)")
     p.add_argument("--max-seconds", type=float, metavar="S",
-                   help="stop after S seconds of wall-clock time for the whole command, LTL/CTL included "
-                        "(verdict incomplete)")
+                   help="stop after S seconds of wall-clock time for the whole command, LTL/CTL and the "
+                        "native engine's compile included (verdict incomplete; a compile is not cut short: it "
+                        "is cached for the next run)")
     p.add_argument("--max-memory", metavar="SIZE",
                    help="stop when the process holds more than SIZE of memory (2G, 512M; verdict incomplete); "
                         "default: three quarters of the physical memory; 0: no limit")
@@ -256,11 +257,13 @@ def add_explore_options(p) -> None:
     p.add_argument("--no-default-properties", action="store_true",
                    help="check only the spec's own properties (and --properties files)")
     p.add_argument("--engine", choices=["auto", "python", "native"], default="auto",
-                   help="native: generated C code (finite specs with state invariants only); python: the step "
-                        "function itself; auto (default): native when the spec allows it")
+                   help="native: the spec compiled to C (needs a C compiler; refused, with the reason, for the "
+                        "few constructs it does not cover); python: the step function itself; auto (default): "
+                        "native when it can, else python, and the report says why")
     p.add_argument("--fair", action="append", default=[], metavar="DOMAIN|all",
-                   help="weak fairness for LTL/CTL: every agent of DOMAIN (or every choice, 'all') that is "
-                        "continuously enabled eventually moves")
+                   help="weak fairness for LTL/CTL: every agent of DOMAIN (or, with 'all', every alternative "
+                        "of every choose rule) that is continuously enabled eventually moves; monitored inputs "
+                        "are not constrained (declare JUSTICE constraints in the spec for them)")
     add_domain_options(p)
     from .scaling import add_explore_options as add_scaling_options
     add_scaling_options(p)

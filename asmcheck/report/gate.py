@@ -219,6 +219,9 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
 
     bad = {v.prop.name: v for v in result.violations}
     incomplete = result.stopped_early
+    # the invariants, step properties and deadlock: decided when the search was complete, even if
+    # a limit stopped the LTL/CTL phase after it
+    search_incomplete = getattr(result, "search_stopped_early", incomplete)
     rows: list[PropertyOutcome] = []
     # where a step fails, the other verdicts are relative to that error (the first one found)
     err = bad.get("error")
@@ -244,13 +247,13 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
     for p in result.checked:
         v = bad.get(p.name)
         row = PropertyOutcome(p.name, getattr(p, "kind", "invariant"),
-                              "violated" if v else ("incomplete" if incomplete else "holds"),
+                              "violated" if v else ("incomplete" if search_incomplete else "holds"),
                               p.name in expected, location=span_location(p.span, p.name, root),
                               expect_location=expect_loc(p.name), text=property_text(p))
         if v is not None:
             row.message = v.message
             row.counterexample = counterexample(v)
-        elif not incomplete:
+        elif not search_incomplete:
             row.relative_to = relative
         rows.append(row)
     for v in result.violations:
@@ -261,9 +264,9 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
             row.counterexample = counterexample(v)
             rows.append(row)
     if getattr(result, "deadlock_checked", False) and "deadlock" not in bad:
-        rows.append(PropertyOutcome("deadlock", "deadlock", "incomplete" if incomplete else "holds",
+        rows.append(PropertyOutcome("deadlock", "deadlock", "incomplete" if search_incomplete else "holds",
                                     "deadlock" in expected, expect_location=expect_loc("deadlock"),
-                                    relative_to=None if incomplete else relative))
+                                    relative_to=None if search_incomplete else relative))
     by_name = {getattr(p, "name", None): p for p in temporal}
     seen = {r.name for r in rows}
     for t in temporal_results:

@@ -131,6 +131,17 @@ def _temporal_library(name: str, table: dict) -> Module:
     return m
 
 
+def _library_hint(name: str) -> str:
+    """The library a name applied to arguments but unknown to a spec comes from, when it is one
+    of them (the spec may just lack the import; a bare name such as ``y`` is rather a function
+    the spec forgot, not LTL's operator)."""
+    libs = [lib for lib, table in (("StandardLibrary", stdlib.STANDARD), ("CTLLibrary", stdlib.CTL),
+                                   ("LTLLibrary", stdlib.LTL)) if name in table]
+    if not libs:
+        return ""
+    return f" ({name} is defined in {' and '.join(libs)}: import {libs[0]})"
+
+
 class Loader:
     """Reads a spec and its imports, once each, detecting cycles."""
 
@@ -710,7 +721,8 @@ class Resolver:
             if t.op is not None:
                 raise AsmTypeError(where, f"operator {t.op!r} needs the StandardLibrary ({name} is not visible: "
                                           f"import StandardLibrary)")
-            raise AsmTypeError(where, f"unknown function {name!r}")
+            raise AsmTypeError(where, f"unknown function {name!r}"
+                                        + (_library_hint(name) if t.args is not None else ""))
         n = len(args)
         by_arity = [c for c in cands if _arity(c) == n]
         if not by_arity and n == 1 and isinstance(args[0].type, T.Struct) and args[0].type.kind == "Prod":

@@ -295,9 +295,48 @@ def _end_of_text(text: str) -> tuple[int, int]:
     return len(lines), len(lines[-1].rstrip("\r")) + 1
 
 
+# the parts of a body (after ``definitions:``), in the order they must come
+_BODY_PARTS = (
+    ("domain definitions", {"_DOMAIN"}),
+    ("function definitions", {"_FUNCTION"}),
+    ("rule declarations", {"_RULE", "MACRO", "TURBO"}),
+    ("INVAR constraints", {"_INVAR", "_INVAR_L"}),
+    ("JUSTICE and COMPASSION constraints", {"_JUSTICE", "_JUSTICE_L", "_COMPASSION", "_COMPASSION_L"}),
+    ("the properties (invariant, CTLSPEC, LTLSPEC)", {"_INVARIANT", "_CTLSPEC", "_CTLSPEC_L", "_LTLSPEC", "_LTLSPEC_L"}),
+    ("the main rule", {"_MAIN"}),
+    ("the initial states", {"_INIT", "DEFAULT"}),
+)
+
+
+_KEYWORD_KINDS = {"domain": "_DOMAIN", "function": "_FUNCTION", "rule": "_RULE", "macro": "MACRO", "turbo": "TURBO",
+                  "INVAR": "_INVAR", "invar": "_INVAR_L", "JUSTICE": "_JUSTICE", "justice": "_JUSTICE_L",
+                  "COMPASSION": "_COMPASSION", "compassion": "_COMPASSION_L", "invariant": "_INVARIANT",
+                  "CTLSPEC": "_CTLSPEC", "ctlspec": "_CTLSPEC_L", "LTLSPEC": "_LTLSPEC", "ltlspec": "_LTLSPEC_L",
+                  "main": "_MAIN"}
+
+
+def _order_hint(tok: Token, exp: set) -> str | None:
+    """A part of a body met after a later part (a JUSTICE after a CTLSPEC): the order to keep."""
+    # where the keyword is not expected, the lexer may take it for a name ('function' as FUNC_ID)
+    kind = _KEYWORD_KINDS.get(str(tok), tok.type)
+    mine = next((i for i, (_, kinds) in enumerate(_BODY_PARTS) if kind in kinds), None)
+    if mine is None or _BODY_PARTS[mine][1] & exp:
+        return None
+    later = [i for i, (_, kinds) in enumerate(_BODY_PARTS) if kinds & exp and i > mine]
+    if not later:
+        return None
+    first = min(later)
+    if first == len(_BODY_PARTS) - 1 and mine < first - 1:
+        first -= 1                    # past the main rule, which comes before the initial states
+    return f"{_BODY_PARTS[mine][0]} come before {_BODY_PARTS[first][0]}"
+
+
 def _hint(tok: Token, expected) -> str | None:
     val = str(tok)
     exp = set(expected)
+    order = _order_hint(tok, exp)
+    if order:
+        return order
     if tok.type == "DOMAIN_ID" and "ENUM_ID" in exp and "_" in val[:2]:
         return f"{val!r} lexes as a domain name: an enum constant needs two capitals first"
     if tok.type == "DOMAIN_ID" and "ENUM_ID" in exp:
