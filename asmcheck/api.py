@@ -185,7 +185,7 @@ class Model:
     def explore(self, properties=None, *, engine: str = "auto", workers: int = 1, max_states=None,
                 max_depth=None, max_seconds=None, max_memory=None, deadlock: bool = False, fair=(),
                 graph: bool = False, progress=None, started=None, warn=None, cluster=None, bitstate=None,
-                worker_memory=None) -> "Exploration":
+                worker_memory=None, symmetry: bool = False) -> "Exploration":
         """Explore every reachable state (breadth first) and check the properties.
 
         ``workers`` > 1 partitions the states among worker processes, ``cluster`` (a Ray address,
@@ -196,12 +196,17 @@ class Model:
         ``time.perf_counter()`` reading, when given: the command line counts from its start).
         ``warn(message)`` is called with warnings found while the search runs (a location that
         keeps taking new values, for instance).  A recursion that does not end in the spec raises
-        :class:`AsmError` at the rule or function that recurses."""
+        :class:`AsmError` at the rule or function that recurses.
+
+        ``symmetry``: explore one state per class of states that differ only by a renaming of
+        interchangeable domain elements (see :mod:`asmcheck.explore.symmetry`); the counts are
+        then counts of classes, on the Python engine."""
         try:
             return _explore(self, properties, engine=engine, workers=workers, max_states=max_states,
                             max_depth=max_depth, max_seconds=max_seconds, max_memory=max_memory, deadlock=deadlock,
                             fair=fair, graph=graph, progress=progress, started=started, warn=warn,
-                            scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory})
+                            scaling={"cluster": cluster, "bitstate": bitstate, "worker_memory": worker_memory},
+                            symmetry=symmetry)
         except RecursionError as exc:
             from .errors import located_recursion_error
             raise located_recursion_error(exc, self.path) from None
@@ -461,7 +466,8 @@ def _quotient_plan(machine, temporal, fair, graph):
 
 
 def _explore(model: Model, properties, *, engine, workers, max_states, max_depth, max_seconds, max_memory,
-             deadlock, fair, graph, progress, started=None, warn=None, scaling=None) -> "Exploration":
+             deadlock, fair, graph, progress, started=None, warn=None, scaling=None,
+             symmetry=False) -> "Exploration":
     from .options import unbounded_monitored
     t0 = time.perf_counter()
     unbounded_monitored(model.machine)
@@ -515,12 +521,17 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if engine == "auto":
         engine = auto_engine()
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
+    if not isinstance(symmetry, bool):
+        raise UsageError(f"symmetry must be True or False, not {symmetry!r}")
+    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair) if symmetry else None
+    if sym is not None and sym.active:
+        which = "python"
     # the searches get the time left of the whole run
     search_seconds = None if max_seconds is None else max(max_seconds - (t0 - begin), 0.0)
     ex = None
     result = None
     interrupted = False
-    refused = ""
+    refused = SYMMETRY_PYTHON if sym is not None and sym.active and engine != "python" else ""
     from .parallel import run as scaled
     # more workers on the native engine: threads inside its search (the same result as one);
     # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned
@@ -563,11 +574,18 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                     ex.graph_edges()
             except KeyboardInterrupt as exc:
                 interrupted = True
-                result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
-                                interrupt_reason(exc), list(state_props))
-                result.deadlock_checked = deadlock
-                result.engine = "native"
-                result.workers = ex.workers
+                if result is not None:
+                    # the search was over: the Ctrl-C came while the graph's steps were enumerated
+                    # (the counts and verdicts of the search stay)
+                    result.reason = f"{interrupt_reason(exc)} while the state graph's steps were enumerated"
+                    if result.verdict == "holds":
+                        result.verdict = "incomplete"
+                else:
+                    result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
+                                    interrupt_reason(exc), list(state_props))
+                    result.deadlock_checked = deadlock
+                    result.engine = "native"
+                    result.workers = ex.workers
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
@@ -583,7 +601,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if ex is None:
         ex = Explorer(machine, max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
                       deadlock=deadlock, progress=progress, keep_graph=keep_graph, state_props=state_props,
-                      step_props=step_props, max_memory=max_memory, memory=memory_in_use, warn=warn)
+                      step_props=step_props, max_memory=max_memory, memory=memory_in_use, warn=warn,
+                      symmetry=sym)
         with _watchdog(None if search_seconds is None else search_seconds + WATCHDOG_GRACE, ex), \
                 _deadline(machine, search_seconds):
             result = ex.run()
@@ -635,6 +654,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     elif checked_temporal and result.verdict == "incomplete":
         temporal_note = result.reason
     result.seconds = time.perf_counter() - t0
+    result.symmetry = sym
+    if sym is None and not interrupted and result.reason.startswith(LIMIT_REASONS):
+        result.symmetry_hint = _symmetry_hint(model, state_props, step_props, temporal)
     run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
     run.temporal_error = temporal_error
     if temporal_error and result.verdict == "holds":
@@ -642,6 +664,51 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.verdict = "incomplete"
         result.reason = result.reason or temporal_error
     return run
+
+
+SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
+# the reasons of a search that a limit stopped
+LIMIT_REASONS = ("state limit", "depth limit", "time limit", "memory limit", "out of memory")
+
+
+def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair):
+    """The symmetry a search with ``symmetry=True`` reduces (explore.symmetry.Symmetry, possibly
+    without any interchangeable element: its ``lines`` say why)."""
+    from .explore.symmetry import Symmetry, detect
+    from .parallel import run as scaled
+    if scaled.wanted(workers, **(scaling or {})):
+        raise UsageError("--symmetry runs in one process: it cannot be combined with --workers, --cluster or "
+                         "--bitstate")
+    if fair:
+        why = "--fair makes each agent or choice fair on its own, which a class of states does not keep"
+        return Symmetry([], [why], why)
+    try:
+        sym = detect(model.machine, list(state_props) + list(step_props) + list(temporal))
+    except Exception as exc:        # noqa: BLE001 - an analysis that fails reduces nothing
+        why = f"the analysis failed ({type(exc).__name__}: {exc})"
+        return Symmetry([], [why], why)
+    if sym.active and engine == "native":
+        raise UsageError(f"the native explorer cannot run {Path(model.path).name} with --symmetry: "
+                         f"{SYMMETRY_PYTHON} (use --engine auto or python)")
+    return sym
+
+
+def _symmetry_hint(model, state_props, step_props, temporal) -> str:
+    """For a search a limit stopped: a one-line hint naming --symmetry when the model has
+    interchangeable elements ('' otherwise)."""
+    from .explore.symmetry import detect
+    try:
+        sym = detect(model.machine, list(state_props) + list(step_props) + list(temporal))
+    except Exception:       # noqa: BLE001 - a hint only: never a reason for a run to fail
+        return ""
+    if not sym.active:
+        return ""
+    what = _and_words([d.describe() for d in sym.domains])
+    return f"hint: {what} are interchangeable; --symmetry explores one state per class of such states"
+
+
+def _and_words(parts: list) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
 
 
 # ----------------------------------------------------------------- results
@@ -752,6 +819,32 @@ class Exploration:
         # seconds spent compiling the native engine (0.0 when it came from the cache)
         self.compile_seconds = float(getattr(explorer, "compile_seconds", 0.0) or 0.0)
         self._violations = None
+        # symmetry=True: explore.symmetry.Symmetry (its ``lines`` explain it), else None
+        self.symmetry = getattr(result, "symmetry", None)
+        # a search stopped by a limit on a model with interchangeable elements: the hint naming
+        # --symmetry ("" otherwise)
+        self.symmetry_hint = getattr(result, "symmetry_hint", "")
+
+    def symmetry_lines(self) -> list:
+        """What --symmetry adds to the text report: the reduction (or why there is none), one
+        line per candidate domain."""
+        sym = self.symmetry
+        if sym is None:
+            return []
+        if sym.active:
+            head = f"symmetry: states and transitions are counted up to {sym.describe()}"
+        else:
+            head = f"symmetry: no reduction ({sym.reason})"
+        return [head] + [f"  symmetry: {line}" for line in sym.lines]
+
+    def symmetry_json(self) -> dict:
+        sym = self.symmetry
+        if sym is None:
+            return {}
+        return {"symmetry": {"reduced": sym.active, "counts": "classes" if sym.active else "states",
+                             "domains": [{"domain": d.name, "interchangeable": len(d.free), "elements": len(d.values)}
+                                         for d in sym.domains],
+                             "explain": list(sym.lines), **({"reason": sym.reason} if sym.reason else {})}}
 
     @property
     def verdict(self) -> str:
@@ -888,6 +981,9 @@ class Exploration:
             out["engine_note"] = f"native engine not used: {self.engine_note}"
         if r.reason:
             out["incomplete"] = r.reason
+        out.update(self.symmetry_json())
+        if self.symmetry_hint:
+            out["hint"] = self.symmetry_hint
         return out
 
     def outcome(self, *, strict: bool = False, root=None, avalla_dir=None, temporal_error: str = "",
@@ -1116,6 +1212,9 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         run = model.explore(**explore)
         out = run.outcome(strict=strict, root=root, avalla_dir=avalla_dir, temporal_error=run.temporal_error)
         out.interrupted = run.interrupted
+        # symmetry=True: the states are classes (the gate's table says so under it)
+        out.symmetry = run.symmetry.describe() if run.symmetry is not None and run.symmetry.active else ""
+        out.symmetry_hint = run.symmetry_hint
         if not out.properties:
             out.properties = [_gate.judge(_gate.PropertyOutcome("(no property)", "input", "none",
                                                                 message=no_property_message(model)), False, False)]

@@ -87,3 +87,24 @@ def test_a_limit_in_the_temporal_phase_leaves_the_invariants_decided(tmp_path, m
     gate = asmcheck.check([path], max_seconds=60, engine="python")
     assert [(p.name, p.verdict) for p in gate.outcomes[0].properties] == [("inv_color", "holds"),
                                                                           ("ltl_1", "incomplete")]
+
+
+@pytest.mark.engines("native")
+def test_a_ctrl_c_while_the_graph_is_made_keeps_the_searchs_counts(tmp_path, monkeypatch):
+    """The search was over when the Ctrl-C came, in the enumeration of the graph's steps: the
+    report keeps its states and transitions (it said 0 transitions, depth 0)."""
+    from asmcheck.explore import native_build
+    from asmcheck.explore.native import NativeExplorer
+    if native_build.compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+
+    def interrupted(self):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(NativeExplorer, "graph_edges", interrupted)
+    path = write(tmp_path, INV_AND_LTL)
+    run = asmcheck.load(path).explore(engine="native", graph=True)
+    r = run.result
+    assert (r.engine, r.verdict, r.states, r.transitions, r.depth) == ("native", "incomplete", 2, 3, 1)
+    assert r.reason == "interrupted (Ctrl-C) while the state graph's steps were enumerated"
+    assert run.interrupted

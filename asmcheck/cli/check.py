@@ -35,7 +35,7 @@ def run(args) -> int:
         os.makedirs(args.avalla, exist_ok=True)
     opts = load_options(args)
     gate = api.check(paths, strict_expect=args.strict_expect, avalla_dir=args.avalla, **opts,
-                     **explore_options(args))
+                     **explore_options(args), **({"symmetry": True} if args.symmetry else {}))
     code = gate.exit_code
     with writing("a report", ", ".join(p for p in (args.json, args.junit, args.sarif, args.html) if p and p != "-")):
         gate.write(json=args.json, junit=args.junit, sarif=args.sarif, html=args.html)
@@ -47,6 +47,11 @@ def run(args) -> int:
         sys.stdout.write(gate.text(True, traces=args.traces, table=False))
     else:
         sys.stdout.write(gate.text(False, traces=args.traces))
+    for o in gate.outcomes:
+        if getattr(o, "symmetry", ""):
+            sys.stdout.write(f"symmetry: the states of {o.path} are counted up to {o.symmetry}\n")
+        if getattr(o, "symmetry_hint", ""):
+            sys.stdout.write(f"{o.path}: {o.symmetry_hint}\n")
     return code
 
 
@@ -84,6 +89,8 @@ def register(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("paths", nargs="*", metavar="PATH", help="spec files or folders (default: specs)")
     add_explore_options(p)
+    from .explore import add_symmetry_option
+    add_symmetry_option(p)
     p.add_argument("--junit", metavar="OUT.xml", help="write a JUnit XML report: one test case per spec and property")
     p.add_argument("--sarif", metavar="OUT.sarif",
                    help="write a SARIF 2.1.0 log: one result per violation, at the property's declaration")

@@ -16,7 +16,7 @@ def run(args) -> int:
     use_bar = args.format == "text"
     with (Progress() if use_bar else _NoProgress()) as progress:
         run_ = model.explore(graph=bool(args.graph), progress=progress, warn=lambda msg: error(f"asmcheck: {msg}"),
-                             **explore_options(args))
+                             symmetry=args.symmetry, **explore_options(args))
     try:
         violations = run_.violations
     except api.ReplayError as e:
@@ -59,6 +59,8 @@ def run(args) -> int:
         + (f", {run_.workers} workers" if run_.workers > 1 else ""))
     if run_.engine_note:
         out(f"  (native engine not used: {run_.engine_note})")
+    for line in run_.symmetry_lines():
+        out(line)
     verdict_rows([(row["property"], api.verdict_text(row)) for row in run_.rows])
     for lines in run_.violation_text(color):
         out()
@@ -78,6 +80,8 @@ def run(args) -> int:
                 out(f"  {f}")
     if r.reason:
         out(f"incomplete: {r.reason}")
+    if run_.symmetry_hint:
+        out(run_.symmetry_hint)
     for line in run_.scaling_lines():
         out(line)
     out(f"verdict: {'no property checked' if nothing else r.verdict}")
@@ -99,6 +103,15 @@ class _NoProgress:
 
     def __exit__(self, *exc):
         return False
+
+
+def add_symmetry_option(p) -> None:
+    p.add_argument("--symmetry", action="store_true",
+                   help="explore one state per class of states that differ only by a renaming of interchangeable "
+                        "elements (the elements of an enum, static abstract or Integer subset domain that no literal "
+                        "names, when the spec and its properties only compare them by equality); the counts are then "
+                        "counts of "
+                        "classes, on the Python engine; the report says which domains are reduced, or why none is")
 
 
 def check_outputs(args) -> None:
@@ -130,6 +143,7 @@ def register(sub) -> None:
     p.add_argument("--html", metavar="OUT.html", help="write a self-contained HTML report")
     p.add_argument("--format", choices=["text", "json", "itf"], default="text",
                    help="itf: the counterexamples as ITF traces (Apalache/Quint's Informal Trace Format)")
+    add_symmetry_option(p)
     p.add_argument("--coverage", nargs="?", const="-", metavar="OUT.html",
                    help="also report which rules, branches and updates the state space covers (and write the "
                         "spec's source coloured by coverage to OUT.html)")

@@ -272,8 +272,11 @@ class Explorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
                  deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
-                 stop_at_first=False, max_memory=None, memory=None, warn=None):
+                 stop_at_first=False, max_memory=None, memory=None, warn=None, symmetry=None):
         self.m = machine
+        # symmetry reduction (explore.symmetry.Symmetry, active): one state per class of states
+        # that differ only by a renaming of interchangeable elements
+        self.sym = symmetry if symmetry is not None and symmetry.active else None
         self.layout = Layout()
         gc = {d.name for d in machine.spec.domains if getattr(d, "dynamic", False)} - ranged_domains(machine.spec)
         self.canon = Canonicalizer(machine, gc)
@@ -320,11 +323,15 @@ class Explorer:
 
     # -------------------------------------------------------------- helpers
     def _norm(self, st: dict) -> dict:
+        if self.sym is not None:
+            return self.sym.canon(st)[0]
         return self.canon(st) if self.uses_extend else st
 
     def normalise(self, st: dict) -> tuple[dict, dict]:
         """The canonical form of ``st`` and the renaming that made it (raw element ->
         canonical element, for the elements that changed their name)."""
+        if self.sym is not None:
+            return self.sym.canon(st)[0], {}
         if not self.uses_extend:
             return st, {}
         out = self.canon(st)
@@ -446,8 +453,11 @@ class Explorer:
                         if self.keep_graph:
                             self.error_edges.append(error_edge(sid, e))
                     targets = []
+                    moved = False       # (symmetry) a successor in the state's class, but not the state
                     for picks, ups, raw, nxt, mon in succ:
                         tid, new = self._add(nxt, sid, picks, depth + 1)
+                        if tid == sid and self.sym is not None and not moved:
+                            moved = self.layout.freeze(raw) != self.frozen[sid]
                         targets.append(tid)
                         if self.keep_graph:
                             self.edges.append((sid, tid, picks))
@@ -467,7 +477,8 @@ class Explorer:
                     # a transition is a pair (state, successor): choices with the same effect count once
                     transitions += len(set(targets))
                     # a state where a step fails is not a deadlock: the error is reported
-                    if self.deadlock and "deadlock" not in violated and not failed and all(t == sid for t in targets):
+                    if self.deadlock and "deadlock" not in violated and not failed and all(t == sid for t in targets) \
+                            and not moved:
                         record(Violation(DEADLOCK, sid, message="no successor" if not targets else
                                          "the only successor is the state itself"))
                     if self.max_states is not None and len(self.frozen) >= self.max_states:
@@ -569,6 +580,8 @@ class Explorer:
     def replay_steps(self, first: int, steps: list) -> list:
         """Replay from the stored initial state ``first`` the ``steps`` [(choices, stored target
         state)], checking each target; the entries are those of :meth:`replay`."""
+        if self.sym is not None:
+            return self._replay_concrete(first, steps)
         m = self.m
         ch = ScriptChooser(self.via[first])
         st0 = self._norm(m.initial_state(ch))
@@ -586,6 +599,39 @@ class Explorer:
             cur = nxt
         return out
 
+    def _replay_concrete(self, first: int, steps: list) -> list:
+        """:meth:`replay_steps` under symmetry reduction: the stored states are class
+        representatives, the trace is concrete.  From the real initial state, each step takes the
+        successor of the concrete state that is the image of the stored step (the representative's
+        step under the renaming that maps the representative to the concrete state), found among
+        the concrete state's successors as the step function makes them; its class is checked
+        against the stored target."""
+        m, sym = self.m, self.sym
+        ch = ScriptChooser(self.via[first])
+        cur = m.initial_state(ch)
+        rep, perm = sym.canon(cur)
+        if not self.is_stored(rep, first):
+            raise ReplayError("the initial state does not replay")
+        tau = sym.inverse(perm)         # representative -> concrete
+        out = [(cur, ch.log, None, getattr(m, "init_mon", {}), None, None)]
+        for picks, dst in steps:
+            ups, raw, _ = m.step(rep, ScriptChooser(picks))
+            nrep, perm = sym.canon(raw)
+            if not self.is_stored(nrep, dst):
+                raise ReplayError(f"step to state {dst} does not replay")
+            want = self.layout.freeze(sym.apply(raw, tau))
+            found = None
+            for log, cups, nxt, mon in m.successors(cur, limit=self.MAX_SUCCESSORS, errors=[]):
+                if self.layout.freeze(nxt) == want:
+                    found = (nxt, log, cups, mon, None, None)
+                    break
+            if found is None:
+                raise ReplayError(f"step to state {dst} has no concrete counterpart")
+            out.append(found)
+            cur, rep = found[0], nrep
+            tau = sym.compose(sym.inverse(perm), tau)
+        return out
+
     def admitted_successors(self, st: dict, errors: list | None = None) -> list:
         """The successors of ``st`` that the INVAR constraints admit, in the step function's
         order: (choices, update set, the successor as the step made it, the same under canonical
@@ -600,7 +646,8 @@ class Explorer:
                 continue
             # stored under canonical names; step properties see the successor as the step made it,
             # so an extend-made element keeps its identity across the step
-            out.append((tuple(c.pick for c in log), ups, nxt, self._norm(nxt), mon))
+            out.append((tuple(c.pick for c in log), ups, nxt,
+                        self._norm(nxt) if self.sym is None else self.sym.canon_from(st, nxt)[0], mon))
         if failed:
             for e in failed:
                 if not self.invars or self._invar_ok(st, getattr(e, "mon", None)):

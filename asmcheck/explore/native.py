@@ -4626,42 +4626,65 @@ class NativeExplorer:
         """Every step between explored states as the Python explorer records it for --graph:
         (source, target, choices) for every sequence of choices the step function enumerates from
         each state (several per pair of states when different choices lead to the same state),
-        sources ascending, in the step function's order.  The step function enumerates the steps;
-        the native edge arrays say where each must lead (Unsupported when they disagree: then the
-        Python engine writes the graph).  A branch whose step fails is no edge, as in the Python
-        explorer."""
+        sources ascending, in the step function's order (:meth:`graph_made` gives each the step as
+        the enumeration made it, for its label in the graph).  The step function
+        enumerates the steps once per state; the native edge arrays say where each must lead
+        (Unsupported when they disagree: then the Python engine writes the graph).  A branch whose
+        step fails is no edge, as in the Python explorer."""
         got = getattr(self, "_graph_edges", None)
         if got is not None:
             return got
         from .bfs import Explorer
-        py = Explorer(self.m)       # its admitted_successors: the INVAR constraints, canonical names
+        py = Explorer(self.m)       # the INVAR constraints, canonical names
+        m = self.m
         src_a, dst_a = self.edge_arrays()
         out: list = []
+        made: dict = {}
+        steps: list = []
         e = 0
         ne = len(src_a)
-        for src in range(self.nstates):
-            want = set()
-            while e < ne and src_a[e] == src:
-                want.add(dst_a[e])
-                e += 1
-            failed: list = []
-            try:
-                succ = py.admitted_successors(self.state(src), failed)
-            except AsmError as exc:
-                raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated ({exc.message})") from None
-            got_dst = set()
-            for picks, _ups, _raw, nxt, _mon in succ:
-                dst = self.find(nxt)
-                if dst is None:
-                    raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
-                got_dst.add(dst)
-                out.append((src, dst, picks))
-            if got_dst != want:
-                raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        try:
+            for src in range(self.nstates):
+                want = set()
+                while e < ne and src_a[e] == src:
+                    want.add(dst_a[e])
+                    e += 1
+                st = self.state(src)
+                try:
+                    succ = m.successors(st, limit=py.MAX_SUCCESSORS, errors=[])
+                except AsmError as exc:
+                    raise Unsupported(f"--graph: the steps from state {src} cannot be enumerated "
+                                      f"({exc.message})") from None
+                got_dst = set()
+                for log, _ups, raw, mon in succ:
+                    # as Explorer.admitted_successors: the steps the INVAR constraints admit
+                    if py.invars and not (py._invar_ok(st, mon) and py._invar_ok(raw)):
+                        continue
+                    dst = self.find(py._norm(raw))
+                    if dst is None:
+                        raise Unsupported(f"--graph: a successor of state {src} that the native search did not store")
+                    got_dst.add(dst)
+                    out.append((src, dst, tuple(c.pick for c in log)))
+                    steps.append(_made_step(made, m, log, mon))
+                if got_dst != want:
+                    raise Unsupported(f"--graph: the successors of state {src} differ between the engines")
+        except KeyboardInterrupt:
+            # Ctrl-C: the run is incomplete, and the steps found so far are its graph (writing the
+            # graph then does not enumerate every step again)
+            n = min(len(out), len(steps))
+            self._graph_edges, self._graph_made = out[:n], steps[:n]
+            raise
         if e != ne:
             raise Unsupported("--graph: the native edges are not ordered by source")
-        self._graph_edges = out
+        self._graph_edges, self._graph_made = out, steps
         return out
+
+    def graph_made(self) -> list:
+        """For each step of :meth:`graph_edges`: (choices log, monitored values) as the enumeration
+        made it, one object for the steps whose choices and values print the same, so that the
+        graph labels the step without running it again."""
+        self.graph_edges()
+        return self._graph_made
 
     def state_labels(self, items):
         """The truth of each atom (``.term``, ``.env``) in every explored state, evaluated by the
@@ -4824,6 +4847,25 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _made_step(made: dict, machine, log, mon: dict) -> tuple:
+    """(log, mon) of a step for its label in the graph (:meth:`NativeExplorer.graph_edges`), the
+    object kept in ``made`` for an earlier step whose choices and monitored values print the same
+    (the label is made of those texts only)."""
+    from ..semantics.values import show
+
+    def flat(choices):
+        for c in choices or ():
+            yield c
+            yield from flat(getattr(c, "nested", None))
+    key = (tuple((c.kind, c.label, tuple((k, show(v)) for k, v in c.value.items()) if isinstance(c.value, dict)
+                  else show(c.value)) for c in flat(log)),
+           tuple(sorted((machine.location_text(k), show(v)) for k, v in mon.items())))
+    got = made.get(key)
+    if got is None:
+        got = made[key] = (log, dict(mon))
+    return got
 
 
 def _env_key(env) -> tuple:

@@ -14,6 +14,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field, replace
 
+from ..errors import AsmError
+from ..semantics.choice import Chooser
 from ..semantics.state import is_dom_key, same_value
 from ..semantics.values import AbstractValue, BagV, MapV, RuleValue, SeqV, SetV, fresh_value, rename, \
     rename_state
@@ -28,6 +30,10 @@ class TraceStep:
     updates: object = None         # the update set of the step (None for the initial state)
     display: dict | None = None    # the state under display names (None: the same as state)
     names: dict = field(default_factory=dict)
+    # ``atom_reads``: monitored values that only the atoms of a temporal property read in the
+    # state before the step (location key -> value, canonical names of that state), shown with the
+    # values the step read; the step function does not see them
+    atom_reads: dict = field(default_factory=dict)
     # ``names``: the display name of each element the step's choices, update set and monitored
     # inputs may hold (elements of the state before the step, and the elements it made);
     # an element not in it is shown as it is
@@ -175,6 +181,72 @@ def trace_steps(replayed) -> list[TraceStep]:
         steps.append(TraceStep(i, log, st, changed, ups, shown, step_names))
         prev = shown
     return steps
+
+
+def atom_values(machine, items, state: dict, mon: dict, chooser=None):
+    """The truth values of the atoms ``items`` (``temporal.formula`` atoms) in ``state`` with the
+    monitored values ``mon``, and the monitored values they read (``mon`` and those ``chooser``
+    chose, location key -> value).  An undef atom is false.  ``chooser`` None: every value the
+    atoms read must be in ``mon`` (an AsmError otherwise)."""
+    from ..semantics.terms import Ctx
+    ctx = Ctx(machine, state, chooser if chooser is not None else _NoChoice())
+    ctx.mon = dict(mon or {})
+    vec = []
+    for a in items:
+        ctx.env = dict(a.env) if a.env else {}
+        vec.append(a.fn(ctx) is True)
+    return tuple(vec), ctx.mon
+
+
+class _NoChoice(Chooser):
+    """A chooser for atoms whose monitored values are all given: any other read is an error."""
+
+    def choose(self, kind, label, options, values_repr=None):
+        raise AsmError(None, f"{label} is read but has no value in the trace")
+
+    def value(self, label, codomain):
+        raise AsmError(None, f"{label} is read but has no value in the trace")
+
+
+def atom_reads(machine, items, state: dict, mon: dict, vec) -> dict | None:
+    """The monitored values the atoms ``items`` read in ``state`` beyond those of the step
+    (``mon``), the first in the enumeration order (each location's values in its domain's order,
+    in the order the atoms read them) with which the atoms' truth values are ``vec``: location key
+    -> value ({} when the atoms read nothing else), None when no such values exist."""
+    from ..semantics.choice import Enumerator, next_prefix
+    mon = mon or {}
+    want = tuple(bool(x) for x in vec)
+    prefix: list = []
+    while True:
+        ch = Enumerator(prefix)
+        got, read = atom_values(machine, items, state, mon, ch)
+        if got == want:
+            return {k: v for k, v in read.items() if k not in mon}
+        prefix = next_prefix(ch.log)
+        if prefix is None:
+            return None
+
+
+def term_ids(terms) -> set:
+    """The ids of the IR terms below ``terms`` (the bodies of the derived functions they call too):
+    which atoms of a temporal structure a property's formula is made of."""
+    from ..semantics import ir
+    out: set = set()
+    stack = list(terms)
+    while stack:
+        t = stack.pop()
+        if isinstance(t, (list, tuple)):
+            stack.extend(t)
+            continue
+        if not isinstance(t, ir.Term) or id(t) in out:
+            continue
+        out.add(id(t))
+        if isinstance(t, ir.Loc) and t.func.kind in ("derived", "static") and t.func.body is not None:
+            stack.append(t.func.body)
+        for v in vars(t).values():
+            if isinstance(v, (ir.Term, list, tuple)):
+                stack.append(v)
+    return out
 
 
 def build_trace(explorer, violation) -> Trace:

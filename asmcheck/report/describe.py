@@ -221,7 +221,8 @@ def step_inputs(machine, trace) -> list[dict]:
     for prev, st in zip(trace.steps, trace.steps[1:]):
         try:
             _, _, ctx = machine.step(prev.state, ScriptChooser([c.pick for c in st.choices]))
-            out.append(dict(ctx.mon))
+            # with the values only a temporal property's atoms read (TraceStep.atom_reads)
+            out.append({**ctx.mon, **(getattr(st, "atom_reads", None) or {})})
         except Exception:    # a step that fails (an error trace): no inputs known
             out.append({})
     return out

@@ -29,11 +29,19 @@ def edge_label(machine, state: dict, picks, chooses=None) -> str:
         chooses = ChooseIndex(machine.spec)
     ch = ScriptChooser(picks)
     try:
-        reads = read_records(machine, dict(machine.step(state, ch)[2].mon))
+        mon = dict(machine.step(state, ch)[2].mon)
     except Exception:        # a step that fails: its choices are those made before it failed
         reads = [Choice("monitored", f"{c.label} = {show(c.value)}") for c in flat_choices(ch.log)
                  if c.kind == "monitored"]
-    rec = StepRecord(1, chooses.main, choose_records(ch.log, chooses) + reads, {}, {})
+        rec = StepRecord(1, chooses.main, choose_records(ch.log, chooses) + reads, {}, {})
+        return step_header(rec)[len("step 1: "):]
+    return step_label(machine, ch.log, mon, chooses)
+
+
+def step_label(machine, log, mon: dict, chooses) -> str:
+    """:func:`edge_label` of a step already made: its choices ``log`` and the monitored values
+    ``mon`` it read."""
+    rec = StepRecord(1, chooses.main, choose_records(log, chooses) + read_records(machine, mon), {}, {})
     return step_header(rec)[len("step 1: "):]
 
 
@@ -54,9 +62,18 @@ def state_graph(explorer, highlight=None):
                    initial=parent[sid] == -1, counterexample=sid in states)
     # an engine whose edge arrays hold each pair of states once gives every step apart
     every = getattr(explorer, "graph_edges", None)
+    # the steps as the enumeration made them (choices log, monitored values): not run again
+    made = getattr(explorer, "graph_made", None) if every is not None else None
+    made = made() if made is not None else None
+    labels: dict = {}
     for i, (src, dst, picks) in enumerate(every() if every is not None else explorer.edges):
-        g.add_edge(src, dst, key=f"e{i}", choices=edge_label(m, explorer.state(src), picks, chooses),
-                   counterexample=(src, dst) in steps)
+        if made is not None:
+            text = labels.get(id(made[i]))
+            if text is None:
+                text = labels[id(made[i])] = step_label(m, made[i][0], made[i][1], chooses)
+        else:
+            text = edge_label(m, explorer.state(src), picks, chooses)
+        g.add_edge(src, dst, key=f"e{i}", choices=text, counterexample=(src, dst) in steps)
     return g
 
 

@@ -72,15 +72,21 @@ class TemporalResult:
     def trace(self):
         """(Trace, loop index in the trace or None, inputs_step) or None."""
         if self._trace is None and self.nodes and self.explorer is not None:
-            self._trace = _replay(self.explorer, self.K, self.nodes, self.loop)
+            self._trace = _replay(self.explorer, self.K, self.nodes, self.loop, self.prop)
         return self._trace
 
 
 # ----------------------------------------------------------------- replay
-def _replay(explorer, K, nodes, loop):
+def _replay(explorer, K, nodes, loop, prop=None):
     """Re-run the path of Kripke nodes through the step function; check every state
-    against the explored graph.  Returns (Trace, loop index, inputs_step)."""
-    from ..explore.trace import Trace, trace_steps
+    against the explored graph.  Returns (Trace, loop index, inputs_step).
+
+    A step of the path shows the monitored values that only the atoms of ``prop`` (and of the
+    fairness constraints and INVARs the structure has) read, not the step: the first in the
+    enumeration order that give the node's truth values."""
+    from ..explore.bfs import ReplayError
+    from ..explore.trace import Trace, atom_reads, atom_values, term_ids, trace_steps
+    from ..semantics.choice import Choice
 
     failing = None
     cut = next((i for i, v in enumerate(nodes) if v in K.halt), None)
@@ -106,13 +112,51 @@ def _replay(explorer, K, nodes, loop):
         inputs_step = loop is None and bool(K.mon_atoms) and failing is None
         if loop is not None or inputs_step:
             steps.append((K.picks_from(last, sids[-1]), K.tgt[last]))
-    replayed = [(st, log, ups, raw, mapping)
-                for st, log, ups, _, raw, mapping in explorer.replay_steps(sids[0], steps)]
+    got = explorer.replay_steps(sids[0], steps)
+    replayed = [(st, log, ups, raw, mapping) for st, log, ups, _, raw, mapping in got]
     tsteps = trace_steps(replayed)
     tr = Trace(None, tsteps, "temporal")
     if failing is not None:
         tr.failing = list(getattr(failing, "choices", None) or ())
         tr.message = failing.message
+    items = getattr(K, "mon_items", None) if K.mode == "step" else None
+    keep = list(range(len(items or ())))
+    if items and prop is not None:
+        # the atoms of the property's formula, of the INVARs and of the fairness constraints (the
+        # structure shares its atoms among the properties checked together)
+        ids = term_ids([getattr(prop, "body", None), getattr(prop, "body2", None)] +
+                       [p.body for p in explorer.m.spec.properties if p.kind == "invar"])
+        fair = {id(lab) for _, lab in K.justice} | {id(x) for _, a, b in K.compassion for x in (a, b)}
+        keep = [k for k, a in enumerate(items) if id(a.term) in ids or
+                id(K.label.get(K.mon_atoms[k])) in fair]
+        items = [items[k] for k in keep]
+    if items:
+        # a node keeps its atoms' truth values, not the monitored values behind them: the values
+        # that only the atoms read (the step does not) are found again, the first that give the
+        # node's values, and shown with the step's own; the atoms are then evaluated again from
+        # the values shown and must give the node's values
+        for i, v in enumerate(nodes):
+            full = K.vec[v]
+            vec = tuple(full[k] for k in keep)
+            if i + 1 < len(got):
+                state, mon = got[i][0], got[i + 1][3]
+            elif v in K.halt:
+                state, mon = got[i][0], getattr(failing, "mon", None) or {}
+            else:
+                continue
+            reads = atom_reads(explorer.m, items, state, mon, vec)
+            if reads is None:
+                raise ReplayError(f"no monitored values give the atoms' values of the step from state "
+                                  f"{sids[i]} in the trace")
+            shown, _ = atom_values(explorer.m, items, state, {**(mon or {}), **reads})
+            if shown != tuple(bool(x) for x in vec):
+                raise ReplayError(f"the atoms evaluated with the values shown in the step from state "
+                                  f"{sids[i]} do not give the values of the path")
+            if i + 1 < len(got):
+                tsteps[i + 1].atom_reads = reads
+            elif reads:
+                m = explorer.m
+                tr.failing += [Choice("monitored", m.location_text(k), 1, 0, x) for k, x in reads.items()]
     return tr, loop, inputs_step
 
 

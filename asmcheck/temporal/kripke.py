@@ -70,6 +70,7 @@ class Kripke:
         self.compassion: list[tuple[str, bytearray, bytearray]] = []
         self.edge_picks: dict = {}         # state mode: (src, dst) -> choices of one such step
         self.mon_atoms: list[int] = []
+        self.mon_items: list = []          # step mode: the atoms of mon_atoms (what a trace replays)
         self.agent_info = None
         # halt nodes (a step fails there, see asmcheck.temporal): node -> (the state it stays in,
         # the choices of the failing step, the index of its error in the explorer's error_edges)
@@ -649,7 +650,7 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
         # ---- step mode: one node per (transition, values of the monitored atoms), the nodes
         # as arrays (their state, target, atom values), numbered source by source
         K.mode = "step"
-        mon_items = [atoms.items[i] for i in mon_atoms]
+        mon_items = K.mon_items = [atoms.items[i] for i in mon_atoms]
         mon_inv = [k for k, i in enumerate(mon_atoms) if i in invars]
         key_ix: dict = {}
         sid, tgt = array("I"), array("i")

@@ -1,0 +1,854 @@
+"""Symmetry reduction: interchangeable domain elements, and one state per class.
+
+Detection.  For an enum domain, a static abstract domain (its elements are the static constants
+declared in it) or a finite subset of Integer given by its elements, the elements that no
+literal (or, for an abstract domain, no use of the static constant) names (anywhere: rules, static and derived definitions, the initial
+state, every property checked, the values given with ``--monitored``) are interchangeable
+when the spec and its properties never tell them apart: a value of the domain may only be
+compared by equality (with another value of the domain or with a literal), passed as an
+argument where the domain is declared, stored in a location of the domain, bound by a
+``let``, or chosen or quantified over the whole domain.  Any other use (arithmetic, an order
+comparison, a library function, a collection, a comprehension over the domain, a value of
+another type where the domain is expected, a variable of the domain bound around a temporal
+operator, ...) leaves the domain without symmetry, with the first such use as the reason.  The
+spec must not use ``extend``, and ``--fair`` (fairness of each choice on its own) turns the
+reduction off.
+
+Reduction.  Each interchangeable element gets a signature: the sorted list of the locations
+where it occurs (function, position, the other arguments, the value).  The elements are
+renamed so that their signatures come in the order of the elements; elements with equal
+signatures play the same part (swapping them leaves the state as it is), so the result is
+the same for every state of a class: a canonical representative.  A stored function with
+several positions over symmetric domains (``link: Node -> Node``, ``edge: Prod(Node, Node) ->
+Boolean``) needs more (:meth:`Symmetry.canon_multi`): colours refined over the locations, then
+the least renamed state among the numberings that keep the colours' order; a domain of more than
+six interchangeable elements in such a function is left without symmetry.
+
+Counts of a reduced search are counts of classes (orbits); invariants, deadlock and LTL/CTL
+properties keep their verdicts, since no property names an interchangeable element and each
+is evaluated by the same equality-only operations; traces are made concrete again by
+:meth:`Symmetry.image` and a replay through the step function.
+"""
+from __future__ import annotations
+
+import math
+import os
+from itertools import permutations
+
+from ..semantics import ir
+from ..semantics import types as T
+from ..semantics.analysis import abstract_codomain
+from ..semantics.values import EnumValue, abstract_value, vkey
+
+
+class SymmetricDomain:
+    """A domain with interchangeable elements: ``free`` (in the domain's order) and the
+    elements literals name."""
+
+    def __init__(self, domain, values: list, named: list):
+        self.domain = domain
+        self.name = domain.name
+        self.values = values
+        self.named = named
+        nameset = set(map(_vid, named))
+        self.free = [v for v in values if _vid(v) not in nameset]
+        self.free_ids = {_vid(v): i for i, v in enumerate(self.free)}
+
+    def describe(self) -> str:
+        return f"{self.name}'s {len(self.free):,} unnamed elements"
+
+
+_MISSING = object()
+
+#: a domain with more elements is not considered
+MAX_ELEMENTS = 100_000
+#: a function with several positions over a domain whose interchangeable elements have more
+#: renamings than this leaves that domain without symmetry (6! = 720)
+MAX_RENAMINGS = 720
+
+
+def _vid(v):
+    """A key telling values apart (1 and True differ)."""
+    return (type(v) is bool, v)
+
+
+class Symmetry:
+    """What detection found: ``domains`` (SymmetricDomain, possibly none), ``lines`` (one
+    explanation per candidate domain) and ``reason`` (why no reduction is possible, or '')."""
+
+    def __init__(self, domains: list, lines: list, reason: str = "", positions: dict | None = None,
+                 multi: dict | None = None):
+        self.domains = domains
+        # function index -> [(position, SymmetricDomain)]: stored functions with several positions
+        # over symmetric domains (their canonical form is worked out by refinement and, for the
+        # elements refinement does not tell apart, by trying their renamings: canon_multi)
+        self.multi = multi or {}
+        # function index -> the positions apply renames
+        self._all_positions = {f: [p] for f, (p, _) in (positions or {}).items()}
+        for f, ps in self.multi.items():
+            self._all_positions[f] = [p for p, _ in ps]
+        self.lines = lines
+        self.reason = reason
+        # function index -> (position, SymmetricDomain): the argument (or -1, the value) of a
+        # stored function over a symmetric domain
+        self.positions = positions or {}
+        n = 0
+        for d in domains:
+            d.offset = n
+            n += len(d.free)
+        self._n = n
+        self._keys: dict = {}           # location key -> _key_info
+        self._base = None               # (state, its scan, sorted signatures): see canon_from
+
+    @property
+    def active(self) -> bool:
+        return bool(self.domains)
+
+    def describe(self) -> str:
+        """'the symmetry of Numero's 21 unnamed elements' (and others)."""
+        parts = [d.describe() for d in self.domains]
+        return "the symmetry of " + _and(parts)
+
+    # ---------------------------------------------------------------- the canonical form
+    def _key_info(self, k):
+        """What location key ``k`` is to :meth:`canon`: None (no interchangeable element can
+        occur in it), else (position, SymmetricDomain, global index of the element at an
+        argument position or -1, the location's signature entry prefix)."""
+        if type(k) is tuple:
+            if k[0] == "#dom":
+                return None
+            info = self.positions.get(k[0])
+            if info is None:
+                return None
+            p, sd = info
+            args = k[1]
+            if p >= 0:
+                ix = sd.free_ids.get(_vid(args[p]))
+                if ix is None:
+                    return None
+                return (p, sd, sd.offset + ix, (k[0], p, tuple([vkey(a) for i, a in enumerate(args) if i != p])), {})
+            return (p, sd, -1, (k[0], -1, tuple([vkey(a) for a in args])), None)
+        info = self.positions.get(k)
+        if info is None:
+            return None
+        return (-1, info[1], -1, (k, -1, ()), None)
+
+    def _info(self, k):
+        kc = self._keys
+        info = kc.get(k, _MISSING)
+        if info is _MISSING:
+            if len(kc) > 1 << 18:
+                kc.clear()
+            info = kc[k] = self._key_info(k)
+        return info
+
+    def _entry(self, info, v):
+        """(global index of the element location ``info`` holding ``v`` is about, its signature
+        entry), or None when it is about no interchangeable element."""
+        g = info[2]
+        if g < 0:
+            if v is None:
+                return None
+            ix = info[1].free_ids.get(_vid(v))
+            if ix is None:
+                return None
+            return info[1].offset + ix, (info[3], 0, 0)
+        ents = info[4]
+        ent = ents.get(v)
+        if ent is None or ent[0] is not v.__class__:
+            if len(ents) > 64:
+                ents.clear()
+            ent = ents[v] = (v.__class__, (info[3], 1, v) if v.__class__ is bool else (info[3], 2, vkey(v)))
+        return g, ent[1]
+
+    def _scan(self, state: dict):
+        """Per interchangeable element (global index): its signature entries, and the keys of
+        its locations."""
+        sigs = [[] for _ in range(self._n)]
+        occ = [[] for _ in range(self._n)]
+        info_of = self._info
+        entry = self._entry
+        for k, v in state.items():
+            info = info_of(k)
+            if info is None:
+                continue
+            e = entry(info, v)
+            if e is None:
+                continue
+            sigs[e[0]].append(e[1])
+            occ[e[0]].append(k)
+        return sigs, occ
+
+    def canon(self, state: dict) -> tuple[dict, dict]:
+        """(the canonical representative of ``state``'s class, the renaming that makes it from
+        ``state``: element -> element, for the elements that move)."""
+        if self.multi:
+            return self.canon_multi(state)
+        sigs, occ = self._scan(state)
+        return self._finish(state, [sorted(x) for x in sigs], occ)
+
+    def canon_from(self, parent: dict, state: dict) -> tuple[dict, dict]:
+        """:meth:`canon` of ``state``, a successor of ``parent`` (mostly the same value objects):
+        the scan of ``parent`` is kept for its next successor, and only the locations whose value
+        object differs are looked at again."""
+        if self.multi:
+            return self.canon_multi(state)
+        base = self._base
+        if base is None or base[0] is not parent:
+            sigs, occ = self._scan(parent)
+            base = self._base = (parent, sigs, occ, [sorted(x) for x in sigs])
+        _, psigs, pocc, pkeys = base
+        diff = [k for k, v in state.items() if parent.get(k, _MISSING) is not v]
+        if len(state) - sum(1 for k in diff if k not in parent) != len(parent):
+            diff.extend(k for k in parent if k not in state)
+        sigs = psigs
+        occ = pocc
+        touched: set = set()
+        info_of = self._info
+        entry = self._entry
+        for k in diff:
+            info = info_of(k)
+            if info is None:
+                continue
+            for v, add in ((parent.get(k, _MISSING), False), (state.get(k, _MISSING), True)):
+                if v is _MISSING:
+                    continue
+                e = entry(info, v)
+                if e is None:
+                    continue
+                g = e[0]
+                if g not in touched:
+                    if not touched:
+                        sigs = list(psigs)
+                        occ = list(pocc)
+                    touched.add(g)
+                    sigs[g] = list(sigs[g])
+                    occ[g] = list(occ[g])
+                if add:
+                    sigs[g].append(e[1])
+                    occ[g].append(k)
+                else:
+                    sigs[g].remove(e[1])
+                    occ[g].remove(k)
+        if touched:
+            keys = list(pkeys)
+            for g in touched:
+                keys[g] = sorted(sigs[g])
+        else:
+            keys = pkeys
+        return self._finish(state, keys, occ)
+
+    def canon_multi(self, state: dict) -> tuple[dict, dict]:
+        """The canonical form when some stored function has several positions over symmetric
+        domains.  Each element is coloured by the locations it occurs in (the other elements there
+        shown by their colours), refined until the colours no longer split; the elements are
+        numbered by colour, and among the numberings that keep the colours' order (the elements of
+        equal colour in every order), the one whose renamed state is least is taken."""
+        parts_of = []               # per location: (key, value, [(position, global index or -1, const)])
+        occurs: dict = {}           # global index -> [(location number, position)]
+        for k, v in state.items():
+            if type(k) is tuple:
+                if k[0] == "#dom":
+                    continue
+                f, args = k
+            else:
+                f, args = k, ()
+            ps = self.multi.get(f)
+            if ps is None:
+                one = self.positions.get(f)
+                if one is None:
+                    continue
+                ps = [one]
+            holes = []
+            for p, sd in ps:
+                e = args[p] if p >= 0 else v
+                ix = sd.free_ids.get(_vid(e)) if (p >= 0 or v is not None) else None
+                holes.append((p, -1 if ix is None else sd.offset + ix))
+            if all(g < 0 for _, g in holes):
+                continue
+            n = len(parts_of)
+            parts_of.append((k, v, holes))
+            for p, g in holes:
+                if g >= 0:
+                    occurs.setdefault(g, []).append((n, p))
+        const = {}                  # location number -> its text with the free elements left out
+        for n, (k, v, holes) in enumerate(parts_of):
+            f, args = (k if type(k) is tuple else (k, ()))
+            free_pos = {p for p, g in holes if g >= 0}
+            const[n] = (f, tuple(vkey(a) if i not in free_pos else (-1,) for i, a in enumerate(args)),
+                        (-1,) if -1 in free_pos else vkey(v))
+        colour = [0] * self._n
+        for sd in self.domains:
+            for i in range(len(sd.free)):
+                colour[sd.offset + i] = 0
+        classes = -1
+        for _ in range(self._n + 1):
+            sig = {}
+            for g in range(self._n):
+                entries = []
+                for n, p in occurs.get(g, ()):
+                    holes = parts_of[n][2]
+                    entries.append((const[n], p, tuple((q, -1 if h < 0 else (-2 if h == g else colour[h]))
+                                                       for q, h in holes)))
+                entries.sort()
+                sig[g] = (colour[g], tuple(entries))
+            new = [0] * self._n
+            count = 0
+            for sd in self.domains:
+                idx = range(sd.offset, sd.offset + len(sd.free))
+                ranks = {x: r for r, x in enumerate(sorted({sig[g] for g in idx}))}
+                for g in idx:
+                    new[g] = ranks[sig[g]]
+                count += len(ranks)
+            colour = new
+            if count == classes:
+                break
+            classes = count
+        # the numberings that keep the colours' order
+        choices = []
+        for sd in self.domains:
+            groups: dict = {}
+            for i in range(len(sd.free)):
+                groups.setdefault(colour[sd.offset + i], []).append(i)
+            choices.append((sd, [groups[c] for c in sorted(groups)]))
+        best = None
+        for perm in _numberings(choices):
+            out = self.apply(state, perm)
+            key = sorted((vkey(k), vkey(x)) for k, x in out.items())
+            if best is None or key < best[0]:
+                best = (key, out, perm)
+        return best[1], best[2]
+
+    def _finish(self, state: dict, keys: list, occ: list) -> tuple[dict, dict]:
+        """The canonical form from each element's sorted signature (``keys``) and locations."""
+        kc = self._keys
+        perm: dict = {}
+        for sd in self.domains:
+            free = sd.free
+            off = sd.offset
+            order = sorted(range(len(free)), key=lambda i: (keys[off + i], i))
+            for j, i in enumerate(order):
+                if i != j:
+                    perm[free[i]] = free[j]
+        if not perm:
+            return state, {}
+        # only the locations of the elements that move change
+        out = dict(state)
+        new = []
+        for sd in self.domains:
+            off = sd.offset
+            for e in sd.free:
+                n = perm.get(e)
+                if n is None:
+                    continue
+                for k in occ[off + sd.free_ids[_vid(e)]]:
+                    v = out.pop(k)
+                    p = kc[k][0]
+                    if p >= 0:
+                        args = k[1]
+                        new.append(((k[0], args[:p] + (n,) + args[p + 1:]), v))
+                    else:
+                        new.append((k, n))
+        out.update(new)
+        return out, perm
+
+    def apply(self, state: dict, perm: dict) -> dict:
+        """``state`` with the elements renamed by ``perm`` (element -> element) at the positions
+        of the symmetric domains."""
+        if not perm:
+            return state
+        pos_of = self._all_positions
+        ren = {_vid(a): b for a, b in perm.items()}
+        out = {}
+        for k, v in state.items():
+            if type(k) is tuple:
+                ps = pos_of.get(k[0]) if k[0] != "#dom" else None
+            else:
+                ps = pos_of.get(k)
+            if ps is not None:
+                for p in ps:
+                    if p >= 0:
+                        args = k[1]
+                        n = ren.get(_vid(args[p]))
+                        if n is not None:
+                            k = (k[0], args[:p] + (n,) + args[p + 1:])
+                    elif v is not None:
+                        v = ren.get(_vid(v), v)
+            out[k] = v
+        return out
+
+    @staticmethod
+    def inverse(perm: dict) -> dict:
+        return {b: a for a, b in perm.items()}
+
+    @staticmethod
+    def compose(first: dict, then: dict) -> dict:
+        """The renaming ``then`` after ``first``."""
+        out = {}
+        for a in list(first) + [k for k in then if k not in first]:
+            b = first.get(a, a)
+            c = then.get(b, b)
+            if c != a:
+                out[a] = c
+        return out
+
+
+def _numberings(choices):
+    """Every renaming (element -> element, the moving ones) that numbers each domain's elements
+    group by group, the groups in their order and the elements of a group in any order."""
+    per_domain = []
+    for sd, groups in choices:
+        options = [[]]
+        for grp in groups:
+            options = [o + list(q) for o in options for q in permutations(grp)]
+        per_domain.append((sd, options))
+    out = [{}]
+    for sd, options in per_domain:
+        nxt = []
+        for base in out:
+            for order in options:
+                perm = dict(base)
+                for j, i in enumerate(order):
+                    if i != j:
+                        perm[sd.free[i]] = sd.free[j]
+                nxt.append(perm)
+        out = nxt
+    return out
+
+
+def _and(parts: list) -> str:
+    if len(parts) <= 1:
+        return "".join(parts)
+    return ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+# -------------------------------------------------------------------- detection
+class _Refused(Exception):
+    pass
+
+
+def _contains(t, cands) -> list:
+    """The candidate domains inside the structured type ``t``."""
+    out = []
+    stack = [t]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, T.Struct):
+            stack.extend(x.args)
+        elif x in cands and x not in out:
+            out.append(x)
+    return out
+
+
+class _Uses:
+    """Walks the spec and its properties: the literals, and the first use of each candidate
+    domain's values that could tell its elements apart."""
+
+    def __init__(self, cands: dict, path: str = ""):
+        self.cands = cands              # Domain -> set of value ids
+        self.path = path                # the spec's file (places in others are named with their file)
+        self.why: dict = {}             # Domain -> reason
+        self.named: dict = {d: [] for d in cands}
+        self.seen: set = set()
+
+    # -- helpers
+    def refuse(self, d, reason: str, span=None) -> None:
+        if d in self.why:
+            return
+        where = ""
+        if span is not None and getattr(span, "line", 0):
+            other = getattr(span, "path", "") or ""
+            if other and self.path and os.path.abspath(other) != os.path.abspath(self.path):
+                where = f" ({os.path.basename(other)}, line {span.line}, column {span.col})"
+            else:
+                where = f" (line {span.line}, column {span.col})"
+        self.why[d] = reason + where
+
+    def cand(self, t):
+        return t if t in self.cands else None
+
+    def literal(self, v) -> None:
+        if type(v) is bool or v is None:
+            return
+        for d, ids in self.cands.items():
+            if _vid(v) in ids and not any(_vid(x) == _vid(v) for x in self.named[d]):
+                self.named[d].append(v)
+
+    # -- terms
+    def term(self, t, ctx, what: str) -> None:
+        """``t`` appears where a value of ``ctx`` (a candidate domain, or None: any other type)
+        is expected; ``what`` says where, for the reasons."""
+        if t is None:
+            return
+        typ = getattr(t, "type", None)
+        d = self.cand(typ)
+        if isinstance(t, ir.Const):
+            self.literal(t.value)
+            if d is not None and ctx is not d:
+                self.refuse(d, f"a value of {d.name} is {what}", t.span)
+            return
+        if d is not None and ctx is not d:
+            self.refuse(d, f"a value of {d.name} is {what}", t.span)
+        if ctx is not None and d is None:
+            self.refuse(ctx, f"a value of {typ} is used where {ctx.name} is expected ({what})", t.span)
+        if isinstance(typ, T.Struct):
+            for c in _contains(typ, self.cands):
+                self.refuse(c, f"a value of {typ} holds elements of {c.name} ({what})", t.span)
+        if isinstance(t, ir.Loc):
+            f = t.func
+            if f.kind == "static" and not t.args and abstract_codomain(f):
+                # a static constant of an abstract domain names its element
+                self.literal(abstract_value(f.codomain.name, f.name))
+            for i, a in enumerate(t.args):
+                dt = f.domain[i] if i < len(f.domain) else None
+                self.term(a, self.cand(dt), f"an argument of {f.name}")
+        elif isinstance(t, ir.Call):
+            self.call(t)
+        elif isinstance(t, (ir.Temporal, ir.StepOp)):
+            for a in t.args:
+                self.term(a, None, f"an argument of {t.op}")
+        elif isinstance(t, ir.DomainTerm):
+            c = self.cand(t.domain)
+            if c is not None:
+                self.refuse(c, f"the domain {c.name} is used as a value", t.span)
+        elif isinstance(t, ir.Cond):
+            self.term(t.cond, None, "a condition")
+            self.term(t.then, self.cand(typ), "a branch of a conditional term")
+            self.term(t.other, self.cand(typ), "a branch of a conditional term")
+        elif isinstance(t, ir.Switch):
+            ds = self.cand(t.subject.type)
+            self.term(t.subject, ds, "the subject of a switch")
+            for c, r in t.cases:
+                self.term(c, ds, "a case of a switch")
+                self.term(r, self.cand(typ), "a result of a switch")
+            self.term(t.other, self.cand(typ), "a result of a switch")
+        elif isinstance(t, ir.Let):
+            self.around_temporal(t.bindings, (t.body,), t.span)
+            for v, x in t.bindings:
+                self.term(x, self.cand(v.type), f"bound to {v.name}")
+            self.term(t.body, self.cand(typ), "the result of a let")
+        elif isinstance(t, ir.Quant):
+            self.bindings(t.bindings)
+            self.around_temporal(t.bindings, (t.guard,), t.span)
+            self.term(t.guard, None, "a guard")
+        elif isinstance(t, ir.Compr):
+            for v, rng in t.bindings:
+                for c in self._ranges(v, rng):
+                    self.refuse(c, f"a comprehension ranges over {c.name}", t.span)
+            self.bindings(t.bindings)
+            self.term(t.guard, None, "a guard")
+            self.term(t.body, self.cand(t.body.type), "the body of a comprehension")
+        elif isinstance(t, ir.Collection):
+            for x in t.items:
+                self.term(x, self.cand(x.type), "an item of a collection")
+        elif isinstance(t, ir.Range):
+            for x in (t.start, t.end, t.step):
+                self.term(x, None, "a bound of a range")
+        elif isinstance(t, ir.MapLit):
+            for a, b in t.pairs:
+                self.term(a, self.cand(a.type), "a key of a map")
+                self.term(b, self.cand(b.type), "a value of a map")
+        elif isinstance(t, ir.TupleLit):
+            for x in t.items:
+                self.term(x, self.cand(x.type), "an item of a tuple")
+        elif isinstance(t, ir.RuleRef):
+            self.rule_decl(t.rule)
+        elif isinstance(t, (ir.VarRef,)):
+            pass
+        elif isinstance(t, ir.Term):
+            # a term this walk does not know: every candidate it may touch is refused
+            for c in list(self.cands):
+                self.refuse(c, f"a {type(t).__name__} term is not analysed", t.span)
+
+    def _ranges(self, v, rng) -> list:
+        out = []
+        if isinstance(rng, ir.DomainTerm) and self.cand(rng.domain) is not None:
+            out.append(rng.domain)
+        if self.cand(v.type) is not None and v.type not in out:
+            out.append(v.type)
+        return out
+
+    def around_temporal(self, bindings, parts, span) -> None:
+        """A variable of a candidate domain bound around a temporal operator: the property is
+        checked once per element, each time with atoms that name that element."""
+        doms = [c for v, rng in bindings for c in self._ranges(v, rng)]
+        if doms and any(_has_temporal(x) for x in parts):
+            for c in doms:
+                self.refuse(c, f"a property binds a variable of {c.name} around a temporal operator", span)
+
+    def bindings(self, bindings) -> None:
+        for v, rng in bindings:
+            dv = self.cand(v.type)
+            if isinstance(rng, ir.DomainTerm):
+                dr = self.cand(rng.domain)
+                if dr is not None or dv is not None:
+                    if dr is not dv:
+                        c = dr or dv
+                        self.refuse(c, f"{v.name} of {v.type} ranges over {rng.domain}", rng.span)
+                continue
+            if dv is not None:
+                self.refuse(dv, f"{v.name} ranges over a part of {dv.name}", rng.span)
+            self.term(rng, None, f"the range of {v.name}")
+
+    def call(self, t) -> None:
+        name = t.name
+        if name in ("eq", "neq") and len(t.args) == 2:
+            ds = [self.cand(a.type) for a in t.args]
+            d = ds[0] or ds[1]
+            if d is not None:
+                for a, da in zip(t.args, ds):
+                    if da is d:
+                        self.term(a, d, "compared")
+                    elif isinstance(a, ir.Const):
+                        self.literal(a.value)
+                    else:
+                        self.refuse(d, f"a value of {d.name} is compared with a value of {a.type}", t.span)
+                        self.term(a, None, "compared")
+                return
+        if name in ("isDef", "isUndef") and len(t.args) == 1:
+            a = t.args[0]
+            self.term(a, self.cand(a.type), "tested for undef")
+            return
+        what = f"an argument of {t.op or name}"
+        for a in t.args:
+            self.term(a, None, what)
+
+    # -- rules
+    def rule_decl(self, r) -> None:
+        if id(r) in self.seen:
+            return
+        self.seen.add(id(r))
+        self.rule(r.body)
+
+    def rule(self, r) -> None:
+        if r is None:
+            return
+        if isinstance(r, ir.Skip):
+            return
+        if isinstance(r, ir.Update):
+            f = r.func
+            for i, a in enumerate(r.args):
+                dt = f.domain[i] if i < len(f.domain) else None
+                self.term(a, self.cand(dt), f"an argument of {f.name}")
+            self.term(r.value, self.cand(f.codomain), f"stored in {f.name}")
+        elif isinstance(r, ir.UpdateVar):
+            self.term(r.value, self.cand(r.var.type), f"stored in {r.var.name}")
+        elif isinstance(r, ir.Block):
+            for x in r.rules:
+                self.rule(x)
+        elif isinstance(r, ir.If):
+            self.term(r.cond, None, "a condition")
+            self.rule(r.then)
+            self.rule(r.other)
+        elif isinstance(r, ir.SwitchRule):
+            ds = self.cand(r.subject.type)
+            self.term(r.subject, ds, "the subject of a switch")
+            for c, x in r.cases:
+                self.term(c, ds, "a case of a switch")
+                self.rule(x)
+            self.rule(r.other)
+        elif isinstance(r, ir.LetRule):
+            for v, x in r.bindings:
+                self.term(x, self.cand(v.type), f"bound to {v.name}")
+            self.rule(r.body)
+        elif isinstance(r, ir.Choose):
+            self.bindings(r.bindings)
+            self.term(r.guard, None, "a guard")
+            self.rule(r.body)
+            self.rule(r.ifnone)
+        elif isinstance(r, ir.Forall):
+            self.bindings(r.bindings)
+            self.term(r.guard, None, "a guard")
+            self.rule(r.body)
+        elif isinstance(r, ir.Extend):
+            for c in list(self.cands):
+                self.refuse(c, "the spec uses extend", r.span)
+            self.rule(r.body)
+        elif isinstance(r, ir.CallRule):
+            params = r.rule.params
+            for i, a in enumerate(r.args):
+                pt = params[i].type if i < len(params) else None
+                self.term(a, self.cand(pt), f"an argument of {r.rule.name}")
+            self.rule_decl(r.rule)
+        elif isinstance(r, ir.TurboReturn):
+            self.rule(r.target)
+            self.rule(r.call)
+        elif isinstance(r, ir.TermCall):
+            self.term(r.term, None, "a called rule value")
+            for a in r.args:
+                self.term(a, None, "an argument of a called rule value")
+        elif isinstance(r, ir.Loop):
+            self.term(r.cond, None, "a condition")
+            self.rule(r.body)
+        elif isinstance(r, ir.LocalRule):
+            self.function(r.func)
+            self.rule(r.init)
+            self.rule(r.body)
+        else:
+            for c in list(self.cands):
+                self.refuse(c, f"a {type(r).__name__} rule is not analysed", getattr(r, "span", None))
+
+    def function(self, f) -> None:
+        for dt in list(f.domain) + [f.codomain]:
+            if isinstance(dt, T.Struct):
+                for c in _contains(dt, self.cands):
+                    self.refuse(c, f"{f.name} is declared over {dt}", f.span)
+        if f.body is not None:
+            for p in f.params or ():
+                if isinstance(p.type, T.Struct):
+                    for c in _contains(p.type, self.cands):
+                        self.refuse(c, f"a parameter of {f.name} ranges over {p.type}", f.span)
+            self.term(f.body, self.cand(f.codomain), f"the value of {f.name}")
+
+
+def _has_temporal(t) -> bool:
+    seen = set()
+    stack = [t]
+    while stack:
+        x = stack.pop()
+        if x is None or id(x) in seen:
+            continue
+        seen.add(id(x))
+        if isinstance(x, (ir.Temporal, ir.StepOp)):
+            return True
+        if isinstance(x, ir.Term):
+            stack.extend(vars(x).values())
+        elif isinstance(x, (list, tuple)):
+            stack.extend(x)
+    return False
+
+
+def _candidates(machine) -> tuple[dict, list]:
+    """Candidate domains (Domain -> their values) and the lines for the domains left out."""
+    spec = machine.spec
+    out = {}
+    lines = []
+    doms = [d for d in spec.domains if isinstance(d, T.Domain)]
+    for d in doms:
+        if d.kind == "enum":
+            vals = list(d.elements)
+        elif d.kind == "subset" and T.root(d) in (T.INTEGER, T.NATURAL) and d.definition is not None \
+                and not d.dynamic:
+            try:
+                vals = list(machine.domain_values(d, None, d.span))
+            except Exception as exc:        # noqa: BLE001 - its elements cannot be listed: no symmetry
+                lines.append(f"{d.name}: no symmetry: its elements cannot be listed ({exc})")
+                continue
+            if len(vals) > MAX_ELEMENTS:
+                lines.append(f"{d.name}: no symmetry: {len(vals):,} elements (more than {MAX_ELEMENTS:,})")
+                continue
+        elif d.kind == "abstract" and not d.dynamic and not T.agent_like(d) and d is not T.AGENT:
+            vals = list(spec.static_elements.get(d, []))
+        else:
+            continue
+        subs = [e.name for e in doms if e.kind == "subset" and e.base is d]
+        if subs:
+            lines.append(f"{d.name}: no symmetry: {', '.join(subs)} is declared a subset of it")
+            continue
+        out[d] = vals
+    return out, lines
+
+
+def detect(machine, properties=()) -> Symmetry:
+    """The interchangeable elements of ``machine``'s spec, given the ``properties`` checked
+    (objects with a ``prop`` or ``body``: ir.Property or the checker's property objects) on
+    top of the spec's own."""
+    spec = machine.spec
+    cands, lines = _candidates(machine)
+    if not cands:
+        return Symmetry([], lines or ["no enum, static abstract or finite Integer subset domain"],
+                        "no enum, static abstract or finite Integer subset domain")
+    uses = _Uses({d: {_vid(v) for v in vals} for d, vals in cands.items()}, getattr(spec, "path", "") or "")
+    for f in list(spec.functions) + list(getattr(spec, "local_functions", []) or []):
+        uses.function(f)
+    for r in spec.rules:
+        uses.rule_decl(r)
+    if spec.main is not None:
+        uses.rule_decl(spec.main)
+    for init in spec.inits:
+        for _dom, x in init.domains:
+            uses.term(x, None, "the initial elements of a domain")
+        for f, params, body, _span in init.functions:
+            uses.term(body, uses.cand(f.codomain), f"the initial value of {f.name}")
+        for a in init.agents:
+            params = a.rule.params
+            for i, x in enumerate(a.args):
+                pt = params[i].type if i < len(params) else None
+                uses.term(x, uses.cand(pt), f"an argument of {a.rule.name}")
+            uses.rule_decl(a.rule)
+    props = list(spec.properties)
+    for p in properties:
+        ip = getattr(p, "prop", None)
+        if ip is None and getattr(p, "body", None) is not None:
+            ip = p
+        if ip is not None and ip not in props:
+            props.append(ip)
+    for p in props:
+        what = f"in property {p.name}"
+        uses.term(p.body, None, what)
+        uses.term(getattr(p, "body2", None), None, what)
+    # values given to monitored functions of a candidate domain are named
+    ranges = getattr(machine, "monitored_ranges", {}) or {}
+    for f in spec.functions:
+        if f.kind == "monitored" and f.name in ranges and f.codomain in cands:
+            for v in ranges[f.name]:
+                uses.literal(v)
+    # the domains left with interchangeable elements
+    doms = {}
+    for d, vals in cands.items():
+        if d in uses.why:
+            continue
+        sd = SymmetricDomain(d, vals, sorted(uses.named[d], key=vkey))
+        if len(sd.free) >= 2:
+            doms[d] = sd
+    # every stored function has at most one position over them (a domain whose elements share
+    # a location with others is dropped, until none does)
+    stored = [f for f in spec.functions if not (f.kind == "derived" or (f.kind == "static" and f.body is not None)
+                                                or (f.kind == "static" and f.arity == 0 and abstract_codomain(f)))]
+    while True:
+        positions = {}
+        multi = {}
+        bad = None
+        for f in stored:
+            ps = [(i, dt) for i, dt in enumerate(f.domain) if dt in doms] + \
+                 ([(-1, f.codomain)] if f.codomain in doms else [])
+            if len(ps) == 1:
+                positions[f.index] = (ps[0][0], doms[ps[0][1]])
+            elif len(ps) > 1:
+                multi[f.index] = [(i, doms[dt]) for i, dt in ps]
+                big = list(dict.fromkeys(dt for _, dt in ps if math.factorial(len(doms[dt].free)) > MAX_RENAMINGS))
+                if big:
+                    bad = (f, ps, big)
+                    break
+        if bad is None:
+            break
+        f, ps, big = bad
+        names = _and(sorted({dt.name for _, dt in ps}))
+        for dt in big:
+            n = len(doms[dt].free)
+            uses.refuse(dt, f"{f.name} has several positions over {names}, and {dt.name} has {n} interchangeable "
+                            f"elements (the exact canonical form of such a function tries up to {n}! renamings; "
+                            f"at most {MAX_RENAMINGS:,} are tried)", f.span)
+            doms.pop(dt, None)
+    lines_out = list(lines)
+    for d, vals in cands.items():
+        if d in doms:
+            sd = doms[d]
+            named = sd.named
+            shown = ", ".join(_show(v) for v in named[:12]) + (", ..." if len(named) > 12 else "")
+            lines_out.append(f"{d.name}: {len(sd.free):,} of its {len(vals):,} elements are interchangeable"
+                             + (f" (named: {shown})" if named else ""))
+        elif d in uses.why:
+            lines_out.append(f"{d.name}: no symmetry: {uses.why[d]}")
+        else:
+            free = len(vals) - len(uses.named[d])
+            lines_out.append(f"{d.name}: no symmetry: " + (
+                f"every one of its {len(vals):,} elements is named by a literal" if free <= 0 else
+                f"only one of its {len(vals):,} elements is named by no literal"))
+    found = list(doms.values())
+    reason = "" if found else "no domain has interchangeable elements"
+    return Symmetry(found, lines_out, reason, positions, multi)
+
+
+def _show(v) -> str:
+    return v.name if isinstance(v, EnumValue) else repr(v)
