@@ -310,3 +310,53 @@ def test_a_repack_that_meets_the_time_limit_is_given_up(tmp_path):
     # no limit: no growth is given up
     r, ex, given_up = limited_search(path, 0.0, 18, None)
     assert (r.verdict, r.states, given_up) == ("holds", 70001, 0)
+
+
+# ----------------------------------------------------------------- a run that updates nothing
+# go false updates nothing below 5: the state itself is a successor (taken as the expanded state's
+# own number, with no record or look-up); at n = 5 the only successor sets done, then nothing more
+# happens: a deadlock (only the state itself); seven Integer words, so the packed store is used
+SELF_LOOPS = """asm SelfLoops
+import StandardLibrary
+signature:
+	controlled n: Integer
+	controlled k1: Integer
+	controlled k2: Integer
+	controlled k3: Integer
+	controlled k4: Integer
+	controlled k5: Integer
+	controlled done: Boolean
+	monitored go: Boolean
+definitions:
+	invariant inv_n over n: n <= 5
+	main rule r_main =
+		if go and n < 5 then
+			par
+				n := n + 1
+				k1 := k1 + n
+			endpar
+		else
+			if n = 5 and not done then done := true endif
+		endif
+default init s0:
+	function n = 0
+	function k1 = 0
+	function k2 = 2
+	function k3 = 3
+	function k4 = 4
+	function k5 = 5
+	function done = false
+"""
+
+
+def test_a_run_that_updates_nothing_leads_to_the_state_itself(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SELF_LOOPS, "--deadlock")
+    assert (out["states"], out["transitions"], out["depth"]) == (7, 12, 6)
+    (v,) = [v for v in out["violations"] if v["property"] == "deadlock"]
+    assert len(v["trace"]) == 7            # the initial state, five steps of n, done
+    path = write(tmp_path, SELF_LOOPS)
+    r1, ex1, par1, st1, pw1 = run(path, packed=True, deadlock=True)
+    r0, ex0, par0, st0, pw0 = run(path, packed=False, deadlock=True)
+    assert pw1 >= 1 and pw0 == -1
+    assert summary(r1) == summary(r0) and par1 == par0 == [-1, 0, 1, 2, 3, 4, 5] and st1 == st0
+    assert [v.state for v in r1.violations if v.prop.name == "deadlock"] == [6]

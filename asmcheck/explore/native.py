@@ -3868,7 +3868,7 @@ _SHARED_STATICS = frozenset("""
     cn_reason cn_reason_dom cn_search cn_ws
     succs
     grow_deadline grow_mask grow_abandoned
-    wide_of_word
+    wide_of_word self_first sb_self sb_self_cap
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")

@@ -1014,6 +1014,14 @@ static int qf_atoms(Ctx *c, int64_t bi) {
     return 1;
 }
 
+/* A run that updates nothing and makes no element leads back to the state expanded: its words
+ * are the state's, already stored and canonical.  asm_run's expansion (self_first, set around
+ * it) notes such successors (sb_self[i] for successor i of sb0) and takes the state's own number
+ * for them, with no canonical form, record or table look-up. */
+static int self_first = 0;
+static uint8_t *sb_self = 0;
+static int64_t sb_self_cap = 0;
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1079,9 +1087,25 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             uint64_t *nw = b->w + b->n * NWORDS;
             store_state(c, src, nw);
             if (MISSED()) return EXP_MISSED;
-#if CN_NDYN > 0
-            if (canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+            int same = 0;
+#ifndef MC_TAIL_ON
+            if (self_first) {
+                if (b->n >= sb_self_cap) {
+                    int64_t nc = sb_self_cap ? sb_self_cap * 2 : 64;
+                    while (nc <= b->n) nc *= 2;
+                    uint8_t *x = (uint8_t *)realloc(sb_self, nc);
+                    if (!x) return EXP_MEM;
+                    sb_self = x;
+                    sb_self_cap = nc;
+                }
+                same = c->nupd == 0 && c->cn_made != c->gen;
+                sb_self[b->n] = (uint8_t)same;
+            }
 #endif
+#if CN_NDYN > 0
+            if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+#endif
+            (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
         }
@@ -1303,7 +1327,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
         if (QF.on && !qf_state(sid)) { status = 5; goto finish; }
+#ifndef MC_TAIL_ON
+        self_first = 1;
+#endif
         int xr = expand_state(c, sw, &sb0, &steperr, &xe, &xsite, 0);
+        self_first = 0;
         if (xr == EXP_HARD) {
             out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
             status = 4; goto finish;
@@ -1338,13 +1366,20 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             pre_rec = x;
             pre_cap = nc;
         }
+#ifndef MC_TAIL_ON
+        const uint8_t *same = sb_self;        /* (successors that are the state itself: self_first) */
+#else
+        const uint8_t *same = 0;
+#endif
         if (pk_on && pk_par_ok) {
             for (; npre < nbuf; npre++) {
+                if (same && same[npre]) continue;
                 if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre)) break;
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
         } else if (!pk_on) {
             for (; npre < nbuf; npre++) {
+                if (same && same[npre]) continue;
                 pre_h[npre] = hash_state(sbuf + npre * NWORDS);
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
@@ -1353,6 +1388,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
            successor met before is compared with its record) */
         if (table && npre > 1)
             for (int64_t q = 0; q < npre; q++) {
+                if (same && same[q]) continue;
                 const Entry *e = &table[HPOS(pre_h[q]) & tmask];
                 if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q] >> 32))
                     __builtin_prefetch(states + (int64_t)e->id * PW);
@@ -1361,8 +1397,8 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         if (QF.on && QF.nk && !QF.failed && !sset_reset(&QF.seen, QF.nr)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
-            int isnew;
-            int64_t tid = b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
+            int isnew = 0;
+            int64_t tid = same && same[b] ? sid : b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
                 pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
                 intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
             /* (the parent's words: the plain store's may have moved as it grew) */
@@ -1686,6 +1722,7 @@ int64_t asm_values(void) { return nvals; }
 void asm_free(void) {
     vt_free();
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
+    free(sb_self); sb_self = 0; sb_self_cap = 0;
     free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
     free(inv_need); inv_need = 0; inv_cap = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
