@@ -622,7 +622,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     # the invariants, step properties and deadlock are decided by the search alone: a limit met in
     # the LTL/CTL phase after a complete search leaves them decided
     result.search_stopped_early = result.stopped_early
-    if checked_temporal and result.verdict != "incomplete" and not interrupted:
+    if checked_temporal and result.stopped_early and not interrupted and _partial_ok(ex):
+        temporal_results, temporal_note = _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine,
+                                                            max_memory)
+    elif checked_temporal and result.verdict != "incomplete" and not interrupted:
         from .temporal import check_temporal
         left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
         try:
@@ -659,11 +662,75 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.symmetry_hint = _symmetry_hint(model, state_props, step_props, temporal)
     run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
     run.temporal_error = temporal_error
+    if any(getattr(t, "decided_on", None) is not None for t in temporal_results) and result.verdict == "incomplete":
+        # every property decided on the partial state space, none violated: the run's verdict
+        # is the rows' (the gate's), not the search's
+        if all(r["verdict"] == "holds" for r in run.rows):
+            result.verdict = "holds"
     if temporal_error and result.verdict == "holds":
         # the LTL/CTL properties were not checked: nothing says they hold
         result.verdict = "incomplete"
         result.reason = result.reason or temporal_error
     return run
+
+
+def _partial_ok(ex) -> bool:
+    """Whether the explorer's partial state graph can decide LTL/CTL properties: the Python
+    explorer's, or the native one's on one thread (both record every step of an expanded state)."""
+    if type(ex) is Explorer:
+        # (not under symmetry reduction: its stored states are class representatives, left to the
+        # complete check)
+        return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
+    if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
+        return bool(ex.keep_graph) and ex.workers <= 1 and not ex.threaded
+    return False
+
+
+#: the memory the LTL/CTL check of a partial state space takes, per state explored, at most about
+#: (tombola.asm on the native engine: 6.8 GB at 21,664,623 states, of which 2.4 GB the search's)
+PARTIAL_BYTES_PER_STATE = 250
+
+
+def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, max_memory=None):
+    """The LTL/CTL properties decided on the state graph a search left when it stopped early
+    (:func:`asmcheck.temporal.partial.check_partial`): (results, note).  A violated one makes the
+    run's verdict violated.  Not tried when the memory bound leaves no room for it (the reason
+    says so)."""
+    from .temporal.partial import check_partial
+    note = result.reason
+    left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
+    got: list = []
+    if "a step could not be computed" in (result.reason or ""):
+        # a state without successors: the complete check could not run either
+        return [], note
+    need = PARTIAL_BYTES_PER_STATE * int(getattr(ex, "n_states", 0) or 0)
+    if max_memory is not None and need > 2**24:
+        used = memory_in_use() or 0
+        if used + need > max_memory:
+            result.reason = (f"{result.reason}; no memory left to decide LTL/CTL properties on the states explored "
+                             f"(about {need / 2**20:,.0f} MB more, over the bound of {max_memory / 2**20:,.0f} MB): "
+                             f"bound the search with --max-states")
+            return [], note
+    try:
+        if left is not None and left <= 0:
+            raise TimeUp()
+        with _watchdog(left), _deadline(machine, left):
+            # the Python explorer records a state's steps as they come: a stop other than the
+            # state or depth limit (checked between two states) may have cut the last state's
+            got = check_partial(ex, temporal, fair=list(fair or []), stopped_inside=type(ex) is Explorer and not (
+                result.reason or "").startswith(("state limit", "depth limit")))
+    except (TimeUp, DeadlineReached, MemoryError, KeyboardInterrupt):
+        got = []                # (the properties stay incomplete, as the search is)
+    except AsmError:
+        raise
+    except Exception as exc:        # an internal error: the properties stay incomplete, and say why
+        result.reason = f"{result.reason}; LTL/CTL on the partial state space: internal error: " \
+                        f"{type(exc).__name__}: {exc}"
+        got = []
+    for t in got:
+        if not t.holds and not t.message and result.verdict != "violated":
+            result.verdict = "violated"
+    return got, note
 
 
 SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
@@ -757,10 +824,17 @@ def verdict_text(row: dict) -> str:
     """A row's verdict as the text report shows it: ``holds, relative to the run-time error at
     FILE:LINE:COL`` for a verdict relative to an error."""
     rel = row.get("relative_to")
+    part = partial_text(row.get("decided_on"))
     if rel is None:
-        return row["verdict"]
+        return row["verdict"] + part
     where = f" at {Path(rel.rsplit(':', 2)[0]).name}:{':'.join(rel.rsplit(':', 2)[1:])}" if rel else ""
-    return f"{row['verdict']}, relative to the run-time error{where}"
+    return f"{row['verdict']}, relative to the run-time error{where}{part}"
+
+
+def partial_text(decided_on) -> str:
+    """`` (decided on the N states explored)`` for a verdict decided on a partial state space
+    ("" for one on the whole state space)."""
+    return "" if decided_on is None else f" (decided on the {decided_on:,} states explored)"
 
 
 def _property_place(prop) -> dict:
@@ -908,10 +982,17 @@ class Exploration:
             if verdict == "error":
                 verdict = "cannot be checked"
             rows.append(row(t.name, t.kind, verdict, getattr(t, "relative_to", None) is not None))
+            if getattr(t, "decided_on", None) is not None:
+                rows[-1]["decided_on"] = t.decided_on
             done.add(t.name)
+        first = len(rows) - len(done)
         for p in self.checked_temporal:
             if p.name not in done:
                 rows.append({"property": p.name, "kind": p.kind, "verdict": "incomplete"})
+        if any("decided_on" in r for r in rows[first:]):
+            # verdicts decided on a partial state space beside incomplete ones: in declaration order
+            order = {p.name: i for i, p in enumerate(self.checked_temporal)}
+            rows[first:] = sorted(rows[first:], key=lambda r: order.get(r["property"], -1))
         return rows
 
     @property
@@ -957,7 +1038,18 @@ class Exploration:
 
     def temporal_text(self, color: bool = False) -> list[list[str]]:
         """The text of each violated temporal property (with its replayed counterexample)."""
-        return [temporal_text(t, self.model.machine, color) for t in self.temporal if not t.holds]
+        out = []
+        for t in self.temporal:
+            if t.holds:
+                continue
+            lines = list(temporal_text(t, self.model.machine, color))
+            n = getattr(t, "decided_on", None)
+            if n is not None and not t.message:
+                # a verdict of the partial state space: the path holds whatever the rest would be
+                lines.insert(1, f"  decided on the {n:,} states explored: every continuation of the states "
+                                f"not expanded keeps this counterexample")
+            out.append(lines)
+        return out
 
     def json(self) -> dict:
         """The report of ``asmcheck explore --format json``."""
@@ -974,7 +1066,8 @@ class Exploration:
             "compile_seconds": round(self.compile_seconds, 3),
             "properties": self.rows,
             "violations": [_violation_json(v) for v in self.violations if not hasattr(v.raw, "holds")]
-                          + [{**temporal_json(t, self.model.machine), **_property_place(t.prop)}
+                          + [{**temporal_json(t, self.model.machine), **_property_place(t.prop),
+                              **({"decided_on": t.decided_on} if getattr(t, "decided_on", None) is not None else {})}
                              for t in self.temporal if not t.holds],
         }
         if self.engine_note:

@@ -266,6 +266,7 @@ def test_backward_search_sizes(monkeypatch, n, compiled):
     from asmcheck.temporal.ctl import CTL
     from asmcheck.temporal.kripke import Kripke
     monkeypatch.setattr(kernel, "ENABLED", compiled)
+    monkeypatch.setattr(kernel, "EU_FORWARD_ENTRIES", 1 << 40)       # the backward lists at once
     K = Kripke()
     K.mode = "step"
     K.n = n

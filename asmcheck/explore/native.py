@@ -3823,6 +3823,7 @@ _SYMBOLS = {
     "asm_run_par": (_i64, [_f64, _i64p, _i64]),
     "asm_limit_memory": (None, [_i64]),
     "asm_memory_bytes": (_i64, []),
+    "asm_canon_bytes": (_i64, []),
     "asm_par_stats": (None, [ctypes.POINTER(ctypes.c_double)]),
     "asm_par_min_chunk": (None, [_i64]),
     "asm_par_max_chunk": (None, [_i64]),
@@ -3843,6 +3844,9 @@ _SYMBOLS = {
     "asm_qf_table_limit": (None, [_i64]),
     "asm_qf_steps": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_take": (None, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
+    "asm_qf_layout": (None, [_i64p]),
+    "asm_qf_keys": (None, [ctypes.c_void_p, ctypes.c_void_p]),
+    "asm_qf_direct_bits": (None, [_i64]),
 }
 
 
@@ -4296,6 +4300,8 @@ class NativeExplorer:
         self.dll.asm_qf(len(ks), (ctypes.c_int64 * max(len(ks), 1))(*ks), 1 if self._qf_edges_too else 0)
         if self.QF_TABLE is not None:
             self.dll.asm_qf_table_limit(self.QF_TABLE)
+        if self.QF_DIRECT_BITS is not None:
+            self.dll.asm_qf_direct_bits(self.QF_DIRECT_BITS)
         return True
 
     def _qf_recorded(self) -> bool:
@@ -4335,7 +4341,11 @@ class NativeExplorer:
         nodes leaving it as (off, adj)), merged from the pairs the search recorded: ``items`` must be
         the atoms the search evaluated (in the same order), ``sig`` each state's signature, steps from
         states with ``ok_state`` unset or whose bits miss one of ``need`` dropped.  None when the
-        search did not record them for these atoms (then the edges are recorded by a search again)."""
+        search did not record them for these atoms (then the edges are recorded by a search again).
+        The lists come as 16-bit entries when they fit (array('H')): the nodes when there are at
+        most 65,536, else -- without atoms, at most 65,536 states -- the targets, and ``adj`` is
+        then ``(targets, key, tab, n)``: the node of target t in state s's list is
+        ``tab[key[s] * n + t]`` (:class:`asmcheck.temporal.classes.Classes`)."""
         if not self._qf_recorded():
             return None
         if [(id(a.term), _env_key(a.env)) for a in items] != self._qf_keys:
@@ -4353,15 +4363,25 @@ class NativeExplorer:
         st = (ctypes.c_int64 * 3)()
         self.dll.asm_qf_status(st)
         na = st[1]
+        lay = (ctypes.c_int64 * 3)()
+        self.dll.asm_qf_layout(lay)
+        self.qf_direct = bool(lay[2])      # (the tests read it)
+        code = "i" if lay[0] == 0 else "H"
         # the lists a part at a time (a long one is not held twice), then the rest
-        adj = array("i")
-        part = array("i", [0]) * min(max(na, 1), 1 << 20)
+        adj = array(code)
+        part = array(code, [0]) * min(max(na, 1), 1 << 16)
         view = memoryview(part).cast("B")
         for start in range(0, na, len(part)):
             k = min(len(part), na - start)
             self.dll.asm_qf_chunk(start, k, ptr(addr(part)))
-            adj.frombytes(view[:4 * k])
+            adj.frombytes(view[:part.itemsize * k])
         del view, part
+        if lay[0] == 2:
+            key = array("i", [0]) * max(n, 1)
+            tab = array("i", [0]) * max(lay[1] * n, 1)
+            self.dll.asm_qf_keys(ptr(addr(key)), ptr(addr(tab)))
+            del key[n:], tab[lay[1] * n:]
+            adj = (adj, key, tab, n)
         off = array("i", [0]) * (n + 1)
         fsrc = array("I", [0]) * max(nq, 1)
         fdst = array("i", [0]) * max(nq, 1)
@@ -4571,6 +4591,7 @@ class NativeExplorer:
     # -------------------------------------------------------------- the explorer's interface
     STATE_CACHE = 65536
     QF_TABLE = None       # the most entries of the table that merges the quotient's nodes (tests: 0)
+    QF_DIRECT_BITS = None  # the bits of a recorded pair's direct code (tests: few, so that it overflows)
 
     @property
     def n_states(self) -> int:

@@ -891,19 +891,31 @@ static struct {
     int on, edges_too, nk, failed, merged;
     int64_t table_limit;                       /* asm_qf_quotient's table: -1 as it sees fit */
     int64_t ks[64];
-    uint32_t *item; int64_t n, cap;            /* the lists, state after state */
+    /* the lists, state after state: 16-bit entries (w16) while every entry fits, then 32-bit */
+    uint32_t *item; int64_t n, cap; int w16;
+    /* direct: an entry is a pair's code (target << nk | bits) while codes stay below 2^dbits (up to
+       8 atoms; no table of pairs), else the pair's number */
+    int direct, dbits;
     int64_t *off; int64_t noff, capoff;        /* off[0 .. noff - 1] are set */
     uint32_t *pd; uint64_t *pv; int64_t np, capp;      /* the pairs */
     uint32_t *ph; int64_t phcap;               /* their hash table (number + 1; 0: empty) */
     int64_t *rb; uint64_t *rv; int64_t nr, capr;       /* the expanded state's (successor, bits) */
     SuccSet seen;                              /* the pairs met from the expanded state */
-    /* the quotient (asm_qf_quotient): each node's first step */
+    /* the quotient (asm_qf_quotient): each node's first step; its lists' layout (0: 32-bit nodes,
+       1: 16-bit nodes, 2: 16-bit targets, the node of target t in state s's list qtab[qkey[s] *
+       nstates + t], nkeys rows) */
     uint32_t *fsrc; int32_t *fdst; uint64_t *fvec; int64_t nq;
+    int lay; int64_t nkeys; int32_t *qkey, *qtab;
 } QF;
+
+#define QI(e) (QF.w16 ? (uint32_t)((const uint16_t *)QF.item)[e] : QF.item[e])
+/* the target and the bits of the pair at entry e */
+#define QD(e) (QF.direct ? QI(e) >> QF.nk : QF.pd[QI(e)])
+#define QV(e) (QF.direct ? (uint64_t)(QI(e) & ((1u << QF.nk) - 1)) : QF.pv[QI(e)])
 
 static void qf_free(void) {
     free(QF.item); free(QF.off); free(QF.pd); free(QF.pv); free(QF.ph); free(QF.rb); free(QF.rv);
-    free(QF.seen.set); free(QF.fsrc); free(QF.fdst); free(QF.fvec);
+    free(QF.seen.set); free(QF.fsrc); free(QF.fdst); free(QF.fvec); free(QF.qkey); free(QF.qtab);
     memset(&QF, 0, sizeof(QF));
 }
 
@@ -911,7 +923,8 @@ static void qf_free(void) {
 void asm_qf(int64_t nk, const int64_t *ks, int64_t edges_too) {
     qf_free();
     if (nk < 0 || nk > 64) return;
-    QF.on = 1; QF.nk = (int)nk; QF.edges_too = edges_too != 0; QF.table_limit = -1;
+    QF.on = 1; QF.nk = (int)nk; QF.edges_too = edges_too != 0; QF.table_limit = -1; QF.w16 = 1;
+    QF.direct = nk >= 1 && nk <= 8; QF.dbits = 32;
     for (int64_t k = 0; k < nk; k++) QF.ks[k] = ks[k];
 }
 
@@ -934,14 +947,56 @@ static int qf_state(int64_t sid) {
     return 1;
 }
 
-static inline int qf_item(uint32_t x) {
-    if (QF.n >= QF.cap && !qf_grow((void **)&QF.item, &QF.cap, QF.n + 1, sizeof(uint32_t))) return 0;
-    QF.item[QF.n++] = x;
+/* the 16-bit lists made 32-bit (an entry above 65,535 came) */
+static int qf_widen(void) {
+    int64_t cap = QF.cap > QF.n ? QF.cap : QF.n + 1;
+    uint32_t *x = (uint32_t *)malloc((size_t)cap * sizeof(uint32_t));
+    if (!x) return 0;
+    const uint16_t *a = (const uint16_t *)QF.item;
+    for (int64_t e = 0; e < QF.n; e++) x[e] = a[e];
+    free(QF.item);
+    QF.item = x; QF.cap = cap; QF.w16 = 0;
     return 1;
 }
 
-/* the number of the pair (d, v), added when new; -1 when out of memory */
+static inline int qf_item(uint32_t x) {
+    if (QF.w16 && x > 0xffff && !qf_widen()) return 0;
+    if (QF.n >= QF.cap && !qf_grow((void **)&QF.item, &QF.cap, QF.n + 1, QF.w16 ? sizeof(uint16_t) : sizeof(uint32_t)))
+        return 0;
+    if (QF.w16) ((uint16_t *)QF.item)[QF.n++] = (uint16_t)x;
+    else QF.item[QF.n++] = x;
+    return 1;
+}
+
+static int64_t qf_pair(uint32_t d, uint64_t v);
+
+/* the entries made pair numbers (a code no longer fits): the expanded state's pairs so far are the
+   pairs met under their numbers; 0 when out of memory */
+static int qf_undirect(void) {
+    QF.direct = 0;
+    for (int64_t e = 0; e < QF.n; e++) {
+        uint32_t x = QI(e);
+        int64_t p = qf_pair(x >> QF.nk, x & ((1u << QF.nk) - 1));
+        if (p < 0 || (QF.w16 && p > 0xffff && !qf_widen())) return 0;
+        if (QF.w16) ((uint16_t *)QF.item)[e] = (uint16_t)p;
+        else QF.item[e] = (uint32_t)p;
+    }
+    if (QF.noff && !sset_reset(&QF.seen, QF.nr)) return 0;
+    for (int64_t e = QF.noff ? QF.off[QF.noff - 1] : QF.n; e < QF.n; e++) sset_first(&QF.seen, QI(e));
+    return 1;
+}
+
+/* the tests' limit of direct codes (bits) */
+void asm_qf_direct_bits(int64_t bits) { QF.dbits = (int)bits; }
+
+/* the number of the pair (d, v) (its code while the entries are direct), added when new; -1 when
+   out of memory */
 static int64_t qf_pair(uint32_t d, uint64_t v) {
+    if (QF.direct) {
+        uint64_t code = ((uint64_t)d << QF.nk) | v;
+        if (code < (1ULL << QF.dbits)) return (int64_t)code;
+        if (!qf_undirect()) return -1;
+    }
     if (2 * (QF.np + 1) > QF.phcap) {
         int64_t nc = QF.phcap ? QF.phcap * 2 : 1024;
         uint32_t *h = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
@@ -1542,7 +1597,7 @@ int64_t asm_qf_steps(const uint8_t *ok, uint32_t *src, int32_t *dst, uint64_t *v
         if (!ok[s]) continue;
         if (src)
             for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++, w++) {
-                src[w] = (uint32_t)s; dst[w] = (int32_t)QF.pd[QF.item[e]]; vec[w] = QF.pv[QF.item[e]];
+                src[w] = (uint32_t)s; dst[w] = (int32_t)QD(e); vec[w] = QV(e);
             }
         else w += QF.off[s + 1] - QF.off[s];
     }
@@ -1594,20 +1649,24 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
         if (!ok[s] || QF.off[s + 1] == QF.off[s]) continue;
         if (!QF.nk) { if (qk_id(&kt, sig[s], 0) < 0) goto oom; continue; }
         for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++) {
-            uint64_t v = QF.pv[QF.item[e]];
+            uint64_t v = QV(e);
             if ((v & need) == need && qk_id(&kt, sig[s], v) < 0) goto oom;
         }
     }
     int64_t hcap = 0, qcap = 0, nq = 0, w = 0;
     uint32_t *h = 0;
-    int32_t *tab = 0;
+    int32_t *tab = 0, *out32 = 0;
     int64_t limit = QF.table_limit >= 0 ? QF.table_limit : (QF.n / 4 > (1 << 20) ? QF.n / 4 : (1 << 20));
     if ((double)kt.n * (double)n <= (double)limit) {
         tab = (int32_t *)malloc((size_t)(kt.n * n + 1) * sizeof(int32_t));
         if (!tab) goto oom;
         memset(tab, 0xff, (size_t)(kt.n * n + 1) * sizeof(int32_t));
     }
-    int32_t *adj = (int32_t *)QF.item;
+    /* the lists are rewritten in place: the nodes, 16-bit while they fit (then the entries so far go
+       to a 32-bit copy, out32); without atoms and with the table the 16-bit targets stay, and are
+       made nodes afterwards when there are at most 65,536 (else the table goes with them) */
+    int keep_targets = QF.w16 && !QF.nk && tab;
+    uint16_t *a16 = (uint16_t *)QF.item;
     for (int64_t s = 0; s < n; s++) {
         int64_t a = QF.off[s], b = QF.off[s + 1];
         QF.off[s] = w;
@@ -1615,8 +1674,8 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
         uint64_t g = sig[s];
         int64_t k = QF.nk ? -1 : qk_id(&kt, g, 0);
         for (int64_t e = a; e < b; e++) {
-            uint32_t d = QF.nk ? QF.pd[QF.item[e]] : QF.item[e];
-            uint64_t v = QF.nk ? QF.pv[QF.item[e]] : 0;
+            uint32_t d = QF.nk ? QD(e) : QI(e);
+            uint64_t v = QF.nk ? QV(e) : 0;
             if ((v & need) != need) continue;
             if (QF.nk) k = qk_id(&kt, g, v);
             int64_t q = -1;
@@ -1627,7 +1686,7 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
                 if (2 * (nq + 1) > hcap) {
                     int64_t nc = hcap ? hcap * 2 : 1024;
                     uint32_t *h2 = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
-                    if (!h2) { free(h); free(tab); goto oom; }
+                    if (!h2) { free(h); free(tab); free(out32); goto oom; }
                     for (int64_t i = 0; i < nq; i++) {
                         uint64_t x = mix64((uint64_t)qk_id(&kt, sig[QF.fsrc[i]], QF.fvec[i]) ^ ((uint64_t)(uint32_t)QF.fdst[i] << 32)) & (uint64_t)(nc - 1);
                         while (h2[x]) x = (x + 1) & (uint64_t)(nc - 1);
@@ -1648,7 +1707,7 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
                     int64_t c1 = qcap, c2 = qcap, c3 = qcap;
                     if (!qf_grow((void **)&QF.fsrc, &c1, nq + 1, sizeof(uint32_t)) ||
                         !qf_grow((void **)&QF.fdst, &c2, nq + 1, sizeof(int32_t)) ||
-                        !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) { free(h); free(tab); goto oom; }
+                        !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) { free(h); free(tab); free(out32); goto oom; }
                     qcap = c1;
                 }
                 q = nq++;
@@ -1656,11 +1715,39 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
                 if (tab) tab[k * n + d] = (int32_t)q;
                 else h[p] = (uint32_t)(q + 1);
             }
-            adj[w++] = (int32_t)q;
+            if (keep_targets) a16[w++] = (uint16_t)d;
+            else if (out32) out32[w++] = (int32_t)q;
+            else if (QF.w16 && q <= 0xffff) a16[w++] = (uint16_t)q;
+            else if (QF.w16) {
+                out32 = (int32_t *)malloc((size_t)(QF.n + 1) * sizeof(int32_t));
+                if (!out32) { free(h); free(tab); goto oom; }
+                for (int64_t x = 0; x < w; x++) out32[x] = a16[x];
+                out32[w++] = (int32_t)q;
+            } else ((int32_t *)QF.item)[w++] = (int32_t)q;
         }
     }
     QF.off[n] = w;
     free(h);
+    QF.lay = QF.w16 ? 1 : 0;
+    if (out32) {
+        free(QF.item);
+        QF.item = (uint32_t *)out32; QF.w16 = 0; QF.lay = 0;
+    } else if (keep_targets && nq <= 0x10000) {
+        /* the targets made nodes */
+        for (int64_t s = 0; s < n; s++) {
+            if (QF.off[s + 1] == QF.off[s]) continue;
+            const int32_t *row = tab + qk_id(&kt, sig[s], 0) * n;
+            for (int64_t e = QF.off[s]; e < QF.off[s + 1]; e++) a16[e] = (uint16_t)row[a16[e]];
+        }
+    } else if (keep_targets) {
+        QF.qkey = (int32_t *)calloc((size_t)n + 1, sizeof(int32_t));
+        if (!QF.qkey) { free(tab); goto oom; }
+        for (int64_t s = 0; s < n; s++)
+            if (QF.off[s + 1] > QF.off[s]) QF.qkey[s] = (int32_t)qk_id(&kt, sig[s], 0);
+        QF.qtab = tab; tab = 0;
+        QF.nkeys = kt.n;
+        QF.lay = 2;
+    }
     free(tab);
     qk_free(&kt);
     QF.merged = 1;
@@ -1677,13 +1764,34 @@ oom:
     return -1;
 }
 
-/* the lists' entries [start, start + n) copied to out; the whole pages before start + n are given
-   back to the system (the copy of a long list does not hold it twice) */
-void asm_qf_chunk(int64_t start, int64_t n, int32_t *out) {
-    memcpy(out, QF.item + start, (size_t)n * sizeof(int32_t));
+/* after asm_qf_quotient: [0] the lists' layout (0: 32-bit nodes, 1: 16-bit nodes, 2: 16-bit
+   targets through the table) [1] the table's rows (layout 2) [2] whether the search's entries were
+   pair codes to the end */
+void asm_qf_layout(int64_t *out) {
+    out[0] = QF.lay;
+    out[1] = QF.nkeys;
+    out[2] = QF.direct;
+}
+
+/* layout 2: each state's row (n) and the table (rows x n: the node of (row, target), -1: none) */
+void asm_qf_keys(int32_t *key, int32_t *tab) {
+    if (QF.lay != 2) return;
+    memcpy(key, QF.qkey, (size_t)nstates * sizeof(int32_t));
+    memcpy(tab, QF.qtab, (size_t)(QF.nkeys * nstates) * sizeof(int32_t));
+    free(QF.qkey); free(QF.qtab);
+    QF.qkey = QF.qtab = 0;
+}
+
+/* the lists' entries [start, start + n) copied to out (16-bit entries in layouts 1 and 2); the
+   whole pages before start + n are given back to the system (the copy of a long list does not
+   hold it twice) */
+void asm_qf_chunk(int64_t start, int64_t n, void *out) {
+    size_t w = QF.w16 ? sizeof(uint16_t) : sizeof(uint32_t);
+    char *base = (char *)QF.item;
+    memcpy(out, base + start * w, (size_t)n * w);
 #if defined(MADV_DONTNEED)
-    uintptr_t lo = ((uintptr_t)QF.item + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)(QF.item + start + n)) & ~(uintptr_t)4095;
-    if (hi > lo && QF.n * sizeof(uint32_t) >= ((size_t)1 << 22)) madvise((void *)lo, hi - lo, MADV_DONTNEED);
+    uintptr_t lo = ((uintptr_t)base + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)(base + (start + n) * w)) & ~(uintptr_t)4095;
+    if (hi > lo && QF.n * w >= ((size_t)1 << 18)) madvise((void *)lo, hi - lo, MADV_DONTNEED);
 #endif
 }
 
@@ -1754,6 +1862,26 @@ static int64_t table_bytes(int64_t n) {
     return cap * (int64_t)sizeof(Entry);
 }
 
+/* the canonical forms' tables of a spec that extends domains (native_canon.c: each search context's
+   memo of texts, its kept forms and buffers), as allocated */
+static int64_t canon_bytes(void) {
+#if CN_NDYN > 0
+    int64_t b = 0;
+    for (int i = 0; i < CN_MAXW; i++) {
+        CnW *w = cn_ws[i].w;
+        if (!w) continue;
+        b += (int64_t)sizeof(CnW) + (w->memo ? (int64_t)(w->mmask + 1) * (int64_t)sizeof(CnMemo) : 0)
+             + w->mtext.cap + w->tb.cap + (int64_t)w->capsp * (int64_t)sizeof(CnSpan)
+             + w->dcap * (int64_t)sizeof(V) + (w->dtab ? (int64_t)(w->dmask + 1) * (int64_t)sizeof(int64_t) : 0);
+    }
+    return b;
+#else
+    return 0;
+#endif
+}
+
+int64_t asm_canon_bytes(void) { return canon_bytes(); }
+
 static int64_t memory_bytes(int64_t n) {
     return n * (int64_t)(PW * sizeof(uint64_t) + sizeof(uint32_t)) + table_bytes(n) + pk_bytes()
         /* the edges: two arrays of ends here, as allocated (cap_edges, a function of nedges);
@@ -1761,8 +1889,9 @@ static int64_t memory_bytes(int64_t n) {
            asm_edges_take frees this one (three arrays at most at a time) */
         + (2 * S.cap_edges + S.nedges) * (int64_t)sizeof(uint32_t)
         /* the temporal quotient's lists (asm_qf), here and in Python's copy, and its pairs */
-        + QF.n * 2 * (int64_t)sizeof(uint32_t) + QF.noff * (int64_t)sizeof(int64_t) + QF.np * 20
-        + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V);
+        + QF.n * 2 * (int64_t)(QF.w16 ? sizeof(uint16_t) : sizeof(uint32_t)) + QF.noff * (int64_t)sizeof(int64_t) + QF.np * 20
+        + nvals * (int64_t)(sizeof(VEnt) + 2 * sizeof(int64_t)) + npool * (int64_t)sizeof(V)
+        + canon_bytes();
 }
 
 static int over_memory(int64_t n) { return P.max_bytes >= 0 && memory_bytes(n) > P.max_bytes; }

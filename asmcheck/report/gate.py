@@ -78,6 +78,8 @@ class PropertyOutcome:
     # a step of the spec fails: the verdict is relative to that run-time error (its location),
     # the property having been checked on the well-defined steps
     relative_to: Location | None = None
+    # a temporal verdict decided on a partial state space: the states explored (None: the whole)
+    decided_on: int | None = None
 
     @property
     def tolerated(self) -> bool:
@@ -165,6 +167,8 @@ def judge(row: PropertyOutcome, declares_expectations: bool, strict: bool) -> Pr
         row.status, row.label = ERROR, "cannot be checked"
     if row.relative_to is not None and v in ("holds", "violated"):
         row.label += f", relative to the run-time error at {row.relative_to}"
+    if row.decided_on is not None and v in ("holds", "violated"):
+        row.label += f" (decided on the {row.decided_on:,} states explored)"
     return row
 
 
@@ -282,6 +286,8 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
                                                          avalla_dir=avalla_dir, spec_name=spec.name)
         if not msg and getattr(t, "relative_to", None) is not None:
             row.relative_to = relative
+        if not msg:
+            row.decided_on = getattr(t, "decided_on", None)
         rows.append(row)
         seen.add(t.name)
     seen |= {r.name for r in rows}
@@ -301,6 +307,12 @@ def build_outcome(path, spec, machine, explorer, result, temporal=(), temporal_r
                                             location=span_location(prop.span, prop.name, root),
                                             text=property_text(prop), message="the exploration is incomplete"))
                 seen.add(prop.name)
+    if any(r.decided_on is not None for r in rows):
+        # verdicts decided on a partial state space beside incomplete ones: in declaration order
+        order = {getattr(p, "name", None): i for i, p in enumerate(temporal)}
+        at = [i for i, r in enumerate(rows) if r.kind in TEMPORAL_KINDS and r.name in order]
+        for i, r in zip(at, sorted((rows[i] for i in at), key=lambda r: order[r.name])):
+            rows[i] = r
     for name in sorted(expected - seen):
         prop = by_name.get(name)
         if prop is not None and getattr(prop, "kind", "") in TEMPORAL_KINDS:

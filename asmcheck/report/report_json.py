@@ -27,6 +27,7 @@ def _row(p) -> dict:
         "counterexample": cx.json if cx is not None else None,
         "avalla": cx.avalla_path if cx is not None else None,
         **({"relative_to": p.relative_to.json()} if getattr(p, "relative_to", None) is not None else {}),
+        **({"decided_on": p.decided_on} if getattr(p, "decided_on", None) is not None else {}),
     }
 
 

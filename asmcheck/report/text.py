@@ -61,6 +61,8 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
                     head += " (expected)"
                 elif p.status != FAIL:
                     head += " (tolerated: the spec declares other expected violations)"
+                if getattr(p, "decided_on", None) is not None:
+                    head += f" (decided on the {p.decided_on:,} states explored)"
                 out.append("")
                 if show_trace and n is not None:
                     out.extend(violation_lines(head, cx, color, p.text, cx.fairness))

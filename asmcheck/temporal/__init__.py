@@ -15,6 +15,10 @@ LTL / CTL / invariant property, in the order given.
   implies q infinitely often), and ``fair`` = the ``--fair`` domains: weak fairness of
   every agent of the domain (``all``: of every alternative of every choose rule).
 
+A search stopped by a limit leaves a partial state graph: :mod:`.partial` decides the properties
+that have the same value whatever the unexplored part holds (:func:`.partial.check_partial`;
+its results carry ``decided_on``, the states explored).
+
 Counterexamples (and witnesses of existential CTL properties) are replayed through the
 step function; :func:`asmcheck.report.trace.temporal_text` and ``temporal_json`` render them.
 
@@ -60,6 +64,9 @@ class TemporalResult:
         # the run-time error the verdict is relative to (an AsmError: the first step found to
         # fail), None when every step of the explored graph is well defined
         self.relative_to = None
+        # decided on a partial state space (asmcheck.temporal.partial): the states explored when
+        # the search stopped; None for a verdict on the whole state space
+        self.decided_on = None
         self._trace = None
 
     @property
@@ -169,8 +176,8 @@ def _fair_text(p) -> str:
     return f"JUSTICE {body}"
 
 
-def _has_existential_top(f) -> bool:
-    return f[0] in ("EX", "EU", "EG") or (f[0] == "or" and any(_has_existential_top(x) for x in f[1:]))
+def has_existential_top(f) -> bool:
+    return f[0] in ("EX", "EU", "EG") or (f[0] == "or" and any(has_existential_top(x) for x in f[1:]))
 
 
 def label_atoms(machine, props, state) -> list:
@@ -201,7 +208,7 @@ def label_atoms(machine, props, state) -> list:
     return [(a.term, a.env) for a in atoms.items]
 
 
-def _formulas(machine, props, fair, state):
+def formulas(machine, props, fair, state):
     """The atoms and formulas of the temporal properties ``props`` (the first explored state
     ``state`` serves the formula builder): (atoms, checks, justice, compassion, fairness texts,
     errors, INVAR atoms, atoms the formulas read)."""
@@ -258,7 +265,7 @@ def quotient_plan(machine, props, fair=(), graph=False):
     edges_too = bool(graph or fair)
 
     def plan(state):
-        atoms, checks, justice, compassion, _, errors, invars, used = _formulas(machine, props, [], state)
+        atoms, checks, justice, compassion, _, errors, invars, used = formulas(machine, props, [], state)
         if errors or not any(f is not None for _, _, f, _ in checks):
             return None
         all_atoms = sorted(set(used) | set(invars) | {a for _, a in justice} |
@@ -280,7 +287,7 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
     t_start = time.perf_counter()
     machine = explorer.m
     fair = [f for f in (fair or [])]
-    atoms, checks, justice, compassion, fairness_text, errors, invars, used = _formulas(
+    atoms, checks, justice, compassion, fairness_text, errors, invars, used = formulas(
         machine, props, fair, explorer.state(0))
     results = []
     # every state has a successor (a step without updates loops): a state without one is
@@ -348,7 +355,7 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
         nodes, loop, witness = [], None, False
         if not holds:
             nodes, loop = ctl.explain(f, bad, False)
-        elif _has_existential_top(f):
+        elif has_existential_top(f):
             v0 = next((v for v in K.init if ctl.fair[v]), None)
             if v0 is not None:
                 nodes, loop = ctl.explain(f, v0, True)

@@ -9,6 +9,22 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The layout of the successor lists of a Kripke structure (kn_layout, set before each call that
+ * reads them; the LTL product's own lists are always 0): 0 int32 entries; 1 uint16 entries; 2
+ * uint16 entries that are states, node L_tab[L_key[c] * L_n + t] in the list of class c (a
+ * structure whose nodes are (key, target): every entry of a class's list has the class's key). */
+static int L_mode = 0;
+static const int32_t *L_key = 0, *L_tab = 0;
+static int64_t L_n = 0;
+
+void kn_layout(int64_t mode, const int32_t *key, const int32_t *tab, int64_t n) {
+    L_mode = (int)mode; L_key = key; L_tab = tab; L_n = n;
+}
+
+/* entry e of class c's list (adj: that structure's entries) */
+#define ENT(A, c, e) (L_mode == 0 ? ((const int32_t *)(A))[e] : L_mode == 1 ? (int32_t)((const uint16_t *)(A))[e] \
+                      : L_tab[(int64_t)L_key[c] * L_n + ((const uint16_t *)(A))[e]])
+
 static int32_t *P_k = 0, *P_q = 0, *P_off = 0, *P_adj = 0, *P_init = 0;
 static int64_t P_n = 0, P_nadj = 0, P_ninit = 0;
 
@@ -34,7 +50,7 @@ static int push32(int32_t **a, int64_t *cap, int64_t n, int32_t x) {
  * cls[k]'s list coff/cadj; sig[k] its atom bits) with the automaton (Q nodes; successors
  * goff/gadj; literal masks posm/negm; initial nodes ginit), from the initial nodes kinit.
  * Returns the number of product nodes, -1 when out of memory. */
-int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const int32_t *cadj, const uint64_t *sig,
+int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const void *cadj, const uint64_t *sig,
                    int64_t nkinit, const int32_t *kinit, int64_t Q, const int32_t *goff, const int32_t *gadj,
                    int64_t nginit, const int32_t *ginit, const uint64_t *posm, const uint64_t *negm) {
     kn_free();
@@ -75,7 +91,7 @@ int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const int
         int32_t k = P_k[i], q = P_q[i];
         int32_t c = cls[k];
         for (int32_t e = coff[c]; e < coff[c + 1]; e++) {
-            int32_t k2 = cadj[e];
+            int32_t k2 = ENT(cadj, c, e);
             uint64_t s = sig[k2];
             for (int32_t f = goff[q]; f < goff[q + 1]; f++) {
                 int32_t q2 = gadj[f];
@@ -129,29 +145,29 @@ void kn_map(int64_t by_q, const uint8_t *bytes, uint8_t *out) {
  * and, for each of the nc compassion pairs (p, q: rows of P_n bytes), q if p.  comp[v] gets
  * the number of v's fair component (-1: in none).  Returns the number of fair components,
  * -1 when out of memory. */
-static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+static int64_t fair_core(int lay, int64_t N, int64_t ncls, const int32_t *cls, const int32_t *P_off, const void *P_adj,
                          int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
                          int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
                          int32_t *comp);
 
 int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
-    return fair_core(P_n, 0, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
+    return fair_core(0, P_n, 0, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
 }
 
 /* the same on a graph given by the caller: the successors of node v are the list of its class
  * cls[v] (off/adj, ncls classes); only nodes with mask[v] count; roots: where the search starts
  * (null: every node of the mask, ascending) */
-int64_t kn_fair_graph(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+int64_t kn_fair_graph(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *off, const void *adj,
                       int64_t nroots, const int32_t *roots, const uint8_t *mask, int64_t nj, const uint8_t *just,
                       int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
-    return fair_core(N, ncls, cls, off, adj, nroots, roots, mask, nj, just, nc, cp, cq, comp);
+    return fair_core(1, N, ncls, cls, off, adj, nroots, roots, mask, nj, just, nc, cp, cq, comp);
 }
 
 /* With classes (cls not null) the search runs on the graph whose vertices are the N nodes and the
  * ncls classes (vertex N + c): node v -> class cls[v] -> the nodes of the class's list, so that a
  * list shared by many nodes is walked once; the components restricted to the nodes are the
  * components of the nodes' graph, and a component of two vertices or more has a cycle. */
-static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int32_t *P_off, const int32_t *P_adj,
+static int64_t fair_core(int lay, int64_t N, int64_t ncls, const int32_t *cls, const int32_t *P_off, const void *P_adj,
                          int64_t P_ninit, const int32_t *P_init, const uint8_t *mask,
                          int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq,
                          int32_t *comp) {
@@ -176,7 +192,8 @@ static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int3
        node with classes: its class, at position -1) */
 #define BEG(x) (relay ? ((x) < N ? -1 : P_off[(x) - N]) : P_off[x])
 #define END(x) (relay ? ((x) < N ? 0 : P_off[(x) - N + 1]) : P_off[(x) + 1])
-#define SUCC(x, p) (relay && (x) < N ? (int32_t)(N + cls[x]) : P_adj[p])
+#define AENT(c, p) (lay ? ENT(P_adj, c, p) : ((const int32_t *)P_adj)[p])
+#define SUCC(x, p) (relay && (x) < N ? (int32_t)(N + cls[x]) : AENT(relay ? (x) - N : (x), p))
     for (int64_t v = 0; v < V; v++) {
         index[v] = -1;
         if (region) region[v] = (mask && v < N && !mask[v]) ? -1 : 0;
@@ -228,7 +245,7 @@ static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int3
                 if (size == 1) {
                     ok = 0;
                     if (!relay)
-                        for (int32_t e = P_off[v]; e < P_off[v + 1]; e++) if (P_adj[e] == v) { ok = 1; break; }
+                        for (int32_t e = P_off[v]; e < P_off[v + 1]; e++) if (AENT(v, e) == v) { ok = 1; break; }
                 }
                 for (int64_t j = 0; ok && j < nj; j++) {
                     const uint8_t *J = just + j * N;
@@ -284,6 +301,7 @@ static int64_t fair_core(int64_t N, int64_t ncls, const int32_t *cls, const int3
 #undef BEG
 #undef END
 #undef SUCC
+#undef AENT
     free(index); free(low); free(region); free(stack); free(work); free(wpos); free(onstack); free(badj);
     free(todo); free(roots);
     return nfair;
@@ -293,50 +311,55 @@ oom:
     return -1;
 }
 
-/* ------------------------------------------------------------------ backward reachability
+/* ------------------------------------------------------------------ reachability without backward lists
  * E[f U start] on a graph of successor classes (node v's successors: the list of class cls[v],
- * off/adj; ncls classes): y = the nodes from which a path of f nodes reaches a start node.
- * Returns 0, -1 when out of memory. */
-int64_t kn_eu(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
-              const uint8_t *f, const uint8_t *start, uint8_t *y) {
-    int64_t ne = off[ncls];
-    int32_t *moff = (int32_t *)calloc(n + 1, sizeof(int32_t));      /* node -> classes holding it */
-    int32_t *madj = (int32_t *)malloc((ne + 1) * sizeof(int32_t));
-    int32_t *noff = (int32_t *)calloc(ncls + 1, sizeof(int32_t));   /* class -> nodes of that class */
-    int32_t *nadj = (int32_t *)malloc((n + 1) * sizeof(int32_t));
-    int32_t *queue = (int32_t *)malloc((n + 1) * sizeof(int32_t));
+ * off/adj; ncls classes; noff/nadj: the nodes of each class, kn_class_nodes): y = the nodes from
+ * which a path of f nodes reaches a start node, by passes over the forward lists until nothing
+ * changes (a class whose list meets y gives its f nodes to y at once, so that one pass may go
+ * several steps back); a class none of whose nodes can still join y is not read again.  Returns
+ * the number of passes; -2 when max_passes passes did not reach the fixpoint (y then holds part of
+ * it: a backward search from y finishes it); -1 when out of memory. */
+int64_t kn_eu_fwd(int64_t n, int64_t ncls, const int32_t *off, const void *adj, const int32_t *noff,
+                  const int32_t *nadj, const uint8_t *f, const uint8_t *start, uint8_t *y, int64_t max_passes) {
     uint8_t *done = (uint8_t *)calloc(ncls + 1, 1);
-    int64_t rc = -1;
-    if (!moff || !madj || !noff || !nadj || !queue || !done) goto out;
-    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;
-    for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];
-    for (int64_t c = 0; c < ncls; c++)
-        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (int32_t)c;
-    for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];
-    moff[0] = 0;
+    if (!done) return -1;
+    for (int64_t v = 0; v < n; v++) y[v] = start[v] ? 1 : 0;
+    int64_t passes = 0;
+    int changed = 1;
+    while (changed) {
+        if (passes == max_passes) { free(done); return -2; }
+        changed = 0;
+        passes++;
+        for (int64_t c = ncls - 1; c >= 0; c--) {
+            if (done[c]) continue;
+            int useful = 0;
+            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
+                int32_t v = nadj[b];
+                if (f[v] && !y[v]) { useful = 1; break; }
+            }
+            if (!useful) { done[c] = 1; continue; }
+            int hit = 0;
+            for (int32_t e = off[c]; e < off[c + 1]; e++) if (y[ENT(adj, c, e)]) { hit = 1; break; }
+            if (!hit) continue;
+            done[c] = 1;
+            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
+                int32_t v = nadj[b];
+                if (f[v] && !y[v]) { y[v] = 1; changed = 1; }
+            }
+        }
+    }
+    free(done);
+    return passes;
+}
+
+/* noff/nadj (ncls + 1, n): the nodes of each class, ascending */
+void kn_class_nodes(int64_t n, int64_t ncls, const int32_t *cls, int32_t *noff, int32_t *nadj) {
+    for (int64_t c = 0; c <= ncls; c++) noff[c] = 0;
     for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;
     for (int64_t c = 0; c < ncls; c++) noff[c + 1] += noff[c];
     for (int64_t v = 0; v < n; v++) nadj[noff[cls[v]]++] = (int32_t)v;
     for (int64_t c = ncls; c > 0; c--) noff[c] = noff[c - 1];
     noff[0] = 0;
-    int64_t qh = 0, qt = 0;
-    for (int64_t v = 0; v < n; v++) { y[v] = start[v] ? 1 : 0; if (y[v]) queue[qt++] = (int32_t)v; }
-    while (qh < qt) {
-        int32_t w = queue[qh++];
-        for (int32_t a = moff[w]; a < moff[w + 1]; a++) {
-            int32_t c = madj[a];
-            if (done[c]) continue;
-            done[c] = 1;
-            for (int32_t b = noff[c]; b < noff[c + 1]; b++) {
-                int32_t v = nadj[b];
-                if (f[v] && !y[v]) { y[v] = 1; queue[qt++] = v; }
-            }
-        }
-    }
-    rc = 0;
-out:
-    free(moff); free(madj); free(noff); free(nadj); free(queue); free(done);
-    return rc;
 }
 
 /* ------------------------------------------------------------------ the structure's arrays
@@ -385,12 +408,12 @@ void kn_bit(int64_t n, const int64_t *vec, int64_t k, uint8_t *out) {
 
 /* y[v] = 1 when one node of class cls[v] (off/adj) is in g: EX over successor classes.
  * Returns 0, -1 when out of memory. */
-int64_t kn_ex(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+int64_t kn_ex(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const void *adj,
               const uint8_t *g, uint8_t *y) {
     uint8_t *ok = (uint8_t *)calloc(ncls + 1, 1);
     if (!ok) return -1;
     for (int64_t c = 0; c < ncls; c++)
-        for (int32_t e = off[c]; e < off[c + 1]; e++) if (g[adj[e]]) { ok[c] = 1; break; }
+        for (int32_t e = off[c]; e < off[c + 1]; e++) if (g[ENT(adj, c, e)]) { ok[c] = 1; break; }
     for (int64_t v = 0; v < n; v++) y[v] = ok[cls[v]];
     free(ok);
     return 0;
@@ -608,15 +631,15 @@ int64_t kn_ascending(int64_t n, const uint32_t *a) {
  * as kn_eu does (which makes them for one search).  The _16 forms keep madj in 16 bits (fewer
  * than 65,536 classes). */
 #define REV_FNS(SUFFIX, MT)                                                                               \
-void kn_rev##SUFFIX(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,  \
+void kn_rev##SUFFIX(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const void *adj,     \
                     int32_t *moff, MT *madj, int32_t *noff, int32_t *nadj) {                              \
-    int64_t ne = off[ncls];                                                                               \
     for (int64_t v = 0; v <= n; v++) moff[v] = 0;                                                         \
     for (int64_t c = 0; c <= ncls; c++) noff[c] = 0;                                                      \
-    for (int64_t e = 0; e < ne; e++) moff[adj[e] + 1]++;                                                  \
+    for (int64_t c = 0; c < ncls; c++)                                                                    \
+        for (int32_t e = off[c]; e < off[c + 1]; e++) moff[ENT(adj, c, e) + 1]++;                         \
     for (int64_t v = 0; v < n; v++) moff[v + 1] += moff[v];                                               \
     for (int64_t c = 0; c < ncls; c++)                                                                    \
-        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[adj[e]]++] = (MT)c;                        \
+        for (int32_t e = off[c]; e < off[c + 1]; e++) madj[moff[ENT(adj, c, e)]++] = (MT)c;               \
     for (int64_t v = n; v > 0; v--) moff[v] = moff[v - 1];                                                \
     moff[0] = 0;                                                                                          \
     for (int64_t v = 0; v < n; v++) noff[cls[v] + 1]++;                                                   \
@@ -660,7 +683,7 @@ REV_FNS(_16, uint16_t)
  * marked as met).  A class's list is walked once: the second time every node of it is met.
  * path gets the nodes (room for n + 1); returns their number, 0 when there is no path, -1 when
  * out of memory. */
-int64_t kn_bfs(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const int32_t *adj,
+int64_t kn_bfs(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, const void *adj,
                int64_t nsrc, const int32_t *srcs, const uint8_t *target, const uint8_t *allowed,
                const uint8_t *keep, int64_t skip, int32_t *path) {
     /* parent: -2 not met, -1 a source, -3 - s met from source s in the first round (skip) */
@@ -680,7 +703,7 @@ int64_t kn_bfs(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, 
             if (walked[c]) continue;
             walked[c] = 1;
             for (int32_t e = off[c]; e < off[c + 1]; e++) {
-                int32_t w = adj[e];
+                int32_t w = ENT(adj, c, e);
                 if ((keep && !keep[w]) || parent[w] != -2) continue;
                 parent[w] = -3 - s;
                 if (target[w]) { path[0] = s; path[1] = w; rc = 2; goto out; }
@@ -703,7 +726,7 @@ int64_t kn_bfs(int64_t n, int64_t ncls, const int32_t *cls, const int32_t *off, 
         if (walked[c]) continue;
         walked[c] = 1;
         for (int32_t e = off[c]; e < off[c + 1]; e++) {
-            int32_t w = adj[e];
+            int32_t w = ENT(adj, c, e);
             if ((keep && !keep[w]) || parent[w] != -2) continue;
             parent[w] = v;
             if (target[w]) { hit = w; from = v; break; }

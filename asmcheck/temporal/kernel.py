@@ -16,6 +16,11 @@ from itertools import accumulate, chain
 from .classes import Classes
 
 ENABLED = True                 # tests switch the kernel off to compare with the Python code
+# E[f U g] on a structure whose lists hold more entries than this runs first by passes over the
+# forward lists (kn_eu_fwd), and makes the backward lists (2 or 4 bytes an entry) only when
+# EU_FORWARD_PASSES passes did not reach the fixpoint; tests change both
+EU_FORWARD_ENTRIES = 0
+EU_FORWARD_PASSES = 8
 
 _i64, _p = ctypes.c_int64, ctypes.c_void_p
 _SYMBOLS = {
@@ -29,7 +34,9 @@ _SYMBOLS = {
     "kn_fair": (_i64, [_i64, _p, _i64, _p, _p, _p]),
     "kn_free": (None, []),
     "kn_fair_graph": (_i64, [_i64, _i64, _p, _p, _p, _i64, _p, _p, _i64, _p, _i64, _p, _p, _p]),
-    "kn_eu": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p]),
+    "kn_eu_fwd": (_i64, [_i64, _i64, _p, _p, _p, _p, _p, _p, _p, _i64]),
+    "kn_class_nodes": (None, [_i64, _i64, _p, _p, _p]),
+    "kn_layout": (None, [_i64, _p, _p, _i64]),
     "kn_csr": (_i64, [_i64, _i64, _p, _p, _p, _p, _p]),
     "kn_gather": (None, [_i64, _p, _p, _p]),
     "kn_bit": (None, [_i64, _p, _i64, _p]),
@@ -169,21 +176,35 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
 
 def _csr(K):
     """(cls, off, adj) of the Kripke structure's successor classes, made once per structure
-    (the structure's own arrays when it keeps them so)."""
+    (the structure's own arrays when it keeps them so); the kernel is told their layout
+    (:class:`~asmcheck.temporal.classes.Classes`: 32-bit or 16-bit entries, or 16-bit states
+    with a node table), so call it right before the kernel reads them."""
     got = getattr(K, "_kernel_csr", None)
     if got is None:
         cls = K.cls if isinstance(K.cls, array) and K.cls.typecode == "i" and len(K.cls) else _arr("i", K.cls)
+        lay = None
+        layout = getattr(K.cls_succ, "layout", None)
         arrays = getattr(K.cls_succ, "arrays", None)
-        if arrays is not None:
+        if layout is not None:
+            lay = layout()
+        if lay is not None:
+            off, adj = lay[0], lay[1]
+        elif arrays is not None:
             off, adj = arrays()
-            if not len(adj):
-                adj = _arr("i", ())
         else:
             off = array("i", [0])
             off.extend(accumulate(len(x) for x in K.cls_succ))
             adj = _arr("i", chain.from_iterable(K.cls_succ))
-        got = K._kernel_csr = (cls, off, adj)
-    return got
+        if not len(adj):
+            adj = _arr(adj.typecode, ())
+        mode, key, tab, ns = (lay[2], lay[3], lay[4], lay[5]) if lay is not None else (0, None, None, 0)
+        got = K._kernel_csr = (cls, off, adj, (mode, key, tab, ns))
+    dll = library()
+    mode, key, tab, ns = got[3]
+    if dll is not None:
+        dll.kn_layout(mode, _addr(key) if key is not None and len(key) else 0,
+                      _addr(tab) if tab is not None and len(tab) else 0, ns)
+    return got[:3]
 
 
 def _identity(K, cls) -> bool:
@@ -359,6 +380,26 @@ def eu(K, f: bytearray, start: bytearray):
     fb, sb = bytearray(f), bytearray(start)
     y = bytearray(n)
     rev = getattr(K, "_kernel_rev", None)
+    if rev is None and off[ncls] > EU_FORWARD_ENTRIES:
+        # passes over the forward lists: no backward lists (they would take 2 or 4 bytes an entry),
+        # unless the passes do not reach the fixpoint soon; then a backward search from the part
+        # found finishes it (the same set)
+        nodes = getattr(K, "_kernel_nodes", None)
+        if nodes is None:
+            noff = array("i", bytes(4 * (ncls + 1)))
+            nadj = array("i", bytes(4 * max(n, 1)))
+            dll.kn_class_nodes(n, ncls, _addr(cls), _addr(noff), _addr(nadj))
+            nodes = K._kernel_nodes = (noff, nadj)
+        noff, nadj = nodes
+        cls, off, adj = _csr(K)
+        got = dll.kn_eu_fwd(n, ncls, _addr(off), _addr(adj), _addr(noff), _addr(nadj), _addr(fb), _addr(sb),
+                            _addr(y), EU_FORWARD_PASSES)
+        if got == -1:
+            return None
+        if got >= 0:
+            return y
+        sb = bytearray(y)
+        cls, off, adj = _csr(K)
     if rev is None:
         # the backward lists, made once for the structure's searches (the classes in 16 bits
         # when there are fewer than 65,536 of them)

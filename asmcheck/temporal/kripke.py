@@ -796,7 +796,8 @@ def build_kripke(explorer, atoms: Atoms, used: set[int], invars: list[int], just
             picks_l.sid = sid
         # successor classes: one per explored state (the nodes leaving it), one per halt node
         K.cls = array("i", tgt) if halt_nodes else tgt
-        K.cls_succ = Classes(off, adj)
+        # (the recorded lists may be 16-bit targets read through a table of nodes: a tuple)
+        K.cls_succ = Classes(off, *adj) if isinstance(adj, tuple) else Classes(off, adj)
         for v in halt_nodes:
             s_ = sid[v]
             K.cls_succ[s_] = K.cls_succ[s_] + [v]
