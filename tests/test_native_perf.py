@@ -250,3 +250,113 @@ def test_invariants_are_checked_where_their_locations_change(tmp_path, capsys):
     assert got == {"inv_grid": 16, "inv_y": 19, "inv_dz": 24}
     code, out = both(tmp_path, capsys, SKIPPY, "--deadlock")
     assert {v["property"] for v in out["violations"]} == {"inv_grid", "inv_y", "inv_dz"}
+
+
+# ----------------------------------------------------------------- the time limit while the store grows
+def limited_search(path, delay, log2_piece, max_seconds):
+    """The one-thread search of ``path`` with the time limit ``max_seconds``, each piece of a table
+    growth or repack (2^log2_piece entries or states) followed by a pause of ``delay`` seconds, as
+    on a very slow machine: (result, explorer, growths and repacks given up)."""
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.props import spec_properties
+    from asmcheck.props.load import load_machine
+    need_cc()
+    spec, m = load_machine(str(path), {})
+    sp, stp = spec_properties(m)
+    ex = NativeExplorer(m, state_props=sp, step_props=stp, max_seconds=max_seconds)
+    ex.dll.asm_grow_test(delay, log2_piece)
+    try:
+        r = ex.run()
+    finally:
+        ex.dll.asm_grow_test(0.0, -1)
+    return r, ex, ex.dll.asm_grow_abandoned()
+
+
+def stored_words(ex, n):
+    import ctypes
+    words = (ctypes.c_uint64 * ex.gen.nwords)()
+    out = []
+    for i in range(n):
+        ex.dll.asm_state(i, words)
+        out.append(tuple(words))
+    return out
+
+
+def test_a_table_growth_that_meets_the_time_limit_is_given_up(tmp_path):
+    path = write(tmp_path, GROWTH)
+    # the table of 1,024 entries is full at 768 states; its growth pauses longer than the limit:
+    # the search stops there, with the table as it was (before, the growth went on to its end and
+    # the search past it, overshooting the limit by the growth's length)
+    r, ex, given_up = limited_search(path, 1.5, 18, 1.0)
+    assert (r.verdict, r.states, r.transitions, given_up) == ("incomplete", 768, 767, 1)
+    assert r.reason == "time limit 1.0 s reached" and r.time_limit is not None
+    # the states stored are the first 768 of the whole search, each found again
+    full, _, parents, states = native_search(path)
+    assert full.states == 70001
+    assert stored_words(ex, 768) == states[:768]
+    for sid in (0, 1, 500, 767):
+        assert ex.find(ex.state(sid)) == sid
+
+
+def test_a_repack_that_meets_the_time_limit_is_given_up(tmp_path):
+    path = write(tmp_path, GROWTH)
+    # pieces of one state: the first repack (n's dictionary outgrows its field at the second
+    # state) pauses past the limit and is given up; the state that needed it is not stored
+    r, ex, given_up = limited_search(path, 1.5, 0, 1.0)
+    assert (r.verdict, r.states, r.transitions, given_up) == ("incomplete", 1, 0, 1)
+    assert r.reason == "time limit 1.0 s reached"
+    assert ex.find(ex.state(0)) == 0
+    assert stored_words(ex, 1) == native_search(path)[3][:1]       # the layout as it was
+    # no limit: no growth is given up
+    r, ex, given_up = limited_search(path, 0.0, 18, None)
+    assert (r.verdict, r.states, given_up) == ("holds", 70001, 0)
+
+
+# ----------------------------------------------------------------- a run that updates nothing
+# go false updates nothing below 5: the state itself is a successor (taken as the expanded state's
+# own number, with no record or look-up); at n = 5 the only successor sets done, then nothing more
+# happens: a deadlock (only the state itself); seven Integer words, so the packed store is used
+SELF_LOOPS = """asm SelfLoops
+import StandardLibrary
+signature:
+	controlled n: Integer
+	controlled k1: Integer
+	controlled k2: Integer
+	controlled k3: Integer
+	controlled k4: Integer
+	controlled k5: Integer
+	controlled done: Boolean
+	monitored go: Boolean
+definitions:
+	invariant inv_n over n: n <= 5
+	main rule r_main =
+		if go and n < 5 then
+			par
+				n := n + 1
+				k1 := k1 + n
+			endpar
+		else
+			if n = 5 and not done then done := true endif
+		endif
+default init s0:
+	function n = 0
+	function k1 = 0
+	function k2 = 2
+	function k3 = 3
+	function k4 = 4
+	function k5 = 5
+	function done = false
+"""
+
+
+def test_a_run_that_updates_nothing_leads_to_the_state_itself(tmp_path, capsys):
+    code, out = both(tmp_path, capsys, SELF_LOOPS, "--deadlock")
+    assert (out["states"], out["transitions"], out["depth"]) == (7, 12, 6)
+    (v,) = [v for v in out["violations"] if v["property"] == "deadlock"]
+    assert len(v["trace"]) == 7            # the initial state, five steps of n, done
+    path = write(tmp_path, SELF_LOOPS)
+    r1, ex1, par1, st1, pw1 = run(path, packed=True, deadlock=True)
+    r0, ex0, par0, st0, pw0 = run(path, packed=False, deadlock=True)
+    assert pw1 >= 1 and pw0 == -1
+    assert summary(r1) == summary(r0) and par1 == par0 == [-1, 0, 1, 2, 3, 4, 5] and st1 == st0
+    assert [v.state for v in r1.violations if v.prop.name == "deadlock"] == [6]

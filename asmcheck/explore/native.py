@@ -3830,6 +3830,8 @@ _SYMBOLS = {
     "asm_par_adapt": (None, [_i64]),
     "asm_pack": (None, [_i64]),
     "asm_packed_words": (_i64, []),
+    "asm_grow_test": (None, [_f64, _i64]),
+    "asm_grow_abandoned": (_i64, []),
     "asm_labels": (_i64, [_i64, ctypes.c_char_p]),
     "asm_step_atoms": (_i64, [_i64, _i64p, _i64, _i64p, _i64]),
     "asm_err_states": (_i64, [_i64p]),
@@ -3869,6 +3871,8 @@ _SHARED_STATICS = frozenset("""
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
+    grow_deadline grow_mask grow_abandoned
+    wide_of_word self_first sb_self sb_self_cap
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")

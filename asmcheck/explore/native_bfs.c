@@ -44,23 +44,58 @@ static inline uint64_t hround(uint64_t acc, uint64_t x) {
     return acc * HP1;
 }
 static inline __attribute__((always_inline)) uint64_t hash_words(const uint64_t *w, int64_t nw) {
-    if (nw < 8) {       /* a short state: one chain (as cheap as it gets for one word) */
+    /* (counts unsigned, the blocks of four counted before the loop: no index arithmetic that
+       could overflow, so the compiler infers no impossible iteration) */
+    uint64_t n = nw > 0 ? (uint64_t)nw : 0;
+    if (n < 8) {       /* a short state: one chain (as cheap as it gets for one word) */
         uint64_t h = 0x9e3779b97f4a7c15ULL;
-        for (int64_t i = 0; i < nw; i++) h = mix64(h ^ w[i]);
+        for (uint64_t i = 0; i < n; i++) h = mix64(h ^ w[i]);
         return h;
     }
     uint64_t a = 0x9e3779b97f4a7c15ULL, b = HP2, c = 0x165667b19e3779f9ULL, d = HP1;
-    int64_t i = 0;
-    for (; i + 4 <= nw; i += 4) {
-        a = hround(a, w[i]); b = hround(b, w[i + 1]); c = hround(c, w[i + 2]); d = hround(d, w[i + 3]);
+    uint64_t nb = n / 4;
+    const uint64_t *x = w;
+    for (uint64_t q = 0; q < nb; q++, x += 4) {
+        a = hround(a, x[0]); b = hround(b, x[1]); c = hround(c, x[2]); d = hround(d, x[3]);
     }
     uint64_t h = mix64(a) ^ mix64(b + 1) ^ mix64(c + 2) ^ mix64(d + 3);
-    for (; i < nw; i++) h = mix64(h ^ w[i]);
-    return mix64(h + (uint64_t)nw);
+    for (uint64_t i = nb * 4; i < n; i++) h = mix64(h ^ w[i]);
+    return mix64(h + n);
 }
 static inline uint64_t hash_state(const uint64_t *w) { return hash_words(w, NWORDS); }
 #define HPOS(hh) ((uint64_t)(hh) >> 32)
 
+/* The time limit during the long steps of the one-thread search's store (a table growth, a
+ * repack): they look at the clock every grow_mask + 1 entries or states (and a growth once more
+ * at its end) and give up when the limit has passed, leaving the store as it was, so that a
+ * growth near the limit does not overshoot it by the growth's length.  grow_deadline: the
+ * clock's reading at the limit (< 0: none).  Tests (asm_grow_test): pieces of 2^k, each followed
+ * by a pause of delay seconds, as on a very slow machine. */
+#define GROW_PIECE 262144
+static double grow_deadline = -1.0, grow_delay = 0.0;
+static uint64_t grow_mask = GROW_PIECE - 1;
+static int64_t grow_abandoned = 0;
+static double now_seconds(void);
+void asm_grow_test(double delay, int64_t log2_piece) {
+    grow_delay = delay;
+    grow_mask = log2_piece >= 0 && log2_piece < 40 ? (1ULL << log2_piece) - 1 : GROW_PIECE - 1;
+}
+/* how many growths or repacks the time limit ended (since the search started) */
+int64_t asm_grow_abandoned(void) { return grow_abandoned; }
+/* a piece done: 1 when the time limit has passed (the work is to be given up) */
+static int grow_late(void) {
+    if (grow_delay > 0) {
+        struct timespec ts;
+        ts.tv_sec = (time_t)grow_delay;
+        ts.tv_nsec = (long)((grow_delay - (double)ts.tv_sec) * 1e9);
+        nanosleep(&ts, 0);
+    }
+    if (grow_deadline >= 0 && now_seconds() >= grow_deadline) { grow_abandoned++; return 1; }
+    return 0;
+}
+
+/* twice the table: 1, 0 when out of memory, -2 when the time limit passed meanwhile (the
+   table stays as it was) */
 static int grow_table(void) {
     uint64_t ncap = tmask ? (tmask + 1) * 2 : 1024;
     Entry *nt = (Entry *)malloc(ncap * sizeof(Entry));
@@ -68,11 +103,13 @@ static int grow_table(void) {
     memset(nt, 0xff, ncap * sizeof(Entry));
     uint64_t nmask = ncap - 1;
     for (uint64_t e = 0; tmask && e <= tmask; e++) {
+        if ((e & grow_mask) == grow_mask && grow_late()) { free(nt); return -2; }
         if (table[e].id == 0xffffffffu) continue;
         uint64_t h = table[e].fp & nmask;
         while (nt[h].id != 0xffffffffu) h = (h + 1) & nmask;
         nt[h] = table[e];
     }
+    if (tmask && grow_late()) { free(nt); return -2; }
     free(table);
     table = nt;
     tmask = nmask;
@@ -80,11 +117,12 @@ static int grow_table(void) {
 }
 
 /* the number of the state stored as the nw words w (adding it if new); *isnew tells which; -1
-   when out of memory */
+   when out of memory, -2 when the time limit passed while the table grew */
 static inline __attribute__((always_inline)) int64_t intern_hashed(const uint64_t *w, int64_t nw, uint64_t hh,
                                                                     uint32_t parent, int *isnew) {
     if ((tcount + 1) * 4 > (int64_t)(tmask + 1) * 3) {
-        if (!grow_table()) return -1;
+        int g = grow_table();
+        if (g <= 0) return g == 0 ? -1 : -2;
     }
     uint32_t fp = (uint32_t)(hh >> 32);
     uint64_t h = HPOS(hh) & tmask;
@@ -240,7 +278,8 @@ static void pk_place(void) {
 }
 
 /* wider fields for the words whose dictionaries outgrew them, every state repacked (the table
-   stays); 0 when out of memory */
+   stays); 0 when out of memory, -2 when the time limit passed meanwhile (the layout and the
+   states stay as they were) */
 static int pk_widen(void) {
     int obits[PK_NW], oraw[PK_NW], oat[PK_NW], osh[PK_NW];
     memcpy(obits, pk_bits, sizeof(obits)); memcpy(oraw, pk_raw, sizeof(oraw));
@@ -260,6 +299,12 @@ static int pk_widen(void) {
     int oact[PK_NW], noact = 0;
     for (int j = 0; j < NWORDS; j++) if (obits[j]) oact[noact++] = j;
     for (int64_t s = 0; s < nstates; s++) {
+        if (((uint64_t)s & grow_mask) == grow_mask && grow_late()) {
+            free(ns);
+            memcpy(pk_bits, obits, sizeof(obits)); memcpy(pk_raw, oraw, sizeof(oraw));
+            pk_place();      /* (the same layout again: it depends on the widths alone) */
+            return -2;
+        }
         const uint64_t *rec = states + s * opw;
         uint64_t *nr = ns + s * PW;
         memset(nr, 0, PW * sizeof(uint64_t));
@@ -299,9 +344,18 @@ static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
 static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp) {
     memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
     uint64_t hh = pk_par_h;
+    /* the words that differ, their dictionary entries fetched before any is read (a successor
+       changes several words: the look-ups' cache misses overlap) */
+    int ch[PK_NW], nch = 0;
     for (int j = 0; j < NWORDS; j++) {
         uint64_t x = w[j];
         if (x == pk_par_w[j]) continue;
+        ch[nch++] = j;
+        if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[pk_hash((uint32_t)j, x) & pk_mask]);
+    }
+    for (int q = 0; q < nch; q++) {
+        int j = ch[q];
+        uint64_t x = w[j];
         hh += pk_term(j, x) - pk_term(j, pk_par_w[j]);
         uint64_t k = x;
         if (!pk_raw[j]) {
@@ -330,7 +384,8 @@ static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
     }
     if (pk_codes(w, codes, 1, &wide) < 0) return -1;
     if (wide) {
-        if (!pk_widen()) return -1;
+        int g = pk_widen();
+        if (g <= 0) return g == 0 ? -1 : -2;
         for (int j = 0; j < NWORDS; j++) if (pk_raw[j]) codes[j] = w[j];
     }
     pk_pack(codes, rec);
@@ -353,11 +408,21 @@ static const uint64_t *state_words(int64_t sid) {
         pk_par_h = 0;        /* (the hash of the first state's words) */
         pk_par_set = 1;
     }
-    /* the words that differ from the state decoded before, and the hash with their terms replaced */
+    /* the words that differ from the state decoded before (their values fetched before any is
+       read), and the hash with their terms replaced */
+    int ch[PK_NW], nch = 0;
+    uint64_t cx[PK_NW];
     for (int i = 0; i < pk_nact; i++) {
         int j = pk_act[i];
         uint64_t x = pk_field(rec, j);
         if (x == pk_par_c[j]) continue;
+        if (!pk_raw[j]) __builtin_prefetch(&pk_vals[j][x]);
+        cx[nch] = x;
+        ch[nch++] = j;
+    }
+    for (int q = 0; q < nch; q++) {
+        int j = ch[q];
+        uint64_t x = cx[q];
         uint64_t v = pk_raw[j] ? x : pk_vals[j][x];
         pk_par_h += pk_term(j, v) - pk_term(j, pk_par_w[j]);
         pk_par_c[j] = x;
@@ -523,17 +588,22 @@ static int add_edge(uint32_t a, uint32_t b) {
 
 /* the wide slots (64 bits), listed by asm_start */
 static int wide_slots[NSLOTS > 0 ? NSLOTS : 1], nwide = 0;
+static int wide_of_word[NWORDS > 0 ? NWORDS : 1];      /* the wide slot a word holds (it takes the word), or -1 */
+static inline void note_value(int s, V v, int64_t depth) {
+    if (v == UNDEF) return;
+    if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
+    if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
+    if (v < S.wlo[s]) S.wlo[s] = v;
+    if (v > S.whi[s]) S.whi[s] = v;
+}
 static void note_range(const uint64_t *w, int64_t depth, const uint64_t *par) {
-    for (int i = 0; i < nwide; i++) {
-        int s = wide_slots[i];
-        V v = (V)w[SLOT_WORD[s]];
-        if (v == UNDEF) continue;
-        if (par && (V)par[SLOT_WORD[s]] == v) continue;    /* noted when the parent was new */
-        if (v < S.lo[s]) { S.lo[s] = v; S.grew[s] = depth; }
-        if (v > S.hi[s]) { S.hi[s] = v; S.grew[s] = depth; }
-        if (v < S.wlo[s]) S.wlo[s] = v;
-        if (v > S.whi[s]) S.whi[s] = v;
+    if (!par) {
+        for (int i = 0; i < nwide; i++) note_value(wide_slots[i], (V)w[SLOT_WORD[wide_slots[i]]], depth);
+        return;
     }
+    /* only the words that differ from the parent's (the others were noted when the parent was new) */
+    for (int j = 0; j < NWORDS; j++)
+        if (w[j] != par[j] && wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth);
 }
 
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
@@ -557,10 +627,13 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
         S.lo[s] = S.wlo[s] = INT64_MAX; S.hi[s] = S.whi[s] = INT64_MIN + 1; S.grew[s] = -1;
     }
     nwide = 0;
-    for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) wide_slots[nwide++] = s;
+    for (int j = 0; j < NWORDS; j++) wide_of_word[j] = -1;
+    for (int s = 0; s < NSLOTS; s++) if (SLOT_BITS[s] == 64) { wide_slots[nwide++] = s; wide_of_word[SLOT_WORD[s]] = s; }
     S.max_states = max_states; S.max_depth = max_depth; S.max_seconds = max_seconds;
     S.deadlock = deadlock; S.keep_graph = keep_graph;
     S.t0 = now_seconds();
+    grow_deadline = max_seconds >= 0 ? S.t0 + max_seconds : -1.0;
+    grow_abandoned = 0;
     {   /* the composite values the generated code names, numbered as the generator numbered them */
         int64_t p = 0;
         for (int64_t i = 0; i < NSEED; i++) {
@@ -571,7 +644,8 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
     }
     for (int64_t i = 0; i < ninit; i++) {
         int isnew;
-        if (intern(inits + i * NWORDS, 0xffffffffu, &isnew) < 0) { S.status = 5; return 5; }
+        int64_t t = intern(inits + i * NWORDS, 0xffffffffu, &isnew);
+        if (t < 0) { S.status = t == -2 ? 3 : 5; return S.status; }
         note_range(inits + i * NWORDS, 0, 0);
     }
     S.level_end = nstates;
@@ -995,6 +1069,14 @@ static int qf_atoms(Ctx *c, int64_t bi) {
     return 1;
 }
 
+/* A run that updates nothing and makes no element leads back to the state expanded: its words
+ * are the state's, already stored and canonical.  asm_run's expansion (self_first, set around
+ * it) notes such successors (sb_self[i] for successor i of sb0) and takes the state's own number
+ * for them, with no canonical form, record or table look-up. */
+static int self_first = 0;
+static uint8_t *sb_self = 0;
+static int64_t sb_self_cap = 0;
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1060,9 +1142,25 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             uint64_t *nw = b->w + b->n * NWORDS;
             store_state(c, src, nw);
             if (MISSED()) return EXP_MISSED;
-#if CN_NDYN > 0
-            if (canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+            int same = 0;
+#ifndef MC_TAIL_ON
+            if (self_first) {
+                if (b->n >= sb_self_cap) {
+                    int64_t nc = sb_self_cap ? sb_self_cap * 2 : 64;
+                    while (nc <= b->n) nc *= 2;
+                    uint8_t *x = (uint8_t *)realloc(sb_self, nc);
+                    if (!x) return EXP_MEM;
+                    sb_self = x;
+                    sb_self_cap = nc;
+                }
+                same = c->nupd == 0 && c->cn_made != c->gen;
+                sb_self[b->n] = (uint8_t)same;
+            }
 #endif
+#if CN_NDYN > 0
+            if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+#endif
+            (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
         }
@@ -1284,7 +1382,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
         if (QF.on && !qf_state(sid)) { status = 5; goto finish; }
+#ifndef MC_TAIL_ON
+        self_first = 1;
+#endif
         int xr = expand_state(c, sw, &sb0, &steperr, &xe, &xsite, 0);
+        self_first = 0;
         if (xr == EXP_HARD) {
             out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
             status = 4; goto finish;
@@ -1319,26 +1421,46 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             pre_rec = x;
             pre_cap = nc;
         }
+#ifndef MC_TAIL_ON
+        const uint8_t *same = sb_self;        /* (successors that are the state itself: self_first) */
+#else
+        const uint8_t *same = 0;
+#endif
         if (pk_on && pk_par_ok) {
             for (; npre < nbuf; npre++) {
+                if (same && same[npre]) continue;
                 if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre)) break;
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
         } else if (!pk_on) {
             for (; npre < nbuf; npre++) {
+                if (same && same[npre]) continue;
                 pre_h[npre] = hash_state(sbuf + npre * NWORDS);
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
         }
+        /* then the stored records their first entries name, when the fingerprint matches (a
+           successor met before is compared with its record) */
+        if (table && npre > 1)
+            for (int64_t q = 0; q < npre; q++) {
+                if (same && same[q]) continue;
+                const Entry *e = &table[HPOS(pre_h[q]) & tmask];
+                if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q] >> 32))
+                    __builtin_prefetch(states + (int64_t)e->id * PW);
+            }
         int64_t qr = 0;        /* the pairs of the temporal quotient (asm_qf) */
         if (QF.on && QF.nk && !QF.failed && !sset_reset(&QF.seen, QF.nr)) { status = 5; goto finish; }
         for (int64_t b = 0; b < nbuf; b++) {
             const uint64_t *wb = sbuf + b * NWORDS;
-            int isnew;
-            int64_t tid = b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
+            int isnew = 0;
+            int64_t tid = same && same[b] ? sid : b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
                 pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
                 intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
             /* (the parent's words: the plain store's may have moved as it grew) */
+            if (tid == -2) {       /* the time limit passed while the store grew */
+                out[4] = 0; out[5] = sid;
+                status = 3; goto finish;
+            }
             const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
             if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par)) {
                 status = 5; goto finish;
@@ -1708,6 +1830,7 @@ int64_t asm_values(void) { return nvals; }
 void asm_free(void) {
     vt_free();
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
+    free(sb_self); sb_self = 0; sb_self_cap = 0;
     free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
     free(inv_need); inv_need = 0; inv_cap = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);

@@ -417,7 +417,8 @@ static V cn_rename(Ctx *c, V v, int ty, const int *map) {
     if (k == T_LMAP) return cn_rename_map(c, v, ty, map);
     if (k != T_SEQ && k != T_SET && k != T_TUPLE) return v;
     int n = v_len(v);
-    V *e = (V *)malloc((n > 0 ? n : 1) * sizeof(V));
+    V small[64];         /* (a value of up to 64 members: no allocation) */
+    V *e = n <= 64 ? small : (V *)malloc(n * sizeof(V));
     if (!e) { fail(c, E_MEMORY, 0); return v; }
     int changed = 0;
     for (int i = 0; i < n; i++) {
@@ -427,7 +428,7 @@ static V cn_rename(Ctx *c, V v, int ty, const int *map) {
     }
     V r = v;
     if (changed) r = k == T_SET ? set_make(c, e, n) : v_intern(c, k == T_SEQ ? K_SEQ : K_TUPLE, e, n);
-    free(e);
+    if (e != small) free(e);
     return r;
 }
 
@@ -524,6 +525,16 @@ static int cn_by_group(const void *a, const void *b) {
     if (x->col != y->col) return x->col < y->col ? -1 : 1;
     return x->e < y->e ? -1 : x->e > y->e;
 }
+/* els sorted by cmp (a total order: any sort gives the same result), by insertion: a few dozen
+   elements, mostly in order already, sorted without the library's allocation */
+static void cn_isort(CnEl *els, int n, int (*cmp)(const void *, const void *)) {
+    for (int i = 1; i < n; i++) {
+        CnEl x = els[i];
+        int j = i - 1;
+        while (j >= 0 && cmp(&els[j], &x) > 0) { els[j + 1] = els[j]; j--; }
+        els[j + 1] = x;
+    }
+}
 static int cn_final(const void *a, const void *b) {
     const CnEl *x = (const CnEl *)a, *y = (const CnEl *)b;
     if (x->dom != y->dom) return x->dom < y->dom ? -1 : 1;
@@ -565,13 +576,18 @@ static uint64_t cn_key_hash(const V *k) {
     for (; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
     return h;
 }
+/* (an entry of the table: 31 high bits of the key's hash above the entry's offset in the pool,
+   which stays below 2^25, so that most probes are decided without reading the pool; -1: empty) */
+#define CN_DFP(h) ((int64_t)((h) >> 33) << 32)
 static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
     if (!W->dtab) return 0;
-    int64_t *tab = W->dtab;
+    int64_t *tab = W->dtab, fp = CN_DFP(h);
     uint64_t m = W->dmask, i = h & m;
     while (tab[i] >= 0) {
-        const V *e = W->dpool + tab[i];
-        if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e;
+        if ((tab[i] & ~(int64_t)0xffffffff) == fp) {
+            const V *e = W->dpool + (tab[i] & 0xffffffff);
+            if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e;
+        }
         i = (i + 1) & m;
     }
     return 0;
@@ -589,7 +605,7 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
         memset(t, 0xff, ncap * sizeof(int64_t));
         for (uint64_t j = 0; W->dtab && j <= W->dmask; j++) {
             if (W->dtab[j] < 0) continue;
-            uint64_t i = cn_key_hash(W->dpool + W->dtab[j]) & (ncap - 1);
+            uint64_t i = cn_key_hash(W->dpool + (W->dtab[j] & 0xffffffff)) & (ncap - 1);
             while (t[i] >= 0) i = (i + 1) & (ncap - 1);
             t[i] = W->dtab[j];
         }
@@ -611,7 +627,7 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
     }
     uint64_t i = h & W->dmask;
     while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
-    W->dtab[i] = W->dused;
+    W->dtab[i] = CN_DFP(h) | W->dused;
     W->dused += size;
     W->dn++;
 }
@@ -741,7 +757,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] > 1) need = 1;
     for (int r = 0; need && r < CN_ROUNDS; r++) {
         for (int i = 0; i < ne; i++) els[i].col = col[els[i].e];
-        qsort(els, ne, sizeof(CnEl), cn_by_group);
+        cn_isort(els, ne, cn_by_group);
         int ngroups = 0;
         for (int i = 0; i < ne; i++) if (i == 0 || els[i].dom != els[i - 1].dom || els[i].col != els[i - 1].col) ngroups++;
         if (ngroups == ne) break;
@@ -752,6 +768,17 @@ static int canon_state_(Ctx *c, uint64_t *w) {
             int j = i + 1;
             while (j < ne && els[j].dom == els[i].dom && els[j].col == els[i].col) j++;
             if (j - i == 1) { newcol[els[i].e] = rank++; i = j; continue; }
+            if (r == 0 && W->memo) {      /* the kept texts of the group's locations fetched first */
+                for (int q = i; q < j; q++) {
+                    int e = els[q].e;
+                    for (int li = eoff[e]; li < eoff[e + 1]; li++) {
+                        const CnLoc *L = &W->locs[W->eloc[li]];
+                        if (L->ent >= 0) continue;
+                        uint64_t h = cn_mix((uint64_t)W->val[L->slot] ^ ((uint64_t)L->slot << 40) ^ ((uint64_t)e << 20));
+                        __builtin_prefetch(&W->memo[h & W->mmask]);
+                    }
+                }
+            }
             for (int q = i; q < j; q++) {
                 int e = els[q].e;
                 W->me = e;
@@ -785,7 +812,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     }
     /* new numbers: per domain by colour, ties by old number */
     for (int i = 0; i < ne; i++) els[i].col = col[els[i].e];
-    qsort(els, ne, sizeof(CnEl), cn_final);
+    cn_isort(els, ne, cn_final);
     int map[CN_MAXE > 0 ? CN_MAXE : 1];
     for (int e = 0; e < CN_MAXE; e++) map[e] = 0;
     for (int i = 0, k = 0; i < ne; i++) {
