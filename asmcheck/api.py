@@ -622,10 +622,12 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     # the invariants, step properties and deadlock are decided by the search alone: a limit met in
     # the LTL/CTL phase after a complete search leaves them decided
     result.search_stopped_early = result.stopped_early
-    if checked_temporal and result.stopped_early and not interrupted and _partial_ok(ex):
+    if checked_temporal and result.stopped_early and not interrupted and _partial_ok(ex, result):
         temporal_results, temporal_note = _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine,
                                                             max_memory)
-    elif checked_temporal and result.verdict != "incomplete" and not interrupted:
+    elif checked_temporal and not result.stopped_early and not interrupted:
+        # (a search stopped early, even with a violation found, has a partial graph: its LTL/CTL
+        # properties are decided above, or stay incomplete)
         from .temporal import check_temporal
         left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
         try:
@@ -654,7 +656,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         for t in temporal_results:
             if not t.holds and result.verdict != "violated" and not t.message:
                 result.verdict = "violated"
-    elif checked_temporal and result.verdict == "incomplete":
+    elif checked_temporal and result.stopped_early:
         temporal_note = result.reason
     result.seconds = time.perf_counter() - t0
     result.symmetry = sym
@@ -674,15 +676,19 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     return run
 
 
-def _partial_ok(ex) -> bool:
+def _partial_ok(ex, result) -> bool:
     """Whether the explorer's partial state graph can decide LTL/CTL properties: the Python
-    explorer's, or the native one's on one thread (both record every step of an expanded state)."""
+    explorer's, or the native one's (both record every step of an expanded state).  On threads,
+    only after a state or depth limit: the threads then stop where one thread stops, with the
+    same states and steps (so the report is the same for any number of workers); a memory limit
+    stops them at the end of a chunk."""
     if type(ex) is Explorer:
         # (not under symmetry reduction: its stored states are class representatives, left to the
         # complete check)
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
-        return bool(ex.keep_graph) and ex.workers <= 1 and not ex.threaded
+        one = ex.workers <= 1 and not ex.threaded
+        return bool(ex.keep_graph) and (one or result.reason.startswith(("state limit", "depth limit")))
     return False
 
 
