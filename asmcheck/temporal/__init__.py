@@ -279,6 +279,26 @@ def quotient_plan(machine, props, fair=(), graph=False):
     return plan
 
 
+def step_halts(explorer, n_states: int, on_error: str):
+    """(which of the ``n_states`` states have a recorded step, a bytearray; the halts: a failing
+    branch that becomes a transition to a halt node, as (state, choices, monitored values, index
+    of the error edge); the first run-time error, or None).  With ``on_error="drop"`` only a state
+    left without any well-defined step halts.  A state that halts counts as one with a step."""
+    from . import kernel
+    has_succ = getattr(explorer, "has_successor", None)
+    has_out = has_succ() if has_succ is not None else None
+    if has_out is None:
+        has_out = kernel.mark(n_states, explorer.edge_arrays()[0])
+    error_edges = list(getattr(explorer, "error_edges", None) or ())
+    halts = []
+    for ix, (src, picks, e) in enumerate(error_edges):
+        if on_error == "halt" or not has_out[src]:
+            halts.append((src, picks, getattr(e, "mon", None) or {}, ix))
+    for src, _, _, _ in halts:
+        has_out[src] = 1
+    return has_out, halts, (error_edges[0][2] if error_edges else None)
+
+
 def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: bool = True):
     """``on_error``: what a step that fails is on the paths, ``halt`` (a transition to a node that
     stays in the state for ever) or ``drop`` (no transition; a state left without any halts).
@@ -292,19 +312,7 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
     results = []
     # every state has a successor (a step without updates loops): a state without one is
     # where a step failed, and paths through it would be cut short
-    from . import kernel
-    has_succ = getattr(explorer, "has_successor", None)
-    has_out = has_succ() if has_succ is not None else None
-    if has_out is None:
-        has_out = kernel.mark(explorer.n_states, explorer.edge_arrays()[0])
-    error_edges = list(getattr(explorer, "error_edges", None) or ())
-    halts = []
-    for ix, (src, picks, e) in enumerate(error_edges):
-        if on_error == "halt" or not has_out[src]:
-            halts.append((src, picks, getattr(e, "mon", None) or {}, ix))
-    for src, _, _, _ in halts:
-        has_out[src] = 1
-    relative_to = error_edges[0][2] if error_edges else None
+    has_out, halts, relative_to = step_halts(explorer, explorer.n_states, on_error)
     stuck = has_out.find(0)
     if stuck >= 0:
         errors.append(f"the state graph is incomplete: the step from state {stuck} could not be computed "

@@ -290,7 +290,7 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
     a list of :class:`asmcheck.temporal.TemporalResult` (``decided_on``: the states explored),
     in the order of ``props``; the properties missing from it stay incomplete.  ``notes`` gets
     the reasons why none could be decided (fairness, INVAR)."""
-    from . import TemporalResult, formulas, has_existential_top, kernel
+    from . import TemporalResult, formulas, has_existential_top, kernel, step_halts
     from .kripke import AtomError, build_kripke, state_labels
     t_start = time.perf_counter()
     notes = notes if notes is not None else []
@@ -317,18 +317,7 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
         except Exception:       # (the structures say it again, or need no edges)
             pass
         S = explorer.n_states
-    has_succ = getattr(explorer, "has_successor", None)
-    has_out = has_succ() if has_succ is not None else None
-    if has_out is None:
-        has_out = kernel.mark(S, explorer.edge_arrays()[0])
-    error_edges = list(getattr(explorer, "error_edges", None) or ())
-    halts = []
-    for ix, (src, picks, e) in enumerate(error_edges):
-        if on_error == "halt" or not has_out[src]:
-            halts.append((src, picks, getattr(e, "mon", None) or {}, ix))
-    for src, _, _, _ in halts:
-        has_out[src] = 1
-    relative_to = error_edges[0][2] if error_edges else None
+    has_out, halts, relative_to = step_halts(explorer, S, on_error)
     frontier = frontier_states(explorer, has_out, stopped_inside)
     base = len(atoms.items)
     import numpy as np
