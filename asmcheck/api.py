@@ -653,11 +653,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             result.reason = result.reason or temporal_note
             if result.verdict == "holds":
                 result.verdict = "incomplete"
-        for t in temporal_results:
-            if not t.holds and result.verdict != "violated" and not t.message:
-                result.verdict = "violated"
     elif checked_temporal and result.stopped_early:
         temporal_note = result.reason
+    for t in temporal_results:
+        if not t.holds and result.verdict != "violated" and not t.message:
+            result.verdict = "violated"
     result.seconds = time.perf_counter() - t0
     result.symmetry = sym
     if sym is None and not interrupted and result.reason.startswith(LIMIT_REASONS):
@@ -688,7 +688,7 @@ def _partial_ok(ex, result) -> bool:
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
         one = ex.workers <= 1 and not ex.threaded
-        return bool(ex.keep_graph) and (one or result.reason.startswith(("state limit", "depth limit")))
+        return bool(ex.keep_graph) and (one or result.reason.startswith(BOUND_REASONS))
     return False
 
 
@@ -699,8 +699,7 @@ PARTIAL_BYTES_PER_STATE = 250
 
 def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, max_memory=None):
     """The LTL/CTL properties decided on the state graph a search left when it stopped early
-    (:func:`asmcheck.temporal.partial.check_partial`): (results, note).  A violated one makes the
-    run's verdict violated.  Not tried when the memory bound leaves no room for it (the reason
+    (:func:`asmcheck.temporal.partial.check_partial`): (results, note).  Not tried when the memory bound leaves no room for it (the reason
     says so)."""
     from .temporal.partial import check_partial
     note = result.reason
@@ -724,7 +723,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
             # the Python explorer records a state's steps as they come: a stop other than the
             # state or depth limit (checked between two states) may have cut the last state's
             got = check_partial(ex, temporal, fair=list(fair or []), stopped_inside=type(ex) is Explorer and not (
-                result.reason or "").startswith(("state limit", "depth limit")))
+                result.reason or "").startswith(BOUND_REASONS))
     except (TimeUp, DeadlineReached, MemoryError, KeyboardInterrupt):
         got = []                # (the properties stay incomplete, as the search is)
     except AsmError:
@@ -733,15 +732,14 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
         result.reason = f"{result.reason}; LTL/CTL on the partial state space: internal error: " \
                         f"{type(exc).__name__}: {exc}"
         got = []
-    for t in got:
-        if not t.holds and not t.message and result.verdict != "violated":
-            result.verdict = "violated"
     return got, note
 
 
 SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
-# the reasons of a search that a limit stopped
-LIMIT_REASONS = ("state limit", "depth limit", "time limit", "memory limit", "out of memory")
+# the reasons of a search stopped by a state or depth bound (checked between two states), and by
+# any limit
+BOUND_REASONS = ("state limit", "depth limit")
+LIMIT_REASONS = BOUND_REASONS + ("time limit", "memory limit", "out of memory")
 
 
 def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair):
