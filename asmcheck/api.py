@@ -27,7 +27,7 @@ from pathlib import Path
 from .errors import AsmError, UsageError, interrupt_reason
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
-from .explore.bfs import Explorer, ReplayError, Result, TimeLimit, TimeUp
+from .explore.bfs import Explorer, ReplayError, Result, Stop, TimeLimit, TimeUp
 from .explore.store import memory_in_use  # noqa: F401  (part of the API)
 from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
@@ -438,6 +438,7 @@ def _checked_out_of_time(ex, state_props, deadlock, seconds) -> Result:
                                      f"{states:,} states)")
     result = Result("incomplete", states, transitions, depth, seconds, [], stop.text(), list(state_props))
     result.time_limit = stop
+    result.stop = Stop.TIME
     result.deadlock_checked = deadlock
     result.engine = "native"
     result.workers = ex.workers
@@ -578,11 +579,13 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                     # the search was over: the Ctrl-C came while the graph's steps were enumerated
                     # (the counts and verdicts of the search stay)
                     result.reason = f"{interrupt_reason(exc)} while the state graph's steps were enumerated"
+                    result.stop = Stop.INTERRUPT
                     if result.verdict == "holds":
                         result.verdict = "incomplete"
                 else:
                     result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
                                     interrupt_reason(exc), list(state_props))
+                    result.stop = Stop.INTERRUPT
                     result.deadlock_checked = deadlock
                     result.engine = "native"
                     result.workers = ex.workers
@@ -617,6 +620,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.reason = result.time_limit.text()
     temporal_results = []
     temporal_note = ""
+    temporal_stop = ""          # why the LTL/CTL phase stopped (a Stop)
     temporal_error = ""
     checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
     # the invariants, step properties and deadlock are decided by the search alone: a limit met in
@@ -636,21 +640,22 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             with _watchdog(left), _deadline(machine, left):
                 temporal_results = check_temporal(ex, temporal, fair=list(fair or []))
         except (TimeUp, DeadlineReached):
-            temporal_note = TimeLimit(max_seconds, " in the LTL/CTL phase").text()
+            temporal_note, temporal_stop = TimeLimit(max_seconds, " in the LTL/CTL phase").text(), Stop.TIME
             temporal_results = []
         except KeyboardInterrupt as exc:
             interrupted = True
-            temporal_note = f"{interrupt_reason(exc)} in the LTL/CTL phase"
+            temporal_note, temporal_stop = f"{interrupt_reason(exc)} in the LTL/CTL phase", Stop.INTERRUPT
             temporal_results = []
         except MemoryError:
-            temporal_note = "out of memory in the LTL/CTL phase"
+            temporal_note, temporal_stop = "out of memory in the LTL/CTL phase", Stop.MEMORY
             temporal_results = []
         except AsmError:
             raise
         except Exception as exc:        # an internal error: reported on the rows (the gate goes on)
             temporal_error = f"internal error in LTL/CTL checking: {type(exc).__name__}: {exc}"
         if temporal_note:
-            result.reason = result.reason or temporal_note
+            if not result.reason:
+                result.reason, result.stop = temporal_note, temporal_stop
             if result.verdict == "holds":
                 result.verdict = "incomplete"
     elif checked_temporal and result.stopped_early:
@@ -660,7 +665,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             result.verdict = "violated"
     result.seconds = time.perf_counter() - t0
     result.symmetry = sym
-    if sym is None and not interrupted and result.reason.startswith(LIMIT_REASONS):
+    if sym is None and not interrupted and result.stop in Stop.LIMITS:
         result.symmetry_hint = _symmetry_hint(model, state_props, step_props, temporal)
     run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
     run.temporal_error = temporal_error
@@ -672,7 +677,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if temporal_error and result.verdict == "holds":
         # the LTL/CTL properties were not checked: nothing says they hold
         result.verdict = "incomplete"
-        result.reason = result.reason or temporal_error
+        if not result.reason:
+            result.reason, result.stop = temporal_error, Stop.INTERNAL
     return run
 
 
@@ -688,7 +694,7 @@ def _partial_ok(ex, result) -> bool:
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
         one = ex.workers <= 1 and not ex.threaded
-        return bool(ex.keep_graph) and (one or result.reason.startswith(BOUND_REASONS))
+        return bool(ex.keep_graph) and (one or result.stop in Stop.BOUNDS)
     return False
 
 
@@ -705,7 +711,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     note = result.reason
     left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
     got: list = []
-    if "a step could not be computed" in (result.reason or ""):
+    if result.stop == Stop.STEP_FAILED:
         # a state without successors: the complete check could not run either
         return [], note
     need = PARTIAL_BYTES_PER_STATE * int(getattr(ex, "n_states", 0) or 0)
@@ -722,8 +728,8 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
         with _watchdog(left), _deadline(machine, left):
             # the Python explorer records a state's steps as they come: a stop other than the
             # state or depth limit (checked between two states) may have cut the last state's
-            got = check_partial(ex, temporal, fair=list(fair or []), stopped_inside=type(ex) is Explorer and not (
-                result.reason or "").startswith(BOUND_REASONS))
+            got = check_partial(ex, temporal, fair=list(fair or []),
+                                stopped_inside=type(ex) is Explorer and result.stop not in Stop.BOUNDS)
     except (TimeUp, DeadlineReached, MemoryError, KeyboardInterrupt):
         got = []                # (the properties stay incomplete, as the search is)
     except AsmError:
@@ -736,10 +742,6 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
 
 
 SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
-# the reasons of a search stopped by a state or depth bound (checked between two states), and by
-# any limit
-BOUND_REASONS = ("state limit", "depth limit")
-LIMIT_REASONS = BOUND_REASONS + ("time limit", "memory limit", "out of memory")
 
 
 def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair):

@@ -4228,6 +4228,8 @@ class NativeExplorer:
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
+        from .bfs import Stop
+        stop = {1: Stop.STATES, 2: Stop.DEPTH, 3: Stop.TIME, 8: Stop.MEMORY}.get(status, Stop.STEP_FAILED if stopped else "")
         time_limit = None
         if status == 3:
             from .bfs import TimeLimit
@@ -4242,6 +4244,7 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         res.time_limit = time_limit
+        res.stop = stop if incomplete else ""
         return res
 
     def _take_edges(self, n: int) -> None:
