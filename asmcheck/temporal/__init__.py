@@ -123,6 +123,9 @@ def _replay(explorer, K, nodes, loop, prop=None):
     replayed = [(st, log, ups, raw, mapping) for st, log, ups, _, raw, mapping in got]
     tsteps = trace_steps(replayed)
     tr = Trace(None, tsteps, "temporal")
+    sym = getattr(explorer, "sym", None)
+    if sym is not None and loop is not None:
+        tr.up_to = sym.describe()
     if failing is not None:
         tr.failing = list(getattr(failing, "choices", None) or ())
         tr.message = failing.message
