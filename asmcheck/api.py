@@ -583,7 +583,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                     if result.verdict == "holds":
                         result.verdict = "incomplete"
                 else:
-                    result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
+                    result = Result("incomplete", *ex.counts_so_far(), time.perf_counter() - t0, [],
                                     interrupt_reason(exc), list(state_props))
                     result.stop = Stop.INTERRUPT
                     result.deadlock_checked = deadlock

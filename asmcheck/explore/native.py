@@ -4103,6 +4103,7 @@ class NativeExplorer:
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
         out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
+        self._run_out = out         # (the counts so far, for a search a Ctrl-C ends: counts_so_far)
         t0 = time.perf_counter()
         if g.dyn:
             self.dll.asm_canon_reset()
@@ -4246,6 +4247,12 @@ class NativeExplorer:
         res.time_limit = time_limit
         res.stop = stop if incomplete else ""
         return res
+
+    def counts_so_far(self) -> tuple:
+        """(states, transitions, depth) the search had reached at its last return to Python: what
+        a search that a Ctrl-C ended reports."""
+        out = getattr(self, "_run_out", None)
+        return (int(out[0]), int(out[1]), int(out[2])) if out is not None else (0, 0, 0)
 
     def _take_edges(self, n: int) -> None:
         """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed (each
