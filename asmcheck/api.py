@@ -695,6 +695,11 @@ def _partial_ok(ex, result) -> bool:
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
         one = ex.workers <= 1 and not ex.threaded
         return bool(ex.keep_graph) and (one or result.stop in Stop.BOUNDS)
+    if type(ex).__name__ == "PartitionedExplorer":
+        # the partitioned search (processes or Ray actors) cuts a level where the sequential search
+        # stops at its state or depth limit, with the same states and steps (a worker's memory share
+        # or the time limit stops it at the end of a level instead)
+        return bool(getattr(ex, "keep_graph", False)) and result.stop in Stop.BOUNDS
     return False
 
 

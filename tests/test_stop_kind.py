@@ -86,3 +86,19 @@ def test_the_partial_check_reads_the_stop_kind_not_the_reason(write_spec, monkey
 def test_every_limit_kind_is_a_limit():
     assert Stop.BOUNDS == {Stop.STATES, Stop.DEPTH}
     assert Stop.LIMITS == {Stop.STATES, Stop.DEPTH, Stop.TIME, Stop.MEMORY}
+
+
+@pytest.mark.parametrize("limits, rows", [({"max_states": 5}, ["violated", "holds"]),
+                                          ({"max_depth": 2}, ["incomplete", "holds"])])
+def test_the_partitioned_search_decides_what_one_worker_decides(write_spec, limits, rows):
+    """After a state or depth limit the partitioned search (processes) has the states and steps of
+    the sequential search: the same verdicts are decided, with the same traces (it decided none)."""
+    spec = write_spec(COUNT)
+    one = asmcheck.load(spec).explore(engine="python", **limits)
+    two = asmcheck.load(spec).explore(engine="python", workers=2, **limits)
+    assert type(two.explorer).__name__ == "PartitionedExplorer"
+    assert [r["verdict"] for r in two.rows] == [r["verdict"] for r in one.rows] == rows
+    assert [r.get("decided_on") for r in two.rows] == [r.get("decided_on") for r in one.rows]
+    assert two.json()["properties"] == one.json()["properties"]
+    assert two.json()["violations"] == one.json()["violations"]
+    assert two.verdict == one.verdict
