@@ -1313,12 +1313,18 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         model = load(path, import_path=import_path, monitored=monitored, int_range=int_range,
                      properties=properties, default_properties=default_properties, unknown_monitored="ignore",
                      properties_must_apply=False)
+        declared = {getattr(d, "name", None) for d in model.spec.domains}
+        if explore.get("fair"):
+            # (the gate's --fair names the domains of some of its specs: each spec takes those it has)
+            explore = {**explore, "fair": [d for d in explore["fair"] if d == "all" or d in declared]}
         run = model.explore(**explore)
         out = run.outcome(strict=strict, root=root, avalla_dir=avalla_dir, temporal_error=run.temporal_error)
         out.interrupted = run.interrupted
         # symmetry=True: the states are classes (the gate's table says so under it)
         out.symmetry = run.symmetry.describe() if run.symmetry is not None and run.symmetry.active else ""
         out.symmetry_hint = run.symmetry_hint
+        # the names of its domains and monitored functions (the gate's check of --fair and --monitored)
+        out.declared = {"domain": declared, "function": {f.name for f in model.spec.functions}}
         if not out.properties:
             out.properties = [_gate.judge(_gate.PropertyOutcome("(no property)", "input", "none",
                                                                 message=no_property_message(model)), False, False)]
@@ -1378,8 +1384,28 @@ def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, roo
         outcomes.append(o)
         if getattr(o, "interrupted", False):
             break               # Ctrl-C: what was checked so far is the report
+    names = unused_names(outcomes, options) if len(outcomes) == len(specs) else []
     outcomes += unused_property_files(specs, options.get("properties"), root)
+    outcomes += names
     return Gate(outcomes, root)
+
+
+def unused_names(outcomes, options) -> list:
+    """Input-error outcomes for the ``fair`` domains and ``monitored`` functions that none of the
+    checked specs declares (each spec takes the names it has, so a typo would otherwise pass the
+    gate with nothing constrained); not judged when a spec could not be loaded."""
+    seen = [getattr(o, "declared", None) for o in outcomes]
+    if not seen or None in seen:
+        return []
+    out = []
+    for flag, kind, names in (("--fair", "domain", [d for d in options.get("fair") or () if d != "all"]),
+                              ("--monitored", "function", list(dict(options.get("monitored") or {})))):
+        for name in names:
+            if not any(name in d[kind] for d in seen):
+                out.append(_gate.error_outcome(f"{flag} {name}", UsageError(
+                    f"{flag} {name}: none of the checked specs has a {kind} {name}"), None))
+                out[-1].subject = "option"
+    return out
 
 
 def unused_property_files(specs, given, root=None) -> list:
@@ -1408,6 +1434,7 @@ def unused_property_files(specs, given, root=None) -> list:
                                                                     f"{', '.join(pf.applies)}: none of the checked "
                                                                     f"specs has that name; fix its 'applies to' "
                                                                     f"line"), root))
+        out[-1].subject = "property file"
     return out
 
 

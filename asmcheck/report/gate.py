@@ -103,6 +103,8 @@ class SpecOutcome:
     properties: list = field(default_factory=list)   # [PropertyOutcome]
     header: Location | None = None  # the 'asm NAME' header
     main: Location | None = None    # the main rule's declaration
+    # what the row is about: a spec, or an input of the whole gate ('property file', 'option')
+    subject: str = "spec"
 
     @property
     def status(self) -> str:
