@@ -730,11 +730,16 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     try:
         if left is not None and left <= 0:
             raise TimeUp()
+        why_not: list = []
         with _watchdog(left), _deadline(machine, left):
             # the Python explorer records a state's steps as they come: a stop other than the
             # state or depth limit (checked between two states) may have cut the last state's
             got = check_partial(ex, temporal, fair=list(fair or []),
-                                stopped_inside=type(ex) is Explorer and result.stop not in Stop.BOUNDS)
+                                stopped_inside=type(ex) is Explorer and result.stop not in Stop.BOUNDS,
+                                notes=why_not)
+        if why_not:
+            # (fairness constraints, INVAR: why no LTL/CTL property is decided on the states explored)
+            result.reason = "; ".join([result.reason] + why_not)
     except (TimeUp, DeadlineReached, MemoryError, KeyboardInterrupt):
         got = []                # (the properties stay incomplete, as the search is)
     except AsmError:
