@@ -238,8 +238,16 @@ class Model:
             inputs = read_inputs(os.fspath(inputs))
         if random and seed is None:
             seed = 0
-        return Simulation(self, machine, list(simulate(machine, steps, seed=seed, random_choices=random,
-                                                       inputs=inputs)))
+        done: list = []
+        try:
+            for st in simulate(machine, steps, seed=seed, random_choices=random, inputs=inputs):
+                done.append(st)
+        except KeyboardInterrupt as exc:
+            # Ctrl-C (or SIGTERM): the steps so far are the run (``interrupted`` says why it is short)
+            sim = Simulation(self, machine, done)
+            sim.interrupted = interrupt_reason(exc)
+            return sim
+        return Simulation(self, machine, done)
 
     # ------------------------------------------------------------- bmc
     def bmc(self, k: int, *, induction: bool = False, properties=None, assume=None, aux=(), infer: bool = False,
@@ -281,6 +289,7 @@ class Simulation:
         self.model = model
         self.machine = machine
         self.steps = steps
+        self.interrupted = ""       # why the run stopped before its steps ('interrupted (Ctrl-C)'), or ""
 
     def __iter__(self):
         return iter(self.steps)
@@ -297,11 +306,18 @@ class Simulation:
 
     @property
     def exit_code(self) -> int:
-        return EXIT_OK if self.ok else EXIT_VIOLATED
+        return EXIT_OK if self.ok and not self.interrupted else EXIT_VIOLATED if not self.ok else EXIT_INCOMPLETE
+
+    def stopped_note(self) -> str:
+        """'interrupted (Ctrl-C) after step 12', or '' for a run that took its steps."""
+        if not self.interrupted:
+            return ""
+        return f"{self.interrupted} " + (f"after step {self.steps[-1].number}" if self.steps else "before the initial state")
 
     def text(self) -> str:
         from .report.simulation import simulation_text
-        return "\n".join(simulation_text(self.machine, self.steps)[0]) + "\n"
+        note = self.stopped_note()
+        return "\n".join(simulation_text(self.machine, self.steps)[0] + ([note] if note else [])) + "\n"
 
     def asmeta(self) -> str:
         from .report.simulation import simulation_asmeta
@@ -309,7 +325,10 @@ class Simulation:
 
     def json(self) -> dict:
         from .report.simulation import simulation_json
-        return simulation_json(self.machine, self.model.name, self.steps)[0]
+        doc = simulation_json(self.machine, self.model.name, self.steps)[0]
+        if self.interrupted:
+            doc["interrupted"] = self.stopped_note()
+        return doc
 
 
 def parse(path, *, import_path=()) -> object:
