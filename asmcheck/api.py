@@ -678,6 +678,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             if result.verdict == "holds":
                 result.verdict = "incomplete"
     elif checked_temporal and result.stopped_early:
+        if sym is not None and sym.active and result.stop in Stop.BOUNDS | {Stop.MEMORY} and not interrupted:
+            # (its stored states are class representatives: the check of a partial state space is
+            # not made for them)
+            result.reason = f"{result.reason}; under symmetry reduction a partial state space decides no " \
+                            f"LTL/CTL property"
         temporal_note = result.reason
     for t in temporal_results:
         if not t.holds and result.verdict != "violated" and not t.message:

@@ -45,3 +45,32 @@ def test_without_them_the_same_bound_decides(write_spec):
     run = asmcheck.load(write_spec(COUNT.replace("EXTRA\n", ""))).explore(max_states=5)
     assert [r["verdict"] for r in run.rows] == ["violated", "holds"]
     assert run.result.reason == "state limit 5 reached"
+
+
+SYMMETRIC = """asm Sym
+import StandardLibrary
+import CTLLibrary
+signature:
+	enum domain Proc = {PA | PB | PC}
+	dynamic controlled on: Proc -> Boolean
+definitions:
+	CTLSPEC ef((forall $p in Proc with on($p)))
+	main rule r_main =
+		choose $p in Proc with true do on($p) := not on($p)
+default init s0:
+	function on($p in Proc) = false
+"""
+
+SYMMETRY = "under symmetry reduction a partial state space decides no LTL/CTL property"
+
+
+def test_under_symmetry_the_reason_says_why_nothing_is_decided(write_spec):
+    path = write_spec(SYMMETRIC)
+    run = asmcheck.load(path).explore(symmetry=True, max_depth=1)
+    assert (run.states, [r["verdict"] for r in run.rows]) == (2, ["incomplete"])
+    assert run.result.reason == "depth limit 1 reached; " + SYMMETRY
+    run = asmcheck.load(path).explore(max_depth=1, engine="python")
+    assert (run.states, [r["verdict"] for r in run.rows]) == (4, ["incomplete"])
+    assert run.result.reason == "depth limit 1 reached"
+    run = asmcheck.load(path).explore(symmetry=True)
+    assert (run.states, [r["verdict"] for r in run.rows]) == (4, ["holds"])
