@@ -269,9 +269,10 @@ def add_explore_options(p) -> None:
     add_scaling_options(p)
 
 
-def explore_options(args) -> dict:
-    """The options of :meth:`asmcheck.Model.explore` given on the command line; the time limit
-    counts from the start of the command."""
+def check_limits(args) -> None:
+    """The limits every command takes (--max-states, --max-depth, --max-seconds, --loop-bound), checked
+    alike: a usage error for a negative count, a loop bound below 1, or a time that is not a
+    number of seconds, 0 or more (nan, inf)."""
     for name in ("max_states", "max_depth"):
         v = getattr(args, name, None)
         if v is not None and v < 0:
@@ -279,6 +280,16 @@ def explore_options(args) -> dict:
     secs = getattr(args, "max_seconds", None)
     if secs is not None and not (secs >= 0 and secs < float("inf")):
         raise UsageError("--max-seconds must be a number of seconds, 0 or more")
+    bound = getattr(args, "loop_bound", None)
+    if bound is not None and bound < 1:
+        raise UsageError("--loop-bound must be 1 or more")
+
+
+def explore_options(args) -> dict:
+    """The options of :meth:`asmcheck.Model.explore` given on the command line; the time limit
+    counts from the start of the command."""
+    check_limits(args)
+    secs = getattr(args, "max_seconds", None)
     mem = getattr(args, "max_memory", None)
     opts = {"engine": getattr(args, "engine", "auto"), "max_states": getattr(args, "max_states", None),
             "max_depth": getattr(args, "max_depth", None), "max_seconds": secs,
