@@ -55,3 +55,24 @@ def test_testgen_on_a_limited_exploration_does_not_call_code_dead(write_spec, ca
     assert main(["testgen", path, "--criterion", "rule"]) == 0
     out = capsys.readouterr().out
     assert "dead code" not in out and out.startswith("testgen Count (rule): 4 of 4 targets coverable")
+
+
+def test_coverage_on_a_limited_exploration_speaks_of_the_explored_configurations(write_spec, capsys):
+    """(it said 'the guard x < 9 is true in every reachable configuration that reaches it', of a
+    guard that is false at x = 9, beyond the limit)"""
+    path = write_spec(COUNT)
+    main(["explore", path, "--coverage", "--max-states", "3"])
+    out = capsys.readouterr().out
+    cov = out[out.index("coverage of"):].splitlines()
+    assert cov == [
+        "coverage of Count over 3 states (exploration incomplete: state limit 3 reached):",
+        "  rule: 3 of 4 (75.0 %)",
+        "  branch: 3 of 4 (75.0 %)",
+        "  update: 1 of 2 (50.0 %)",
+        "not covered (3):",
+        "  Count.asm:12:4  branch if else: if x < 9 then x := x + 1 else x := 0 endif",
+        "      the guard x < 9 is true in every explored configuration that reaches it",
+        "  Count.asm:12:34  rule update fired: x := 0",
+        "      the enclosing if (line 12) never has its guard x < 9 false in an explored configuration",
+        "  Count.asm:12:34  update update executed: x := 0",
+        "      the enclosing if (line 12) never has its guard x < 9 false in an explored configuration"]
