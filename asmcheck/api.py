@@ -1406,14 +1406,21 @@ def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, roo
     if not specs:
         raise UsageError("no .asm specs under " + ", ".join(os.fspath(p) for p in paths))
     outcomes = []
-    for path in specs:
+    for i, path in enumerate(specs):
         if progress is not None:
             progress(path)
         o = check_spec(path, strict=strict_expect, avalla_dir=avalla_dir, root=root, clock=clock, **options)
         outcomes.append(o)
         if getattr(o, "interrupted", False):
-            break               # Ctrl-C: what was checked so far is the report
-    names = unused_names(outcomes, options) if len(outcomes) == len(specs) else []
+            # Ctrl-C: what was checked so far is the report, and the specs left are listed unchecked
+            why = f"{o.reason or interrupt_reason()} before this spec"
+            for rest in specs[i + 1:]:
+                left = _gate.SpecOutcome(_gate.display_path(rest, root), "", "incomplete", reason=why)
+                left.properties = [_gate.judge(_gate.PropertyOutcome("(not checked)", "input", "incomplete",
+                                                                     message=why), False, False)]
+                outcomes.append(left)
+            break
+    names = unused_names(outcomes, options) if not any(getattr(o, "interrupted", False) for o in outcomes) else []
     outcomes += unused_property_files(specs, options.get("properties"), root)
     outcomes += names
     return Gate(outcomes, root)
