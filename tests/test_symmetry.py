@@ -329,22 +329,29 @@ def test_a_limit_names_the_flag(tmp_path):
     assert done.symmetry_hint == "" and "hint" not in done.json()
 
 
-def test_the_native_engine_is_not_asked(tmp_path, monkeypatch):
+def test_which_engine_reduces(tmp_path, monkeypatch):
+    """A function with one position over the symmetric domain: the native engine reduces it (its
+    tests are in test_symmetry_native.py); several positions: the Python engine, and the reason."""
     model = asmcheck.load(write(tmp_path, BINGO))
-    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Bingo.asm with --symmetry: symmetry "
-                                                  r"reduction \(--symmetry\) runs on the Python engine \(use --engine "
-                                                  r"auto or python\)$"):
-        model.explore(engine="native", symmetry=True)
-    with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process: it cannot be combined with "
-                                                  "--workers, --cluster or --bitstate$"):
+    with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process \\(or on the native engine's "
+                                                  "threads, --workers N\\): it cannot be combined with --cluster, "
+                                                  "--bitstate or the Python engine's workers$"):
         model.explore(engine="python", symmetry=True, workers=2)
     with pytest.raises(asmcheck.UsageError, match="^symmetry must be True or False, not 'yes'$"):
         model.explore(engine="python", symmetry="yes")
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     run = model.explore(engine="auto", symmetry=True)
-    assert run.engine == "python" and (run.states, run.transitions) == (48, 113)
-    assert run.engine_note == "symmetry reduction (--symmetry) runs on the Python engine"
-    assert run.json()["engine_note"] == "native engine not used: symmetry reduction (--symmetry) runs on the Python engine"
+    assert run.engine == "native" and (run.states, run.transitions) == (48, 113)
+    link = asmcheck.load(write(tmp_path, LINK))
+    why = ("symmetry reduction (--symmetry) runs on the Python engine: a function with several positions over Node "
+           "(the native canonical form handles one position a function)")
+    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Link.asm with --symmetry: "
+                       + why.replace("(", "\\(").replace(")", "\\)") + " \\(use --engine auto or python\\)$"):
+        link.explore(engine="native", symmetry=True)
+    run = link.explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (19, 40)
+    assert run.engine_note == why
+    assert run.json()["engine_note"] == "native engine not used: " + why
 
 
 def test_cli(tmp_path, capsys):

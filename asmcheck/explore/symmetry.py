@@ -393,6 +393,135 @@ class Symmetry:
         return out
 
 
+# -------------------------------------------------------------------- the native canonical form
+class NativeRefused(Exception):
+    """A symmetry the native engine does not reduce (the reason is the message)."""
+
+
+def native_reason(sym: Symmetry) -> str:
+    """Why the native engine cannot reduce ``sym`` before any code is generated ('' when it may)."""
+    if sym.multi:
+        names = sorted({sd.name for ps in sym.multi.values() for _, sd in ps})
+        return (f"a function with several positions over {_and(names)} (the native canonical form "
+                f"handles one position a function)")
+    return ""
+
+
+def native_tables(sym: Symmetry, gen) -> str:
+    """The C tables of native_sym.c for the native engine's layout (``gen``: its Generator, after
+    the layout and the slots' bits are made), from the Python canonical form's own location keys
+    and signature entries (so both give the same representative).  NativeRefused when a location
+    of a symmetric domain is not a narrow slot of the layout."""
+    why = native_reason(sym)
+    if why:
+        raise NativeRefused(why)
+    for fi in sym.positions:
+        if fi in getattr(gen, "map_slot", {}):
+            f = gen.spec.functions[fi]
+            raise NativeRefused(f"{f.name}'s locations are one map value in the native layout")
+    dom_no = {id(sd): i for i, sd in enumerate(sym.domains)}
+    rows: dict = {}          # prefix -> [domain number, {free index: slot}, per code rank entries]
+    vals: list = []          # (slot, domain number, prefix, per code: free index or -1)
+    entries: list = []
+    for s, key in enumerate(gen.slots):
+        if type(key) is tuple and key and key[0] == "map":
+            continue
+        try:
+            info = sym._info(key)
+        except (TypeError, IndexError, KeyError):
+            continue
+        if info is None:
+            continue
+        p, sd = info[0], info[1]
+        f = gen.spec.functions[key if type(key) is int else key[0]]
+        codes = gen.slot_values[s]
+        if codes is None or gen.bits[s] >= 32:
+            raise NativeRefused(f"a location of {f.name} over {sd.name} holds values the native layout does "
+                                f"not list")
+        ncodes = 1 << gen.bits[s]
+        values = [codes[x] if x < len(codes) else None for x in range(ncodes)]
+        if p >= 0:
+            row = rows.get(info[3])
+            if row is None:
+                row = rows[info[3]] = [dom_no[id(sd)], {}, None]
+                row[2] = [None if v is None else sym._entry(info, v)[1] for v in values]
+            row[1][info[2] - sd.offset] = s
+            for e in row[2]:
+                if e is not None:
+                    entries.append(e)
+        else:
+            ent = (info[3], 0, 0)
+            entries.append(ent)
+            vals.append((s, dom_no[id(sd)], ent, [-1 if v is None else sd.free_ids.get(_vid(v), -1)
+                                                   for v in values]))
+    entries.sort()
+    rank: list = []
+    for e in entries:
+        if not rank or rank[-1][0] != e:
+            rank.append((e, len(rank)))
+
+    def rank_of(e) -> int:
+        lo, hi = 0, len(rank)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if rank[mid][0] < e:
+                lo = mid + 1
+            else:
+                hi = mid
+        return rank[lo][1]
+    rslots, rranks, row_dom, row_slot, row_rank = [], [], [], [], []
+    for prefix in sorted(rows):
+        d, by_el, ents = rows[prefix]
+        n = len(sym.domains[d].free)
+        if len(by_el) != n:
+            f = gen.spec.functions[prefix[0]]
+            raise NativeRefused(f"not every location of {f.name} over {sym.domains[d].name} is a slot of the "
+                                f"native layout")
+        row_dom.append(d)
+        row_slot.append(len(rslots))
+        rslots.extend(by_el[i] for i in range(n))
+        row_rank.append(len(rranks))
+        rranks.extend(-1 if e is None else rank_of(e) for e in ents)
+    vmap, vinv, val_slot, val_dom, val_rank, val_map, val_inv = [], [], [], [], [], [], []
+    seen: dict = {}
+    for s, d, ent, per_code in vals:
+        n = len(sym.domains[d].free)
+        inv = [-1] * n
+        for x, i in enumerate(per_code):
+            if i >= 0 and inv[i] < 0:
+                inv[i] = x
+        if any(x < 0 for x in inv):
+            f = gen.spec.functions[gen.slots[s] if type(gen.slots[s]) is int else gen.slots[s][0]]
+            raise NativeRefused(f"a location of {f.name} cannot hold every element of {sym.domains[d].name} "
+                                f"in the native layout")
+        key = (tuple(per_code), tuple(inv))
+        if key not in seen:
+            seen[key] = (len(vmap), len(vinv))
+            vmap.extend(per_code)
+            vinv.extend(inv)
+        val_slot.append(s)
+        val_dom.append(d)
+        val_rank.append(rank_of(ent))
+        val_map.append(seen[key][0])
+        val_inv.append(seen[key][1])
+
+    def arr(ctype, name, xs):
+        return f"static const {ctype} {name}[] = {{{', '.join(str(int(x)) for x in xs) or '0'}}};"
+    nent = len(rslots) + len(val_slot)
+    maxd = max((len(sd.free) for sd in sym.domains), default=1)
+    out = [f"#define SYM_N {sym._n}", f"#define SYM_ND {len(sym.domains)}", f"#define SYM_NROW {len(row_dom)}",
+           f"#define SYM_NVAL {len(val_slot)}", f"#define SYM_NENT {nent}", f"#define SYM_MAXD {maxd}",
+           arr("int", "SYM_DOFF", [sd.offset for sd in sym.domains]),
+           arr("int", "SYM_DLEN", [len(sd.free) for sd in sym.domains]),
+           arr("int", "SYM_ROW_DOM", row_dom), arr("int", "SYM_ROW_SLOT", row_slot),
+           arr("int", "SYM_ROW_RANK", row_rank), arr("int", "SYM_RSLOTS", rslots),
+           arr("int32_t", "SYM_RRANK", rranks),
+           arr("int", "SYM_VAL_SLOT", val_slot), arr("int", "SYM_VAL_DOM", val_dom),
+           arr("int32_t", "SYM_VAL_RANK", val_rank), arr("int", "SYM_VAL_MAP", val_map),
+           arr("int", "SYM_VAL_INV", val_inv), arr("int32_t", "SYM_VMAP", vmap), arr("int32_t", "SYM_VINV", vinv)]
+    return "\n".join(out) + "\n"
+
+
 def _numberings(choices):
     """Every renaming (element -> element, the moving ones) that numbers each domain's elements
     group by group, the groups in their order and the elements of a group in any order."""
