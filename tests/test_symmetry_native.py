@@ -1,0 +1,215 @@
+"""Symmetry reduction on the native engine (``--symmetry``, native_sym.c): the same classes,
+transitions, verdicts and concrete traces as the Python engine's symmetric run (the whole JSON
+report but the timings and the engine's name), since both store the same representative of
+each class; every state the native search stores is its own Python canonical form.  What the
+native canonical form does not handle (a function with several positions over a symmetric
+domain) stays on the Python engine, with the reason.  A differential over the corpus specs that
+get a symmetry compares the two engines' symmetric runs.
+
+Engines: native (each case is compared with the Python engine's run, the reference)."""
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+
+import asmcheck
+from asmcheck.explore.symmetry import detect
+
+from conftest import ASMETA
+from helpers import write
+from test_symmetry import BINGO, LINK, MUTEX, PHILS, SWAP, _check_concrete, _rows
+
+pytestmark = pytest.mark.engines("native")
+
+IGNORED_KEYS = ("seconds", "engine", "compile_seconds", "engine_note")
+
+
+def _json(run) -> dict:
+    return {k: v for k, v in run.json().items() if k not in IGNORED_KEYS}
+
+
+def _both(model, **kw):
+    """(native run, Python run) of the symmetric search, the same options."""
+    nat = model.explore(engine="native", symmetry=True, **kw)
+    py = model.explore(engine="python", symmetry=True, **kw)
+    assert nat.engine == "native" and py.engine == "python"
+    return nat, py
+
+
+def _stored_canonical(run, model):
+    """Every state the native search stored is the Python canonical form of itself."""
+    ex = run.explorer
+    sym = detect(model.machine, list(model.state_props) + list(model.step_props) + list(model.temporal))
+    for sid in range(ex.n_states):
+        st = ex.state(sid)
+        assert sym.canon(st)[0] == st, sid
+
+
+CASES = [
+    # (spec, classes, transitions, rows with --deadlock)
+    (MUTEX, 17, 35, [("invariant_1", "holds"), ("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "holds"),
+                     ("ctl_3", "violated"), ("ltl_1", "holds"), ("ltl_2", "violated")]),
+    (BINGO, 48, 113, [("invariant_1", "violated"), ("deadlock", "violated"), ("ctl_1", "holds"),
+                      ("ctl_2", "violated")]),
+    (PHILS, 30, 84, [("invariant_1", "violated"), ("deadlock", "holds")]),
+    (SWAP, 2, 2, [("deadlock", "holds")]),
+]
+
+
+@pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap"])
+def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, text, classes, transitions, rows):
+    model = asmcheck.load(write(tmp_path, text))
+    nat, py = _both(model, deadlock=True)
+    assert (nat.states, nat.transitions) == (py.states, py.transitions) == (classes, transitions)
+    assert _rows(nat) == _rows(py) == rows
+    assert _json(nat) == _json(py)
+    assert nat.symmetry_lines() == py.symmetry_lines()
+    for v in nat.violations:
+        if v.trace is not None and v.trace.raw is not None:
+            _check_concrete(model, v.trace)
+    _stored_canonical(nat, model)
+    # without the deadlock check too
+    nat, py = _both(model)
+    assert _json(nat) == _json(py)
+
+
+def test_a_successor_moved_into_its_own_class_is_no_deadlock(tmp_path):
+    """Swap: the only successor of each state is the other state of its class; the native search
+    stores the class once, and still sees no deadlock (the step changed the state)."""
+    model = asmcheck.load(write(tmp_path, SWAP))
+    run = model.explore(engine="native", symmetry=True, deadlock=True)
+    assert (run.states, run.transitions) == (2, 2)
+    assert _rows(run) == [("deadlock", "holds")]
+
+
+def test_the_mutex_trace_is_the_python_engines(tmp_path):
+    """The representative is the Python engine's: the same BFS tree, so the same concrete trace,
+    step for step (the choices name the concrete trace's elements)."""
+    model = asmcheck.load(write(tmp_path, MUTEX))
+    nat, py = _both(model)
+    got = [(v.property, [s.state for s in v.trace.raw.steps]) for v in nat.violations]
+    want = [(v.property, [s.state for s in v.trace.raw.steps]) for v in py.violations]
+    assert got == want and len(got) == 2
+    assert [(p, len(s)) for p, s in got] == [("ctl_3", 5), ("ltl_2", 8)]
+
+
+def test_several_positions_stay_on_the_python_engine(tmp_path, monkeypatch, capsys):
+    monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    model = asmcheck.load(write(tmp_path, LINK))
+    run = model.explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (19, 40)
+    assert run.engine_note == ("symmetry reduction (--symmetry) runs on the Python engine: a function with several "
+                               "positions over Node (the native canonical form handles one position a function)")
+
+    from asmcheck.cli import main
+    path = write(tmp_path, LINK)
+    assert main(["explore", "--symmetry", path]) == 1
+    assert ("  (native engine not used: symmetry reduction (--symmetry) runs on the Python engine: a function with "
+            "several positions over Node (the native canonical form handles one position a function))"
+            in capsys.readouterr().out.splitlines())
+
+
+def test_the_cli_names_the_native_engine(tmp_path, capsys, monkeypatch):
+    from asmcheck.cli import main
+    monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    path = write(tmp_path, BINGO)
+    code = main(["explore", "--symmetry", path])
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1
+    assert lines[0].startswith("Bingo.asm: 48 states, 113 transitions, depth 8, ") and lines[0].endswith(
+        "native engine")
+    assert lines[1] == "symmetry: states and transitions are counted up to the symmetry of Num's 5 unnamed elements"
+
+
+def _corpus(rel):
+    path = ASMETA / rel
+    if not path.exists():
+        pytest.skip(f"the ASMETA corpus is not at {ASMETA}")
+    return asmcheck.load(str(path))
+
+
+@pytest.mark.slow
+def test_tombola():
+    """tombola.asm: 11,264 classes (NuSMV: EF true, EG true, AG false); the Python symmetric run
+    takes about 7 s."""
+    model = _corpus("asm_examples/examples/tombola.asm")
+    nat, py = _both(model, deadlock=True)
+    assert (nat.states, nat.transitions, nat.depth) == (11_264, 60_063, 30)
+    assert _rows(nat) == [("deadlock", "violated"), ("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "violated")]
+    assert _json(nat) == _json(py)
+    ctl3 = next(v for v in nat.violations if v.property == "ctl_3")
+    assert len(_check_concrete(model, ctl3.trace)) == 10
+
+
+# ------------------------------------------------------------------ the corpus differential
+MAX_STATES = 3000       # a spec whose symmetric run needs more is outside the comparison
+MAX_SECONDS = 5         # the Python engine's time bound per spec
+
+
+def symmetric_specs() -> list:
+    """The corpus specs (as test_native_diff lists them) in which symmetry.detect finds
+    interchangeable elements."""
+    from test_native_diff import corpus, extra_args
+    out = []
+    for p in corpus():
+        args = extra_args(p)
+        try:
+            model = asmcheck.load(str(p), import_path=args[1:] if args else ())
+            sym = detect(model.machine, list(model.state_props) + list(model.step_props) + list(model.temporal))
+        except Exception:       # noqa: BLE001 - a spec that does not load gets no symmetry
+            continue
+        if sym.active:
+            out.append(p)
+    return out
+
+
+def compare(path) -> tuple[str, str]:
+    """('native' | 'python' (the run stays on the Python engine; detail: why) | 'skip' | 'differs',
+    detail) for the symmetric runs of ``path``, with and without --deadlock."""
+    from test_native_diff import extra_args, run_cli
+    for more in ([], ["--deadlock"]):
+        base = ["explore", str(path), "--symmetry", "--format", "json", "--max-states", str(MAX_STATES),
+                *extra_args(path), *more]
+        code, out, err = run_cli(base + ["--engine", "python", "--max-seconds", str(MAX_SECONDS)], MAX_SECONDS + 3)
+        if code is None or code not in (0, 1, 3):
+            return "skip", f"Python engine: exit {code}"
+        py = json.loads(out)
+        if code == 3 or py["verdict"] == "incomplete":
+            return "skip", f"Python engine: {py.get('incomplete') or 'incomplete'}"
+        code_n, out_n, err_n = run_cli(base + ["--engine", "auto"], 60)
+        if code_n != code:
+            return "differs", f"exit code {code_n} (python {code}) {more}: {err_n.strip()[:200]}"
+        nat = json.loads(out_n)
+        if nat.get("engine") != "native":
+            return "python", nat.get("engine_note", "")
+        a = {k: v for k, v in py.items() if k not in IGNORED_KEYS}
+        b = {k: v for k, v in nat.items() if k not in IGNORED_KEYS}
+        if a != b:
+            keys = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+            return "differs", f"{more}: different {', '.join(keys)}"
+    return "native", f"{py['states']} classes"
+
+
+@pytest.mark.slow
+@pytest.mark.corpus
+def test_corpus_differential():
+    if not ASMETA.exists():
+        pytest.skip(f"the ASMETA corpus is not at {ASMETA}")
+    specs = symmetric_specs()
+    assert len(specs) >= 40
+    results = {str(p): compare(p) for p in specs}
+    differs = {k: v for k, v in results.items() if v[0] == "differs"}
+    assert not differs
+    native = [k for k, v in results.items() if v[0] == "native"]
+    # every reason a compared spec stays on the Python engine is the native canonical form's
+    for k, (o, d) in results.items():
+        if o == "python":
+            assert "symmetry reduction (--symmetry) runs on the Python engine" in d or "cannot" in d, (k, d)
+    assert len(native) >= 10
+
+
+if __name__ == "__main__":      # python tests/test_symmetry_native.py [SPEC...]: the differential's lines
+    for p in sys.argv[1:] or symmetric_specs():
+        print(*compare(p), p, flush=True)
