@@ -123,6 +123,77 @@ def test_the_cli_names_the_native_engine(tmp_path, capsys, monkeypatch):
     assert lines[1] == "symmetry: states and transitions are counted up to the symmetry of Num's 5 unnamed elements"
 
 
+def test_threads_give_the_same_report(tmp_path, monkeypatch):
+    """--workers 3 with --symmetry: the native threads (chunks of three or four states, so that the
+    threads do expand them) give the one-thread report; the Python engine's workers refuse."""
+    monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
+    monkeypatch.setenv("ASMCHECK_THREAD_MAX_CHUNK", "4")
+    for text in (MUTEX, BINGO, SWAP, PHILS):
+        model = asmcheck.load(write(tmp_path, text))
+        one = model.explore(engine="native", symmetry=True, deadlock=True)
+        three = model.explore(engine="native", symmetry=True, deadlock=True, workers=3)
+        chunks = three.explorer.thread_stats()["parallel_chunks"]
+        assert three.explorer.workers == 3 and (chunks > 0 or text is SWAP)
+        a, b = _json(one), _json(three)
+        a.pop("workers", None), b.pop("workers", None)
+        assert a == b
+    with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process"):
+        model.explore(engine="python", symmetry=True, workers=2)
+    link = asmcheck.load(write(tmp_path, LINK))
+    with pytest.raises(asmcheck.UsageError, match=r"^--symmetry with --workers runs on the native engine's threads, "
+                                                  r"which cannot reduce Link.asm: symmetry reduction \(--symmetry\) "
+                                                  r"runs on the Python engine: a function with several positions "
+                                                  r"over Node .*\(drop --workers\)$"):
+        link.explore(engine="auto", symmetry=True, workers=2)
+
+
+# a step fails when it chooses a process already on: the representative's failing branch chooses
+# another element than the concrete trace's (PA, the one the trace turned on)
+FAIL = """asm Fail
+import StandardLibrary
+signature:
+	enum domain P = {PA | PB | PC}
+	dynamic controlled on: P -> Boolean
+	dynamic controlled x: Integer
+definitions:
+	main rule r_Main =
+		choose $p in P with true do
+			if on($p) then
+				par
+					x := 1
+					x := 2
+				endpar
+			else
+				on($p) := true
+			endif
+default init s0:
+	function on($p in P) = false
+	function x = 0
+"""
+
+
+@pytest.mark.parametrize("engine", ["native", "python"])
+def test_the_failing_choices_name_the_concrete_elements(tmp_path, engine):
+    model = asmcheck.load(write(tmp_path, FAIL))
+    run = model.explore(engine=engine, symmetry=True)
+    assert run.engine == engine and (run.states, run.transitions) == (4, 3)
+    (v,) = run.violations
+    steps = v.trace.raw.steps
+    assert [c.value for s in steps[1:] for c in s.choices] == [{"$p": _elem(model, "PA")}]
+    assert [(c.kind, c.value) for c in v.trace.raw.failing] == [("choose", {"$p": _elem(model, "PA")})]
+    # the failing branch is one of the concrete state's own
+    errors: list = []
+    list(model.machine.successors(steps[-1].state, errors=errors))
+    assert any(e.choices == v.trace.raw.failing for e in errors)
+    doc = run.json()["violations"][0]["failing_step"]
+    assert doc["choices"] == [{"kind": "choose", "at": "choose at Fail.asm:9:3", "value": {"$p": "PA"}}]
+
+
+def _elem(model, name):
+    d = next(d for d in model.spec.domains if getattr(d, "name", "") == "P")
+    return next(e for e in d.elements if e.name == name)
+
+
 def _corpus(rel):
     path = ASMETA / rel
     if not path.exists():

@@ -377,6 +377,25 @@ class Symmetry:
             out[k] = v
         return out
 
+    def concrete_error(self, machine, state: dict, err):
+        """The failing branch of ``state``'s step (a concrete state of a trace) that is the image of
+        ``err``, a failing branch of the step of its class's representative: the same choices with
+        the elements renamed (the first such branch in the step function's order), or None."""
+        from ..errors import AsmError
+        perm = self.canon(state)[1]         # concrete element -> the representative's
+        ren = {_vid(a): b for a, b in perm.items()}
+        want = _choice_keys(getattr(err, "choices", None) or (), {})
+        errors: list = []
+        try:
+            for _ in machine.successors(state, errors=errors):
+                pass
+        except AsmError as e:
+            errors = [e]
+        for e in errors:
+            if _choice_keys(getattr(e, "choices", None) or (), ren) == want:
+                return e
+        return None
+
     @staticmethod
     def inverse(perm: dict) -> dict:
         return {b: a for a, b in perm.items()}
@@ -520,6 +539,25 @@ def native_tables(sym: Symmetry, gen) -> str:
            arr("int32_t", "SYM_VAL_RANK", val_rank), arr("int", "SYM_VAL_MAP", val_map),
            arr("int", "SYM_VAL_INV", val_inv), arr("int32_t", "SYM_VMAP", vmap), arr("int32_t", "SYM_VINV", vinv)]
     return "\n".join(out) + "\n"
+
+
+def _renamed(v, ren: dict):
+    """``v`` (a choice's value: bindings, tuples, elements) with the elements renamed by ``ren``
+    (value id -> element)."""
+    if isinstance(v, dict):
+        return tuple((k, _renamed(x, ren)) for k, x in v.items())
+    if type(v) is tuple or type(v) is list:
+        return tuple(_renamed(x, ren) for x in v)
+    try:
+        got = ren.get(_vid(v), v)
+    except TypeError:
+        return v
+    return vkey(got) if got is not None else None
+
+
+def _choice_keys(choices, ren: dict) -> tuple:
+    """The choices of a step, compared up to the renaming ``ren``: kind, place, value, nested."""
+    return tuple((c.kind, c.label, _renamed(c.value, ren), _choice_keys(c.nested or (), ren)) for c in choices)
 
 
 def _numberings(choices):
