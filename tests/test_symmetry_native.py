@@ -58,8 +58,14 @@ CASES = [
 ]
 
 
+@pytest.mark.parametrize("fast", [True, False], ids=["one-number", "rank-lists"])
 @pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap"])
-def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, text, classes, transitions, rows):
+def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, monkeypatch, text, classes, transitions,
+                                                                    rows, fast):
+    """Both ways native_sym.c compares signatures (one 64-bit number an element, or its list of
+    ranks) give the Python engine's representatives."""
+    from asmcheck.explore import symmetry
+    monkeypatch.setattr(symmetry, "NATIVE_FAST", fast)
     model = asmcheck.load(write(tmp_path, text))
     nat, py = _both(model, deadlock=True)
     assert (nat.states, nat.transitions) == (py.states, py.transitions) == (classes, transitions)

@@ -56,6 +56,84 @@ static inline int sym_before(const SymW *z, int a, int b) {
     return k < 0 || (k == 0 && a < b);
 }
 
+/* the renaming found (z->order, z->pos, z->vel) applied to the words */
+static void sym_apply(SymW *z, uint64_t *w) {
+    for (int r = 0; r < SYM_NROW; r++) {
+        int d = SYM_ROW_DOM[r], base = SYM_DOFF[d], n = SYM_DLEN[d];
+        const int *sl = SYM_RSLOTS + SYM_ROW_SLOT[r];
+        const int32_t *ord = z->order + base;
+        int moves = 0;
+        for (int i = 0; i < n; i++) {
+            z->codes[i] = sym_get(w, sl[i]);
+            if (i && z->codes[i] != z->codes[0]) moves = 1;
+        }
+        if (!moves) continue;
+        for (int j = 0; j < n; j++) sym_put(w, sl[j], z->codes[ord[j]]);
+    }
+    for (int v = 0; v < SYM_NVAL; v++) {
+        int32_t i = z->vel[v];
+        if (i < 0) continue;
+        int d = SYM_VAL_DOM[v];
+        sym_put(w, SYM_VAL_SLOT[v], SYM_VINV[SYM_VAL_INV[v] + z->pos[SYM_DOFF[d] + i]]);
+    }
+}
+
+#if SYM_FAST
+/* Each element's signature fits one number (SYM_KE entries of SYM_KB bits, the rank + 1, from the
+   top; the rows and value slots are read in the order of their prefixes, SYM_SRC, so an element's
+   entries come in ascending order): the elements are sorted by (number, element) by insertion, a
+   successor's elements being mostly in order already. */
+static int sym_canon(uint64_t *w) {
+    SymW *z = &sym_w;
+    uint64_t key[SYM_N];
+    uint8_t cnt[SYM_N];
+    memset(key, 0, sizeof(key));
+    memset(cnt, 0, sizeof(cnt));
+    for (int q = 0; q < SYM_NSRC; q++) {
+        int x = SYM_SRC[q];
+        if (x < SYM_NROW) {
+            int d = SYM_ROW_DOM[x], base = SYM_DOFF[d], n = SYM_DLEN[d];
+            const int *sl = SYM_RSLOTS + SYM_ROW_SLOT[x];
+            const int32_t *rk = SYM_RRANK + SYM_ROW_RANK[x];
+            for (int i = 0; i < n; i++) {
+                int32_t e = rk[sym_get(w, sl[i])];
+                if (e >= 0) { key[base + i] = (key[base + i] << SYM_KB) | (uint64_t)(e + 1); cnt[base + i]++; }
+            }
+        } else {
+            int v = x - SYM_NROW;
+            int32_t i = SYM_VMAP[SYM_VAL_MAP[v] + sym_get(w, SYM_VAL_SLOT[v])];
+            z->vel[v] = i;
+            if (i >= 0) {
+                int g = SYM_DOFF[SYM_VAL_DOM[v]] + i;
+                key[g] = (key[g] << SYM_KB) | (uint64_t)(SYM_VAL_RANK[v] + 1);
+                cnt[g]++;
+            }
+        }
+    }
+    for (int g = 0; g < SYM_N; g++)
+        if (cnt[g] < SYM_KE) key[g] = cnt[g] ? key[g] << ((SYM_KE - cnt[g]) * SYM_KB) : 0;
+    int changed = 0;
+    for (int d = 0; d < SYM_ND; d++) {
+        int base = SYM_DOFF[d], n = SYM_DLEN[d];
+        const uint64_t *k = key + base;
+        int32_t *a = z->order + base;
+        a[0] = 0;
+        for (int i = 1; i < n; i++) {
+            int j = i;
+            while (j > 0 && k[a[j - 1]] > k[i]) { a[j] = a[j - 1]; j--; }
+            a[j] = i;
+            if (j != i) changed = 1;
+        }
+    }
+    if (!changed) return 0;
+    for (int d = 0; d < SYM_ND; d++) {
+        int base = SYM_DOFF[d], n = SYM_DLEN[d];
+        for (int j = 0; j < n; j++) z->pos[base + z->order[base + j]] = j;
+    }
+    sym_apply(z, w);
+    return 1;
+}
+#else
 static int sym_canon(uint64_t *w) {
     SymW *z = &sym_w;
     int32_t np = 0;
@@ -109,23 +187,7 @@ static int sym_canon(uint64_t *w) {
         }
     }
     if (!changed) return 0;
-    for (int r = 0; r < SYM_NROW; r++) {
-        int d = SYM_ROW_DOM[r], base = SYM_DOFF[d], n = SYM_DLEN[d];
-        const int *sl = SYM_RSLOTS + SYM_ROW_SLOT[r];
-        const int32_t *ord = z->order + base;
-        int moves = 0;
-        for (int i = 0; i < n; i++) {
-            z->codes[i] = sym_get(w, sl[i]);
-            if (i && z->codes[i] != z->codes[0]) moves = 1;
-        }
-        if (!moves) continue;
-        for (int j = 0; j < n; j++) sym_put(w, sl[j], z->codes[ord[j]]);
-    }
-    for (int v = 0; v < SYM_NVAL; v++) {
-        int32_t i = z->vel[v];
-        if (i < 0) continue;
-        int d = SYM_VAL_DOM[v];
-        sym_put(w, SYM_VAL_SLOT[v], SYM_VINV[SYM_VAL_INV[v] + z->pos[SYM_DOFF[d] + i]]);
-    }
+    sym_apply(z, w);
     return 1;
 }
+#endif

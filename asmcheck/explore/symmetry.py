@@ -413,6 +413,10 @@ class Symmetry:
 
 
 # -------------------------------------------------------------------- the native canonical form
+#: False: native_sym.c's general signatures (rank lists) even where one 64-bit number holds each (tests)
+NATIVE_FAST = True
+
+
 class NativeRefused(Exception):
     """A symmetry the native engine does not reduce (the reason is the message)."""
 
@@ -524,6 +528,18 @@ def native_tables(sym: Symmetry, gen) -> str:
         val_map.append(seen[key][0])
         val_inv.append(seen[key][1])
 
+    # the rows and value slots in the order of their entries' prefixes: an element's entries come
+    # out of them in ascending order; when an element has at most ke entries of kb bits each (its
+    # rank + 1), its signature is one 64-bit number (entries from the top, 0 where none is left)
+    srcs = sorted([(prefix, r) for r, prefix in enumerate(sorted(rows))] +
+                  [(vals[v][2][0], len(row_dom) + v) for v in range(len(vals))])
+    per_dom = [0] * len(sym.domains)
+    for d in row_dom + val_dom:
+        per_dom[d] += 1
+    ke = max(per_dom, default=0)
+    kb = max(len(rank), 1).bit_length()
+    fast = 1 if NATIVE_FAST and 0 < ke and ke * kb <= 64 else 0
+
     def arr(ctype, name, xs):
         return f"static const {ctype} {name}[] = {{{', '.join(str(int(x)) for x in xs) or '0'}}};"
     nent = len(rslots) + len(val_slot)
@@ -537,7 +553,9 @@ def native_tables(sym: Symmetry, gen) -> str:
            arr("int32_t", "SYM_RRANK", rranks),
            arr("int", "SYM_VAL_SLOT", val_slot), arr("int", "SYM_VAL_DOM", val_dom),
            arr("int32_t", "SYM_VAL_RANK", val_rank), arr("int", "SYM_VAL_MAP", val_map),
-           arr("int", "SYM_VAL_INV", val_inv), arr("int32_t", "SYM_VMAP", vmap), arr("int32_t", "SYM_VINV", vinv)]
+           arr("int", "SYM_VAL_INV", val_inv), arr("int32_t", "SYM_VMAP", vmap), arr("int32_t", "SYM_VINV", vinv),
+           f"#define SYM_FAST {fast}", f"#define SYM_KE {ke}", f"#define SYM_KB {kb}", f"#define SYM_NSRC {len(srcs)}",
+           arr("int", "SYM_SRC", [x for _, x in srcs])]
     return "\n".join(out) + "\n"
 
 
