@@ -330,8 +330,9 @@ def test_a_limit_names_the_flag(tmp_path):
 
 
 def test_which_engine_reduces(tmp_path, monkeypatch):
-    """A function with one position over the symmetric domain: the native engine reduces it (its
-    tests are in test_symmetry_native.py); several positions: the Python engine, and the reason."""
+    """The native engine reduces what its canonical form orders (its tests are in
+    test_symmetry_native.py); an Integer location over the symmetric domain stays on the Python
+    engine, with the reason."""
     model = asmcheck.load(write(tmp_path, BINGO))
     with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process \\(or on the native engine's "
                                                   "threads, --workers N\\): it cannot be combined with --cluster, "
@@ -342,16 +343,29 @@ def test_which_engine_reduces(tmp_path, monkeypatch):
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     run = model.explore(engine="auto", symmetry=True)
     assert run.engine == "native" and (run.states, run.transitions) == (48, 113)
-    link = asmcheck.load(write(tmp_path, LINK))
-    why = ("symmetry reduction (--symmetry) runs on the Python engine: a function with several positions over Node "
-           "(the native canonical form handles one position a function)")
-    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Link.asm with --symmetry: "
-                       + why.replace("(", "\\(").replace(")", "\\)") + " \\(use --engine auto or python\\)$"):
-        link.explore(engine="native", symmetry=True)
-    run = link.explore(engine="auto", symmetry=True)
-    assert run.engine == "python" and (run.states, run.transitions) == (19, 40)
+    count = asmcheck.load(write(tmp_path, COUNT))
+    why = "--symmetry: cnt over P holds values of Integer, which the native canonical form does not order"
+    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Count.asm: " + why + "$"):
+        count.explore(engine="native", symmetry=True)
+    run = count.explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (10, 13)
     assert run.engine_note == why
     assert run.json()["engine_note"] == "native engine not used: " + why
+
+
+# a counter per process: an Integer location over the symmetric domain
+COUNT = """asm Count
+import StandardLibrary
+signature:
+	enum domain P = {PA | PB | PC}
+	dynamic controlled cnt: P -> Integer
+definitions:
+	main rule r_Main =
+		choose $p in P with cnt($p) < 2 do
+			cnt($p) := cnt($p) + 1
+default init s0:
+	function cnt($p in P) = 0
+"""
 
 
 def test_cli(tmp_path, capsys):

@@ -19,7 +19,7 @@ from asmcheck.explore.symmetry import detect
 
 from conftest import ASMETA
 from helpers import write
-from test_symmetry import BINGO, LINK, MUTEX, PHILS, SWAP, _check_concrete, _rows
+from test_symmetry import BINGO, COUNT, LINK, MUTEX, PHILS, SWAP, _check_concrete, _rows
 
 pytestmark = pytest.mark.engines("native")
 
@@ -47,6 +47,41 @@ def _stored_canonical(run, model):
         assert sym.canon(st)[0] == st, sid
 
 
+# two symmetric domains, a relation over both (several positions), a function from one to the
+# other, a value of one stored, locations made undef again: 7,129 states, 653 classes
+MIX = """asm Mix
+import StandardLibrary
+import CTLLibrary
+signature:
+	enum domain Ag = {AA | AB | AC}
+	enum domain Res = {RX | RY}
+	dynamic controlled rel: Prod(Ag, Res) -> Boolean
+	dynamic controlled owner: Res -> Ag
+	dynamic controlled mark: Ag -> Boolean
+	dynamic controlled lastA: Ag
+definitions:
+	CTLSPEC ef((forall $r in Res with isDef(owner($r))))
+	CTLSPEC ag(not((exists $a in Ag with mark($a) and lastA = $a)))
+	main rule r_Main =
+		choose $a in Ag, $r in Res with true do
+			if rel($a, $r) then
+				par
+					rel($a, $r) := false
+					owner($r) := undef
+					mark($a) := not(mark($a))
+				endpar
+			else
+				par
+					rel($a, $r) := true
+					owner($r) := $a
+					lastA := $a
+				endpar
+			endif
+default init s0:
+	function rel($a in Ag, $r in Res) = false
+	function mark($a in Ag) = false
+"""
+
 CASES = [
     # (spec, classes, transitions, rows with --deadlock)
     (MUTEX, 17, 35, [("invariant_1", "holds"), ("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "holds"),
@@ -55,11 +90,14 @@ CASES = [
                       ("ctl_2", "violated")]),
     (PHILS, 30, 84, [("invariant_1", "violated"), ("deadlock", "holds")]),
     (SWAP, 2, 2, [("deadlock", "holds")]),
+    (LINK, 19, 40, [("invariant_1", "holds"), ("deadlock", "violated"), ("ctl_1", "holds"), ("ctl_2", "holds"),
+                    ("ctl_3", "violated")]),
+    (MIX, 653, 3495, [("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "violated")]),
 ]
 
 
 @pytest.mark.parametrize("fast", [True, False], ids=["one-number", "rank-lists"])
-@pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap"])
+@pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap", "Link", "Mix"])
 def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, monkeypatch, text, classes, transitions,
                                                                     rows, fast):
     """Both ways native_sym.c compares signatures (one 64-bit number an element, or its list of
@@ -101,20 +139,30 @@ def test_the_mutex_trace_is_the_python_engines(tmp_path):
     assert [(p, len(s)) for p, s in got] == [("ctl_3", 5), ("ltl_2", 8)]
 
 
-def test_several_positions_stay_on_the_python_engine(tmp_path, monkeypatch, capsys):
+def test_an_integer_location_stays_on_the_python_engine(tmp_path, monkeypatch, capsys):
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    model = asmcheck.load(write(tmp_path, COUNT))
+    run = model.explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (10, 13)
+    why = "--symmetry: cnt over P holds values of Integer, which the native canonical form does not order"
+    assert run.engine_note == why
+    from asmcheck.cli import main
+    path = write(tmp_path, COUNT)
+    assert main(["explore", "--symmetry", path]) == 0
+    assert f"  (native engine not used: {why})" in capsys.readouterr().out.splitlines()
+
+
+def test_the_multi_form_has_a_bound_on_numberings(tmp_path, monkeypatch):
+    """A state whose canonical form would try more numberings than the bound: the native search
+    stops, and the Python engine takes the run (Link's initial state: 4! numberings)."""
+    from asmcheck.explore import symmetry
+    monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    monkeypatch.setattr(symmetry, "NATIVE_MAX_NUMBERINGS", 6)
     model = asmcheck.load(write(tmp_path, LINK))
     run = model.explore(engine="auto", symmetry=True)
     assert run.engine == "python" and (run.states, run.transitions) == (19, 40)
-    assert run.engine_note == ("symmetry reduction (--symmetry) runs on the Python engine: a function with several "
-                               "positions over Node (the native canonical form handles one position a function)")
-
-    from asmcheck.cli import main
-    path = write(tmp_path, LINK)
-    assert main(["explore", "--symmetry", path]) == 1
-    assert ("  (native engine not used: symmetry reduction (--symmetry) runs on the Python engine: a function with "
-            "several positions over Node (the native canonical form handles one position a function))"
-            in capsys.readouterr().out.splitlines())
+    assert run.engine_note == ("--symmetry: a state whose canonical form tries more than 6 numberings of the "
+                               "interchangeable elements")
 
 
 def test_the_cli_names_the_native_engine(tmp_path, capsys, monkeypatch):
@@ -134,7 +182,7 @@ def test_threads_give_the_same_report(tmp_path, monkeypatch):
     threads do expand them) give the one-thread report; the Python engine's workers refuse."""
     monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
     monkeypatch.setenv("ASMCHECK_THREAD_MAX_CHUNK", "4")
-    for text in (MUTEX, BINGO, SWAP, PHILS):
+    for text in (MUTEX, BINGO, SWAP, PHILS, LINK, MIX):
         model = asmcheck.load(write(tmp_path, text))
         one = model.explore(engine="native", symmetry=True, deadlock=True)
         three = model.explore(engine="native", symmetry=True, deadlock=True, workers=3)
@@ -145,12 +193,12 @@ def test_threads_give_the_same_report(tmp_path, monkeypatch):
         assert a == b
     with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process"):
         model.explore(engine="python", symmetry=True, workers=2)
-    link = asmcheck.load(write(tmp_path, LINK))
+    count = asmcheck.load(write(tmp_path, COUNT))
     with pytest.raises(asmcheck.UsageError, match=r"^--symmetry with --workers runs on the native engine's threads, "
-                                                  r"which cannot reduce Link.asm: symmetry reduction \(--symmetry\) "
-                                                  r"runs on the Python engine: a function with several positions "
-                                                  r"over Node .*\(drop --workers\)$"):
-        link.explore(engine="auto", symmetry=True, workers=2)
+                                                  r"which cannot run Count.asm: --symmetry: cnt over P holds values "
+                                                  r"of Integer, which the native canonical form does not order "
+                                                  r"\(drop --workers\)$"):
+        count.explore(engine="auto", symmetry=True, workers=2)
 
 
 # a step fails when it chooses a process already on: the representative's failing branch chooses
@@ -205,6 +253,17 @@ def _corpus(rel):
     if not path.exists():
         pytest.skip(f"the ASMETA corpus is not at {ASMETA}")
     return asmcheck.load(str(path))
+
+
+def test_battleship():
+    """battleship.asm: its board functions have two positions over Coord, whose columns 1 and 4
+    are interchangeable; 296 classes (NuSMV: true, true, true, true)."""
+    model = _corpus("asm_examples/examples/battleship.asm")
+    nat, py = _both(model, deadlock=True)
+    assert (nat.states, nat.transitions) == (296, 832)
+    assert _rows(nat)[1:] == [("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "holds"), ("ctl_4", "holds")]
+    assert _json(nat) == _json(py)
+    _stored_canonical(nat, model)
 
 
 @pytest.mark.slow

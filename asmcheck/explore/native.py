@@ -3888,6 +3888,7 @@ _SHARED_STATICS = frozenset("""
     succs
     grow_deadline grow_mask grow_abandoned
     wide_of_word self_first sb_self sb_self_cap
+    sym_refused
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
@@ -3935,6 +3936,9 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
 #endif
         if (ok) {
             store_state(c, sw, nw);
+#if SYM_ON
+            if (sym_canon(nw) < 0) return -1;     /* (symmetry: the class's representative) */
+#endif
             int64_t dst = asm_find(nw);
             if (dst >= 0) {
                 int32_t P = c->pos;
@@ -4190,6 +4194,10 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4 and g.dyn and self._canon_refusal():
             return self._more_element_slots()
+        if status == 4 and self.sym is not None and _sym_refused(self.dll):
+            from .symmetry import NATIVE_MAX_NUMBERINGS
+            raise Unsupported(f"--symmetry: a state whose canonical form tries more than {NATIVE_MAX_NUMBERINGS:,} "
+                              f"numberings of the interchangeable elements")
         if status == 4:
             code = out[4]
             self.failed_state = out[5]     # the state whose step or property was refused
@@ -4917,6 +4925,13 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _sym_refused(dll) -> bool:
+    """Whether a symmetric search stopped on a state with too many numberings (native_sym.c)."""
+    fn = dll.asm_sym_refused
+    fn.restype, fn.argtypes = ctypes.c_int64, []
+    return bool(fn())
 
 
 class _StoredFrozen:

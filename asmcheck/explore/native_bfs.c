@@ -1167,7 +1167,11 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #if SYM_ON
             /* (symmetry: the class's representative; a successor moved into the state's own class
                is no deadlock) */
-            if (!same && sym_canon(nw)) m[1] |= SYM_MOVED;
+            if (!same) {
+                int moved = sym_canon(nw);
+                if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
+                if (moved) m[1] |= SYM_MOVED;
+            }
 #endif
             (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
