@@ -386,6 +386,7 @@ class Generator:
         self._loose = None
         self._any_read = False           # the term being translated may be a location of type Any
         self.uid = 0
+        self.sym = None                  # symmetry reduction (explore.symmetry.Symmetry, active): native_sym.c
 
     # -------------------------------------------------------------- helpers
     def fresh(self, prefix="t") -> str:
@@ -2798,10 +2799,11 @@ class Generator:
                          "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         head.append(f"#define CN_NDYN {len(self.dyn)}")
+        head.append(f"#define SYM_ON {1 if self.sym is not None else 0}")
         if "lz_note" in self.defined_done:
             step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
-            self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+            self.canon_code() + "\n" + self.sym_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         src += "\n" + self.label_entry(label_exprs)
         return src
 
@@ -3323,6 +3325,19 @@ class Generator:
                 arr("uint64_t", "CN_KMASK", [f"{masks[x]}ULL" for x in kw])]
         canon = resources.files("asmcheck.explore").joinpath("native_canon.c").read_text()
         return "\n".join(out) + "\n" + canon
+
+    def sym_code(self) -> str:
+        """The tables of native_sym.c and the file itself (nothing without symmetry reduction)."""
+        if self.sym is None:
+            return ""
+        from .symmetry import NativeRefused, native_tables
+        if len(self.step_props) > 63:
+            raise Unsupported("more than 63 step properties with --symmetry")
+        try:
+            tables = native_tables(self.sym, self)
+        except NativeRefused as e:
+            raise Unsupported(f"--symmetry: {e}") from None
+        return tables + resources.files("asmcheck.explore").joinpath("native_sym.c").read_text()
 
     def r_Extend(self, r, env):
         d = r.domain
@@ -3873,6 +3888,7 @@ _SHARED_STATICS = frozenset("""
     succs
     grow_deadline grow_mask grow_abandoned
     wide_of_word self_first sb_self sb_self_cap
+    sym_refused
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
@@ -3920,6 +3936,9 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
 #endif
         if (ok) {
             store_state(c, sw, nw);
+#if SYM_ON
+            if (sym_canon(nw) < 0) return -1;     /* (symmetry: the class's representative) */
+#endif
             int64_t dst = asm_find(nw);
             if (dst >= 0) {
                 int32_t P = c->pos;
@@ -3965,7 +3984,8 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
-                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, **_ignored):
+                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, symmetry=None,
+                 **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -3984,6 +4004,10 @@ class NativeExplorer:
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
+        # symmetry reduction (explore.symmetry.Symmetry, active): the search stores the Python
+        # canonical form's representatives (native_sym.c)
+        self.sym = symmetry if symmetry is not None and symmetry.active else None
+        self.gen.sym = self.sym
         try:
             src = self.gen.generate()
         except AsmRuntimeError as e:
@@ -4097,7 +4121,7 @@ class NativeExplorer:
                 from ..props import evaluate_all
                 if not all(any(v is True for v in evaluate_all(self.m, fn, st, None)) for fn in invar_fns):
                     continue
-            w = g.pack(st)
+            w = g.pack(st if self.sym is None else self.sym.canon(st)[0])
             if w not in inits:
                 inits.append(w)
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
@@ -4171,6 +4195,10 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4 and g.dyn and self._canon_refusal():
             return self._more_element_slots()
+        if status == 4 and self.sym is not None and _sym_refused(self.dll):
+            from .symmetry import NATIVE_MAX_NUMBERINGS
+            raise Unsupported(f"--symmetry: a state whose canonical form tries more than {NATIVE_MAX_NUMBERINGS:,} "
+                              f"numberings of the interchangeable elements")
         if status == 4:
             code = out[4]
             self.failed_state = out[5]     # the state whose step or property was refused
@@ -4426,6 +4454,7 @@ class NativeExplorer:
         gen.invars = self.gen.invars
         gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.sym = getattr(self.gen, "sym", None)
         gen.cn_k = cn_k
         if getattr(self.gen, "undef_args", None):
             gen.undef_args = set(self.gen.undef_args)
@@ -4476,6 +4505,7 @@ class NativeExplorer:
         gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
         gen.cn_k = self.gen.cn_k
+        gen.sym = getattr(self.gen, "sym", None)
         gen.undef_args = set(getattr(self.gen, "undef_args", ())) | {fi}
         src = gen.generate()
         dll = build_library(src)
@@ -4491,6 +4521,8 @@ class NativeExplorer:
 
     def _norm(self, st: dict) -> tuple:
         """The canonical form of a successor the Python step function made, and the renaming."""
+        if self.sym is not None:
+            return self.sym.canon(st)[0], {}
         if not self.gen.dyn:
             return st, {}
         if self._canon is None:
@@ -4534,7 +4566,7 @@ class NativeExplorer:
             return {}
         sids = (ctypes.c_int64 * n)()
         self.dll.asm_err_states(sids)
-        py = Explorer(self.m)          # its admitted_successors: the INVAR constraints, canonical names
+        py = Explorer(self.m, symmetry=self.sym)    # its admitted_successors: the INVAR constraints, canonical names
         out: dict = {}
         for i, sid in enumerate(sids):
             self.failed_checked = (i, n)   # (how far the check got, where a time limit ends it)
@@ -4841,6 +4873,8 @@ class NativeExplorer:
     def replay_steps(self, first: int, steps: list) -> list:
         from ..semantics.machine import ScriptChooser
         from .bfs import ReplayError
+        if self.sym is not None:
+            return self._replay_concrete(first, steps)
         m = self.m
         st0 = self.state(first)
         init_log = None
@@ -4873,11 +4907,52 @@ class NativeExplorer:
             cur = want
         return out
 
+    def _replay_concrete(self, first: int, steps: list) -> list:
+        """:meth:`replay_steps` under symmetry reduction, as the Python explorer's: the stored states are
+        class representatives, the trace concrete (see bfs.Explorer._replay_concrete).  The choices of
+        a step not given are those of the representative's first step into the stored target."""
+        from ..semantics.machine import ScriptChooser
+        from .bfs import Explorer
+        picked = []
+        for picks, dst in steps:
+            if picks is None:
+                src = first if not picked else picked[-1][1]
+                picks = self.picks_between(src, dst)
+            picked.append((picks, dst))
+        py = Explorer(self.m, symmetry=self.sym)
+        want0 = self.state(first)
+        init_log = None
+        for log, st in self.m.initial_states():
+            if self.sym.canon(st)[0] == want0:
+                init_log = log
+                break
+        py.via = {first: tuple(c.pick for c in init_log or ())}
+        py.frozen = _StoredFrozen(self, py)
+        return py._replay_concrete(first, picked)
+
     def close(self):
         try:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _sym_refused(dll) -> bool:
+    """Whether a symmetric search stopped on a state with too many numberings (native_sym.c)."""
+    fn = dll.asm_sym_refused
+    fn.restype, fn.argtypes = ctypes.c_int64, []
+    return bool(fn())
+
+
+class _StoredFrozen:
+    """The native explorer's stored states as an Explorer's ``frozen`` list (its layout's frozen
+    forms), for the replay of a symmetric trace."""
+
+    def __init__(self, ex, py):
+        self.ex, self.py = ex, py
+
+    def __getitem__(self, sid: int):
+        return self.py.layout.freeze(self.ex.state(sid))
 
 
 def _made_step(made: dict, machine, log, mon: dict) -> tuple:

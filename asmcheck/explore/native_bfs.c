@@ -6,6 +6,10 @@
  * Python explorer), packs each successor and looks it up.
  */
 
+#if !SYM_ON
+#define SYM_SELF(m) 0          /* (symmetry reduction: native_sym.c) */
+#endif
+
 /* a run of the step starts from an empty update set, no choice taken yet and a new
    generation of the working-state marks */
 static inline void begin_run(Ctx *c) {
@@ -729,7 +733,7 @@ static inline int sset_first(SuccSet *z, int64_t tid) {
     }
 }
 
-#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0
+#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0 && !SYM_ON
 #define MC_TAIL_ON 1
 /* The run of the step just stored (its successor the last of b, b->n of them) ends with choice
    points that are all merged chooses (mc_note), each at its first alternative.  When no other
@@ -1160,6 +1164,15 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #if CN_NDYN > 0
             if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
 #endif
+#if SYM_ON
+            /* (symmetry: the class's representative; a successor moved into the state's own class
+               is no deadlock) */
+            if (!same) {
+                int moved = sym_canon(nw);
+                if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
+                if (moved) m[1] |= SYM_MOVED;
+            }
+#endif
             (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
@@ -1472,7 +1485,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                     if (p < 0 || (sset_first(&QF.seen, p) && !qf_item((uint32_t)p))) { status = 5; goto finish; }
                 }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
         }
         /* a state where a step fails is not a deadlock: the error is reported */
         if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
@@ -2221,7 +2234,7 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
                 for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
                 trans += !seen;
             } else trans += sset_first(&w->ss, tid);
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
             bad |= w->cm[2 * q];
         }
         if (bad || (S.deadlock && only_self && !pl->only_inv && !S.violated[NINV] && !C.ssteperr[li])) w->events++;
@@ -2641,7 +2654,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             if (isnew) run_n++;
             if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q, 0)) { status = 5; break; }
             if (failing && !ef_succ(tid)) { status = 5; break; }
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
         }
         if (status < 0) {
             if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
