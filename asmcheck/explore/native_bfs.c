@@ -1867,7 +1867,9 @@ static int64_t table_bytes(int64_t n) {
 static int64_t canon_bytes(void) {
 #if CN_NDYN > 0
     int64_t b = 0;
-    for (int i = 0; i < CN_MAXW; i++) {
+    /* (the contexts take the table's entries in order, from the first: the first free one ends
+       them, so that this check, made after every expanded state, reads one entry on one thread) */
+    for (int i = 0; i < CN_MAXW && cn_ws[i].c; i++) {
         CnW *w = cn_ws[i].w;
         if (!w) continue;
         b += (int64_t)sizeof(CnW) + (w->memo ? (int64_t)(w->mmask + 1) * (int64_t)sizeof(CnMemo) : 0)
