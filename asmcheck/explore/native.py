@@ -3984,13 +3984,21 @@ class NativeExplorer:
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
+        # the element slots an earlier search of the same spec and properties needed: the C is
+        # generated once, with them (not first with too few, then again)
+        self._slots_key = self._element_slots_key(label_atoms)
+        hinted = self._believed_slots(native_build.recall(self._slots_key)) if self._slots_key else 0
+        if hinted:
+            self.gen.cn_k = hinted
         try:
             src = self.gen.generate()
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
         self._first_src = src
-        k = self._slots_needed(src)
+        k = 0 if hinted else self._slots_needed(src)
+        if k and self._slots_key:
+            native_build.remember(self._slots_key, str(k))     # (a note kept by the source only)
         if k:
             self.gen = self._regenerate(cn_k=k)
             src = self.gen.generate()
@@ -4421,6 +4429,36 @@ class NativeExplorer:
             gen.undef_args = set(self.gen.undef_args)
         return gen
 
+    def _element_slots_key(self, label_atoms) -> str | None:
+        """What identifies the engine's source before it is generated, for the note of the element
+        slots a search needed (:meth:`_more_element_slots`): the spec's files (path and content),
+        the machine's options, the properties, INVAR and atoms; None when a file cannot be read
+        (then the note is keyed by the generated source itself).  Only a hint: a note that does
+        not fit (another spec's) at most costs slots or a second generation, never a result."""
+        import hashlib
+        spec = self.m.spec
+        files = [spec.path, *getattr(spec, "modules", [])]
+        parts = ["element slots", str(CN_K)]
+        for f in files:
+            try:
+                with open(f, "rb") as fh:
+                    parts += [os.path.abspath(f), hashlib.sha256(fh.read()).hexdigest()]
+            except (OSError, TypeError, ValueError):
+                return None
+        opts = getattr(self.m, "options", {}) or {}
+        parts.append(repr(sorted((k, repr(v)) for k, v in opts.items() if k != "deadline" and not callable(v))))
+        parts += [f"{type(p).__name__} {p.name}" for p in self.state_props + self.step_props]
+        parts.append(f"{len(self.invars)} {label_atoms!r} {self.gen.invar_pre}")
+        return "\0".join(parts)
+
+    def _believed_slots(self, k: str | None) -> int:
+        """The number of element slots a note gives, when the retry of :meth:`_more_element_slots`
+        could have reached it from the first number (doubled, up to CN_K_MAX); else 0."""
+        if k is None or not k.isdigit():
+            return 0
+        k = int(k)
+        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+
     def _slots_needed(self, src: str) -> int:
         """The element slots per extended domain an earlier search of the same engine source
         (with the first number of slots) needed, when it needed more (kept in the private cache
@@ -4428,12 +4466,7 @@ class NativeExplorer:
         does not run first with too few, then again."""
         if not self.gen.dyn:
             return 0
-        k = native_build.recall(src)
-        if k is None or not k.isdigit():
-            return 0
-        k = int(k)
-        # what _more_element_slots can reach: the first number doubled, up to CN_K_MAX
-        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+        return self._believed_slots(native_build.recall(src))
 
     def _more_element_slots(self):
         """The search again, on an engine with twice the element slots per extended domain.
@@ -4441,7 +4474,7 @@ class NativeExplorer:
         the same spec (:meth:`_slots_needed`)."""
         gen = self._regenerate(cn_k=self.gen.cn_k * 2)
         src = gen.generate()
-        native_build.remember(self._first_src, str(gen.cn_k))
+        native_build.remember(self._slots_key or self._first_src, str(gen.cn_k))
         self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
         native_build.forget(self.dll)
