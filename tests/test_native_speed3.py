@@ -57,3 +57,58 @@ def test_a_spec_that_needs_more_element_slots_is_generated_once_on_the_next_run(
     Path(path).write_text(Path(path).read_text() + "// edited\n")
     assert search() == ([16, 32], 32, ("holds", 21, 21, 20))
     assert search() == ([32], 32, ("holds", 21, 21, 20))
+
+
+# ----------------------------------------------------------------- the successor's values (make_post)
+POST = """asm PostKept
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled n: Small
+	controlled k: Small
+	controlled f: Small -> Small
+	monitored go: Boolean
+definitions:
+	domain Small = {0 : 3}
+	rule r_bad = if not go and n = 2 then k := 7 endif
+	main rule r_main =
+		seq
+			n := (n + 1) mod 4
+			if go then f(n) := (f(n) + k) mod 4 endif
+			r_bad[]
+			if go then k := (k + 1) mod 4 endif
+		endseq
+default init s0:
+	function n = 0
+	function k = 0
+	function f($x in Small) = 0
+"""
+POST_PROPS = """step st_n_moves: next(n) = (n + 1) mod 4
+step st_k_with_go: changed(k) implies next(k) = (k + 1) mod 4
+step st_f_small: (forall $x in Small with next(f($x)) <= 3)
+step st_f_only_at_n: (forall $x in Small with changed(f($x)) implies $x = next(n))
+step st_k_grows: changed(k) implies next(k) > k
+"""
+
+
+def test_the_successors_values_kept_between_steps_are_a_whole_copy(tmp_path, capsys, monkeypatch):
+    # step properties read the successor's values (post): kept from step to step, only the slots
+    # the last step wrote restored; a seq block, a branch that fails (the working state loaded
+    # whole again), a function of several locations: every post is what a whole copy gives, and
+    # the report is the Python engine's
+    from test_native_perf import checked_explore
+    from helpers import both
+    props = tmp_path / "post.prop"
+    props.write_text(POST_PROPS)
+    path = write(tmp_path, POST)
+    args = [path, "--no-default-properties", "--properties", str(props)]
+    code, out, diffs = checked_explore(monkeypatch, capsys, args)
+    assert diffs and set(diffs) == {0}
+    assert (out["states"], out["transitions"]) == (2048, 3584)
+    assert [(p["property"], p["verdict"]) for p in out["properties"]][-2:] == [("st_k_grows", "violated"),
+                                                                             ("error", "violated")]
+    code2, out2 = both(tmp_path, capsys, POST, "--no-default-properties", "--properties", str(props))
+    out.pop("engine")
+    for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+        out.pop(key, None)
+    assert (code, out) == (code2, out2)

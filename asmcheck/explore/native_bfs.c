@@ -469,6 +469,7 @@ static int ws_off[NWORDS + 1], ws_slot[NSLOTS > 0 ? NSLOTS : 1];
 
 static void load_state(Ctx *c, const uint64_t *w) {
     if (c == &ctx_static) ld_ok = 0;
+    c->post_ok = 0;          /* (make_post copies the whole working state again) */
     for (int s = 0; s < NSLOTS; s++) {
         uint64_t word = w[SLOT_WORD[s]];
         if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
@@ -490,15 +491,17 @@ static void load_state_delta(Ctx *c, const uint64_t *w) {
         ld_w[j] = word;
         for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
             int s = ws_slot[i];
-            if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
+            if (SLOT_BITS[s] == 64) { c->cur[s] = c->post[s] = (V)word; continue; }
             int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-            c->cur[s] = SLOT_DECODE[s][code];
+            c->cur[s] = c->post[s] = SLOT_DECODE[s][code];     /* (post follows: see make_post) */
         }
     }
     if (ld_check) {     /* (tests) the working state is what a whole load gives */
         V full[NSLOTS > 0 ? NSLOTS : 1];
         memcpy(full, c->cur, sizeof(full));
+        int post_ok = c->post_ok;
         load_state(c, w);
+        c->post_ok = post_ok;        /* (make_post checks itself against a whole copy) */
         if (memcmp(full, c->cur, NSLOTS * sizeof(V)) != 0) ld_bad++;
         ld_ok = 1;
     }
@@ -522,13 +525,40 @@ static void store_state(Ctx *c, const uint64_t *old, uint64_t *w) {
     }
 }
 
-/* the successor's values (for step properties and INVAR) */
+/* the successor's values (for step properties and INVAR): the working state with the updates
+   written over.  post stays the working state between two calls except where the last call wrote
+   (post_slot), which is restored first: a copy of the whole state (NSLOTS values) only after a
+   whole load_state; load_state_delta writes the slots it decodes into both.  (The working state's
+   other changes within a run, seq steps, are undone before the run ends; local functions' slots
+   are not read by properties.) */
 static void make_post(Ctx *c) {
-    memcpy(c->post, c->cur, sizeof(c->post));
+    if (!c->post_ok) {
+        memcpy(c->post, c->cur, sizeof(c->post));
+        c->post_ok = 1;
+    } else {
+        for (int i = 0; i < c->npost; i++) c->post[c->post_slot[i]] = c->cur[c->post_slot[i]];
+    }
+    c->npost = 0;
     for (int i = 0; i < c->nupd; i++) {
         int s = c->upd_slot[i];
-        if (s >= NSLOTS) { int m = c->vs_slot[s - NSLOTS]; c->post[m] = map_put(c, c->post[m], c->vs_key[s - NSLOTS], c->upd_code[i]); }
-        else c->post[s] = slot_decode(s, c->upd_code[i]);
+        if (s >= NSLOTS) {
+            int m = c->vs_slot[s - NSLOTS];
+            c->post_slot[c->npost++] = m;
+            c->post[m] = map_put(c, c->post[m], c->vs_key[s - NSLOTS], c->upd_code[i]);
+        } else {
+            c->post_slot[c->npost++] = s;
+            c->post[s] = slot_decode(s, c->upd_code[i]);
+        }
+    }
+    if (ld_check && NSLOTS > 0) {    /* (tests) what a whole copy gives */
+        V full[NSLOTS > 0 ? NSLOTS : 1];
+        memcpy(full, c->cur, sizeof(full));
+        for (int i = 0; i < c->nupd; i++) {
+            int s = c->upd_slot[i];
+            if (s >= NSLOTS) { int m = c->vs_slot[s - NSLOTS]; full[m] = map_put(c, full[m], c->vs_key[s - NSLOTS], c->upd_code[i]); }
+            else full[s] = slot_decode(s, c->upd_code[i]);
+        }
+        if (memcmp(full, c->post, sizeof(full)) != 0) ld_bad++;
     }
 }
 static int64_t global_epoch = 0;     /* never reset: choose caches compare against it */
