@@ -188,6 +188,8 @@ static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW], pk_par_h;
 static int pk_par_ok = 0, pk_par_set = 0;
 static uint64_t pk_first[PK_NW], pk_first_h[PK_NW];   /* the first stored state's words, their terms */
 static int pk_act[PK_NW], pk_nact = 0;             /* the words with a field (bits > 0) */
+/* the words whose fields are in record word i: pk_wf[pk_wf_off[i] .. pk_wf_off[i + 1]) */
+static int pk_wf_off[PK_NW + 1], pk_wf[PK_NW];
 
 /* 1: the next search (asm_start) keeps the packed store, when it runs on one thread */
 void asm_pack(int64_t on) { pk_allow = on != 0; }
@@ -275,6 +277,12 @@ static void pk_place(void) {
     if (PW < 1) PW = 1;
     pk_nact = 0;
     for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) pk_act[pk_nact++] = j;
+    int n = 0;
+    for (int64_t i = 0; i < PW; i++) {
+        pk_wf_off[i] = n;
+        for (int q = 0; q < pk_nact; q++) if (pk_at[pk_act[q]] == i) pk_wf[n++] = pk_act[q];
+    }
+    pk_wf_off[PW] = n;
 }
 
 /* wider fields for the words whose dictionaries outgrew them, every state repacked (the table
@@ -405,20 +413,25 @@ static const uint64_t *state_words(int64_t sid) {
     if (!pk_par_set) {      /* a word without a field holds the first state's word in every state */
         memcpy(pk_par_w, pk_first, sizeof(pk_par_w));
         memset(pk_par_c, 0, sizeof(pk_par_c));
+        memset(pk_par_rec, 0, sizeof(pk_par_rec));    /* (every code 0) */
         pk_par_h = 0;        /* (the hash of the first state's words) */
         pk_par_set = 1;
     }
     /* the words that differ from the state decoded before (their values fetched before any is
-       read), and the hash with their terms replaced */
+       read), and the hash with their terms replaced: only the fields of the record words that
+       differ from that state's record (pk_par_rec: the codes pk_par_c, packed) */
     int ch[PK_NW], nch = 0;
     uint64_t cx[PK_NW];
-    for (int i = 0; i < pk_nact; i++) {
-        int j = pk_act[i];
-        uint64_t x = pk_field(rec, j);
-        if (x == pk_par_c[j]) continue;
-        if (!pk_raw[j]) __builtin_prefetch(&pk_vals[j][x]);
-        cx[nch] = x;
-        ch[nch++] = j;
+    for (int64_t i = 0; i < PW; i++) {
+        if (rec[i] == pk_par_rec[i]) continue;
+        for (int q = pk_wf_off[i]; q < pk_wf_off[i + 1]; q++) {
+            int j = pk_wf[q];
+            uint64_t x = pk_field(rec, j);
+            if (x == pk_par_c[j]) continue;
+            if (!pk_raw[j]) __builtin_prefetch(&pk_vals[j][x]);
+            cx[nch] = x;
+            ch[nch++] = j;
+        }
     }
     for (int q = 0; q < nch; q++) {
         int j = ch[q];
