@@ -112,3 +112,66 @@ def test_the_successors_values_kept_between_steps_are_a_whole_copy(tmp_path, cap
     for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
         out.pop(key, None)
     assert (code, out) == (code2, out2)
+
+
+# ----------------------------------------------------------------- seq steps
+SEQS = """asm SeqSteps
+import StandardLibrary
+signature:
+	domain Small subsetof Integer
+	controlled a: Small
+	controlled b: Small
+	controlled c: Small
+	controlled d: Small
+	monitored go: Boolean
+definitions:
+	domain Small = {0 : 5}
+	rule r_inner =
+		seq
+			b := (a + 1) mod 6
+			a := (b + 1) mod 6
+			par
+				b := (b + a) mod 6
+				c := (c + 1) mod 6
+			endpar
+		endseq
+	rule r_loc =
+		local x : Small [ x := c ]
+		seq
+			x := (x + 1) mod 6
+			d := x
+		endseq
+	invariant inv_seen over b, d: not (b = 3 and d = 2)
+	main rule r_main =
+		seq
+			a := (a + 1) mod 6
+			if go then r_inner[] else b := (b + a) mod 6 endif
+			par
+				seq
+					c := (c + b) mod 6
+					a := (a + c) mod 6
+				endseq
+				d := (d + 1) mod 6
+			endpar
+			r_loc[]
+			iterate if a > 0 then a := a - 1 endif enditerate
+			b := (a + b) mod 6
+		endseq
+default init s0:
+	function a = 0
+	function b = 0
+	function c = 0
+	function d = 0
+"""
+
+
+def test_seq_steps_nested_rewritten_iterated_and_local_make_the_python_engines_states(tmp_path, capsys):
+    # the working state a seq step leaves to the next (what make_post starts from): nested blocks,
+    # a location an earlier step of the block wrote written again, a par of a block and an update,
+    # a local rule's block, an iterate; the same states, transitions and trace as the Python engine
+    from helpers import both
+    code, out = both(tmp_path, capsys, SEQS, "--deadlock")
+    assert code == 1
+    assert (out["states"], out["transitions"], out["depth"]) == (37, 74, 13)
+    (v,) = out["violations"]
+    assert v["property"] == "inv_seen" and len(v["trace"]) == 7
