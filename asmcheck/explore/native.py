@@ -3882,7 +3882,7 @@ _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
-    pk_par_ok pk_first pk_act ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
+    pk_par_ok pk_first pk_act pk_wf_off pk_wf ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
@@ -4008,13 +4008,21 @@ class NativeExplorer:
         # canonical form's representatives (native_sym.c)
         self.sym = symmetry if symmetry is not None and symmetry.active else None
         self.gen.sym = self.sym
+        # the element slots an earlier search of the same spec and properties needed: the C is
+        # generated once, with them (not first with too few, then again)
+        self._slots_key = self._element_slots_key(label_atoms)
+        hinted = self._believed_slots(native_build.recall(self._slots_key)) if self._slots_key else 0
+        if hinted:
+            self.gen.cn_k = hinted
         try:
             src = self.gen.generate()
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
         self._first_src = src
-        k = self._slots_needed(src)
+        k = 0 if hinted else self._slots_needed(src)
+        if k and self._slots_key:
+            native_build.remember(self._slots_key, str(k))     # (a note kept by the source only)
         if k:
             self.gen = self._regenerate(cn_k=k)
             src = self.gen.generate()
@@ -4460,6 +4468,36 @@ class NativeExplorer:
             gen.undef_args = set(self.gen.undef_args)
         return gen
 
+    def _element_slots_key(self, label_atoms) -> str | None:
+        """What identifies the engine's source before it is generated, for the note of the element
+        slots a search needed (:meth:`_more_element_slots`): the spec's files (path and content),
+        the machine's options, the properties, INVAR and atoms; None when a file cannot be read
+        (then the note is keyed by the generated source itself).  Only a hint: a note that does
+        not fit (another spec's) at most costs slots or a second generation, never a result."""
+        import hashlib
+        spec = self.m.spec
+        files = [spec.path, *getattr(spec, "modules", [])]
+        parts = ["element slots", str(CN_K)]
+        for f in files:
+            try:
+                with open(f, "rb") as fh:
+                    parts += [os.path.abspath(f), hashlib.sha256(fh.read()).hexdigest()]
+            except (OSError, TypeError, ValueError):
+                return None
+        opts = getattr(self.m, "options", {}) or {}
+        parts.append(repr(sorted((k, repr(v)) for k, v in opts.items() if k != "deadline" and not callable(v))))
+        parts += [f"{type(p).__name__} {p.name}" for p in self.state_props + self.step_props]
+        parts.append(f"{len(self.invars)} {label_atoms!r} {self.gen.invar_pre}")
+        return "\0".join(parts)
+
+    def _believed_slots(self, k: str | None) -> int:
+        """The number of element slots a note gives, when the retry of :meth:`_more_element_slots`
+        could have reached it from the first number (doubled, up to CN_K_MAX); else 0."""
+        if k is None or not k.isdigit():
+            return 0
+        k = int(k)
+        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+
     def _slots_needed(self, src: str) -> int:
         """The element slots per extended domain an earlier search of the same engine source
         (with the first number of slots) needed, when it needed more (kept in the private cache
@@ -4467,12 +4505,7 @@ class NativeExplorer:
         does not run first with too few, then again."""
         if not self.gen.dyn:
             return 0
-        k = native_build.recall(src)
-        if k is None or not k.isdigit():
-            return 0
-        k = int(k)
-        # what _more_element_slots can reach: the first number doubled, up to CN_K_MAX
-        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+        return self._believed_slots(native_build.recall(src))
 
     def _more_element_slots(self):
         """The search again, on an engine with twice the element slots per extended domain.
@@ -4480,7 +4513,7 @@ class NativeExplorer:
         the same spec (:meth:`_slots_needed`)."""
         gen = self._regenerate(cn_k=self.gen.cn_k * 2)
         src = gen.generate()
-        native_build.remember(self._first_src, str(gen.cn_k))
+        native_build.remember(self._slots_key or self._first_src, str(gen.cn_k))
         self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
         native_build.forget(self.dll)
