@@ -688,6 +688,9 @@ def _partial_ok(ex, result) -> bool:
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
         one = ex.workers <= 1 and not ex.threaded
+        if getattr(ex, "lists_kept", "all") != "all":
+            # the search recorded only the lists the complete check reads (temporal/need.py)
+            return False
         return bool(ex.keep_graph) and (one or result.reason.startswith(BOUND_REASONS))
     return False
 
