@@ -688,9 +688,6 @@ def _partial_ok(ex, result) -> bool:
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
         one = ex.workers <= 1 and not ex.threaded
-        if getattr(ex, "lists_kept", "all") != "all":
-            # the search recorded only the lists the complete check reads (temporal/need.py)
-            return False
         return bool(ex.keep_graph) and (one or result.reason.startswith(BOUND_REASONS))
     return False
 
@@ -719,6 +716,13 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
                              f"(about {need / 2**20:,.0f} MB more, over the bound of {max_memory / 2**20:,.0f} MB): "
                              f"bound the search with --max-states")
             return [], note
+    if getattr(ex, "lists_kept", "all") != "all":
+        # the search recorded only the successor lists the complete check reads (temporal/need.py;
+        # a state or depth bound keeps them all)
+        if not (left is not None and left <= 0) and not (result.reason or "").startswith("time limit"):
+            result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
+                             f"--max-states or --max-depth bounds the search")
+        return [], note
     try:
         if left is not None and left <= 0:
             raise TimeUp()
