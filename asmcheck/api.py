@@ -752,6 +752,13 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
                              f"(about {need / 2**20:,.0f} MB more, over the bound of {max_memory / 2**20:,.0f} MB): "
                              f"bound the search with --max-states")
             return [], note
+    if getattr(ex, "lists_kept", "all") != "all":
+        # the search recorded only the successor lists the complete check reads (temporal/need.py;
+        # a state or depth bound keeps them all)
+        if not (left is not None and left <= 0) and not (result.reason or "").startswith("time limit"):
+            result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
+                             f"--max-states or --max-depth bounds the search")
+        return [], note
     try:
         if left is not None and left <= 0:
             raise TimeUp()

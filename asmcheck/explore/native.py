@@ -3852,6 +3852,7 @@ _SYMBOLS = {
     "asm_err_states": (_i64, [_i64p]),
     "asm_err_succ": (_i64, [_i64, _i64p, _i64]),
     "asm_qf": (None, [_i64, _i64p, _i64]),
+    "asm_qf_cond": (None, [_i64, _i64p, ctypes.c_char_p]),
     "asm_qf_status": (None, [_i64p]),
     "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
     "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
@@ -4337,6 +4338,8 @@ class NativeExplorer:
 
     def _qf_start(self) -> bool:
         """Set the search up to record the steps of the temporal quotient (when it can)."""
+        self.lists_kept = "all"
+        self.dll.asm_qf_cond(-1, None, None)
         got = self._qf_atoms()
         if got is None:
             return False
@@ -4348,7 +4351,62 @@ class NativeExplorer:
             self.dll.asm_qf_table_limit(self.QF_TABLE)
         if self.QF_DIRECT_BITS is not None:
             self.dll.asm_qf_direct_bits(self.QF_DIRECT_BITS)
+        self._qc_start(ks)
         return True
+
+    def _qc_start(self, ks) -> None:
+        """Have the search record only the successor lists the CTL check reads (temporal/need.py:
+        the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
+        no state or depth bound (the check of a partial state space reads every list), no element
+        made by extend, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
+        from ..temporal.need import ALL, EdgeNeed
+        self.lists_kept = "all"
+        self.edge_need = ALL
+        self.dll.asm_qf_cond(-1, None, None)
+        if ks or os.environ.get("ASMCHECK_EDGE_NEED", "") == "all":
+            return
+        if self.max_states is not None or self.max_depth is not None or self.gen.dyn:
+            return
+        got = getattr(self, "_need_again", None)
+        if got is None:
+            fn = getattr(self.step_quotient_plan, "need", None)
+            if fn is None:
+                return
+            try:
+                got = fn(list(self.gen.init_states))
+            except AsmError:
+                return
+        need, atoms = got
+        if not isinstance(need, EdgeNeed):
+            return
+        ids = need.atoms()
+        if len(ids) > 16:
+            return
+        index = {}
+        for k, (term, env) in enumerate(getattr(self.gen, "labels", ())):
+            index.setdefault((id(term), _env_key(env)), k)
+        lab = [index.get((id(atoms.items[i].term), _env_key(atoms.items[i].env))) for i in ids]
+        if any(k is None or self.gen.label_exprs[k] is None for k in lab):
+            return
+        table = bytes(need.table(ids))
+        self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table)
+        self.edge_need = need
+        self.lists_kept = "none" if not any(table) else "some"
+
+    def lists_again(self, need, atoms) -> None:
+        """The search again, recording the lists of ``need`` (temporal/need.py: an ``ag``/``ef``
+        property the set of states did not decide reads more): the same states in the same
+        order."""
+        from .bfs import TimeUp
+        self._need_again = (need, atoms)
+        keep = (self.progress, self.warn, list(self.warnings), self.counts)
+        self.progress = self.warn = None
+        try:
+            res = self.run()
+        finally:
+            self.progress, self.warn, self.warnings = keep[:3]
+        if res.stopped_early or self.counts != keep[3]:
+            raise TimeUp()
 
     def _qf_recorded(self) -> bool:
         """Whether the search recorded the steps of the temporal quotient, not yet handed over."""

@@ -1017,6 +1017,40 @@ static inline int qf_item(uint32_t x) {
 
 static int64_t qf_pair(uint32_t d, uint64_t v);
 
+/* ------------------------------------------------------------------ the lists the CTL check reads
+ * asm_qf_cond(nk, ks, table) after asm_qf(0, ..): a state's list is recorded only where a condition
+ * on the state holds (table[x] != 0 for x the bits of the atoms ks[k], evaluated in the state); the
+ * list of any other state with a successor is one entry, the state itself (temporal/need.py says
+ * why the CTL check then gives the same verdicts and paths).  nk -1: every list (the default).  An
+ * atom that cannot be evaluated keeps the list. */
+static struct { int on, nk; int64_t ks[16]; uint8_t *table; } QC;
+
+void asm_qf_cond(int64_t nk, const int64_t *ks, const uint8_t *table) {
+    free(QC.table);
+    memset(&QC, 0, sizeof(QC));
+    if (nk < 0 || nk > 16) return;
+    QC.table = (uint8_t *)malloc((size_t)1 << nk);
+    if (!QC.table) return;
+    memcpy(QC.table, table, (size_t)1 << nk);
+    for (int64_t k = 0; k < nk; k++) QC.ks[k] = ks[k];
+    QC.nk = (int)nk; QC.on = 1;
+}
+
+/* whether the list of the state loaded in c is recorded */
+static int qc_holds(Ctx *c) {
+    uint64_t x = 0;
+    int in_prop = c->in_prop;
+    c->in_prop = 1;
+    for (int k = 0; k < QC.nk; k++) {
+        c->err = 0;
+        V v = check_label(c, (int)QC.ks[k]);
+        if (c->err) { c->err = 0; c->in_prop = in_prop; return 1; }
+        if (v == 1) x |= 1ULL << k;
+    }
+    c->in_prop = in_prop;
+    return QC.table[x] != 0;
+}
+
 /* the entries made pair numbers (a code no longer fits): the expanded state's pairs so far are the
    pairs met under their numbers; 0 when out of memory */
 static int qf_undirect(void) {
@@ -1437,6 +1471,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         /* successors: every sequence of choices, kept aside until the whole step has run
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
+        int qc_self = QF.on && !QF.nk && QC.on && !qc_holds(c);     /* (asm_qf_cond) */
         if (QF.on && !qf_state(sid)) { status = 5; goto finish; }
 #ifndef MC_TAIL_ON
         self_first = 1;
@@ -1529,6 +1564,10 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
+        }
+        if (qc_self && QF.n > QF.off[sid]) {      /* the list not read: the state itself (asm_qf_cond) */
+            QF.n = QF.off[sid];
+            if (!qf_item((uint32_t)sid)) { status = 5; goto finish; }
         }
         /* a state where a step fails is not a deadlock: the error is reported */
         if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
