@@ -543,15 +543,17 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
     if not isinstance(symmetry, bool):
         raise UsageError(f"symmetry must be True or False, not {symmetry!r}")
-    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair) if symmetry else None
-    if sym is not None and sym.active:
+    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair, which,
+                    graph) if symmetry else None
+    sym_python = _symmetry_python(sym, which, graph)
+    if sym_python:
         which = "python"
     # the searches get the time left of the whole run
     search_seconds = None if max_seconds is None else max(max_seconds - (t0 - begin), 0.0)
     ex = None
     result = None
     interrupted = False
-    refused = SYMMETRY_PYTHON if sym is not None and sym.active and engine != "python" else ""
+    refused = sym_python if engine != "python" else ""
     from .parallel import run as scaled
     # more workers on the native engine: threads inside its search (the same result as one);
     # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned
@@ -572,7 +574,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                                                                           **(scaling or {})),
                                     progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1),
                                     label_atoms=_label_atoms(machine, temporal),
-                                    step_quotient=_quotient_plan(machine, temporal, fair, graph))
+                                    step_quotient=_quotient_plan(machine, temporal, fair, graph),
+                                    symmetry=sym)
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             if max_seconds is not None:
@@ -611,6 +614,9 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
+            if sym is not None and sym.active and scaled.wanted(workers, **(scaling or {})):
+                raise UsageError(f"--symmetry with --workers runs on the native engine's threads, which cannot run "
+                                 f"{Path(model.path).name}: {e} (drop --workers)") from None
             ex = None
             refused = str(e)
     if ex is None and native_threads:
@@ -751,6 +757,13 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
                              f"(about {need / 2**20:,.0f} MB more, over the bound of {max_memory / 2**20:,.0f} MB): "
                              f"bound the search with --max-states")
             return [], note
+    if getattr(ex, "lists_kept", "all") != "all":
+        # the search recorded only the successor lists the complete check reads (temporal/need.py;
+        # a state or depth bound keeps them all)
+        if not (left is not None and left <= 0) and not (result.reason or "").startswith("time limit"):
+            result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
+                             f"--max-states or --max-depth bounds the search")
+        return [], note
     try:
         if left is not None and left <= 0:
             raise TimeUp()
@@ -778,14 +791,16 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
 SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
 
 
-def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair):
+def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair, which="python",
+              graph=False):
     """The symmetry a search with ``symmetry=True`` reduces (explore.symmetry.Symmetry, possibly
     without any interchangeable element: its ``lines`` say why)."""
     from .explore.symmetry import Symmetry, detect
     from .parallel import run as scaled
-    if scaled.wanted(workers, **(scaling or {})):
-        raise UsageError("--symmetry runs in one process: it cannot be combined with --workers, --cluster or "
-                         "--bitstate")
+    if scaled.wanted(workers, **(scaling or {})) and not (which == "native" and
+                                                          scaled.native_threads(workers, **(scaling or {}))):
+        raise UsageError("--symmetry runs in one process (or on the native engine's threads, --workers N): it "
+                         "cannot be combined with --cluster, --bitstate or the Python engine's workers")
     if fair:
         why = "--fair makes each agent or choice fair on its own, which a class of states does not keep"
         return Symmetry([], [why], why)
@@ -794,10 +809,26 @@ def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling
     except Exception as exc:        # noqa: BLE001 - an analysis that fails reduces nothing
         why = f"the analysis failed ({type(exc).__name__}: {exc})"
         return Symmetry([], [why], why)
-    if sym.active and engine == "native":
+    why = _symmetry_python(sym, which, graph)
+    if why and engine == "native":
         raise UsageError(f"the native explorer cannot run {Path(model.path).name} with --symmetry: "
-                         f"{SYMMETRY_PYTHON} (use --engine auto or python)")
+                         f"{why} (use --engine auto or python)")
+    if why and scaled.wanted(workers, **(scaling or {})):
+        raise UsageError(f"--symmetry with --workers runs on the native engine's threads, which cannot reduce "
+                         f"{Path(model.path).name}: {why} (drop --workers)")
     return sym
+
+
+def _symmetry_python(sym, which, graph) -> str:
+    """Why a symmetric search runs on the Python engine ('' when the native engine reduces it, or
+    nothing is reduced)."""
+    from .explore.symmetry import native_reason
+    if sym is None or not sym.active or which != "native":
+        return ""
+    if graph:
+        return f"{SYMMETRY_PYTHON} with --graph"
+    why = native_reason(sym)
+    return f"{SYMMETRY_PYTHON}: {why}" if why else ""
 
 
 def _symmetry_hint(model, state_props, step_props, temporal) -> str:
