@@ -724,7 +724,9 @@ def _partial_ok(ex, result) -> bool:
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
         one = ex.workers <= 1 and not ex.threaded
-        return bool(ex.keep_graph) and (one or result.stop in Stop.BOUNDS)
+        # (under symmetry reduction neither engine decides on a partial state space: the same
+        # report on both)
+        return bool(ex.keep_graph) and getattr(ex, "sym", None) is None and (one or result.stop in Stop.BOUNDS)
     if type(ex).__name__ == "PartitionedExplorer":
         # the partitioned search (processes or Ray actors) cuts a level where the sequential search
         # stops at its state or depth limit, with the same states and steps (a worker's memory share
