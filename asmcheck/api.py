@@ -1015,6 +1015,12 @@ class Exploration:
         return self.result.reason
 
     @property
+    def stop(self) -> str:
+        """Why the search stopped before its end, in one word (explore.bfs.Stop: ``states``,
+        ``depth``, ``time``, ``memory``, ``interrupt``, ...); "" for a search that covered every state."""
+        return self.result.stop
+
+    @property
     def exit_code(self) -> int:
         return {"violated": EXIT_VIOLATED, "incomplete": EXIT_INCOMPLETE}.get(self.verdict, EXIT_OK)
 
