@@ -3852,6 +3852,7 @@ _SYMBOLS = {
     "asm_err_states": (_i64, [_i64p]),
     "asm_err_succ": (_i64, [_i64, _i64p, _i64]),
     "asm_qf": (None, [_i64, _i64p, _i64]),
+    "asm_qf_cond": (None, [_i64, _i64p, ctypes.c_char_p]),
     "asm_qf_status": (None, [_i64p]),
     "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
     "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
@@ -3882,7 +3883,7 @@ _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
-    pk_par_ok pk_first pk_act ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
+    pk_par_ok pk_first pk_act pk_wf_off pk_wf ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
@@ -4008,13 +4009,21 @@ class NativeExplorer:
         # canonical form's representatives (native_sym.c)
         self.sym = symmetry if symmetry is not None and symmetry.active else None
         self.gen.sym = self.sym
+        # the element slots an earlier search of the same spec and properties needed: the C is
+        # generated once, with them (not first with too few, then again)
+        self._slots_key = self._element_slots_key(label_atoms)
+        hinted = self._believed_slots(native_build.recall(self._slots_key)) if self._slots_key else 0
+        if hinted:
+            self.gen.cn_k = hinted
         try:
             src = self.gen.generate()
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
         self._first_src = src
-        k = self._slots_needed(src)
+        k = 0 if hinted else self._slots_needed(src)
+        if k and self._slots_key:
+            native_build.remember(self._slots_key, str(k))     # (a note kept by the source only)
         if k:
             self.gen = self._regenerate(cn_k=k)
             src = self.gen.generate()
@@ -4127,6 +4136,7 @@ class NativeExplorer:
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
         out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
+        self._run_out = out         # (the counts so far, for a search a Ctrl-C ends: counts_so_far)
         t0 = time.perf_counter()
         if g.dyn:
             self.dll.asm_canon_reset()
@@ -4256,6 +4266,8 @@ class NativeExplorer:
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
+        from .bfs import Stop
+        stop = {1: Stop.STATES, 2: Stop.DEPTH, 3: Stop.TIME, 8: Stop.MEMORY}.get(status, Stop.STEP_FAILED if stopped else "")
         time_limit = None
         if status == 3:
             from .bfs import TimeLimit
@@ -4270,7 +4282,14 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         res.time_limit = time_limit
+        res.stop = stop if incomplete else ""
         return res
+
+    def counts_so_far(self) -> tuple:
+        """(states, transitions, depth) the search had reached at its last return to Python: what
+        a search that a Ctrl-C ended reports."""
+        out = getattr(self, "_run_out", None)
+        return (int(out[0]), int(out[1]), int(out[2])) if out is not None else (0, 0, 0)
 
     def _take_edges(self, n: int) -> None:
         """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed (each
@@ -4319,6 +4338,8 @@ class NativeExplorer:
 
     def _qf_start(self) -> bool:
         """Set the search up to record the steps of the temporal quotient (when it can)."""
+        self.lists_kept = "all"
+        self.dll.asm_qf_cond(-1, None, None)
         got = self._qf_atoms()
         if got is None:
             return False
@@ -4330,7 +4351,62 @@ class NativeExplorer:
             self.dll.asm_qf_table_limit(self.QF_TABLE)
         if self.QF_DIRECT_BITS is not None:
             self.dll.asm_qf_direct_bits(self.QF_DIRECT_BITS)
+        self._qc_start(ks)
         return True
+
+    def _qc_start(self, ks) -> None:
+        """Have the search record only the successor lists the CTL check reads (temporal/need.py:
+        the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
+        no state or depth bound (the check of a partial state space reads every list), no element
+        made by extend, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
+        from ..temporal.need import ALL, EdgeNeed
+        self.lists_kept = "all"
+        self.edge_need = ALL
+        self.dll.asm_qf_cond(-1, None, None)
+        if ks or os.environ.get("ASMCHECK_EDGE_NEED", "") == "all":
+            return
+        if self.max_states is not None or self.max_depth is not None or self.gen.dyn:
+            return
+        got = getattr(self, "_need_again", None)
+        if got is None:
+            fn = getattr(self.step_quotient_plan, "need", None)
+            if fn is None:
+                return
+            try:
+                got = fn(list(self.gen.init_states))
+            except AsmError:
+                return
+        need, atoms = got
+        if not isinstance(need, EdgeNeed):
+            return
+        ids = need.atoms()
+        if len(ids) > 16:
+            return
+        index = {}
+        for k, (term, env) in enumerate(getattr(self.gen, "labels", ())):
+            index.setdefault((id(term), _env_key(env)), k)
+        lab = [index.get((id(atoms.items[i].term), _env_key(atoms.items[i].env))) for i in ids]
+        if any(k is None or self.gen.label_exprs[k] is None for k in lab):
+            return
+        table = bytes(need.table(ids))
+        self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table)
+        self.edge_need = need
+        self.lists_kept = "none" if not any(table) else "some"
+
+    def lists_again(self, need, atoms) -> None:
+        """The search again, recording the lists of ``need`` (temporal/need.py: an ``ag``/``ef``
+        property the set of states did not decide reads more): the same states in the same
+        order."""
+        from .bfs import TimeUp
+        self._need_again = (need, atoms)
+        keep = (self.progress, self.warn, list(self.warnings), self.counts)
+        self.progress = self.warn = None
+        try:
+            res = self.run()
+        finally:
+            self.progress, self.warn, self.warnings = keep[:3]
+        if res.stopped_early or self.counts != keep[3]:
+            raise TimeUp()
 
     def _qf_recorded(self) -> bool:
         """Whether the search recorded the steps of the temporal quotient, not yet handed over."""
@@ -4450,6 +4526,36 @@ class NativeExplorer:
             gen.undef_args = set(self.gen.undef_args)
         return gen
 
+    def _element_slots_key(self, label_atoms) -> str | None:
+        """What identifies the engine's source before it is generated, for the note of the element
+        slots a search needed (:meth:`_more_element_slots`): the spec's files (path and content),
+        the machine's options, the properties, INVAR and atoms; None when a file cannot be read
+        (then the note is keyed by the generated source itself).  Only a hint: a note that does
+        not fit (another spec's) at most costs slots or a second generation, never a result."""
+        import hashlib
+        spec = self.m.spec
+        files = [spec.path, *getattr(spec, "modules", [])]
+        parts = ["element slots", str(CN_K)]
+        for f in files:
+            try:
+                with open(f, "rb") as fh:
+                    parts += [os.path.abspath(f), hashlib.sha256(fh.read()).hexdigest()]
+            except (OSError, TypeError, ValueError):
+                return None
+        opts = getattr(self.m, "options", {}) or {}
+        parts.append(repr(sorted((k, repr(v)) for k, v in opts.items() if k != "deadline" and not callable(v))))
+        parts += [f"{type(p).__name__} {p.name}" for p in self.state_props + self.step_props]
+        parts.append(f"{len(self.invars)} {label_atoms!r} {self.gen.invar_pre}")
+        return "\0".join(parts)
+
+    def _believed_slots(self, k: str | None) -> int:
+        """The number of element slots a note gives, when the retry of :meth:`_more_element_slots`
+        could have reached it from the first number (doubled, up to CN_K_MAX); else 0."""
+        if k is None or not k.isdigit():
+            return 0
+        k = int(k)
+        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+
     def _slots_needed(self, src: str) -> int:
         """The element slots per extended domain an earlier search of the same engine source
         (with the first number of slots) needed, when it needed more (kept in the private cache
@@ -4457,12 +4563,7 @@ class NativeExplorer:
         does not run first with too few, then again."""
         if not self.gen.dyn:
             return 0
-        k = native_build.recall(src)
-        if k is None or not k.isdigit():
-            return 0
-        k = int(k)
-        # what _more_element_slots can reach: the first number doubled, up to CN_K_MAX
-        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+        return self._believed_slots(native_build.recall(src))
 
     def _more_element_slots(self):
         """The search again, on an engine with twice the element slots per extended domain.
@@ -4470,7 +4571,7 @@ class NativeExplorer:
         the same spec (:meth:`_slots_needed`)."""
         gen = self._regenerate(cn_k=self.gen.cn_k * 2)
         src = gen.generate()
-        native_build.remember(self._first_src, str(gen.cn_k))
+        native_build.remember(self._slots_key or self._first_src, str(gen.cn_k))
         self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
         native_build.forget(self.dll)

@@ -59,6 +59,9 @@ class Trace:
     message: str = ""
     # a step that fails (property 'error'): the inputs and choices it had taken when it failed
     failing: list | None = None
+    # a lasso of a search under symmetry reduction: what its last state equals its loop's first
+    # state up to ("the symmetry of Proc's 4 unnamed elements"); "" when the two are equal
+    up_to: str = ""
 
 
 def _elements(v, out: set) -> None:
