@@ -224,7 +224,9 @@ static int sym_canon(uint64_t *w) {
                 if (SYM_H_P[h] >= 0) tgt += (int64_t)(SYM_FPIDX[SYM_H_FP[h] + z->pos[g]] - SYM_H_CUR[h]) * SYM_H_STRIDE[h];
                 else code = SYM_VINVS[SYM_MS_VINV[m] + z->pos[g]];
             }
-            z->cand[SYM_M_OF_SLOT[tgt]] = code;
+            int mt = SYM_M_OF_SLOT[tgt];
+            if (mt < 0) { __atomic_store_n(&sym_refused, 2, __ATOMIC_SEQ_CST); return -1; }   /* (never: checked) */
+            z->cand[mt] = code;
         }
         if (!have || sym_state_cmp(z, &other_last, w) < 0) {
             memcpy(z->best, z->cand, sizeof(z->best));
