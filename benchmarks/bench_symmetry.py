@@ -80,7 +80,8 @@ def main(argv=None) -> int:
         Path(a.out).mkdir(parents=True, exist_ok=True)
         (Path(a.out) / f"bench_symmetry-{stamp}.json").write_text(json.dumps(report, indent=1) + "\n")
         lines = ["# --symmetry, native and Python engines (paired runs)", "",
-                 f"load average before {report['load_before'][0]:.2f}, after {report['load_after'][0]:.2f}", "",
+                 f"load average before {report['load_before'][0]:.2f}, after {report['load_after'][0]:.2f}; "
+                 "the rates are over the time the report gives (the search, the LTL/CTL check and the traces)", "",
                  "| spec | engine | whole process (median) | cold compile run | peak MB | classes | transitions | "
                  "classes/s | transitions/s |", "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
         for name, rows in report["runs"].items():
