@@ -179,6 +179,21 @@ def test_a_string_location_stays_on_the_python_engine(tmp_path, monkeypatch, cap
     assert f"  (native engine not used: {why})" in capsys.readouterr().out.splitlines()
 
 
+def test_a_map_beside_several_positions_stays_on_the_python_engine(tmp_path, monkeypatch):
+    """A function over Integer (one map value in the native layout) beside a function with several
+    positions over the symmetric domain: the Python engine, with the reason."""
+    monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    text = LINK.replace("asm Link", "asm LinkMap").replace(
+        "\tdynamic controlled edge: Prod(Node, Node) -> Boolean\n",
+        "\tdynamic controlled edge: Prod(Node, Node) -> Boolean\n\tdynamic controlled seen: Integer -> Boolean\n").replace(
+        "\t\t\t\tedge($b, $a) := true\n", "\t\t\t\tedge($b, $a) := true\n\t\t\t\tseen(1) := true\n")
+    assert "seen(1) := true" in text
+    run = asmcheck.load(write(tmp_path, text)).explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (19, 40)
+    assert run.engine_note == ("--symmetry: seen's locations are one map value in the native layout, beside a function "
+                               "with several positions over a symmetric domain")
+
+
 def test_the_multi_form_has_a_bound_on_numberings(tmp_path, monkeypatch):
     """A state whose canonical form would try more numberings than the bound: the native search
     stops, and the Python engine takes the run (Link's initial state: 4! numberings)."""

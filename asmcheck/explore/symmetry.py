@@ -438,6 +438,11 @@ def native_multi_tables(sym: Symmetry, gen) -> str:
     the rank of its text with the free elements left out (per code), its value's rank (per code)
     and its key's place in the order of the state's items; NativeRefused otherwise."""
     dom_no = {id(sd): i for i, sd in enumerate(sym.domains)}
+    for key in gen.slots:
+        if type(key) is tuple and key and key[0] == "map" and not gen.local_slot(key):
+            # (its locations' keys would have to take their places among the items compared)
+            raise NativeRefused(f"{gen.spec.functions[key[1]].name}'s locations are one map value in the native "
+                                f"layout, beside a function with several positions over a symmetric domain")
     ms = []                  # (slot, f, [(p, domain number, element global or -1)], codes' values)
     for s, key in enumerate(gen.slots):
         if type(key) is tuple and key and key[0] == "map":
