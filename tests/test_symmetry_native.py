@@ -107,6 +107,28 @@ default init s0:
 	function flag($p in P) = false
 """
 
+# six interchangeable switches: some are turned on one by one, then all flip at every step; a
+# state with three on flips into another state of its class (moved, so no deadlock)
+FLIP = """asm Flip
+import StandardLibrary
+signature:
+	enum domain S = {SA | SB | SC | SD | SE | SF}
+	dynamic controlled on: S -> Boolean
+	dynamic controlled phase: Boolean
+definitions:
+	main rule r_Main =
+		if phase then
+			forall $s in S do on($s) := not(on($s))
+		else
+			choose $b in Boolean with true do
+				if $b then phase := true
+				else choose $s in S with not(on($s)) do on($s) := true endif
+		endif
+default init s0:
+	function on($s in S) = false
+	function phase = false
+"""
+
 CASES = [
     # (spec, classes, transitions, rows with --deadlock)
     (MUTEX, 17, 35, [("invariant_1", "holds"), ("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "holds"),
@@ -119,12 +141,13 @@ CASES = [
                     ("ctl_3", "violated")]),
     (MIX, 653, 3495, [("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "violated")]),
     (COUNTERS, 81, 201, [("deadlock", "holds"), ("ctl_1", "holds")]),
+    (FLIP, 14, 21, [("deadlock", "holds")]),
 ]
 
 
 @pytest.mark.parametrize("fast", [True, False], ids=["one-number", "rank-lists"])
 @pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap", "Link", "Mix",
-                                                                          "Counters"])
+                                                                          "Counters", "Flip"])
 def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, monkeypatch, text, classes, transitions,
                                                                     rows, fast):
     """Both ways native_sym.c compares signatures (one 64-bit number an element, or its list of
@@ -224,7 +247,7 @@ def test_threads_give_the_same_report(tmp_path, monkeypatch):
     threads do expand them) give the one-thread report; the Python engine's workers refuse."""
     monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
     monkeypatch.setenv("ASMCHECK_THREAD_MAX_CHUNK", "4")
-    for text in (MUTEX, BINGO, SWAP, PHILS, LINK, MIX, COUNTERS):
+    for text in (MUTEX, BINGO, SWAP, PHILS, LINK, MIX, COUNTERS, FLIP):
         model = asmcheck.load(write(tmp_path, text))
         one = model.explore(engine="native", symmetry=True, deadlock=True)
         three = model.explore(engine="native", symmetry=True, deadlock=True, workers=3)
