@@ -723,6 +723,8 @@ def _partial_ok(ex, result) -> bool:
         # complete check)
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
+        if getattr(ex, "sym", None) is not None:
+            return False        # (symmetry reduction: as the Python explorer's)
         one = ex.workers <= 1 and not ex.threaded
         # (under symmetry reduction neither engine decides on a partial state space: the same
         # report on both)

@@ -776,7 +776,7 @@ static inline int sset_first(SuccSet *z, int64_t tid) {
     }
 }
 
-#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0 && !SYM_ON
+#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0
 #define MC_TAIL_ON 1
 /* The run of the step just stored (its successor the last of b, b->n of them) ends with choice
    points that are all merged chooses (mc_note), each at its first alternative.  When no other
@@ -1158,6 +1158,26 @@ static int self_first = 0;
 static uint8_t *sb_self = 0;
 static int64_t sb_self_cap = 0;
 
+#if SYM_ON
+/* symmetry reduction (native_sym.c): each successor of an expansion made its class's representative,
+   once the whole expansion is made (mc_tail patches the step's own words); a successor moved into the
+   state's own class is no deadlock (SYM_MOVED) */
+static int sym_finish(Succ *b, int *err) {
+    for (int64_t i = 0; i < b->n; i++) {
+#ifndef MC_TAIL_ON
+        if (self_first && sb_self[i]) continue;
+#endif
+        int moved = sym_canon(b->w + i * NWORDS);
+        if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
+        if (moved) b->m[2 * i + 1] |= SYM_MOVED;
+    }
+    return EXP_OK;
+}
+#define SYM_DONE(b, err) sym_finish(b, err)
+#else
+#define SYM_DONE(b, err) EXP_OK
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1241,15 +1261,6 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #if CN_NDYN > 0
             if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
 #endif
-#if SYM_ON
-            /* (symmetry: the class's representative; a successor moved into the state's own class
-               is no deadlock) */
-            if (!same) {
-                int moved = sym_canon(nw);
-                if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
-                if (moved) m[1] |= SYM_MOVED;
-            }
-#endif
             (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
@@ -1270,7 +1281,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         }
     next_choice: ;
         /* the next sequence of choices */
-        if (!next_choices(c, 0)) return EXP_OK;
+        if (!next_choices(c, 0)) return SYM_DONE(b, err);
     }
 }
 
