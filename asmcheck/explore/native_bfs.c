@@ -1120,6 +1120,18 @@ static int self_first = 0;
 static uint8_t *sb_self = 0;
 static int64_t sb_self_cap = 0;
 
+#if CN_NDYN > 0
+/* No element made in the run, and the bits of the locations that hold or are keyed by elements
+   and of the counts (the key of native_canon.c's kept forms) those of the state expanded: the
+   successor's canonical form leaves it as it is (the expanded state is canonical, and the form
+   depends on those bits alone), so canon_state need not look it up. */
+static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w) {
+    if (c->cn_made == c->gen) return 0;
+    for (int i = 0; i < CN_NKW; i++) if ((w[CN_KW[i]] ^ src[CN_KW[i]]) & CN_KMASK[i]) return 0;
+    return 1;
+}
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1201,7 +1213,10 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             }
 #endif
 #if CN_NDYN > 0
-            if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+            if (!same && !cn_key_unchanged(c, src, nw) && canon_state(c, nw)) {
+                if (MISSED()) return EXP_MISSED;
+                *err = E_UNSUPPORTED; return EXP_HARD0;
+            }
 #endif
             (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
