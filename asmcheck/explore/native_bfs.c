@@ -504,9 +504,13 @@ static void load_state_delta(Ctx *c, const uint64_t *w) {
         ld_w[j] = word;
         for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
             int s = ws_slot[i];
-            if (SLOT_BITS[s] == 64) { c->cur[s] = c->post[s] = (V)word; continue; }
-            int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-            c->cur[s] = c->post[s] = SLOT_DECODE[s][code];     /* (post follows: see make_post) */
+            V v;
+            if (SLOT_BITS[s] == 64) v = (V)word;
+            else v = SLOT_DECODE[s][(int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1))];
+            c->cur[s] = v;
+#if NSTEP > 0 || NINVAR > 0
+            c->post[s] = v;          /* (post follows: see make_post) */
+#endif
         }
     }
     if (ld_check) {     /* (tests) the working state is what a whole load gives */
