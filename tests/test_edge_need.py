@@ -183,6 +183,9 @@ HALT = WALK.replace("x := (x + d) mod 16", "if x < 13 then x := x + d else x := 
     "asm Walk", "asm WalkHalt")
 
 
+VERDICTS_HALT = ["holds", "holds", "holds", "violated"]
+
+
 @needs_cc
 def test_failing_steps_give_the_same_verdicts(tmp_path, monkeypatch):
     text = HALT.replace("{props}", "\tCTLSPEC ag(x < 20)\n\tCTLSPEC ef(x = 15)\n\tCTLSPEC eg(x < 14)\n"
@@ -191,9 +194,11 @@ def test_failing_steps_give_the_same_verdicts(tmp_path, monkeypatch):
     run, rows = _run(path, monkeypatch, every=False)
     old, old_rows = _run(path, monkeypatch, every=True)
     assert run.explorer.lists_kept == "some"
-    assert (run.states, run.transitions) == (old.states, old.transitions)
+    assert (run.states, run.transitions) == (old.states, old.transitions) == (16, 58)
+    # the steps out of Val fail: halt nodes, verdicts relative to the first error
+    assert all(r.relative_to is not None for r in run.temporal)
+    assert [r.verdict for r in run.temporal] == VERDICTS_HALT
     assert rows == old_rows
-    assert [r[1] for r in rows] == [v for v in [r[1] for r in old_rows]]
 
 
 SHARED = Path(os.environ.get("ASMCHECK_SHARED", Path(__file__).resolve().parents[2] / "shared"))
@@ -215,3 +220,24 @@ def test_corpus_same_json_report(rel):
     from edge_need_diff import compare
     what, kept = compare(SHARED / "asmeta" / rel, seconds=30.0)
     assert what == "same", (rel, what)
+
+
+# an init that reads the input: four initial states (x = 0 .. 3)
+MULTI = WALK.replace("function x = 0", "function x = d").replace("asm Walk", "asm WalkMulti")
+
+
+@needs_cc
+@pytest.mark.parametrize("props,kept,verdicts", [
+    (["ag(x < 16)", "ef(x < 4)"], "none", ["holds", "holds"]),
+    # ef(x = 0): three initial states miss it; the nodes leaving them keep their lists
+    (["ef(x = 0)", "eg(x > 1)"], "some", ["holds", "violated"]),
+    (["ag(x < 2)", "not(ef(x = 7))"], "some", ["violated", "violated"]),
+])
+def test_several_initial_states(tmp_path, monkeypatch, props, kept, verdicts):
+    path = write(tmp_path, MULTI.replace("{props}", "\n".join(f"\tCTLSPEC {p}" for p in props)))
+    run, rows = _run(path, monkeypatch, every=False)
+    old, old_rows = _run(path, monkeypatch, every=True)
+    assert (run.states, run.transitions) == (old.states, old.transitions) == (16, 64)
+    assert run.explorer.lists_kept == kept
+    assert [r[1] for r in rows] == verdicts
+    assert rows == old_rows
