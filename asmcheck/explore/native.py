@@ -386,6 +386,7 @@ class Generator:
         self._loose = None
         self._any_read = False           # the term being translated may be a location of type Any
         self.uid = 0
+        self.sym = None                  # symmetry reduction (explore.symmetry.Symmetry, active): native_sym.c
 
     # -------------------------------------------------------------- helpers
     def fresh(self, prefix="t") -> str:
@@ -2798,10 +2799,11 @@ class Generator:
                          "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         head.append(f"#define CN_NDYN {len(self.dyn)}")
+        head.append(f"#define SYM_ON {1 if self.sym is not None else 0}")
         if "lz_note" in self.defined_done:
             step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
-            self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+            self.canon_code() + "\n" + self.sym_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         src += "\n" + self.label_entry(label_exprs)
         return src
 
@@ -3323,6 +3325,19 @@ class Generator:
                 arr("uint64_t", "CN_KMASK", [f"{masks[x]}ULL" for x in kw])]
         canon = resources.files("asmcheck.explore").joinpath("native_canon.c").read_text()
         return "\n".join(out) + "\n" + canon
+
+    def sym_code(self) -> str:
+        """The tables of native_sym.c and the file itself (nothing without symmetry reduction)."""
+        if self.sym is None:
+            return ""
+        from .symmetry import NativeRefused, native_tables
+        if len(self.step_props) > 63:
+            raise Unsupported("more than 63 step properties with --symmetry")
+        try:
+            tables = native_tables(self.sym, self)
+        except NativeRefused as e:
+            raise Unsupported(f"--symmetry: {e}") from None
+        return tables + resources.files("asmcheck.explore").joinpath("native_sym.c").read_text()
 
     def r_Extend(self, r, env):
         d = r.domain
@@ -3868,12 +3883,13 @@ _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
     states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
-    pk_par_ok pk_first pk_act ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
+    pk_par_ok pk_first pk_act pk_wf_off pk_wf ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk
     cn_reason cn_reason_dom cn_search cn_ws
     succs
     grow_deadline grow_mask grow_abandoned
     wide_of_word self_first sb_self sb_self_cap
+    sym_refused
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
@@ -3921,6 +3937,9 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
 #endif
         if (ok) {
             store_state(c, sw, nw);
+#if SYM_ON
+            if (sym_canon(nw) < 0) return -1;     /* (symmetry: the class's representative) */
+#endif
             int64_t dst = asm_find(nw);
             if (dst >= 0) {
                 int32_t P = c->pos;
@@ -3966,7 +3985,8 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
-                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, **_ignored):
+                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, symmetry=None,
+                 **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -3985,13 +4005,25 @@ class NativeExplorer:
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
+        # symmetry reduction (explore.symmetry.Symmetry, active): the search stores the Python
+        # canonical form's representatives (native_sym.c)
+        self.sym = symmetry if symmetry is not None and symmetry.active else None
+        self.gen.sym = self.sym
+        # the element slots an earlier search of the same spec and properties needed: the C is
+        # generated once, with them (not first with too few, then again)
+        self._slots_key = self._element_slots_key(label_atoms)
+        hinted = self._believed_slots(native_build.recall(self._slots_key)) if self._slots_key else 0
+        if hinted:
+            self.gen.cn_k = hinted
         try:
             src = self.gen.generate()
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
         self._first_src = src
-        k = self._slots_needed(src)
+        k = 0 if hinted else self._slots_needed(src)
+        if k and self._slots_key:
+            native_build.remember(self._slots_key, str(k))     # (a note kept by the source only)
         if k:
             self.gen = self._regenerate(cn_k=k)
             src = self.gen.generate()
@@ -4098,12 +4130,13 @@ class NativeExplorer:
                 from ..props import evaluate_all
                 if not all(any(v is True for v in evaluate_all(self.m, fn, st, None)) for fn in invar_fns):
                     continue
-            w = g.pack(st)
+            w = g.pack(st if self.sym is None else self.sym.canon(st)[0])
             if w not in inits:
                 inits.append(w)
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
         out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
+        self._run_out = out         # (the counts so far, for a search a Ctrl-C ends: counts_so_far)
         t0 = time.perf_counter()
         if g.dyn:
             self.dll.asm_canon_reset()
@@ -4171,6 +4204,10 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4 and g.dyn and self._canon_refusal():
             return self._more_element_slots()
+        if status == 4 and self.sym is not None and _sym_refused(self.dll):
+            from .symmetry import NATIVE_MAX_NUMBERINGS
+            raise Unsupported(f"--symmetry: a state whose canonical form tries more than {NATIVE_MAX_NUMBERINGS:,} "
+                              f"numberings of the interchangeable elements")
         if status == 4:
             code = out[4]
             self.failed_state = out[5]     # the state whose step or property was refused
@@ -4229,6 +4266,8 @@ class NativeExplorer:
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
+        from .bfs import Stop
+        stop = {1: Stop.STATES, 2: Stop.DEPTH, 3: Stop.TIME, 8: Stop.MEMORY}.get(status, Stop.STEP_FAILED if stopped else "")
         time_limit = None
         if status == 3:
             from .bfs import TimeLimit
@@ -4243,7 +4282,14 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         res.time_limit = time_limit
+        res.stop = stop if incomplete else ""
         return res
+
+    def counts_so_far(self) -> tuple:
+        """(states, transitions, depth) the search had reached at its last return to Python: what
+        a search that a Ctrl-C ended reports."""
+        out = getattr(self, "_run_out", None)
+        return (int(out[0]), int(out[1]), int(out[2])) if out is not None else (0, 0, 0)
 
     def _take_edges(self, n: int) -> None:
         """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed (each
@@ -4474,10 +4520,41 @@ class NativeExplorer:
         gen.invars = self.gen.invars
         gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.sym = getattr(self.gen, "sym", None)
         gen.cn_k = cn_k
         if getattr(self.gen, "undef_args", None):
             gen.undef_args = set(self.gen.undef_args)
         return gen
+
+    def _element_slots_key(self, label_atoms) -> str | None:
+        """What identifies the engine's source before it is generated, for the note of the element
+        slots a search needed (:meth:`_more_element_slots`): the spec's files (path and content),
+        the machine's options, the properties, INVAR and atoms; None when a file cannot be read
+        (then the note is keyed by the generated source itself).  Only a hint: a note that does
+        not fit (another spec's) at most costs slots or a second generation, never a result."""
+        import hashlib
+        spec = self.m.spec
+        files = [spec.path, *getattr(spec, "modules", [])]
+        parts = ["element slots", str(CN_K)]
+        for f in files:
+            try:
+                with open(f, "rb") as fh:
+                    parts += [os.path.abspath(f), hashlib.sha256(fh.read()).hexdigest()]
+            except (OSError, TypeError, ValueError):
+                return None
+        opts = getattr(self.m, "options", {}) or {}
+        parts.append(repr(sorted((k, repr(v)) for k, v in opts.items() if k != "deadline" and not callable(v))))
+        parts += [f"{type(p).__name__} {p.name}" for p in self.state_props + self.step_props]
+        parts.append(f"{len(self.invars)} {label_atoms!r} {self.gen.invar_pre}")
+        return "\0".join(parts)
+
+    def _believed_slots(self, k: str | None) -> int:
+        """The number of element slots a note gives, when the retry of :meth:`_more_element_slots`
+        could have reached it from the first number (doubled, up to CN_K_MAX); else 0."""
+        if k is None or not k.isdigit():
+            return 0
+        k = int(k)
+        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
 
     def _slots_needed(self, src: str) -> int:
         """The element slots per extended domain an earlier search of the same engine source
@@ -4486,12 +4563,7 @@ class NativeExplorer:
         does not run first with too few, then again."""
         if not self.gen.dyn:
             return 0
-        k = native_build.recall(src)
-        if k is None or not k.isdigit():
-            return 0
-        k = int(k)
-        # what _more_element_slots can reach: the first number doubled, up to CN_K_MAX
-        return k if k <= CN_K_MAX and k in (self.gen.cn_k << i for i in range(1, 8)) else 0
+        return self._believed_slots(native_build.recall(src))
 
     def _more_element_slots(self):
         """The search again, on an engine with twice the element slots per extended domain.
@@ -4499,7 +4571,7 @@ class NativeExplorer:
         the same spec (:meth:`_slots_needed`)."""
         gen = self._regenerate(cn_k=self.gen.cn_k * 2)
         src = gen.generate()
-        native_build.remember(self._first_src, str(gen.cn_k))
+        native_build.remember(self._slots_key or self._first_src, str(gen.cn_k))
         self.dll.asm_canon_reset()       # the first search's canonical forms kept go, and its tables
         self.close()
         native_build.forget(self.dll)
@@ -4524,6 +4596,7 @@ class NativeExplorer:
         gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
         gen.cn_k = self.gen.cn_k
+        gen.sym = getattr(self.gen, "sym", None)
         gen.undef_args = set(getattr(self.gen, "undef_args", ())) | {fi}
         src = gen.generate()
         dll = build_library(src)
@@ -4539,6 +4612,8 @@ class NativeExplorer:
 
     def _norm(self, st: dict) -> tuple:
         """The canonical form of a successor the Python step function made, and the renaming."""
+        if self.sym is not None:
+            return self.sym.canon(st)[0], {}
         if not self.gen.dyn:
             return st, {}
         if self._canon is None:
@@ -4582,7 +4657,7 @@ class NativeExplorer:
             return {}
         sids = (ctypes.c_int64 * n)()
         self.dll.asm_err_states(sids)
-        py = Explorer(self.m)          # its admitted_successors: the INVAR constraints, canonical names
+        py = Explorer(self.m, symmetry=self.sym)    # its admitted_successors: the INVAR constraints, canonical names
         out: dict = {}
         for i, sid in enumerate(sids):
             self.failed_checked = (i, n)   # (how far the check got, where a time limit ends it)
@@ -4889,6 +4964,8 @@ class NativeExplorer:
     def replay_steps(self, first: int, steps: list) -> list:
         from ..semantics.machine import ScriptChooser
         from .bfs import ReplayError
+        if self.sym is not None:
+            return self._replay_concrete(first, steps)
         m = self.m
         st0 = self.state(first)
         init_log = None
@@ -4921,11 +4998,52 @@ class NativeExplorer:
             cur = want
         return out
 
+    def _replay_concrete(self, first: int, steps: list) -> list:
+        """:meth:`replay_steps` under symmetry reduction, as the Python explorer's: the stored states are
+        class representatives, the trace concrete (see bfs.Explorer._replay_concrete).  The choices of
+        a step not given are those of the representative's first step into the stored target."""
+        from ..semantics.machine import ScriptChooser
+        from .bfs import Explorer
+        picked = []
+        for picks, dst in steps:
+            if picks is None:
+                src = first if not picked else picked[-1][1]
+                picks = self.picks_between(src, dst)
+            picked.append((picks, dst))
+        py = Explorer(self.m, symmetry=self.sym)
+        want0 = self.state(first)
+        init_log = None
+        for log, st in self.m.initial_states():
+            if self.sym.canon(st)[0] == want0:
+                init_log = log
+                break
+        py.via = {first: tuple(c.pick for c in init_log or ())}
+        py.frozen = _StoredFrozen(self, py)
+        return py._replay_concrete(first, picked)
+
     def close(self):
         try:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _sym_refused(dll) -> bool:
+    """Whether a symmetric search stopped on a state with too many numberings (native_sym.c)."""
+    fn = dll.asm_sym_refused
+    fn.restype, fn.argtypes = ctypes.c_int64, []
+    return bool(fn())
+
+
+class _StoredFrozen:
+    """The native explorer's stored states as an Explorer's ``frozen`` list (its layout's frozen
+    forms), for the replay of a symmetric trace."""
+
+    def __init__(self, ex, py):
+        self.ex, self.py = ex, py
+
+    def __getitem__(self, sid: int):
+        return self.py.layout.freeze(self.ex.state(sid))
 
 
 def _made_step(made: dict, machine, log, mon: dict) -> tuple:

@@ -6,6 +6,10 @@
  * Python explorer), packs each successor and looks it up.
  */
 
+#if !SYM_ON
+#define SYM_SELF(m) 0          /* (symmetry reduction: native_sym.c) */
+#endif
+
 /* a run of the step starts from an empty update set, no choice taken yet and a new
    generation of the working-state marks */
 static inline void begin_run(Ctx *c) {
@@ -188,6 +192,8 @@ static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW], pk_par_h;
 static int pk_par_ok = 0, pk_par_set = 0;
 static uint64_t pk_first[PK_NW], pk_first_h[PK_NW];   /* the first stored state's words, their terms */
 static int pk_act[PK_NW], pk_nact = 0;             /* the words with a field (bits > 0) */
+/* the words whose fields are in record word i: pk_wf[pk_wf_off[i] .. pk_wf_off[i + 1]) */
+static int pk_wf_off[PK_NW + 1], pk_wf[PK_NW];
 
 /* 1: the next search (asm_start) keeps the packed store, when it runs on one thread */
 void asm_pack(int64_t on) { pk_allow = on != 0; }
@@ -275,6 +281,12 @@ static void pk_place(void) {
     if (PW < 1) PW = 1;
     pk_nact = 0;
     for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) pk_act[pk_nact++] = j;
+    int n = 0;
+    for (int64_t i = 0; i < PW; i++) {
+        pk_wf_off[i] = n;
+        for (int q = 0; q < pk_nact; q++) if (pk_at[pk_act[q]] == i) pk_wf[n++] = pk_act[q];
+    }
+    pk_wf_off[PW] = n;
 }
 
 /* wider fields for the words whose dictionaries outgrew them, every state repacked (the table
@@ -405,20 +417,25 @@ static const uint64_t *state_words(int64_t sid) {
     if (!pk_par_set) {      /* a word without a field holds the first state's word in every state */
         memcpy(pk_par_w, pk_first, sizeof(pk_par_w));
         memset(pk_par_c, 0, sizeof(pk_par_c));
+        memset(pk_par_rec, 0, sizeof(pk_par_rec));    /* (every code 0) */
         pk_par_h = 0;        /* (the hash of the first state's words) */
         pk_par_set = 1;
     }
     /* the words that differ from the state decoded before (their values fetched before any is
-       read), and the hash with their terms replaced */
+       read), and the hash with their terms replaced: only the fields of the record words that
+       differ from that state's record (pk_par_rec: the codes pk_par_c, packed) */
     int ch[PK_NW], nch = 0;
     uint64_t cx[PK_NW];
-    for (int i = 0; i < pk_nact; i++) {
-        int j = pk_act[i];
-        uint64_t x = pk_field(rec, j);
-        if (x == pk_par_c[j]) continue;
-        if (!pk_raw[j]) __builtin_prefetch(&pk_vals[j][x]);
-        cx[nch] = x;
-        ch[nch++] = j;
+    for (int64_t i = 0; i < PW; i++) {
+        if (rec[i] == pk_par_rec[i]) continue;
+        for (int q = pk_wf_off[i]; q < pk_wf_off[i + 1]; q++) {
+            int j = pk_wf[q];
+            uint64_t x = pk_field(rec, j);
+            if (x == pk_par_c[j]) continue;
+            if (!pk_raw[j]) __builtin_prefetch(&pk_vals[j][x]);
+            cx[nch] = x;
+            ch[nch++] = j;
+        }
     }
     for (int q = 0; q < nch; q++) {
         int j = ch[q];
@@ -469,6 +486,7 @@ static int ws_off[NWORDS + 1], ws_slot[NSLOTS > 0 ? NSLOTS : 1];
 
 static void load_state(Ctx *c, const uint64_t *w) {
     if (c == &ctx_static) ld_ok = 0;
+    c->post_ok = 0;          /* (make_post copies the whole working state again) */
     for (int s = 0; s < NSLOTS; s++) {
         uint64_t word = w[SLOT_WORD[s]];
         if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
@@ -490,15 +508,17 @@ static void load_state_delta(Ctx *c, const uint64_t *w) {
         ld_w[j] = word;
         for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
             int s = ws_slot[i];
-            if (SLOT_BITS[s] == 64) { c->cur[s] = (V)word; continue; }
+            if (SLOT_BITS[s] == 64) { c->cur[s] = c->post[s] = (V)word; continue; }
             int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-            c->cur[s] = SLOT_DECODE[s][code];
+            c->cur[s] = c->post[s] = SLOT_DECODE[s][code];     /* (post follows: see make_post) */
         }
     }
     if (ld_check) {     /* (tests) the working state is what a whole load gives */
         V full[NSLOTS > 0 ? NSLOTS : 1];
         memcpy(full, c->cur, sizeof(full));
+        int post_ok = c->post_ok;
         load_state(c, w);
+        c->post_ok = post_ok;        /* (make_post checks itself against a whole copy) */
         if (memcmp(full, c->cur, NSLOTS * sizeof(V)) != 0) ld_bad++;
         ld_ok = 1;
     }
@@ -522,13 +542,40 @@ static void store_state(Ctx *c, const uint64_t *old, uint64_t *w) {
     }
 }
 
-/* the successor's values (for step properties and INVAR) */
+/* the successor's values (for step properties and INVAR): the working state with the updates
+   written over.  post stays the working state between two calls except where the last call wrote
+   (post_slot), which is restored first: a copy of the whole state (NSLOTS values) only after a
+   whole load_state; load_state_delta writes the slots it decodes into both.  (The working state's
+   other changes within a run, seq steps, are undone before the run ends; local functions' slots
+   are not read by properties.) */
 static void make_post(Ctx *c) {
-    memcpy(c->post, c->cur, sizeof(c->post));
+    if (!c->post_ok) {
+        memcpy(c->post, c->cur, sizeof(c->post));
+        c->post_ok = 1;
+    } else {
+        for (int i = 0; i < c->npost; i++) c->post[c->post_slot[i]] = c->cur[c->post_slot[i]];
+    }
+    c->npost = 0;
     for (int i = 0; i < c->nupd; i++) {
         int s = c->upd_slot[i];
-        if (s >= NSLOTS) { int m = c->vs_slot[s - NSLOTS]; c->post[m] = map_put(c, c->post[m], c->vs_key[s - NSLOTS], c->upd_code[i]); }
-        else c->post[s] = slot_decode(s, c->upd_code[i]);
+        if (s >= NSLOTS) {
+            int m = c->vs_slot[s - NSLOTS];
+            c->post_slot[c->npost++] = m;
+            c->post[m] = map_put(c, c->post[m], c->vs_key[s - NSLOTS], c->upd_code[i]);
+        } else {
+            c->post_slot[c->npost++] = s;
+            c->post[s] = slot_decode(s, c->upd_code[i]);
+        }
+    }
+    if (ld_check && NSLOTS > 0) {    /* (tests) what a whole copy gives */
+        V full[NSLOTS > 0 ? NSLOTS : 1];
+        memcpy(full, c->cur, sizeof(full));
+        for (int i = 0; i < c->nupd; i++) {
+            int s = c->upd_slot[i];
+            if (s >= NSLOTS) { int m = c->vs_slot[s - NSLOTS]; full[m] = map_put(c, full[m], c->vs_key[s - NSLOTS], c->upd_code[i]); }
+            else full[s] = slot_decode(s, c->upd_code[i]);
+        }
+        if (memcmp(full, c->post, sizeof(full)) != 0) ld_bad++;
     }
 }
 static int64_t global_epoch = 0;     /* never reset: choose caches compare against it */
@@ -729,7 +776,7 @@ static inline int sset_first(SuccSet *z, int64_t tid) {
     }
 }
 
-#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0
+#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0 && !SYM_ON
 #define MC_TAIL_ON 1
 /* The run of the step just stored (its successor the last of b, b->n of them) ends with choice
    points that are all merged chooses (mc_note), each at its first alternative.  When no other
@@ -1194,6 +1241,15 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #if CN_NDYN > 0
             if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
 #endif
+#if SYM_ON
+            /* (symmetry: the class's representative; a successor moved into the state's own class
+               is no deadlock) */
+            if (!same) {
+                int moved = sym_canon(nw);
+                if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
+                if (moved) m[1] |= SYM_MOVED;
+            }
+#endif
             (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
@@ -1507,7 +1563,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                     if (p < 0 || (sset_first(&QF.seen, p) && !qf_item((uint32_t)p))) { status = 5; goto finish; }
                 }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
         }
         if (qc_self && QF.n > QF.off[sid]) {      /* the list not read: the state itself (asm_qf_cond) */
             QF.n = QF.off[sid];
@@ -1906,7 +1962,9 @@ static int64_t table_bytes(int64_t n) {
 static int64_t canon_bytes(void) {
 #if CN_NDYN > 0
     int64_t b = 0;
-    for (int i = 0; i < CN_MAXW; i++) {
+    /* (the contexts take the table's entries in order, from the first: the first free one ends
+       them, so that this check, made after every expanded state, reads one entry on one thread) */
+    for (int i = 0; i < CN_MAXW && cn_ws[i].c; i++) {
         CnW *w = cn_ws[i].w;
         if (!w) continue;
         b += (int64_t)sizeof(CnW) + (w->memo ? (int64_t)(w->mmask + 1) * (int64_t)sizeof(CnMemo) : 0)
@@ -2260,7 +2318,7 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
                 for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
                 trans += !seen;
             } else trans += sset_first(&w->ss, tid);
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
             bad |= w->cm[2 * q];
         }
         if (bad || (S.deadlock && only_self && !pl->only_inv && !S.violated[NINV] && !C.ssteperr[li])) w->events++;
@@ -2680,7 +2738,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             if (isnew) run_n++;
             if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q, 0)) { status = 5; break; }
             if (failing && !ef_succ(tid)) { status = 5; break; }
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
         }
         if (status < 0) {
             if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);

@@ -80,6 +80,11 @@ typedef struct {
     uint32_t pgen[NMON > 0 ? NMON : 1];
     V pmon[NMON > 0 ? NMON : 1];
     int32_t rdepth;      /* calls of derived functions and rules within one another (MAX_RECURSION) */
+    /* post is cur with the slots post_slot[0 .. npost) written over (make_post), while post_ok:
+       the next make_post restores only those (load_state ends it; load_state_delta keeps it) */
+    int post_ok;
+    int32_t npost;
+    int32_t post_slot[MAXUPD];
 } Ctx;
 
 static int choice(Ctx *c, int n) {

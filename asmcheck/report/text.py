@@ -41,7 +41,8 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
     for o in outcomes:
         if o.error:
             out.append("")
-            out.append(f"ERROR {o.path}: the spec could not be checked")
+            out.append(f"ERROR {o.path}: the spec could not be checked" if getattr(o, "subject", "spec") == "spec"
+                       else f"ERROR {o.path}: the {o.subject} does not apply")
             out.extend("  " + ln for ln in o.error.splitlines())
             continue
         for p in o.properties:

@@ -123,7 +123,14 @@ def _replay(explorer, K, nodes, loop, prop=None):
     replayed = [(st, log, ups, raw, mapping) for st, log, ups, _, raw, mapping in got]
     tsteps = trace_steps(replayed)
     tr = Trace(None, tsteps, "temporal")
+    sym = getattr(explorer, "sym", None)
+    if sym is not None and loop is not None:
+        tr.up_to = sym.describe()
     if failing is not None:
+        sym = getattr(explorer, "sym", None)
+        if sym is not None and tsteps:
+            # (symmetry reduction: the branch of the trace's last, concrete state)
+            failing = sym.concrete_error(explorer.m, tsteps[-1].state, failing) or failing
         tr.failing = list(getattr(failing, "choices", None) or ())
         tr.message = failing.message
     items = getattr(K, "mon_items", None) if K.mode == "step" else None
