@@ -241,3 +241,16 @@ def test_several_initial_states(tmp_path, monkeypatch, props, kept, verdicts):
     assert run.explorer.lists_kept == kept
     assert [r[1] for r in rows] == verdicts
     assert rows == old_rows
+
+
+@needs_cc
+def test_memory_limit_says_how_to_decide_on_the_states_explored(tmp_path):
+    """A search stopped by the memory bound kept only the lists the complete check reads: the check
+    of the states explored is not tried (it reads every list), and the reason says how to have it."""
+    model = api.load(_spec(tmp_path, ["ag(x < 16)", "ef(x = 0)"]))
+    run = model.explore(engine="native", max_memory=2**20)
+    assert run.explorer.lists_kept == "none"
+    assert run.result.verdict == "incomplete"
+    assert run.result.reason == ("memory limit 1 MB reached; LTL/CTL properties are decided on the states "
+                                 "explored only when --max-states or --max-depth bounds the search")
+    assert [r["verdict"] for r in run.rows] == ["incomplete", "incomplete"]
