@@ -134,6 +134,8 @@ def test_fairness_ltl_graph_and_invar_need_every_list(tmp_path):
     # ag(x < 9) broken at x = 9: the search again, with the lists of the x < 9 states
     (["ag(x < 9)", "ag(x < 16)"], "some", 9 * 4 + 7, True, ["violated", "holds"]),
     (["not(ef(x = 11))"], "some", 15 * 4 + 1, True, ["violated"]),
+    # ef(x = 0) at every node: read where x is not 0
+    (["ag(ef(x = 0))"], "some", 15 * 4 + 1, False, ["holds"]),
 ])
 def test_same_report_as_every_list(tmp_path, monkeypatch, props, kept, entries, again, verdicts):
     from asmcheck.explore import native as N
@@ -254,3 +256,15 @@ def test_memory_limit_says_how_to_decide_on_the_states_explored(tmp_path):
     assert run.result.reason == ("memory limit 1 MB reached; LTL/CTL properties are decided on the states "
                                  "explored only when --max-states or --max-depth bounds the search")
     assert [r["verdict"] for r in run.rows] == ["incomplete", "incomplete"]
+
+
+@needs_cc
+def test_a_broken_ag_of_a_temporal_formula_searches_again_with_every_list(tmp_path, monkeypatch):
+    """ag(ef(x = 0)) is broken where a step failed (the run stays there): the path to that node is
+    read through E[true U not ef(x = 0)], which reads every list."""
+    path = write(tmp_path, HALT.replace("{props}", "\tCTLSPEC ag(ef(x = 0))"))
+    run, rows = _run(path, monkeypatch, every=False)
+    old, old_rows = _run(path, monkeypatch, every=True)
+    assert run.explorer.lists_kept == "all"
+    assert [r[1] for r in rows] == ["violated"]
+    assert rows == old_rows

@@ -4389,6 +4389,8 @@ class NativeExplorer:
         if any(k is None or self.gen.label_exprs[k] is None for k in lab):
             return
         table = bytes(need.table(ids))
+        if all(table):
+            return              # (every list)
         self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table)
         self.edge_need = need
         self.lists_kept = "none" if not any(table) else "some"
