@@ -1,6 +1,6 @@
 """The successor lists the CTL check reads (asmcheck.temporal.need): the native search records the
-list of a state only where a fixpoint step or a path of the check reads it (elsewhere one entry, the
-state itself), decides ``ag(p)`` from its p and ``ef(p)`` from the initial states, and searches again
+list of a state only where a fixpoint step or a path of the check reads it (elsewhere its first entry),
+decides ``ag(p)`` from its p and ``ef(p)`` from the initial states, and searches again
 with the lists an ``ag(p)`` broken reads.  Verdicts, traces and counts are those of the search that
 records every list (``ASMCHECK_EDGE_NEED=all``)."""
 from __future__ import annotations

@@ -4355,7 +4355,8 @@ class NativeExplorer:
         return True
 
     def _qc_start(self, ks) -> None:
-        """Have the search record only the successor lists the CTL check reads (temporal/need.py:
+        """Have the search record only the successor lists the CTL check reads, the first entry of the
+        others (temporal/need.py:
         the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
         no state or depth bound (the check of a partial state space reads every list), no element
         made by extend, no symmetry reduction, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""

@@ -20,9 +20,10 @@ a breadth-first path for ``E[a U b]`` expands only ``a and not b`` nodes, a lass
 in ``a`` nodes, and the path that shows ``EG a`` false expands only ``a`` nodes.
 
 So where the condition (the disjunction of what every subformula reads) does not hold, the search
-may replace the state's list by one entry, the state itself: every node leaving such a state has
-the same value for every subformula (its target is never read), and the structure, the verdicts and
-the paths (state for state) are those of the whole state graph.  Two top-level forms are decided by
+keeps only the first entry of the state's list: every node leaving such a state has the same value
+for every subformula (its target is never read), so the one node left stands for them all (it is
+the first of them a breadth-first search meets), and the verdicts and the paths (state for state)
+are those of the whole state graph.  Two top-level forms are decided by
 the set of states alone, every stored state being reachable and the source of a node:
 
 * ``ag(p)`` (``not E[true U not p]``) holds iff every node satisfies ``p`` (for p free of temporal
