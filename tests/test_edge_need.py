@@ -92,7 +92,8 @@ def test_reads_of_each_operator():
     (["eg(x < 4)"], ("x < 4", 0)),
     (["eu(x < 3, x = 3)", "ag(x < 16)"], ("x < 3 & !x = 3", 1)),
     (["ag(ef(x = 0))"], ("!x = 0", 1)),          # ef(x = 0) at every node: the lists it reads
-    (["ag(ef(x = 0)) and ef(x = 3)"], None),     # E[true U ..] not at the top: every list
+    (["ag(ef(x = 0)) and ef(x = 3)"], ("!x = 0 | !x = 3", 1)),   # top-level conjuncts, each on its own
+    (["ag(ef(x = 0)) or ef(x = 3)"], None),      # E[true U ..] not at the top: every list
     (["ag(x < 3 implies ax(x < 7))"], None),
     (["ef(eg(x = 1))"], None),
 ])
@@ -136,6 +137,9 @@ def test_fairness_ltl_graph_and_invar_need_every_list(tmp_path):
     (["not(ef(x = 11))"], "some", 15 * 4 + 1, True, ["violated"]),
     # ef(x = 0) at every node: read where x is not 0
     (["ag(ef(x = 0))"], "some", 15 * 4 + 1, False, ["holds"]),
+    # conjuncts: ag(x < 16) holds, ag(x < 9) is broken (the lists of x < 9 read again)
+    (["(forall $v in Step with ag(x < 16 + $v))"], "none", 16, False, ["holds"]),
+    (["ag(x < 16) and ag(x < 9)"], "some", 9 * 4 + 7, True, ["violated"]),
 ])
 def test_same_report_as_every_list(tmp_path, monkeypatch, props, kept, entries, again, verdicts):
     from asmcheck.explore import native as N
@@ -210,6 +214,8 @@ CORPUS = ["asm_examples/examples/battleship.asm", "asm_examples/examples/carCont
           "asm_examples/examples/petriNets/forAsmetaSMV/petriNet_forNuSMV_withDeadlock.asm",
           "asm_examples/examples/filosofiEciliegie/filosofiEciliegie.asm",
           "asm_examples/examples/simpleMinesweeper.asm",
+          "asm_examples/examples/coffeeVendingMachine/coffeeVendingMachine.asm",
+          "asm_examples/examples/petriNets/forAsmetaSMV/petriNet_forNuSMV_notLive_bound1_deadlockFree.asm",
           "asm_examples/stereoacuity/certifierGround.asm"]
 
 
