@@ -7,9 +7,9 @@ the same command on a one-state spec, divided by the states).
 
     python benchmarks/bench_edge_need.py SPEC.asm [...] [--repeat 3] [--flip]
 
-``--flip`` adds three models written here: 16 bits, a step flips one or two of them (65,536 states,
-136 successors each), with CTL properties that read no list, half the lists (eg), and half the lists
-(ag(ef ..)).
+``--flip`` adds four models written here: 16 bits, a step flips one or two of them (65,536 states,
+136 successors each), with CTL properties that read no list, half the lists (eg), half the lists
+(ag(ef ..)), and an ag broken (a second search, with three quarters of the lists).
 
 A benchmark, not a test: nothing fails on a slow machine."""
 from __future__ import annotations
@@ -63,6 +63,8 @@ FLIPS = {
     "FlipNone": ["not(ef(b(0) and not b(0)))", "ef(not b(0))", "ag(b(1) or not b(1))"],
     "FlipEg": ["eg(not b(15))"],
     "FlipAgEf": ["ag(ef(b(0)))"],
+    # broken at the second level: the search again, with the lists of the states where it holds
+    "FlipAgBroken": ["ag(not(b(0) and b(1)))"],
 }
 
 
