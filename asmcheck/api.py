@@ -723,6 +723,8 @@ def _partial_ok(ex, result) -> bool:
         # complete check)
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
+        if getattr(ex, "sym", None) is not None:
+            return False        # (symmetry reduction: as the Python explorer's)
         one = ex.workers <= 1 and not ex.threaded
         # (under symmetry reduction neither engine decides on a partial state space: the same
         # report on both)
@@ -762,7 +764,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     if getattr(ex, "lists_kept", "all") != "all":
         # the search recorded only the successor lists the complete check reads (temporal/need.py;
         # a state or depth bound keeps them all)
-        if not (left is not None and left <= 0) and result.stop != Stop.TIME:
+        if result.stop == Stop.MEMORY and not (left is not None and left <= 0):
             result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
                              f"--max-states or --max-depth bounds the search")
         return [], note

@@ -331,7 +331,7 @@ def test_a_limit_names_the_flag(tmp_path):
 
 def test_which_engine_reduces(tmp_path, monkeypatch):
     """The native engine reduces what its canonical form orders (its tests are in
-    test_symmetry_native.py); an Integer location over the symmetric domain stays on the Python
+    test_symmetry_native.py); a String location over the symmetric domain stays on the Python
     engine, with the reason."""
     model = asmcheck.load(write(tmp_path, BINGO))
     with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process \\(or on the native engine's "
@@ -343,28 +343,28 @@ def test_which_engine_reduces(tmp_path, monkeypatch):
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     run = model.explore(engine="auto", symmetry=True)
     assert run.engine == "native" and (run.states, run.transitions) == (48, 113)
-    count = asmcheck.load(write(tmp_path, COUNT))
-    why = "--symmetry: cnt over P holds values of Integer, which the native canonical form does not order"
-    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Count.asm: " + why + "$"):
-        count.explore(engine="native", symmetry=True)
-    run = count.explore(engine="auto", symmetry=True)
+    names = asmcheck.load(write(tmp_path, NAMES))
+    why = "--symmetry: tag over P holds values of String, which the native canonical form does not order"
+    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Names.asm: " + why + "$"):
+        names.explore(engine="native", symmetry=True)
+    run = names.explore(engine="auto", symmetry=True)
     assert run.engine == "python" and (run.states, run.transitions) == (10, 13)
     assert run.engine_note == why
     assert run.json()["engine_note"] == "native engine not used: " + why
 
 
-# a counter per process: an Integer location over the symmetric domain
-COUNT = """asm Count
+# a name per process: a String location over the symmetric domain
+NAMES = """asm Names
 import StandardLibrary
 signature:
 	enum domain P = {PA | PB | PC}
-	dynamic controlled cnt: P -> Integer
+	dynamic controlled tag: P -> String
 definitions:
 	main rule r_Main =
-		choose $p in P with cnt($p) < 2 do
-			cnt($p) := cnt($p) + 1
+		choose $p in P with tag($p) != "bb" do
+			if tag($p) = "a" then tag($p) := "bb" else tag($p) := "a" endif
 default init s0:
-	function cnt($p in P) = 0
+	function tag($p in P) = ""
 """
 
 

@@ -19,7 +19,7 @@ from asmcheck.explore.symmetry import detect
 
 from conftest import ASMETA
 from helpers import write
-from test_symmetry import BINGO, COUNT, LINK, MUTEX, PHILS, SWAP, _check_concrete, _rows
+from test_symmetry import BINGO, LINK, MUTEX, NAMES, PHILS, SWAP, _check_concrete, _rows
 
 pytestmark = pytest.mark.engines("native")
 
@@ -82,6 +82,53 @@ default init s0:
 	function mark($a in Ag) = false
 """
 
+# a counter per process (Integer locations over the symmetric domain, made undef again), a flag and
+# the last process: the native form orders the counters' entries by their integers
+COUNTERS = """asm Counters
+import StandardLibrary
+import CTLLibrary
+signature:
+	enum domain P = {PA | PB | PC | PD}
+	dynamic controlled cnt: P -> Integer
+	dynamic controlled flag: P -> Boolean
+	dynamic controlled who: P
+definitions:
+	CTLSPEC ef((forall $p in P with cnt($p) = 2))
+	main rule r_Main =
+		choose $p in P with isUndef(cnt($p)) or cnt($p) < 3 do
+			par
+				if isUndef(cnt($p)) then cnt($p) := 0 else if cnt($p) < 2 then cnt($p) := cnt($p) + 1
+				else cnt($p) := undef endif endif
+				flag($p) := not(flag($p))
+				who := $p
+			endpar
+default init s0:
+	function cnt($p in P) = 0
+	function flag($p in P) = false
+"""
+
+# six interchangeable switches: some are turned on one by one, then all flip at every step; a
+# state with three on flips into another state of its class (moved, so no deadlock)
+FLIP = """asm Flip
+import StandardLibrary
+signature:
+	enum domain S = {SA | SB | SC | SD | SE | SF}
+	dynamic controlled on: S -> Boolean
+	dynamic controlled phase: Boolean
+definitions:
+	main rule r_Main =
+		if phase then
+			forall $s in S do on($s) := not(on($s))
+		else
+			choose $b in Boolean with true do
+				if $b then phase := true
+				else choose $s in S with not(on($s)) do on($s) := true endif
+		endif
+default init s0:
+	function on($s in S) = false
+	function phase = false
+"""
+
 CASES = [
     # (spec, classes, transitions, rows with --deadlock)
     (MUTEX, 17, 35, [("invariant_1", "holds"), ("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "holds"),
@@ -93,11 +140,14 @@ CASES = [
     (LINK, 19, 40, [("invariant_1", "holds"), ("deadlock", "violated"), ("ctl_1", "holds"), ("ctl_2", "holds"),
                     ("ctl_3", "violated")]),
     (MIX, 653, 3495, [("deadlock", "holds"), ("ctl_1", "holds"), ("ctl_2", "violated")]),
+    (COUNTERS, 81, 201, [("deadlock", "holds"), ("ctl_1", "holds")]),
+    (FLIP, 14, 21, [("deadlock", "holds")]),
 ]
 
 
 @pytest.mark.parametrize("fast", [True, False], ids=["one-number", "rank-lists"])
-@pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap", "Link", "Mix"])
+@pytest.mark.parametrize("text,classes,transitions,rows", CASES, ids=["Mutex", "Bingo", "Phils", "Swap", "Link", "Mix",
+                                                                          "Counters", "Flip"])
 def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, monkeypatch, text, classes, transitions,
                                                                     rows, fast):
     """Both ways native_sym.c compares signatures (one 64-bit number an element, or its list of
@@ -139,17 +189,32 @@ def test_the_mutex_trace_is_the_python_engines(tmp_path):
     assert [(p, len(s)) for p, s in got] == [("ctl_3", 5), ("ltl_2", 8)]
 
 
-def test_an_integer_location_stays_on_the_python_engine(tmp_path, monkeypatch, capsys):
+def test_a_string_location_stays_on_the_python_engine(tmp_path, monkeypatch, capsys):
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
-    model = asmcheck.load(write(tmp_path, COUNT))
+    model = asmcheck.load(write(tmp_path, NAMES))
     run = model.explore(engine="auto", symmetry=True)
     assert run.engine == "python" and (run.states, run.transitions) == (10, 13)
-    why = "--symmetry: cnt over P holds values of Integer, which the native canonical form does not order"
+    why = "--symmetry: tag over P holds values of String, which the native canonical form does not order"
     assert run.engine_note == why
     from asmcheck.cli import main
-    path = write(tmp_path, COUNT)
+    path = write(tmp_path, NAMES)
     assert main(["explore", "--symmetry", path]) == 0
     assert f"  (native engine not used: {why})" in capsys.readouterr().out.splitlines()
+
+
+def test_a_map_beside_several_positions_stays_on_the_python_engine(tmp_path, monkeypatch):
+    """A function over Integer (one map value in the native layout) beside a function with several
+    positions over the symmetric domain: the Python engine, with the reason."""
+    monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
+    text = LINK.replace("asm Link", "asm LinkMap").replace(
+        "\tdynamic controlled edge: Prod(Node, Node) -> Boolean\n",
+        "\tdynamic controlled edge: Prod(Node, Node) -> Boolean\n\tdynamic controlled seen: Integer -> Boolean\n").replace(
+        "\t\t\t\tedge($b, $a) := true\n", "\t\t\t\tedge($b, $a) := true\n\t\t\t\tseen(1) := true\n")
+    assert "seen(1) := true" in text
+    run = asmcheck.load(write(tmp_path, text)).explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (19, 40)
+    assert run.engine_note == ("--symmetry: seen's locations are one map value in the native layout, beside a function "
+                               "with several positions over a symmetric domain")
 
 
 def test_the_multi_form_has_a_bound_on_numberings(tmp_path, monkeypatch):
@@ -182,7 +247,7 @@ def test_threads_give_the_same_report(tmp_path, monkeypatch):
     threads do expand them) give the one-thread report; the Python engine's workers refuse."""
     monkeypatch.setenv("ASMCHECK_THREAD_MIN_CHUNK", "1")
     monkeypatch.setenv("ASMCHECK_THREAD_MAX_CHUNK", "4")
-    for text in (MUTEX, BINGO, SWAP, PHILS, LINK, MIX):
+    for text in (MUTEX, BINGO, SWAP, PHILS, LINK, MIX, COUNTERS, FLIP):
         model = asmcheck.load(write(tmp_path, text))
         one = model.explore(engine="native", symmetry=True, deadlock=True)
         three = model.explore(engine="native", symmetry=True, deadlock=True, workers=3)
@@ -193,12 +258,12 @@ def test_threads_give_the_same_report(tmp_path, monkeypatch):
         assert a == b
     with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process"):
         model.explore(engine="python", symmetry=True, workers=2)
-    count = asmcheck.load(write(tmp_path, COUNT))
+    names = asmcheck.load(write(tmp_path, NAMES))
     with pytest.raises(asmcheck.UsageError, match=r"^--symmetry with --workers runs on the native engine's threads, "
-                                                  r"which cannot run Count.asm: --symmetry: cnt over P holds values "
-                                                  r"of Integer, which the native canonical form does not order "
+                                                  r"which cannot run Names.asm: --symmetry: tag over P holds values "
+                                                  r"of String, which the native canonical form does not order "
                                                   r"\(drop --workers\)$"):
-        count.explore(engine="auto", symmetry=True, workers=2)
+        names.explore(engine="auto", symmetry=True, workers=2)
 
 
 # a step fails when it chooses a process already on: the representative's failing branch chooses
@@ -263,6 +328,21 @@ def test_battleship():
     assert (nat.states, nat.transitions) == (296, 832)
     assert _rows(nat)[1:] == [("ctl_1", "holds"), ("ctl_2", "holds"), ("ctl_3", "holds"), ("ctl_4", "holds")]
     assert _json(nat) == _json(py)
+    _stored_canonical(nat, model)
+
+
+@pytest.mark.parametrize("bound", [{"max_depth": 3}, {"max_states": 500}, {"max_depth": 3, "deadlock": True}],
+                         ids=["depth", "states", "deadlock"])
+def test_parking_bounded(bound):
+    """parking.asm (Column's columns 2 and 5 interchangeable): its step ends with merged chooses,
+    whose other combinations the native search makes by patching the first one's words (mc_tail),
+    each then made its class's representative.  Bounded, as the Python engine takes minutes for the
+    whole space; no LTL/CTL property is decided on the part explored under symmetry."""
+    model = _corpus("asm_examples/examples/parking.asm")
+    nat, py = _both(model, **bound)
+    assert _json(nat) == _json(py)
+    assert nat.states == {"max_depth": 368, "max_states": 503}["max_depth" if "max_depth" in bound else "max_states"]
+    assert all(r["verdict"] == "incomplete" for r in nat.rows if r["kind"] == "ctl")
     _stored_canonical(nat, model)
 
 

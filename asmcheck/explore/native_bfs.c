@@ -508,9 +508,13 @@ static void load_state_delta(Ctx *c, const uint64_t *w) {
         ld_w[j] = word;
         for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
             int s = ws_slot[i];
-            if (SLOT_BITS[s] == 64) { c->cur[s] = c->post[s] = (V)word; continue; }
-            int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-            c->cur[s] = c->post[s] = SLOT_DECODE[s][code];     /* (post follows: see make_post) */
+            V v;
+            if (SLOT_BITS[s] == 64) v = (V)word;
+            else v = SLOT_DECODE[s][(int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1))];
+            c->cur[s] = v;
+#if NSTEP > 0 || NINVAR > 0
+            c->post[s] = v;          /* (post follows: see make_post) */
+#endif
         }
     }
     if (ld_check) {     /* (tests) the working state is what a whole load gives */
@@ -776,7 +780,7 @@ static inline int sset_first(SuccSet *z, int64_t tid) {
     }
 }
 
-#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0 && !SYM_ON
+#if MC_TAIL && NSTEP == 0 && NINVAR == 0 && CN_NDYN == 0
 #define MC_TAIL_ON 1
 /* The run of the step just stored (its successor the last of b, b->n of them) ends with choice
    points that are all merged chooses (mc_note), each at its first alternative.  When no other
@@ -1020,8 +1024,8 @@ static int64_t qf_pair(uint32_t d, uint64_t v);
 /* ------------------------------------------------------------------ the lists the CTL check reads
  * asm_qf_cond(nk, ks, table) after asm_qf(0, ..): a state's list is recorded only where a condition
  * on the state holds (table[x] != 0 for x the bits of the atoms ks[k], evaluated in the state); the
- * list of any other state with a successor is one entry, the state itself (temporal/need.py says
- * why the CTL check then gives the same verdicts and paths).  nk -1: every list (the default).  An
+ * list of any other state keeps its first entry only (temporal/need.py says why the CTL check then
+ * gives the same verdicts and paths).  nk -1: every list (the default).  An
  * atom that cannot be evaluated keeps the list. */
 static struct { int on, nk; int64_t ks[16]; uint8_t *table; } QC;
 
@@ -1158,6 +1162,38 @@ static int self_first = 0;
 static uint8_t *sb_self = 0;
 static int64_t sb_self_cap = 0;
 
+#if SYM_ON
+/* symmetry reduction (native_sym.c): each successor of an expansion made its class's representative,
+   once the whole expansion is made (mc_tail patches the step's own words); a successor moved into the
+   state's own class is no deadlock (SYM_MOVED) */
+static int sym_finish(Succ *b, int *err) {
+    for (int64_t i = 0; i < b->n; i++) {
+#ifndef MC_TAIL_ON
+        if (self_first && sb_self[i]) continue;
+#endif
+        int moved = sym_canon(b->w + i * NWORDS);
+        if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
+        if (moved) b->m[2 * i + 1] |= SYM_MOVED;
+    }
+    return EXP_OK;
+}
+#define SYM_DONE(b, err) sym_finish(b, err)
+#else
+#define SYM_DONE(b, err) EXP_OK
+#endif
+
+#if CN_NDYN > 0
+/* No element made in the run, and the bits of the locations that hold or are keyed by elements
+   and of the counts (the key of native_canon.c's kept forms) those of the state expanded: the
+   successor's canonical form leaves it as it is (the expanded state is canonical, and the form
+   depends on those bits alone), so canon_state need not look it up. */
+static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w) {
+    if (c->cn_made == c->gen) return 0;
+    for (int i = 0; i < CN_NKW; i++) if ((w[CN_KW[i]] ^ src[CN_KW[i]]) & CN_KMASK[i]) return 0;
+    return 1;
+}
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1239,15 +1275,9 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             }
 #endif
 #if CN_NDYN > 0
-            if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
-#endif
-#if SYM_ON
-            /* (symmetry: the class's representative; a successor moved into the state's own class
-               is no deadlock) */
-            if (!same) {
-                int moved = sym_canon(nw);
-                if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
-                if (moved) m[1] |= SYM_MOVED;
+            if (!same && !cn_key_unchanged(c, src, nw) && canon_state(c, nw)) {
+                if (MISSED()) return EXP_MISSED;
+                *err = E_UNSUPPORTED; return EXP_HARD0;
             }
 #endif
             (void)same;
@@ -1270,7 +1300,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         }
     next_choice: ;
         /* the next sequence of choices */
-        if (!next_choices(c, 0)) return EXP_OK;
+        if (!next_choices(c, 0)) return SYM_DONE(b, err);
     }
 }
 
@@ -1565,10 +1595,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
         }
-        if (qc_self && QF.n > QF.off[sid]) {      /* the list not read: the state itself (asm_qf_cond) */
-            QF.n = QF.off[sid];
-            if (!qf_item((uint32_t)sid)) { status = 5; goto finish; }
-        }
+        if (qc_self && QF.n > QF.off[sid] + 1) QF.n = QF.off[sid] + 1;   /* the list not read: its first entry (asm_qf_cond) */
         /* a state where a step fails is not a deadlock: the error is reported */
         if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
         int stop = stop_after(nstates);

@@ -33,7 +33,12 @@ int64_t asm_sym_refused(void) { return __atomic_load_n(&sym_refused, __ATOMIC_SE
 static inline int32_t sym_get(const uint64_t *w, int s) {
     return (int32_t)((w[SLOT_WORD[s]] >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
 }
-static inline void sym_put(uint64_t *w, int s, int32_t code) {
+/* a slot's code, or the word of a wide one */
+static inline V sym_get_any(const uint64_t *w, int s) {
+    return SLOT_BITS[s] == 64 ? (V)w[SLOT_WORD[s]] : (V)sym_get(w, s);
+}
+static inline void sym_put(uint64_t *w, int s, V code) {
+    if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)code; return; }
     uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
     w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
 }
@@ -219,7 +224,9 @@ static int sym_canon(uint64_t *w) {
                 if (SYM_H_P[h] >= 0) tgt += (int64_t)(SYM_FPIDX[SYM_H_FP[h] + z->pos[g]] - SYM_H_CUR[h]) * SYM_H_STRIDE[h];
                 else code = SYM_VINVS[SYM_MS_VINV[m] + z->pos[g]];
             }
-            z->cand[SYM_M_OF_SLOT[tgt]] = code;
+            int mt = SYM_M_OF_SLOT[tgt];
+            if (mt < 0) { __atomic_store_n(&sym_refused, 2, __ATOMIC_SEQ_CST); return -1; }   /* (never: checked) */
+            z->cand[mt] = code;
         }
         if (!have || sym_state_cmp(z, &other_last, w) < 0) {
             memcpy(z->best, z->cand, sizeof(z->best));
@@ -250,10 +257,12 @@ static int sym_canon(uint64_t *w) {
 
 typedef struct {
     int32_t pe[SYM_NENT > 0 ? SYM_NENT : 1], pr[SYM_NENT > 0 ? SYM_NENT : 1];  /* (element, rank) pairs */
+    V pv[SYM_NENT > 0 ? SYM_NENT : 1];          /* (and the integer of an Integer location's entry) */
     int32_t ent[SYM_NENT > 0 ? SYM_NENT : 1];                                 /* ranks by element */
+    V entv[SYM_NENT > 0 ? SYM_NENT : 1];
     int32_t start[SYM_N + 1], fill[SYM_N];
     int32_t order[SYM_N], tmp[SYM_N], pos[SYM_N];
-    int32_t codes[SYM_MAXD > 0 ? SYM_MAXD : 1];
+    V codes[SYM_MAXD > 0 ? SYM_MAXD : 1];
     int32_t vel[SYM_NVAL > 0 ? SYM_NVAL : 1];
 } SymW;
 static _Thread_local SymW sym_w;
@@ -261,8 +270,10 @@ static _Thread_local SymW sym_w;
 /* <0, 0, >0: element a's signature before, as, after element b's (then their numbers decide) */
 static inline int sym_cmp(const SymW *z, int a, int b) {
     int32_t i = z->start[a], ie = z->start[a + 1], j = z->start[b], je = z->start[b + 1];
-    for (; i < ie && j < je; i++, j++)
+    for (; i < ie && j < je; i++, j++) {
         if (z->ent[i] != z->ent[j]) return z->ent[i] < z->ent[j] ? -1 : 1;
+        if (z->entv[i] != z->entv[j]) return z->entv[i] < z->entv[j] ? -1 : 1;
+    }
     if (i < ie) return 1;
     if (j < je) return -1;
     return 0;
@@ -280,7 +291,7 @@ static void sym_apply(SymW *z, uint64_t *w) {
         const int32_t *ord = z->order + base;
         int moves = 0;
         for (int i = 0; i < n; i++) {
-            z->codes[i] = sym_get(w, sl[i]);
+            z->codes[i] = sym_get_any(w, sl[i]);
             if (i && z->codes[i] != z->codes[0]) moves = 1;
         }
         if (!moves) continue;
@@ -356,16 +367,23 @@ static int sym_canon(uint64_t *w) {
     for (int r = 0; r < SYM_NROW; r++) {
         int d = SYM_ROW_DOM[r], base = SYM_DOFF[d], n = SYM_DLEN[d];
         const int *sl = SYM_RSLOTS + SYM_ROW_SLOT[r];
+        if (SYM_ROW_WIDE[r] >= 0) {         /* Integer locations: (the row's rank, the integer) */
+            for (int i = 0; i < n; i++) {
+                V x = (V)w[SLOT_WORD[sl[i]]];
+                if (x != UNDEF) { z->pe[np] = base + i; z->pr[np] = SYM_ROW_WIDE[r]; z->pv[np] = x; np++; }
+            }
+            continue;
+        }
         const int32_t *rk = SYM_RRANK + SYM_ROW_RANK[r];
         for (int i = 0; i < n; i++) {
             int32_t x = rk[sym_get(w, sl[i])];
-            if (x >= 0) { z->pe[np] = base + i; z->pr[np] = x; np++; }
+            if (x >= 0) { z->pe[np] = base + i; z->pr[np] = x; z->pv[np] = 0; np++; }
         }
     }
     for (int v = 0; v < SYM_NVAL; v++) {
         int32_t i = SYM_VMAP[SYM_VAL_MAP[v] + sym_get(w, SYM_VAL_SLOT[v])];
         z->vel[v] = i;
-        if (i >= 0) { z->pe[np] = SYM_DOFF[SYM_VAL_DOM[v]] + i; z->pr[np] = SYM_VAL_RANK[v]; np++; }
+        if (i >= 0) { z->pe[np] = SYM_DOFF[SYM_VAL_DOM[v]] + i; z->pr[np] = SYM_VAL_RANK[v]; z->pv[np] = 0; np++; }
     }
     /* the ranks by element, each element's sorted */
     memset(z->start, 0, sizeof(z->start));
@@ -374,8 +392,14 @@ static int sym_canon(uint64_t *w) {
     for (int32_t q = 0; q < np; q++) {
         int g = z->pe[q];
         int32_t at = z->fill[g]++, x = z->pr[q];
-        while (at > z->start[g] && z->ent[at - 1] > x) { z->ent[at] = z->ent[at - 1]; at--; }
+        V xv = z->pv[q];
+        while (at > z->start[g] && (z->ent[at - 1] > x || (z->ent[at - 1] == x && z->entv[at - 1] > xv))) {
+            z->ent[at] = z->ent[at - 1];
+            z->entv[at] = z->entv[at - 1];
+            at--;
+        }
         z->ent[at] = x;
+        z->entv[at] = xv;
     }
     int changed = 0;
     for (int d = 0; d < SYM_ND; d++) {

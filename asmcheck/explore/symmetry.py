@@ -438,6 +438,11 @@ def native_multi_tables(sym: Symmetry, gen) -> str:
     the rank of its text with the free elements left out (per code), its value's rank (per code)
     and its key's place in the order of the state's items; NativeRefused otherwise."""
     dom_no = {id(sd): i for i, sd in enumerate(sym.domains)}
+    for key in gen.slots:
+        if type(key) is tuple and key and key[0] == "map" and not gen.local_slot(key):
+            # (its locations' keys would have to take their places among the items compared)
+            raise NativeRefused(f"{gen.spec.functions[key[1]].name}'s locations are one map value in the native "
+                                f"layout, beside a function with several positions over a symmetric domain")
     ms = []                  # (slot, f, [(p, domain number, element global or -1)], codes' values)
     for s, key in enumerate(gen.slots):
         if type(key) is tuple and key and key[0] == "map":
@@ -643,6 +648,18 @@ def native_tables(sym: Symmetry, gen) -> str:
         p, sd = info[0], info[1]
         f = gen.spec.functions[key if type(key) is int else key[0]]
         codes = gen.slot_values[s]
+        if codes is None and p >= 0 and gen.bits[s] == 64 and T.root(f.codomain) in (T.INTEGER, T.NATURAL) \
+                and not gen.any_typed(f.codomain):
+            # an Integer location (its word is the integer, or undef): its entries are ordered by
+            # (the row's place, the integer), as Python orders (prefix, 2, (2, n))
+            row = rows.get(info[3])
+            if row is None:
+                row = rows[info[3]] = [dom_no[id(sd)], {}, None, (info[3], 2, (2,))]
+                entries.append(row[3])
+            elif row[3] is None:
+                raise NativeRefused(f"{f.name} over {sd.name} has narrow and wide locations")
+            row[1][info[2] - sd.offset] = s
+            continue
         if codes is None or gen.bits[s] >= 32:
             raise NativeRefused(f"{f.name} over {sd.name} holds values of {f.codomain}, which the native canonical "
                                 f"form does not order")
@@ -651,8 +668,10 @@ def native_tables(sym: Symmetry, gen) -> str:
         if p >= 0:
             row = rows.get(info[3])
             if row is None:
-                row = rows[info[3]] = [dom_no[id(sd)], {}, None]
+                row = rows[info[3]] = [dom_no[id(sd)], {}, None, None]
                 row[2] = [None if v is None else sym._entry(info, v)[1] for v in values]
+            elif row[3] is not None:
+                raise NativeRefused(f"{f.name} over {sd.name} has narrow and wide locations")
             row[1][info[2] - sd.offset] = s
             for e in row[2]:
                 if e is not None:
@@ -677,9 +696,10 @@ def native_tables(sym: Symmetry, gen) -> str:
             else:
                 hi = mid
         return rank[lo][1]
-    rslots, rranks, row_dom, row_slot, row_rank = [], [], [], [], []
+    rslots, rranks, row_dom, row_slot, row_rank, row_wide = [], [], [], [], [], []
     for prefix in sorted(rows):
-        d, by_el, ents = rows[prefix]
+        d, by_el, ents, wide = rows[prefix]
+        row_wide.append(-1 if wide is None else rank_of(wide))
         n = len(sym.domains[d].free)
         if len(by_el) != n:
             f = gen.spec.functions[prefix[0]]
@@ -689,7 +709,8 @@ def native_tables(sym: Symmetry, gen) -> str:
         row_slot.append(len(rslots))
         rslots.extend(by_el[i] for i in range(n))
         row_rank.append(len(rranks))
-        rranks.extend(-1 if e is None else rank_of(e) for e in ents)
+        if ents is not None:
+            rranks.extend(-1 if e is None else rank_of(e) for e in ents)
     vmap, vinv, val_slot, val_dom, val_rank, val_map, val_inv = [], [], [], [], [], [], []
     seen: dict = {}
     for s, d, ent, per_code in vals:
@@ -723,7 +744,7 @@ def native_tables(sym: Symmetry, gen) -> str:
         per_dom[d] += 1
     ke = max(per_dom, default=0)
     kb = max(len(rank), 1).bit_length()
-    fast = 1 if NATIVE_FAST and 0 < ke and ke * kb <= 64 else 0
+    fast = 1 if NATIVE_FAST and 0 < ke and ke * kb <= 64 and all(x < 0 for x in row_wide) else 0
 
     def arr(ctype, name, xs):
         return f"static const {ctype} {name}[] = {{{', '.join(str(int(x)) for x in xs) or '0'}}};"
@@ -735,6 +756,7 @@ def native_tables(sym: Symmetry, gen) -> str:
            arr("int", "SYM_DLEN", [len(sd.free) for sd in sym.domains]),
            arr("int", "SYM_ROW_DOM", row_dom), arr("int", "SYM_ROW_SLOT", row_slot),
            arr("int", "SYM_ROW_RANK", row_rank), arr("int", "SYM_RSLOTS", rslots),
+           arr("int32_t", "SYM_ROW_WIDE", row_wide),
            arr("int32_t", "SYM_RRANK", rranks),
            arr("int", "SYM_VAL_SLOT", val_slot), arr("int", "SYM_VAL_DOM", val_dom),
            arr("int32_t", "SYM_VAL_RANK", val_rank), arr("int", "SYM_VAL_MAP", val_map),
