@@ -726,9 +726,7 @@ def _partial_ok(ex, result) -> bool:
         if getattr(ex, "sym", None) is not None:
             return False        # (symmetry reduction: as the Python explorer's)
         one = ex.workers <= 1 and not ex.threaded
-        # (under symmetry reduction neither engine decides on a partial state space: the same
-        # report on both)
-        return bool(ex.keep_graph) and getattr(ex, "sym", None) is None and (one or result.stop in Stop.BOUNDS)
+        return bool(ex.keep_graph) and (one or result.stop in Stop.BOUNDS)
     if type(ex).__name__ == "PartitionedExplorer":
         # the partitioned search (processes or Ray actors) cuts a level where the sequential search
         # stops at its state or depth limit, with the same states and steps (a worker's memory share
