@@ -93,6 +93,8 @@ def test_the_text_says_what_does_not_apply(tmp_path, capsys):
     assert "ERROR --monitored gg: the option does not apply\n  --monitored gg: none of the checked specs has a " \
            "function gg\n" in out
     assert "gate: ERROR (exit 2)" in out
+    assert "checked 2 specs, 3 properties: 1 hold, 0 violated as expected, 0 tolerated, 1 failed, 0 incomplete, " \
+           "1 input error\n" in out
 
 
 def test_the_sarif_notification_of_an_option_has_no_file(tmp_path, capsys):
