@@ -85,3 +85,15 @@ def test_the_json_names_the_symmetry_of_the_lasso(write_spec, capsys):
     assert main(["explore", path, "--format", "json", "--engine", "python"]) == 1
     (v,) = json.loads(capsys.readouterr().out)["violations"]
     assert v["loop_start"] == 4 and "loop_up_to" not in v
+
+
+def test_the_itf_trace_names_the_symmetry_of_the_lasso(write_spec, capsys):
+    import json
+    path = write_spec(MUTEX, "Mutex")
+    assert main(["explore", path, "--symmetry", "--format", "itf"]) == 1
+    (doc,) = json.loads(capsys.readouterr().out)
+    assert (doc["loop"], doc["#meta"]["loop-up-to"], len(doc["states"])) == (
+        4, "the symmetry of Proc's 3 unnamed elements", 8)
+    assert main(["explore", path, "--format", "itf", "--engine", "python"]) == 1
+    (doc,) = json.loads(capsys.readouterr().out)
+    assert doc["loop"] == 4 and "loop-up-to" not in doc["#meta"] and len(doc["states"]) == 7

@@ -103,6 +103,9 @@ def trace_itf(machine, trace, *, source: str, description: str, loop: int | None
         if len(doc["states"]) > loop + 1 and trace.steps[-1].display == trace.steps[loop].display:
             last = doc["states"].pop()
             doc["#meta"]["loop-step"] = {k: v for k, v in last["#meta"].items() if k != "index"}
+        elif getattr(trace, "up_to", ""):
+            # (--symmetry: the last state is states[loop] with the interchangeable elements renamed)
+            doc["#meta"]["loop-up-to"] = trace.up_to
         doc["loop"] = loop
     return doc
 
