@@ -26,8 +26,13 @@ six interchangeable elements in such a function is left without symmetry.
 
 Counts of a reduced search are counts of classes (orbits); invariants, deadlock and LTL/CTL
 properties keep their verdicts, since no property names an interchangeable element and each
-is evaluated by the same equality-only operations; traces are made concrete again by
-:meth:`Symmetry.image` and a replay through the step function.
+is evaluated by the same equality-only operations; traces are made concrete again by a replay
+through the step function from the real initial state, and the failing step of an error trace is
+the concrete state's branch (:meth:`Symmetry.concrete_error`).
+
+The native engine (native_sym.c) makes the same representative on its packed states, from the
+tables :func:`native_tables` writes out of this module's own signature entries and location texts
+(numbers only): the same classes, numbers, parents and traces as the Python engine's search.
 """
 from __future__ import annotations
 
