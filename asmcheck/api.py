@@ -684,6 +684,11 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             if result.verdict == "holds":
                 result.verdict = "incomplete"
     elif checked_temporal and result.stopped_early:
+        if sym is not None and sym.active and result.stop in Stop.BOUNDS | {Stop.MEMORY} and not interrupted:
+            # (its stored states are class representatives: the check of a partial state space is
+            # not made for them)
+            result.reason = f"{result.reason}; under symmetry reduction a partial state space decides no " \
+                            f"LTL/CTL property"
         temporal_note = result.reason
     for t in temporal_results:
         if not t.holds and result.verdict != "violated" and not t.message:
@@ -721,7 +726,9 @@ def _partial_ok(ex, result) -> bool:
         if getattr(ex, "sym", None) is not None:
             return False        # (symmetry reduction: as the Python explorer's)
         one = ex.workers <= 1 and not ex.threaded
-        return bool(ex.keep_graph) and (one or result.stop in Stop.BOUNDS)
+        # (under symmetry reduction neither engine decides on a partial state space: the same
+        # report on both)
+        return bool(ex.keep_graph) and getattr(ex, "sym", None) is None and (one or result.stop in Stop.BOUNDS)
     if type(ex).__name__ == "PartitionedExplorer":
         # the partitioned search (processes or Ray actors) cuts a level where the sequential search
         # stops at its state or depth limit, with the same states and steps (a worker's memory share
@@ -757,7 +764,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     if getattr(ex, "lists_kept", "all") != "all":
         # the search recorded only the successor lists the complete check reads (temporal/need.py;
         # a state or depth bound keeps them all)
-        if not (left is not None and left <= 0) and not (result.reason or "").startswith("time limit"):
+        if not (left is not None and left <= 0) and result.stop != Stop.TIME:
             result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
                              f"--max-states or --max-depth bounds the search")
         return [], note
@@ -1008,6 +1015,12 @@ class Exploration:
     @property
     def reason(self) -> str:
         return self.result.reason
+
+    @property
+    def stop(self) -> str:
+        """Why the search stopped before its end, in one word (explore.bfs.Stop: ``states``,
+        ``depth``, ``time``, ``memory``, ``interrupt``, ...); "" for a search that covered every state."""
+        return self.result.stop
 
     @property
     def exit_code(self) -> int:
@@ -1434,14 +1447,21 @@ def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, roo
     if not specs:
         raise UsageError("no .asm specs under " + ", ".join(os.fspath(p) for p in paths))
     outcomes = []
-    for path in specs:
+    for i, path in enumerate(specs):
         if progress is not None:
             progress(path)
         o = check_spec(path, strict=strict_expect, avalla_dir=avalla_dir, root=root, clock=clock, **options)
         outcomes.append(o)
         if getattr(o, "interrupted", False):
-            break               # Ctrl-C: what was checked so far is the report
-    names = unused_names(outcomes, options) if len(outcomes) == len(specs) else []
+            # Ctrl-C: what was checked so far is the report, and the specs left are listed unchecked
+            why = f"{o.reason or interrupt_reason()} before this spec"
+            for rest in specs[i + 1:]:
+                left = _gate.SpecOutcome(_gate.display_path(rest, root), "", "incomplete", reason=why)
+                left.properties = [_gate.judge(_gate.PropertyOutcome("(not checked)", "input", "incomplete",
+                                                                     message=why), False, False)]
+                outcomes.append(left)
+            break
+    names = unused_names(outcomes, options) if not any(getattr(o, "interrupted", False) for o in outcomes) else []
     outcomes += unused_property_files(specs, options.get("properties"), root)
     outcomes += names
     return Gate(outcomes, root)

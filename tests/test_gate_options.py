@@ -93,3 +93,15 @@ def test_the_text_says_what_does_not_apply(tmp_path, capsys):
     assert "ERROR --monitored gg: the option does not apply\n  --monitored gg: none of the checked specs has a " \
            "function gg\n" in out
     assert "gate: ERROR (exit 2)" in out
+
+
+def test_the_sarif_notification_of_an_option_has_no_file(tmp_path, capsys):
+    """(it was located at 'file' --fair Whoo, line 1, column 1)"""
+    d = specs(tmp_path)
+    out = tmp_path / "gate.sarif"
+    assert main(["check", str(d), "--fair", "Whoo", "--sarif", str(out)]) == 2
+    capsys.readouterr()
+    inv = json.loads(out.read_text())["runs"][0]["invocations"][0]
+    assert inv["toolExecutionNotifications"] == [
+        {"level": "error", "message": {"text": "--fair Whoo: none of the checked specs has a domain Whoo"},
+         "descriptor": {"id": "input-error"}}]

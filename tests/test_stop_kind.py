@@ -44,6 +44,7 @@ CASES = [
 def test_the_stop_kind_is_set_with_the_reason(write_spec, engine, limits, states, stop, reason, rows):
     run = asmcheck.load(write_spec(COUNT)).explore(engine=engine, **limits)
     assert (run.states, run.result.stop, run.result.reason) == (states, stop, reason)
+    assert run.stop == stop
     assert [r["verdict"] for r in run.rows] == rows
 
 

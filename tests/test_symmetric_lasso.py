@@ -72,3 +72,16 @@ def test_a_lasso_back_to_the_same_concrete_state_has_no_note(write_spec, capsys)
     lines = [ln for ln in out.splitlines() if "<-" in ln]
     assert lines == ["  step 4: r_Main chooses $p = PA  <- the loop starts here (state 4)",
                      "  step 7: r_Main chooses $p = PA  <- back to state 4"]
+
+
+def test_the_json_names_the_symmetry_of_the_lasso(write_spec, capsys):
+    import json
+    from test_report_formats import validator
+    path = write_spec(MUTEX, "Mutex")
+    assert main(["explore", path, "--symmetry", "--format", "json"]) == 1
+    (v,) = json.loads(capsys.readouterr().out)["violations"]
+    assert (v["loop_start"], v["loop_up_to"]) == (4, "the symmetry of Proc's 3 unnamed elements")
+    validator("trace").validate(v)
+    assert main(["explore", path, "--format", "json", "--engine", "python"]) == 1
+    (v,) = json.loads(capsys.readouterr().out)["violations"]
+    assert v["loop_start"] == 4 and "loop_up_to" not in v

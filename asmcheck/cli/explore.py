@@ -126,6 +126,8 @@ def check_outputs(args) -> None:
         check_output_path(args.html, "--html")
     if args.avalla:
         check_output_path(args.avalla, "--avalla", folder_ok=not args.avalla.endswith(".avalla"))
+    if getattr(args, "coverage", None) and args.coverage != "-":
+        check_output_path(args.coverage, "--coverage")
 
 
 def register(sub) -> None:

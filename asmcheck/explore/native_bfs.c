@@ -508,9 +508,13 @@ static void load_state_delta(Ctx *c, const uint64_t *w) {
         ld_w[j] = word;
         for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
             int s = ws_slot[i];
-            if (SLOT_BITS[s] == 64) { c->cur[s] = c->post[s] = (V)word; continue; }
-            int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-            c->cur[s] = c->post[s] = SLOT_DECODE[s][code];     /* (post follows: see make_post) */
+            V v;
+            if (SLOT_BITS[s] == 64) v = (V)word;
+            else v = SLOT_DECODE[s][(int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1))];
+            c->cur[s] = v;
+#if NSTEP > 0 || NINVAR > 0
+            c->post[s] = v;          /* (post follows: see make_post) */
+#endif
         }
     }
     if (ld_check) {     /* (tests) the working state is what a whole load gives */
@@ -1178,6 +1182,18 @@ static int sym_finish(Succ *b, int *err) {
 #define SYM_DONE(b, err) EXP_OK
 #endif
 
+#if CN_NDYN > 0
+/* No element made in the run, and the bits of the locations that hold or are keyed by elements
+   and of the counts (the key of native_canon.c's kept forms) those of the state expanded: the
+   successor's canonical form leaves it as it is (the expanded state is canonical, and the form
+   depends on those bits alone), so canon_state need not look it up. */
+static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w) {
+    if (c->cn_made == c->gen) return 0;
+    for (int i = 0; i < CN_NKW; i++) if ((w[CN_KW[i]] ^ src[CN_KW[i]]) & CN_KMASK[i]) return 0;
+    return 1;
+}
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1259,7 +1275,10 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             }
 #endif
 #if CN_NDYN > 0
-            if (!same && canon_state(c, nw)) { if (MISSED()) return EXP_MISSED; *err = E_UNSUPPORTED; return EXP_HARD0; }
+            if (!same && !cn_key_unchanged(c, src, nw) && canon_state(c, nw)) {
+                if (MISSED()) return EXP_MISSED;
+                *err = E_UNSUPPORTED; return EXP_HARD0;
+            }
 #endif
             (void)same;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */

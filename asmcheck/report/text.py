@@ -11,7 +11,8 @@ def summary_table(outcomes, color: bool = False, timings: bool = True) -> list[s
     rows = []
     for o in outcomes:
         for p in o.properties:
-            row = [o.path, p.name, p.label, f"{o.states:,}" if o.verdict != "error" else "-"]
+            # (a spec not read, or not reached before a Ctrl-C, has no count of states)
+            row = [o.path, p.name, p.label, f"{o.states:,}" if o.verdict != "error" and o.name else "-"]
             if timings:
                 row.append(f"{o.seconds:.2f}")
             rows.append((row, p.status))

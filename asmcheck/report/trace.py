@@ -346,6 +346,10 @@ def temporal_json(result, machine) -> dict:
         trace, loop, inputs_step = tr
         out["trace"] = trace_json(machine, trace)
         out["loop_start"] = loop          # the last entry is the same state as this one
+        up_to = getattr(trace, "up_to", "")
+        if up_to and loop is not None and trace.steps and trace.steps[loop].state != trace.steps[-1].state:
+            # (symmetry reduction: the same state up to a renaming of the interchangeable elements)
+            out["loop_up_to"] = up_to
         out["witness"] = self.holds
         if inputs_step:
             out["inputs_step"] = True     # the last step only shows the inputs of the state before
