@@ -186,7 +186,7 @@ def test_the_generated_tables_are_numbers_and_the_same_each_time(tmp_path):
     tables = tables[0].splitlines()
     assert len(tables) > 20 and "#define SYM_MULTI 1" in tables
     for ln in tables:
-        assert re.fullmatch(r"(static const \w+ SYM_\w+\[\] = \{[-0-9, ]*\};|#define SYM_\w+ -?\d+)", ln), ln
+        assert re.fullmatch(r"(static const \w+ SYM_\w+\[\] = \{(-?\d+(ULL)?(, )?)*\};|#define SYM_\w+ -?\d+)", ln), ln
 
 
 def test_a_successor_moved_into_its_own_class_is_no_deadlock(tmp_path):
