@@ -764,7 +764,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     if getattr(ex, "lists_kept", "all") != "all":
         # the search recorded only the successor lists the complete check reads (temporal/need.py;
         # a state or depth bound keeps them all)
-        if not (left is not None and left <= 0) and result.stop != Stop.TIME:
+        if result.stop == Stop.MEMORY and not (left is not None and left <= 0):
             result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
                              f"--max-states or --max-depth bounds the search")
         return [], note

@@ -1,6 +1,6 @@
 """The successor lists the CTL check reads (asmcheck.temporal.need): the native search records the
-list of a state only where a fixpoint step or a path of the check reads it (elsewhere one entry, the
-state itself), decides ``ag(p)`` from its p and ``ef(p)`` from the initial states, and searches again
+list of a state only where a fixpoint step or a path of the check reads it (elsewhere its first entry),
+decides ``ag(p)`` from its p and ``ef(p)`` from the initial states, and searches again
 with the lists an ``ag(p)`` broken reads.  Verdicts, traces and counts are those of the search that
 records every list (``ASMCHECK_EDGE_NEED=all``)."""
 from __future__ import annotations
@@ -92,7 +92,8 @@ def test_reads_of_each_operator():
     (["eg(x < 4)"], ("x < 4", 0)),
     (["eu(x < 3, x = 3)", "ag(x < 16)"], ("x < 3 & !x = 3", 1)),
     (["ag(ef(x = 0))"], ("!x = 0", 1)),          # ef(x = 0) at every node: the lists it reads
-    (["ag(ef(x = 0)) and ef(x = 3)"], None),     # E[true U ..] not at the top: every list
+    (["ag(ef(x = 0)) and ef(x = 3)"], ("!x = 0 | !x = 3", 1)),   # top-level conjuncts, each on its own
+    (["ag(ef(x = 0)) or ef(x = 3)"], None),      # E[true U ..] not at the top: every list
     (["ag(x < 3 implies ax(x < 7))"], None),
     (["ef(eg(x = 1))"], None),
 ])
@@ -134,6 +135,11 @@ def test_fairness_ltl_graph_and_invar_need_every_list(tmp_path):
     # ag(x < 9) broken at x = 9: the search again, with the lists of the x < 9 states
     (["ag(x < 9)", "ag(x < 16)"], "some", 9 * 4 + 7, True, ["violated", "holds"]),
     (["not(ef(x = 11))"], "some", 15 * 4 + 1, True, ["violated"]),
+    # ef(x = 0) at every node: read where x is not 0
+    (["ag(ef(x = 0))"], "some", 15 * 4 + 1, False, ["holds"]),
+    # conjuncts: ag(x < 16) holds, ag(x < 9) is broken (the lists of x < 9 read again)
+    (["(forall $v in Step with ag(x < 16 + $v))"], "none", 16, False, ["holds"]),
+    (["ag(x < 16) and ag(x < 9)"], "some", 9 * 4 + 7, True, ["violated"]),
 ])
 def test_same_report_as_every_list(tmp_path, monkeypatch, props, kept, entries, again, verdicts):
     from asmcheck.explore import native as N
@@ -183,6 +189,9 @@ HALT = WALK.replace("x := (x + d) mod 16", "if x < 13 then x := x + d else x := 
     "asm Walk", "asm WalkHalt")
 
 
+VERDICTS_HALT = ["holds", "holds", "holds", "violated"]
+
+
 @needs_cc
 def test_failing_steps_give_the_same_verdicts(tmp_path, monkeypatch):
     text = HALT.replace("{props}", "\tCTLSPEC ag(x < 20)\n\tCTLSPEC ef(x = 15)\n\tCTLSPEC eg(x < 14)\n"
@@ -191,9 +200,11 @@ def test_failing_steps_give_the_same_verdicts(tmp_path, monkeypatch):
     run, rows = _run(path, monkeypatch, every=False)
     old, old_rows = _run(path, monkeypatch, every=True)
     assert run.explorer.lists_kept == "some"
-    assert (run.states, run.transitions) == (old.states, old.transitions)
+    assert (run.states, run.transitions) == (old.states, old.transitions) == (16, 58)
+    # the steps out of Val fail: halt nodes, verdicts relative to the first error
+    assert all(r.relative_to is not None for r in run.temporal)
+    assert [r.verdict for r in run.temporal] == VERDICTS_HALT
     assert rows == old_rows
-    assert [r[1] for r in rows] == [v for v in [r[1] for r in old_rows]]
 
 
 SHARED = Path(os.environ.get("ASMCHECK_SHARED", Path(__file__).resolve().parents[2] / "shared"))
@@ -203,6 +214,8 @@ CORPUS = ["asm_examples/examples/battleship.asm", "asm_examples/examples/carCont
           "asm_examples/examples/petriNets/forAsmetaSMV/petriNet_forNuSMV_withDeadlock.asm",
           "asm_examples/examples/filosofiEciliegie/filosofiEciliegie.asm",
           "asm_examples/examples/simpleMinesweeper.asm",
+          "asm_examples/examples/coffeeVendingMachine/coffeeVendingMachine.asm",
+          "asm_examples/examples/petriNets/forAsmetaSMV/petriNet_forNuSMV_notLive_bound1_deadlockFree.asm",
           "asm_examples/stereoacuity/certifierGround.asm"]
 
 
@@ -215,3 +228,49 @@ def test_corpus_same_json_report(rel):
     from edge_need_diff import compare
     what, kept = compare(SHARED / "asmeta" / rel, seconds=30.0)
     assert what == "same", (rel, what)
+
+
+# an init that reads the input: four initial states (x = 0 .. 3)
+MULTI = WALK.replace("function x = 0", "function x = d").replace("asm Walk", "asm WalkMulti")
+
+
+@needs_cc
+@pytest.mark.parametrize("props,kept,verdicts", [
+    (["ag(x < 16)", "ef(x < 4)"], "none", ["holds", "holds"]),
+    # ef(x = 0): three initial states miss it; the nodes leaving them keep their lists
+    (["ef(x = 0)", "eg(x > 1)"], "some", ["holds", "violated"]),
+    (["ag(x < 2)", "not(ef(x = 7))"], "some", ["violated", "violated"]),
+])
+def test_several_initial_states(tmp_path, monkeypatch, props, kept, verdicts):
+    path = write(tmp_path, MULTI.replace("{props}", "\n".join(f"\tCTLSPEC {p}" for p in props)))
+    run, rows = _run(path, monkeypatch, every=False)
+    old, old_rows = _run(path, monkeypatch, every=True)
+    assert (run.states, run.transitions) == (old.states, old.transitions) == (16, 64)
+    assert run.explorer.lists_kept == kept
+    assert [r[1] for r in rows] == verdicts
+    assert rows == old_rows
+
+
+@needs_cc
+def test_memory_limit_says_how_to_decide_on_the_states_explored(tmp_path):
+    """A search stopped by the memory bound kept only the lists the complete check reads: the check
+    of the states explored is not tried (it reads every list), and the reason says how to have it."""
+    model = api.load(_spec(tmp_path, ["ag(x < 16)", "ef(x = 0)"]))
+    run = model.explore(engine="native", max_memory=2**20)
+    assert run.explorer.lists_kept == "none"
+    assert run.result.verdict == "incomplete"
+    assert run.result.reason == ("memory limit 1 MB reached; LTL/CTL properties are decided on the states "
+                                 "explored only when --max-states or --max-depth bounds the search")
+    assert [r["verdict"] for r in run.rows] == ["incomplete", "incomplete"]
+
+
+@needs_cc
+def test_a_broken_ag_of_a_temporal_formula_searches_again_with_every_list(tmp_path, monkeypatch):
+    """ag(ef(x = 0)) is broken where a step failed (the run stays there): the path to that node is
+    read through E[true U not ef(x = 0)], which reads every list."""
+    path = write(tmp_path, HALT.replace("{props}", "\tCTLSPEC ag(ef(x = 0))"))
+    run, rows = _run(path, monkeypatch, every=False)
+    old, old_rows = _run(path, monkeypatch, every=True)
+    assert run.explorer.lists_kept == "all"
+    assert [r[1] for r in rows] == ["violated"]
+    assert rows == old_rows

@@ -4355,17 +4355,18 @@ class NativeExplorer:
         return True
 
     def _qc_start(self, ks) -> None:
-        """Have the search record only the successor lists the CTL check reads (temporal/need.py:
+        """Have the search record only the successor lists the CTL check reads, the first entry of the
+        others (temporal/need.py:
         the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
         no state or depth bound (the check of a partial state space reads every list), no element
-        made by extend, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
+        made by extend, no symmetry reduction, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
         from ..temporal.need import ALL, EdgeNeed
         self.lists_kept = "all"
         self.edge_need = ALL
         self.dll.asm_qf_cond(-1, None, None)
         if ks or os.environ.get("ASMCHECK_EDGE_NEED", "") == "all":
             return
-        if self.max_states is not None or self.max_depth is not None or self.gen.dyn:
+        if self.max_states is not None or self.max_depth is not None or self.gen.dyn or self.sym is not None:
             return
         got = getattr(self, "_need_again", None)
         if got is None:
@@ -4389,6 +4390,8 @@ class NativeExplorer:
         if any(k is None or self.gen.label_exprs[k] is None for k in lab):
             return
         table = bytes(need.table(ids))
+        if all(table):
+            return              # (every list)
         self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table)
         self.edge_need = need
         self.lists_kept = "none" if not any(table) else "some"

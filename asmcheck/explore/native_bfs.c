@@ -1024,8 +1024,8 @@ static int64_t qf_pair(uint32_t d, uint64_t v);
 /* ------------------------------------------------------------------ the lists the CTL check reads
  * asm_qf_cond(nk, ks, table) after asm_qf(0, ..): a state's list is recorded only where a condition
  * on the state holds (table[x] != 0 for x the bits of the atoms ks[k], evaluated in the state); the
- * list of any other state with a successor is one entry, the state itself (temporal/need.py says
- * why the CTL check then gives the same verdicts and paths).  nk -1: every list (the default).  An
+ * list of any other state keeps its first entry only (temporal/need.py says why the CTL check then
+ * gives the same verdicts and paths).  nk -1: every list (the default).  An
  * atom that cannot be evaluated keeps the list. */
 static struct { int on, nk; int64_t ks[16]; uint8_t *table; } QC;
 
@@ -1596,10 +1596,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
             if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
         }
-        if (qc_self && QF.n > QF.off[sid]) {      /* the list not read: the state itself (asm_qf_cond) */
-            QF.n = QF.off[sid];
-            if (!qf_item((uint32_t)sid)) { status = 5; goto finish; }
-        }
+        if (qc_self && QF.n > QF.off[sid] + 1) QF.n = QF.off[sid] + 1;   /* the list not read: its first entry (asm_qf_cond) */
         /* a state where a step fails is not a deadlock: the error is reported */
         if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
         int stop = stop_after(nstates);

@@ -20,10 +20,12 @@ a breadth-first path for ``E[a U b]`` expands only ``a and not b`` nodes, a lass
 in ``a`` nodes, and the path that shows ``EG a`` false expands only ``a`` nodes.
 
 So where the condition (the disjunction of what every subformula reads) does not hold, the search
-may replace the state's list by one entry, the state itself: every node leaving such a state has
-the same value for every subformula (its target is never read), and the structure, the verdicts and
-the paths (state for state) are those of the whole state graph.  Two top-level forms are decided by
-the set of states alone, every stored state being reachable and the source of a node:
+keeps only the first entry of the state's list: every node leaving such a state has the same value
+for every subformula (its target is never read), so the one node left stands for them all (it is
+the first of them a breadth-first search meets), and the verdicts and the paths (state for state)
+are those of the whole state graph.  Two top-level forms (also as
+top-level conjuncts) are decided by the set of states alone, every stored state being reachable and
+the source of a node:
 
 * ``ag(p)`` (``not E[true U not p]``) holds iff every node satisfies ``p`` (for p free of temporal
   operators: every state), which needs only the lists p reads;
@@ -87,6 +89,13 @@ def deferred(f):
     if f[0] == "EU" and f[1] == TRUE and temporal_free(f[2]):
         return ("ef", f[2])
     return None
+
+
+def conjuncts(f) -> list:
+    """The top-level conjuncts of ``f``."""
+    if f[0] == "and":
+        return conjuncts(f[1]) + conjuncts(f[2])
+    return [f]
 
 
 class EdgeNeed:
@@ -173,21 +182,23 @@ def edge_need(checks, atoms, justice, compassion, invars, used, fair=(), graph=F
     for _p, kind, f, err in checks:
         if f is None or err or kind != "ctl":
             return ALL
-        d = deferred(f)
-        if d is not None and d[0] == "ag":
-            # decided by p's value at every node (p reads what it reads)
-            r = reads(d[1])
+        # a property holds where each of its top-level conjuncts does (forall $x with ag(..) is one)
+        for c in conjuncts(f):
+            d = deferred(c)
+            if d is not None and d[0] == "ag":
+                # decided by p's value at every node (p reads what it reads)
+                r = reads(d[1])
+                if r == ALL:
+                    return ALL
+                cond = Or(cond, r)
+                later.append(d)
+                continue
+            if d is not None and machine is not None and at_initial(d[1], atoms, machine, initial):
+                continue
+            r = reads(c)
             if r == ALL:
                 return ALL
             cond = Or(cond, r)
-            later.append(d)
-            continue
-        if d is not None and machine is not None and at_initial(d[1], atoms, machine, initial):
-            continue
-        r = reads(f)
-        if r == ALL:
-            return ALL
-        cond = Or(cond, r)
     if cond == TRUE:
         return ALL
     return EdgeNeed(cond, later)
