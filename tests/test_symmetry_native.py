@@ -169,6 +169,26 @@ def test_the_same_classes_verdicts_and_traces_as_the_python_engine(tmp_path, mon
     assert _json(nat) == _json(py)
 
 
+def test_the_generated_tables_are_numbers_and_the_same_each_time(tmp_path):
+    """The C source of a symmetric search is the same for two loads of the spec, and its symmetry
+    tables hold numbers only (no text of the spec)."""
+    import re
+    from asmcheck.explore.native import NativeExplorer
+    from asmcheck.explore.symmetry import native_tables
+    srcs, tables = [], []
+    for text in (MIX, MIX):
+        model = asmcheck.load(write(tmp_path, text))
+        sym = detect(model.machine, list(model.temporal))
+        ex = NativeExplorer(model.machine, symmetry=sym)
+        srcs.append(ex._first_src)
+        tables.append(native_tables(sym, ex.gen))
+    assert srcs[0] == srcs[1] and tables[0] == tables[1] and tables[0] in srcs[0]
+    tables = tables[0].splitlines()
+    assert len(tables) > 20 and "#define SYM_MULTI 1" in tables
+    for ln in tables:
+        assert re.fullmatch(r"(static const \w+ SYM_\w+\[\] = \{(-?\d+(ULL)?(, )?)*\};|#define SYM_\w+ -?\d+)", ln), ln
+
+
 def test_a_successor_moved_into_its_own_class_is_no_deadlock(tmp_path):
     """Swap: the only successor of each state is the other state of its class; the native search
     stores the class once, and still sees no deadlock (the step changed the state)."""

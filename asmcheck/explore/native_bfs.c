@@ -1176,18 +1176,19 @@ static int64_t sb_self_cap = 0;
 /* symmetry reduction (native_sym.c): each successor of an expansion made its class's representative,
    once the whole expansion is made (mc_tail patches the step's own words); a successor moved into the
    state's own class is no deadlock (SYM_MOVED) */
-static int sym_finish(Succ *b, int *err) {
+static int sym_finish(Succ *b, const uint64_t *src, int *err) {
     for (int64_t i = 0; i < b->n; i++) {
 #ifndef MC_TAIL_ON
         if (self_first && sb_self[i]) continue;
 #endif
+        if (sym_same(b->w + i * NWORDS, src)) continue;     /* (the state's own locations: canonical) */
         int moved = sym_canon(b->w + i * NWORDS);
         if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
         if (moved) b->m[2 * i + 1] |= SYM_MOVED;
     }
     return EXP_OK;
 }
-#define SYM_DONE(b, err) sym_finish(b, err)
+#define SYM_DONE(b, err) sym_finish(b, src, err)
 #else
 #define SYM_DONE(b, err) EXP_OK
 #endif

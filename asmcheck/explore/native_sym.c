@@ -26,6 +26,17 @@
 #ifndef SYM_MULTI
 #define SYM_MULTI 0
 #endif
+/* whether w holds what src (a stored state, canonical) holds in the locations the canonical form
+   reads: then w is canonical too */
+static inline int sym_same(const uint64_t *w, const uint64_t *src) {
+#if SYM_MULTI
+    (void)w; (void)src;
+    return 0;       /* (the least renamed state depends on the other locations too: see sym_state_cmp) */
+#else
+    for (int k = 0; k < SYM_NKW; k++) if ((w[SYM_KW[k]] ^ src[SYM_KW[k]]) & SYM_KMASK[k]) return 0;
+    return 1;
+#endif
+}
 /* 1: a state had more numberings to try than SYM_MAXNUM (the search stopped there) */
 static int sym_refused = 0;
 int64_t asm_sym_refused(void) { return __atomic_load_n(&sym_refused, __ATOMIC_SEQ_CST); }

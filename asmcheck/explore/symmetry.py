@@ -26,8 +26,13 @@ six interchangeable elements in such a function is left without symmetry.
 
 Counts of a reduced search are counts of classes (orbits); invariants, deadlock and LTL/CTL
 properties keep their verdicts, since no property names an interchangeable element and each
-is evaluated by the same equality-only operations; traces are made concrete again by
-:meth:`Symmetry.image` and a replay through the step function.
+is evaluated by the same equality-only operations; traces are made concrete again by a replay
+through the step function from the real initial state, and the failing step of an error trace is
+the concrete state's branch (:meth:`Symmetry.concrete_error`).
+
+The native engine (native_sym.c) makes the same representative on its packed states, from the
+tables :func:`native_tables` writes out of this module's own signature entries and location texts
+(numbers only): the same classes, numbers, parents and traces as the Python engine's search.
 """
 from __future__ import annotations
 
@@ -627,7 +632,8 @@ def native_tables(sym: Symmetry, gen) -> str:
     if why:
         raise NativeRefused(why)
     if sym.multi:
-        return "#define SYM_MULTI 1\n" + native_multi_tables(sym, gen)
+        text = native_multi_tables(sym, gen)
+        return "#define SYM_MULTI 1\n" + text + _key_words(gen, _slots_of(text, "SYM_MS_SLOT"))
     for fi in sym.positions:
         if fi in getattr(gen, "map_slot", {}):
             f = gen.spec.functions[fi]
@@ -763,7 +769,28 @@ def native_tables(sym: Symmetry, gen) -> str:
            arr("int", "SYM_VAL_INV", val_inv), arr("int32_t", "SYM_VMAP", vmap), arr("int32_t", "SYM_VINV", vinv),
            f"#define SYM_FAST {fast}", f"#define SYM_KE {ke}", f"#define SYM_KB {kb}", f"#define SYM_NSRC {len(srcs)}",
            arr("int", "SYM_SRC", [x for _, x in srcs])]
-    return "\n".join(out) + "\n"
+    return "\n".join(out) + "\n" + _key_words(gen, rslots + val_slot)
+
+
+def _slots_of(text: str, name: str) -> list:
+    """The numbers of the C table ``name`` in ``text``."""
+    line = next(ln for ln in text.splitlines() if f" {name}[]" in ln)
+    body = line.split("{", 1)[1].rsplit("}", 1)[0]
+    return [int(x) for x in body.split(",") if x.strip()]
+
+
+def _key_words(gen, slots) -> str:
+    """SYM_NKW, SYM_KW, SYM_KMASK: the words (and their bits) that hold the locations the canonical
+    form reads: a successor equal to its (canonical) state there is canonical already."""
+    masks: dict = {}
+    for sl in set(slots):
+        b = gen.bits[sl]
+        m = (1 << 64) - 1 if b == 64 else ((1 << b) - 1) << gen.shifts[sl]
+        masks[gen.words[sl]] = masks.get(gen.words[sl], 0) | m
+    kw = sorted(masks)
+    return "\n".join([f"#define SYM_NKW {len(kw)}",
+                      f"static const int SYM_KW[] = {{{', '.join(map(str, kw)) or '0'}}};",
+                      f"static const uint64_t SYM_KMASK[] = {{{', '.join(f'{masks[x]}ULL' for x in kw) or '0'}}};"]) + "\n"
 
 
 def _renamed(v, ren: dict):
