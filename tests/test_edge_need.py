@@ -140,17 +140,22 @@ def test_fairness_ltl_graph_and_invar_need_every_list(tmp_path):
     # conjuncts: ag(x < 16) holds, ag(x < 9) is broken (the lists of x < 9 read again)
     (["(forall $v in Step with ag(x < 16 + $v))"], "none", 16, False, ["holds"]),
     (["ag(x < 16) and ag(x < 9)"], "some", 9 * 4 + 7, True, ["violated"]),
+    (["ag(x < 9)", "ag(x < 5)"], "some", 9 * 4 + 7, 2, ["violated", "violated"]),
 ])
 def test_same_report_as_every_list(tmp_path, monkeypatch, props, kept, entries, again, verdicts):
     from asmcheck.explore import native as N
     path = _spec(tmp_path, props)
     calls = []
-    orig = N.NativeExplorer.lists_again
-    monkeypatch.setattr(N.NativeExplorer, "lists_again", lambda self, *a: calls.append(1) or orig(self, *a))
+    orig = N.NativeExplorer._watched_broken
+    monkeypatch.setattr(N.NativeExplorer, "_watched_broken", lambda self, sid: calls.append(1) or orig(self, sid))
+    after = N.NativeExplorer.lists_again
+    monkeypatch.setattr(N.NativeExplorer, "lists_again", lambda self, *a: calls.append(2) or after(self, *a))
     run, rows = _run(path, monkeypatch, every=False)
     assert (run.states, run.transitions) == (16, 64)
     assert run.explorer.lists_kept == kept
-    assert bool(calls) == again
+    # an ag(p) broken: the search stops at the first state that breaks p and runs again, once for
+    # each property broken (at x = 5, then at x = 9 for the two below)
+    assert calls == ([1] * again if again else [])
     assert _entries(run) == entries
     assert [r[1] for r in rows] == verdicts
     old, old_rows = _run(path, monkeypatch, every=True)
@@ -268,8 +273,14 @@ def test_memory_limit_says_how_to_decide_on_the_states_explored(tmp_path):
 def test_a_broken_ag_of_a_temporal_formula_searches_again_with_every_list(tmp_path, monkeypatch):
     """ag(ef(x = 0)) is broken where a step failed (the run stays there): the path to that node is
     read through E[true U not ef(x = 0)], which reads every list."""
+    from asmcheck.explore import native as N
     path = write(tmp_path, HALT.replace("{props}", "\tCTLSPEC ag(ef(x = 0))"))
+    calls = []
+    after = N.NativeExplorer.lists_again
+    monkeypatch.setattr(N.NativeExplorer, "lists_again", lambda self, *a: calls.append(2) or after(self, *a))
     run, rows = _run(path, monkeypatch, every=False)
+    # (ef(x = 0) is not watched by the search: the check finds it broken, then the search again)
+    assert calls == [2]
     old, old_rows = _run(path, monkeypatch, every=True)
     assert run.explorer.lists_kept == "all"
     assert [r[1] for r in rows] == ["violated"]

@@ -3852,7 +3852,7 @@ _SYMBOLS = {
     "asm_err_states": (_i64, [_i64p]),
     "asm_err_succ": (_i64, [_i64, _i64p, _i64]),
     "asm_qf": (None, [_i64, _i64p, _i64]),
-    "asm_qf_cond": (None, [_i64, _i64p, ctypes.c_char_p]),
+    "asm_qf_cond": (None, [_i64, _i64p, ctypes.c_char_p, ctypes.c_char_p]),
     "asm_qf_status": (None, [_i64p]),
     "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
     "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
@@ -4198,6 +4198,8 @@ class NativeExplorer:
                             self.warn(msg)
         if status == 7:
             raise KeyboardInterrupt
+        if status == 11:
+            return self._watched_broken(out[5])
         secs = time.perf_counter() - t0
         nstates, transitions, depth = out[0], out[1], out[2]
         self.nstates = nstates
@@ -4339,7 +4341,7 @@ class NativeExplorer:
     def _qf_start(self) -> bool:
         """Set the search up to record the steps of the temporal quotient (when it can)."""
         self.lists_kept = "all"
-        self.dll.asm_qf_cond(-1, None, None)
+        self.dll.asm_qf_cond(-1, None, None, None)
         got = self._qf_atoms()
         if got is None:
             return False
@@ -4360,10 +4362,11 @@ class NativeExplorer:
         the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
         no state or depth bound (the check of a partial state space reads every list), no element
         made by extend, no symmetry reduction, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
+        from ..temporal.formula import FALSE, And
         from ..temporal.need import ALL, EdgeNeed
         self.lists_kept = "all"
         self.edge_need = ALL
-        self.dll.asm_qf_cond(-1, None, None)
+        self.dll.asm_qf_cond(-1, None, None, None)
         if ks or os.environ.get("ASMCHECK_EDGE_NEED", "") == "all":
             return
         if self.max_states is not None or self.max_depth is not None or self.gen.dyn or self.sym is not None:
@@ -4380,7 +4383,14 @@ class NativeExplorer:
         need, atoms = got
         if not isinstance(need, EdgeNeed):
             return
-        ids = need.atoms()
+        # the ag(p) with p free of temporal operators: watched by the search, which stops at the
+        # first state that breaks one (then searched again, with the lists it reads)
+        from ..temporal.need import temporal_free
+        watch = [p for kind, p in need.later if kind == "ag" and temporal_free(p)]
+        ids = sorted(set(need.atoms()) | {i for p in watch for i in EdgeNeed(p, []).atoms()})
+        if len(ids) > 16:
+            watch = []
+            ids = need.atoms()
         if len(ids) > 16:
             return
         index = {}
@@ -4392,9 +4402,32 @@ class NativeExplorer:
         table = bytes(need.table(ids))
         if all(table):
             return              # (every list)
-        self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table)
+        later = None
+        if watch:
+            holds = FALSE
+            for p in watch:
+                holds = And(holds, p) if holds != FALSE else p
+            later = bytes(EdgeNeed(holds, []).table(ids))
+        self._qc_watch = (need, atoms, watch)
+        self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table, later)
         self.edge_need = need
         self.lists_kept = "none" if not any(table) else "some"
+
+    def _watched_broken(self, sid: int):
+        """The search stopped at state ``sid``, which breaks an ag(p) it watched (asm_qf_cond): the
+        search again, recording the lists the properties broken there read (later_cond) and watching
+        the others."""
+        from ..temporal.formula import Or
+        from ..temporal.need import EdgeNeed, at_initial, later_cond
+        need, atoms, watch = self._qc_watch
+        st = self.state(sid)
+        broken = [p for p in watch if not at_initial(p, atoms, self.m, [st])] or list(watch)
+        cond = need.cond
+        for p in broken:
+            cond = Or(cond, later_cond("ag", p))
+        rest = [(k, p) for k, p in need.later if not (k == "ag" and any(p is q for q in broken))]
+        self._need_again = (EdgeNeed(cond, rest), atoms)
+        return self.run()
 
     def lists_again(self, need, atoms) -> None:
         """The search again, recording the lists of ``need`` (temporal/need.py: an ``ag``/``ef``

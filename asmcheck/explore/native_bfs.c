@@ -1027,15 +1027,24 @@ static int64_t qf_pair(uint32_t d, uint64_t v);
  * list of any other state keeps its first entry only (temporal/need.py says why the CTL check then
  * gives the same verdicts and paths).  nk -1: every list (the default).  An
  * atom that cannot be evaluated keeps the list. */
-static struct { int on, nk; int64_t ks[16]; uint8_t *table; } QC;
+/* later (or 0): the ag(p) properties the condition leaves out hold in the state (later[x] != 0);
+ * the search stops (status 11) at the first state where one does not, to be run again with the
+ * lists that property reads */
+static struct { int on, nk, broken; int64_t ks[16]; uint8_t *table, *later; } QC;
 
-void asm_qf_cond(int64_t nk, const int64_t *ks, const uint8_t *table) {
+void asm_qf_cond(int64_t nk, const int64_t *ks, const uint8_t *table, const uint8_t *later) {
     free(QC.table);
+    free(QC.later);
     memset(&QC, 0, sizeof(QC));
     if (nk < 0 || nk > 16) return;
     QC.table = (uint8_t *)malloc((size_t)1 << nk);
     if (!QC.table) return;
     memcpy(QC.table, table, (size_t)1 << nk);
+    if (later) {
+        QC.later = (uint8_t *)malloc((size_t)1 << nk);
+        if (!QC.later) { free(QC.table); QC.table = 0; return; }
+        memcpy(QC.later, later, (size_t)1 << nk);
+    }
     for (int64_t k = 0; k < nk; k++) QC.ks[k] = ks[k];
     QC.nk = (int)nk; QC.on = 1;
 }
@@ -1048,10 +1057,11 @@ static int qc_holds(Ctx *c) {
     for (int k = 0; k < QC.nk; k++) {
         c->err = 0;
         V v = check_label(c, (int)QC.ks[k]);
-        if (c->err) { c->err = 0; c->in_prop = in_prop; return 1; }
+        if (c->err) { c->err = 0; c->in_prop = in_prop; if (QC.later) QC.broken = 1; return 1; }
         if (v == 1) x |= 1ULL << k;
     }
     c->in_prop = in_prop;
+    if (QC.later && !QC.later[x]) QC.broken = 1;
     return QC.table[x] != 0;
 }
 
@@ -1503,6 +1513,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
         int qc_self = QF.on && !QF.nk && QC.on && !qc_holds(c);     /* (asm_qf_cond) */
+        if (QC.broken) { out[5] = sid; status = 11; goto finish; }
         if (QF.on && !qf_state(sid)) { status = 5; goto finish; }
 #ifndef MC_TAIL_ON
         self_first = 1;

@@ -33,7 +33,9 @@ the source of a node:
   search; otherwise it reads the lists of the ``not p`` states).
 
 ``ag(p)`` reads nothing when so decided (``deferred``); otherwise the lists it reads (the ``p``
-states) are recorded by the search again.
+states) are recorded by the search again.  For p free of temporal operators the search itself
+watches p and stops at the first state that breaks it, to start again with those lists (so a
+broken ``ag(p)`` costs the search up to that state, not a whole second search).
 
 Anything else needs every list (:data:`ALL`): LTL, fairness constraints, ``--fair``, ``--graph``,
 INVAR constraints, atoms that read monitored functions, a formula that cannot be built."""
