@@ -4362,10 +4362,8 @@ class NativeExplorer:
         the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
         no state or depth bound (the check of a partial state space reads every list), no element
         made by extend, no symmetry reduction, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
-        from ..temporal.formula import FALSE, And
-        from ..temporal.need import ALL, EdgeNeed
         self.lists_kept = "all"
-        self.edge_need = ALL
+        self.edge_need = "all"
         self.dll.asm_qf_cond(-1, None, None, None)
         if ks or os.environ.get("ASMCHECK_EDGE_NEED", "") == "all":
             return
@@ -4381,13 +4379,12 @@ class NativeExplorer:
             except AsmError:
                 return
         need, atoms = got
-        if not isinstance(need, EdgeNeed):
+        if not hasattr(need, "watched"):        # "all" (temporal.need.ALL)
             return
         # the ag(p) with p free of temporal operators: watched by the search, which stops at the
         # first state that breaks one (then searched again, with the lists it reads)
-        from ..temporal.need import temporal_free
-        watch = [p for kind, p in need.later if kind == "ag" and temporal_free(p)]
-        ids = sorted(set(need.atoms()) | {i for p in watch for i in EdgeNeed(p, []).atoms()})
+        watch = need.watched()
+        ids = sorted(set(need.atoms()) | set(need.atoms_of(watch)))
         if len(ids) > 16:
             watch = []
             ids = need.atoms()
@@ -4402,12 +4399,7 @@ class NativeExplorer:
         table = bytes(need.table(ids))
         if all(table):
             return              # (every list)
-        later = None
-        if watch:
-            holds = FALSE
-            for p in watch:
-                holds = And(holds, p) if holds != FALSE else p
-            later = bytes(EdgeNeed(holds, []).table(ids))
+        later = bytes(need.table_of_all(watch, ids)) if watch else None
         self._qc_watch = (need, atoms, watch)
         self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table, later)
         self.edge_need = need
@@ -4417,16 +4409,8 @@ class NativeExplorer:
         """The search stopped at state ``sid``, which breaks an ag(p) it watched (asm_qf_cond): the
         search again, recording the lists the properties broken there read (later_cond) and watching
         the others."""
-        from ..temporal.formula import Or
-        from ..temporal.need import EdgeNeed, at_initial, later_cond
         need, atoms, watch = self._qc_watch
-        st = self.state(sid)
-        broken = [p for p in watch if not at_initial(p, atoms, self.m, [st])] or list(watch)
-        cond = need.cond
-        for p in broken:
-            cond = Or(cond, later_cond("ag", p))
-        rest = [(k, p) for k, p in need.later if not (k == "ag" and any(p is q for q in broken))]
-        self._need_again = (EdgeNeed(cond, rest), atoms)
+        self._need_again = (need.after_broken(watch, atoms, self.m, self.state(sid)), atoms)
         return self.run()
 
     def lists_again(self, need, atoms) -> None:

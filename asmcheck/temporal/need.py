@@ -114,6 +114,37 @@ class EdgeNeed:
         _atoms(self.cond, out)
         return sorted(out)
 
+    # what an engine asks of the need (the explorer does not import this module: it sits below it)
+    def watched(self) -> list:
+        """The top-level ``ag(p)`` with p free of temporal operators: the search may watch them."""
+        return [p for kind, p in self.later if kind == "ag" and temporal_free(p)]
+
+    @staticmethod
+    def atoms_of(ps) -> list[int]:
+        """The atoms the formulas ``ps`` read."""
+        out: set = set()
+        for p in ps:
+            _atoms(p, out)
+        return sorted(out)
+
+    @staticmethod
+    def table_of_all(ps, ids: list[int]) -> bytearray:
+        """The truth table over ``ids`` of the conjunction of ``ps``."""
+        holds = FALSE
+        for p in ps:
+            holds = And(holds, p) if holds != FALSE else p
+        return EdgeNeed(holds, []).table(ids)
+
+    def after_broken(self, watch, atoms, machine, state) -> "EdgeNeed":
+        """The need of the search run again after ``state`` broke some of the watched ``ag(p)``:
+        the lists those properties read are recorded too, and they are no longer deferred."""
+        broken = [p for p in watch if not at_initial(p, atoms, machine, [state])] or list(watch)
+        cond = self.cond
+        for p in broken:
+            cond = Or(cond, later_cond("ag", p))
+        rest = [(k, p) for k, p in self.later if not (k == "ag" and any(p is q for q in broken))]
+        return EdgeNeed(cond, rest)
+
     def table(self, ids: list[int]) -> bytearray:
         """The condition's truth table over the atoms ``ids``: entry ``x`` for the assignment
         whose bit k is atom ids[k]."""
