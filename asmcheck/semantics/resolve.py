@@ -951,8 +951,17 @@ def _step_op(self, t: A.Apply, env: Env) -> ir.Term:
     want = STEP_OPS[name]
     if len(t.args) != want:
         raise AsmTypeError(t.name_span or t.span, f"{name} takes {want} argument(s), not {len(t.args)}")
+    if getattr(self, "in_next", False):
+        # a step property sees one step: the state before it and the state after it
+        raise AsmTypeError(t.name_span or t.span, f"{name}(...) inside next(...): a step property sees one step "
+                                                  f"(the state before it and the one after), so the term in "
+                                                  f"next(...) is read in the state after the step already")
     if name == "next":
-        inner = self.term(t.args[0], env)
+        self.in_next = True
+        try:
+            inner = self.term(t.args[0], env)
+        finally:
+            self.in_next = False
         return ir.StepOp(inner.type, t.span, name, [inner])
     args = []
     if name == "updatedBy":
