@@ -17,6 +17,8 @@ from asmcheck.cli import main
 
 from helpers import warm_native, write
 
+from asmcheck.explore.bfs import memory_text
+
 pytestmark = pytest.mark.engines("both")
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -402,6 +404,21 @@ def test_max_memory_stops_the_search_with_a_partial_report(tmp_path):
     assert res.returncode == 3
     doc = json.loads(res.stdout)
     assert doc["incomplete"] == "memory limit 120 MB reached" and doc["states"] > 1000
+
+
+@pytest.mark.engines("native")
+@pytest.mark.parametrize("engine", ["python", "native"])
+@pytest.mark.parametrize("limit, text", [("1", "1 byte"), ("1000", "1,000 bytes"), ("3M", "3 MB")])
+def test_a_memory_limit_below_a_megabyte_is_named_in_bytes(tmp_path, engine, limit, text):
+    """--max-memory 1 said "memory limit 0 MB reached"."""
+    from asmcheck.explore.native_build import compiler
+    if engine == "native" and compiler() is None:
+        pytest.skip("no C compiler: the native explorer cannot run here")
+    path = write(tmp_path, COUNTER.format(bound=10**9))
+    res = run_cli("explore", path, "--engine", engine, "--max-memory", limit, "--format", "json", timeout=300)
+    assert res.returncode == 3
+    assert json.loads(res.stdout)["incomplete"] == f"memory limit {text} reached"
+    assert memory_text(2**20) == "1 MB" and memory_text(2**20 - 1) == "1,048,575 bytes"
 
 
 @pytest.mark.engines("python")

@@ -46,6 +46,12 @@ class TimeLimit:
         return head + self.detail
 
 
+
+def memory_text(n: int) -> str:
+    """A memory limit as a reason names it: in MB, or in bytes under one MB (a limit of 1 byte is
+    not "0 MB")."""
+    return f"{n / 2**20:,.0f} MB" if n >= 2**20 else f"{n:,} byte{'' if n == 1 else 's'}"
+
 class Stop:
     """Why a search ended before it covered every state, in one word (:attr:`Result.stop`), set
     where the reason text is set; the checks that depend on how a search stopped read this, never
@@ -523,7 +529,7 @@ class Explorer:
                         if self.max_memory is not None and self.memory is not None and \
                                 self.memory() > self.max_memory:
                             incomplete = True
-                            reason = f"memory limit {self.max_memory / 2**20:,.0f} MB reached"
+                            reason = f"memory limit {memory_text(self.max_memory)} reached"
                             stop = Stop.MEMORY
                             next_frontier = []
                             frontier = []

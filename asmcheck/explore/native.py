@@ -4260,11 +4260,12 @@ class NativeExplorer:
                         v = Violation(prop, sid, message=f"cannot be evaluated: {e.message}", error=e)
                 violations.append(v)
         # the order of the Python explorer: by when they were found
+        from .bfs import memory_text
         stopped = out[11] != 0
         incomplete = status in (1, 2, 3, 8) or stopped
         reason = {1: f"state limit {self.max_states} reached", 2: f"depth limit {self.max_depth} reached",
                   3: f"time limit {self.max_seconds} s reached",
-                  8: (f"memory limit {(self.max_memory or 0) / 2**20:,.0f} MB reached" if self.table_memory is None
+                  8: (f"memory limit {memory_text(self.max_memory or 0)} reached" if self.table_memory is None
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
