@@ -170,12 +170,11 @@ def test_a_violated_ag_prints_the_shortest_path(tmp_path, monkeypatch):
     run, rows = _run(_spec(tmp_path, ["ag(x < 9)"]), monkeypatch, every=False)
     r = run.temporal[0]
     tr, loop, _ = r.trace()
-    # the path from the first initial node, the initial state's first step (d = 0: x stays 0), then
-    # 0 -> 3 -> 6 -> 9, the breadth-first path to the first state that breaks x < 9 (as with every
-    # list: test_same_report_as_every_list)
-    m = run.explorer.m
-    assert [next(iter(s.state.values())) for s in tr.steps] == [0, 0, 3, 6, 9]
-    assert [len(s.state) for s in tr.steps] == [1, 1, 1, 1, 1]
+    # 0 -> 3 -> 6 -> 9: the breadth-first path from the initial nodes that break the property to
+    # the first state that breaks x < 9 (not from the first initial node, the initial state's step
+    # d = 0 that leaves x at 0; as with every list: test_same_report_as_every_list)
+    assert [next(iter(s.state.values())) for s in tr.steps] == [0, 3, 6, 9]
+    assert [len(s.state) for s in tr.steps] == [1, 1, 1, 1]
     assert loop is None
 
 @needs_cc

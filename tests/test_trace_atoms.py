@@ -77,32 +77,28 @@ ltl_2 (Noise.asm:16:2) is violated -- counterexample, 5 steps: a lasso, 4 steps 
       (no change: the state repeats for ever)"""
 
 CTL_1 = """\
-ctl_1 (Noise.asm:17:2) is violated -- counterexample, 3 steps:
+ctl_1 (Noise.asm:17:2) is violated -- counterexample, 2 steps:
   formula: ag(x = 1 implies level = LOW)
   state 0 (initial)
       x = 0
-  step 1: r_main; reads inc = false
-      (no change)
-  step 2: r_main; reads inc = true
+  step 1: r_main; reads inc = true
       x = 1
-  step 3: r_main; reads inc = false, level = MID
+  step 2: r_main; reads inc = false, level = MID
       (no change)
-  (step 3 only shows the monitored inputs and choices of state 2, which are part of its state for the property)"""
+  (step 2 only shows the monitored inputs and choices of state 1, which are part of its state for the property)"""
 
 CTL_2 = """\
-ctl_2 (Noise.asm:18:2) holds -- witness, 4 steps:
+ctl_2 (Noise.asm:18:2) holds -- witness, 3 steps:
   formula: ef(x = 2 and level = MID and open(LEFT))
   state 0 (initial)
       x = 0
-  step 1: r_main; reads inc = false
-      (no change)
-  step 2: r_main; reads inc = true
+  step 1: r_main; reads inc = true
       x = 1
-  step 3: r_main; reads inc = true
+  step 2: r_main; reads inc = true
       x = 2
-  step 4: r_main; reads inc = false, level = MID, open(LEFT) = true
+  step 3: r_main; reads inc = false, level = MID, open(LEFT) = true
       (no change)
-  (step 4 only shows the monitored inputs and choices of state 3, which are part of its state for the property)"""
+  (step 3 only shows the monitored inputs and choices of state 2, which are part of its state for the property)"""
 
 # from x = 2 every step fails: the CTL counterexample ends with the failing step, whose atom reads
 # level (the step does not)
@@ -130,18 +126,16 @@ default init s0:
 """
 
 HALT_CTL = """\
-ctl_1 (Halt.asm:13:2) is violated, relative to the run-time error at Halt.asm:18:4 -- counterexample, 3 steps, then step 4 fails:
+ctl_1 (Halt.asm:13:2) is violated, relative to the run-time error at Halt.asm:18:4 -- counterexample, 2 steps, then step 3 fails:
   formula: ag(x = 2 implies level = LOW)
   state 0 (initial)
       x = 0
-  step 1: r_main; reads inc = false
-      (no change)
-  step 2: r_main; reads inc = true
+  step 1: r_main; reads inc = true
       x = 1
-  step 3: r_main; reads inc = true
+  step 2: r_main; reads inc = true
       x = 2
-  step 4: r_main; reads level = MID  <- fails (the step cannot be made)
-  (step 4 fails: value out of domain: 3 is not in Cnt (the codomain of x); the run stops there and stays in state 3 for ever)"""
+  step 3: r_main; reads level = MID  <- fails (the step cannot be made)
+  (step 3 fails: value out of domain: 3 is not in Cnt (the codomain of x); the run stops there and stays in state 2 for ever)"""
 
 
 def _run(tmp_path, text, asmcheck_engine):
@@ -167,7 +161,7 @@ def test_the_failing_step_shows_the_atoms_values(tmp_path, asmcheck_engine):
     r = run.temporal[0]
     assert "\n".join(temporal_text(r, model.machine)) == HALT_CTL
     js = temporal_json(r, model.machine)
-    assert js["failing_step"] == {"step": 4, "choices": [{"kind": "monitored", "at": "level", "value": "MID"}]}
+    assert js["failing_step"] == {"step": 3, "choices": [{"kind": "monitored", "at": "level", "value": "MID"}]}
 
 
 def test_json_itf_avalla_and_html_carry_the_values(tmp_path, asmcheck_engine, capsys):
@@ -179,9 +173,8 @@ def test_json_itf_avalla_and_html_carry_the_values(tmp_path, asmcheck_engine, ca
                   {"inc": False, "level": "LOW"}],
         "ltl_2": [None] + [{"inc": True, "open(RIGHT)": False}] * 3 +
                  [{"inc": False, "open(RIGHT)": True}, {"inc": False, "open(RIGHT)": False}],
-        "ctl_1": [None, {"inc": False}, {"inc": True}, {"inc": False, "level": "MID"}],
-        "ctl_2": [None, {"inc": False}, {"inc": True}, {"inc": True},
-                  {"inc": False, "level": "MID", "open(LEFT)": True}],
+        "ctl_1": [None, {"inc": True}, {"inc": False, "level": "MID"}],
+        "ctl_2": [None, {"inc": True}, {"inc": True}, {"inc": False, "level": "MID", "open(LEFT)": True}],
     }
     # the report of `explore --format json`
     doc = json.loads(json.dumps(run.json()))
@@ -194,15 +187,15 @@ def test_json_itf_avalla_and_html_carry_the_values(tmp_path, asmcheck_engine, ca
     itf = json.loads(capsys.readouterr().out)
     ctl = next(t for t in itf if "ctl_1" in t["#meta"]["description"])
     assert [s["#meta"].get("inputs") for s in ctl["states"]] == [
-        None, {"inc": "false"}, {"inc": "true"}, {"inc": "false", "level": "MID"}]
+        None, {"inc": "true"}, {"inc": "false", "level": "MID"}]
     # Avalla: the scenario sets the value the atom read
     tr, _, _ = run.temporal[2].trace()
     sc = trace_scenario(m, tr, spec_path=str(tmp_path / "Noise.asm"), out_path=str(tmp_path / "c.avalla"),
                         prop=run.temporal[2].prop)
-    assert "// step 3: r_main; reads inc = false, level = MID\nset inc := false;\nset level := MID;\nstep\n" in sc
+    assert "// step 2: r_main; reads inc = false, level = MID\nset inc := false;\nset level := MID;\nstep\n" in sc
     # HTML
     page = run.html()
-    assert "step 3: r_main; reads inc = false, level = MID" in page
+    assert "step 2: r_main; reads inc = false, level = MID" in page
 
 
 def test_the_values_are_the_first_that_give_the_atoms(tmp_path, asmcheck_engine):
@@ -289,9 +282,8 @@ def test_values_satisfy_the_invar(tmp_path, asmcheck_engine):
     assert run.engine == ("native" if asmcheck_engine == "auto" and compiler() is not None else "python")
     heads = [[ln for ln in temporal_text(r, model.machine) if ln.startswith("  step")] for r in run.temporal]
     assert heads == [
-        ["  step 1: r_main; reads level = MID, tick = false",
-         "  step 2: r_main; reads level = MID, tick = true",
-         "  step 3: r_main; reads level = HIGH, tick = false"],
+        ["  step 1: r_main; reads level = MID, tick = true",
+         "  step 2: r_main; reads level = HIGH, tick = false"],
         ["  step 1: r_main; reads level = MID, tick = true",
          "  step 2: r_main; reads level = MID, tick = true",
          "  step 3: r_main; reads level = MID, temp = 3, tick = false  <- the loop starts here (state 3)",

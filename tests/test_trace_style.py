@@ -290,8 +290,9 @@ def test_simulate_prints_its_steps_as_a_trace(tmp_path, capsys):
 
 
 def test_a_temporal_path_reads_the_same_in_explore_and_check(capsys):
-    """Not a lasso: a step that changes nothing is a bare '(no change)'; the step that only shows
-    the inputs of the state before it says so, in both commands."""
+    """Not a lasso: the step that only shows the inputs of the state before it says so, in both
+    commands; the path is the shortest, from the initial node where req is read true at once (a
+    bare '(no change)' step: test_trace_atoms' CTL_1)."""
     path = ROOT / "specs" / "temporal" / "request_ack.asm"
     if not path.exists():
         pytest.skip("specs/temporal is not in this checkout")
@@ -300,16 +301,14 @@ def test_a_temporal_path_reads_the_same_in_explore_and_check(capsys):
         "  state 0 (initial)",
         "      ack = false",
         "      busy = false",
-        "  step 1: r_main; reads req = false",
-        "      (no change)",
-        "  step 2: r_main; reads req = true",
+        "  step 1: r_main; reads req = true",
         "      ack = true",
         "      busy = true",
-        "  (step 2 only shows the monitored inputs and choices of state 1, which are part of its state for the "
+        "  (step 1 only shows the monitored inputs and choices of state 0, which are part of its state for the "
         "property)",
     ]
     _, out = run(capsys, "explore", str(path))
     assert block(out, "ctlSpec_ack_now") == [
-        "ctlSpec_ack_now (request_ack.asm:23:2) is violated -- counterexample, 2 steps:"] + steps
+        "ctlSpec_ack_now (request_ack.asm:23:2) is violated -- counterexample, 1 step:"] + steps
     _, out = run(capsys, "check", str(path), "--traces", "all")
     assert block(out, "NOTE ")[1:] == steps

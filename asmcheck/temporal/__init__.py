@@ -408,11 +408,12 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
             ctl = CTL(K)
         holds, bad = ctl.check(f)
         nodes, loop, witness = [], None, False
+        # from the initial node with the shortest path (the first of several equally short)
         if not holds:
-            nodes, loop = ctl.explain(f, bad, False)
+            nodes, loop = ctl.explain(f, ctl.initial(f, False), False)
         elif has_existential_top(f):
-            v0 = next((v for v in K.init if ctl.fair[v]), None)
-            if v0 is not None:
+            v0 = ctl.initial(f, True)
+            if v0:
                 nodes, loop = ctl.explain(f, v0, True)
                 witness = True
         results.append(TemporalResult(p, kind, holds, nodes=nodes, loop=loop, fairness=fairness_text,

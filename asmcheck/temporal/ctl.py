@@ -141,17 +141,28 @@ class CTL:
                 return False, v
         return True, None
 
+    def initial(self, f, want: bool) -> list[int]:
+        """The fair initial nodes where f is ``want``, in the structure's order."""
+        s = self.sat(f)
+        return [v for v in self.K.init if self.fair[v] and bool(s[v]) == want]
+
     # -------------------------------------------------------------- explanations
-    def explain(self, f, v: int, want: bool, budget: int = 12):
-        """A path from node v showing that f is ``want`` at v: (nodes, loop index or None)."""
+    def explain(self, f, v, want: bool, budget: int = 12):
+        """A path from node v showing that f is ``want`` at v: (nodes, loop index or None).  ``v``
+        may be a list of such nodes (the initial nodes where f is ``want``): the path then starts
+        at the one from which the path a breadth-first search finds is shortest, where f's shape
+        lets one search start from all of them (a path to a node, under ``not``); elsewhere at
+        the first."""
         K = self.K
         op = f[0]
+        sources = v if isinstance(v, list) else [v]
+        v = sources[0]
         if budget <= 0:
             return [v], None
         if op in ("true", "false", "ap"):
             return [v], None
         if op == "not":
-            return self.explain(f[1], v, not want, budget)
+            return self.explain(f[1], sources, not want, budget)
         if op in ("and", "or"):
             a, b = f[1], f[2]
             # the disjunct that makes "or" true / the conjunct that makes "and" false; else
@@ -184,7 +195,7 @@ class CTL:
                 bs = b_and(self.sat(b), self.fair)
                 sa = self.sat(a)
                 eu = self.sat(f)
-                path = self._path([v], bs, b_and(sa, eu))
+                path = self._path(sources, bs, b_and(sa, eu))
                 if path is None:
                     return [v], None
                 return self._then(path[:-1], self.explain(b, path[-1], True, budget - 1))
@@ -193,7 +204,7 @@ class CTL:
             na_nb = b_and(b_not(self.sat(a)), b_not(self.sat(b)))
             a_nb = b_and(self.sat(a), b_not(self.sat(b)))
             target = b_and(na_nb, self.fair)
-            path = self._path([v], target, a_nb)
+            path = self._path(sources, target, a_nb)
             if path is not None:
                 return path, None
             return self._lasso(v, b_not(self.sat(b)))
@@ -203,7 +214,7 @@ class CTL:
                 return self._lasso(v, self.sat(g))
             # EG g false: every fair path meets !g: show the nearest !g node
             ng = b_and(b_not(self.sat(g)), self.fair)
-            path = self._path([v], ng, self.fair)
+            path = self._path(sources, ng, self.fair)
             if path is None:
                 return [v], None
             return self._then(path[:-1], self.explain(g, path[-1], False, budget - 1))

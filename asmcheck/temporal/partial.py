@@ -401,15 +401,15 @@ def check_partial(explorer, props, fair=(), on_error: str = "halt", stopped_insi
             nodes, loop, witness = [], None, False
             if holds:
                 if has_existential_top(f_lo):
-                    v0 = next((v for v in K.init if ctl.fair[v]), None)
-                    if v0 is not None:
+                    v0 = ctl.initial(f_lo, True)
+                    if v0:
                         nodes, loop = _cut(*ctl.explain(f_lo, v0, True), sink, K)
                         witness = True
             else:
                 hi_holds, bad = ctl.check(f_hi)
                 if hi_holds:
                     continue
-                nodes, loop = _cut(*ctl.explain(f_hi, bad, False), sink, K)
+                nodes, loop = _cut(*ctl.explain(f_hi, ctl.initial(f_hi, False), False), sink, K)
             t = TemporalResult(p, kind, holds, nodes=nodes, loop=loop, fairness=fairness_text, explorer=explorer,
                                K=K, seconds=time.perf_counter() - t0, stats={"kripke_nodes": K.n - 1},
                                witness=witness)
