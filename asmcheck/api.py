@@ -27,7 +27,7 @@ from pathlib import Path
 from .errors import AsmError, UsageError, interrupt_reason
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
-from .explore.bfs import Explorer, ReplayError, Result, TimeLimit, TimeUp
+from .explore.bfs import Explorer, ReplayError, Result, Stop, TimeLimit, TimeUp
 from .explore.store import memory_in_use  # noqa: F401  (part of the API)
 from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
@@ -238,8 +238,16 @@ class Model:
             inputs = read_inputs(os.fspath(inputs))
         if random and seed is None:
             seed = 0
-        return Simulation(self, machine, list(simulate(machine, steps, seed=seed, random_choices=random,
-                                                       inputs=inputs)))
+        done: list = []
+        try:
+            for st in simulate(machine, steps, seed=seed, random_choices=random, inputs=inputs):
+                done.append(st)
+        except KeyboardInterrupt as exc:
+            # Ctrl-C (or SIGTERM): the steps so far are the run (``interrupted`` says why it is short)
+            sim = Simulation(self, machine, done)
+            sim.interrupted = interrupt_reason(exc)
+            return sim
+        return Simulation(self, machine, done)
 
     # ------------------------------------------------------------- bmc
     def bmc(self, k: int, *, induction: bool = False, properties=None, assume=None, aux=(), infer: bool = False,
@@ -281,6 +289,7 @@ class Simulation:
         self.model = model
         self.machine = machine
         self.steps = steps
+        self.interrupted = ""       # why the run stopped before its steps ('interrupted (Ctrl-C)'), or ""
 
     def __iter__(self):
         return iter(self.steps)
@@ -297,11 +306,18 @@ class Simulation:
 
     @property
     def exit_code(self) -> int:
-        return EXIT_OK if self.ok else EXIT_VIOLATED
+        return EXIT_OK if self.ok and not self.interrupted else EXIT_VIOLATED if not self.ok else EXIT_INCOMPLETE
+
+    def stopped_note(self) -> str:
+        """'interrupted (Ctrl-C) after step 12', or '' for a run that took its steps."""
+        if not self.interrupted:
+            return ""
+        return f"{self.interrupted} " + (f"after step {self.steps[-1].number}" if self.steps else "before the initial state")
 
     def text(self) -> str:
         from .report.simulation import simulation_text
-        return "\n".join(simulation_text(self.machine, self.steps)[0]) + "\n"
+        note = self.stopped_note()
+        return "\n".join(simulation_text(self.machine, self.steps)[0] + ([note] if note else [])) + "\n"
 
     def asmeta(self) -> str:
         from .report.simulation import simulation_asmeta
@@ -309,7 +325,10 @@ class Simulation:
 
     def json(self) -> dict:
         from .report.simulation import simulation_json
-        return simulation_json(self.machine, self.model.name, self.steps)[0]
+        doc = simulation_json(self.machine, self.model.name, self.steps)[0]
+        if self.interrupted:
+            doc["interrupted"] = self.stopped_note()
+        return doc
 
 
 def parse(path, *, import_path=()) -> object:
@@ -438,6 +457,7 @@ def _checked_out_of_time(ex, state_props, deadlock, seconds) -> Result:
                                      f"{states:,} states)")
     result = Result("incomplete", states, transitions, depth, seconds, [], stop.text(), list(state_props))
     result.time_limit = stop
+    result.stop = Stop.TIME
     result.deadlock_checked = deadlock
     result.engine = "native"
     result.workers = ex.workers
@@ -523,15 +543,17 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     which = choose_engine(model, engine, keep_graph=keep_graph, step_props=step_props, has_invar=has_invar)
     if not isinstance(symmetry, bool):
         raise UsageError(f"symmetry must be True or False, not {symmetry!r}")
-    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair) if symmetry else None
-    if sym is not None and sym.active:
+    sym = _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair, which,
+                    graph) if symmetry else None
+    sym_python = _symmetry_python(sym, which, graph)
+    if sym_python:
         which = "python"
     # the searches get the time left of the whole run
     search_seconds = None if max_seconds is None else max(max_seconds - (t0 - begin), 0.0)
     ex = None
     result = None
     interrupted = False
-    refused = SYMMETRY_PYTHON if sym is not None and sym.active and engine != "python" else ""
+    refused = sym_python if engine != "python" else ""
     from .parallel import run as scaled
     # more workers on the native engine: threads inside its search (the same result as one);
     # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned
@@ -552,7 +574,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                                                                           **(scaling or {})),
                                     progress=progress, warn=warn, workers=scaled.parse_workers(workers or 1),
                                     label_atoms=_label_atoms(machine, temporal),
-                                    step_quotient=_quotient_plan(machine, temporal, fair, graph))
+                                    step_quotient=_quotient_plan(machine, temporal, fair, graph),
+                                    symmetry=sym)
             except RecursionError:
                 raise Unsupported("the spec nests more deeply than the C generator follows") from None
             if max_seconds is not None:
@@ -578,17 +601,22 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                     # the search was over: the Ctrl-C came while the graph's steps were enumerated
                     # (the counts and verdicts of the search stay)
                     result.reason = f"{interrupt_reason(exc)} while the state graph's steps were enumerated"
+                    result.stop = Stop.INTERRUPT
                     if result.verdict == "holds":
                         result.verdict = "incomplete"
                 else:
-                    result = Result("incomplete", getattr(ex, "nstates", 0), 0, 0, time.perf_counter() - t0, [],
+                    result = Result("incomplete", *ex.counts_so_far(), time.perf_counter() - t0, [],
                                     interrupt_reason(exc), list(state_props))
+                    result.stop = Stop.INTERRUPT
                     result.deadlock_checked = deadlock
                     result.engine = "native"
                     result.workers = ex.workers
         except Unsupported as e:
             if engine == "native":
                 raise UsageError(f"the native explorer cannot run {Path(model.path).name}: {e}") from None
+            if sym is not None and sym.active and scaled.wanted(workers, **(scaling or {})):
+                raise UsageError(f"--symmetry with --workers runs on the native engine's threads, which cannot run "
+                                 f"{Path(model.path).name}: {e} (drop --workers)") from None
             ex = None
             refused = str(e)
     if ex is None and native_threads:
@@ -617,6 +645,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
         result.reason = result.time_limit.text()
     temporal_results = []
     temporal_note = ""
+    temporal_stop = ""          # why the LTL/CTL phase stopped (a Stop)
     temporal_error = ""
     checked_temporal = [p for p in temporal if p.kind in ("ltl", "ctl")]
     # the invariants, step properties and deadlock are decided by the search alone: a limit met in
@@ -636,31 +665,37 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             with _watchdog(left), _deadline(machine, left):
                 temporal_results = check_temporal(ex, temporal, fair=list(fair or []))
         except (TimeUp, DeadlineReached):
-            temporal_note = TimeLimit(max_seconds, " in the LTL/CTL phase").text()
+            temporal_note, temporal_stop = TimeLimit(max_seconds, " in the LTL/CTL phase").text(), Stop.TIME
             temporal_results = []
         except KeyboardInterrupt as exc:
             interrupted = True
-            temporal_note = f"{interrupt_reason(exc)} in the LTL/CTL phase"
+            temporal_note, temporal_stop = f"{interrupt_reason(exc)} in the LTL/CTL phase", Stop.INTERRUPT
             temporal_results = []
         except MemoryError:
-            temporal_note = "out of memory in the LTL/CTL phase"
+            temporal_note, temporal_stop = "out of memory in the LTL/CTL phase", Stop.MEMORY
             temporal_results = []
         except AsmError:
             raise
         except Exception as exc:        # an internal error: reported on the rows (the gate goes on)
             temporal_error = f"internal error in LTL/CTL checking: {type(exc).__name__}: {exc}"
         if temporal_note:
-            result.reason = result.reason or temporal_note
+            if not result.reason:
+                result.reason, result.stop = temporal_note, temporal_stop
             if result.verdict == "holds":
                 result.verdict = "incomplete"
     elif checked_temporal and result.stopped_early:
+        if sym is not None and sym.active and result.stop in Stop.BOUNDS | {Stop.MEMORY} and not interrupted:
+            # (its stored states are class representatives: the check of a partial state space is
+            # not made for them)
+            result.reason = f"{result.reason}; under symmetry reduction a partial state space decides no " \
+                            f"LTL/CTL property"
         temporal_note = result.reason
     for t in temporal_results:
         if not t.holds and result.verdict != "violated" and not t.message:
             result.verdict = "violated"
     result.seconds = time.perf_counter() - t0
     result.symmetry = sym
-    if sym is None and not interrupted and result.reason.startswith(LIMIT_REASONS):
+    if sym is None and not interrupted and result.stop in Stop.LIMITS:
         result.symmetry_hint = _symmetry_hint(model, state_props, step_props, temporal)
     run = Exploration(model, ex, result, temporal, temporal_results, checked_temporal, interrupted)
     run.temporal_error = temporal_error
@@ -672,7 +707,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     if temporal_error and result.verdict == "holds":
         # the LTL/CTL properties were not checked: nothing says they hold
         result.verdict = "incomplete"
-        result.reason = result.reason or temporal_error
+        if not result.reason:
+            result.reason, result.stop = temporal_error, Stop.INTERNAL
     return run
 
 
@@ -687,8 +723,17 @@ def _partial_ok(ex, result) -> bool:
         # complete check)
         return bool(getattr(ex, "keep_graph", False)) and getattr(ex, "sym", None) is None
     if type(ex).__name__ == "NativeExplorer" and getattr(ex, "engine", "") == "native":
+        if getattr(ex, "sym", None) is not None:
+            return False        # (symmetry reduction: as the Python explorer's)
         one = ex.workers <= 1 and not ex.threaded
-        return bool(ex.keep_graph) and (one or result.reason.startswith(BOUND_REASONS))
+        # (under symmetry reduction neither engine decides on a partial state space: the same
+        # report on both)
+        return bool(ex.keep_graph) and getattr(ex, "sym", None) is None and (one or result.stop in Stop.BOUNDS)
+    if type(ex).__name__ == "PartitionedExplorer":
+        # the partitioned search (processes or Ray actors) cuts a level where the sequential search
+        # stops at its state or depth limit, with the same states and steps (a worker's memory share
+        # or the time limit stops it at the end of a level instead)
+        return bool(getattr(ex, "keep_graph", False)) and result.stop in Stop.BOUNDS
     return False
 
 
@@ -705,7 +750,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
     note = result.reason
     left = None if max_seconds is None else max_seconds - (time.perf_counter() - begin)
     got: list = []
-    if "a step could not be computed" in (result.reason or ""):
+    if result.stop == Stop.STEP_FAILED:
         # a state without successors: the complete check could not run either
         return [], note
     need = PARTIAL_BYTES_PER_STATE * int(getattr(ex, "n_states", 0) or 0)
@@ -716,14 +761,26 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
                              f"(about {need / 2**20:,.0f} MB more, over the bound of {max_memory / 2**20:,.0f} MB): "
                              f"bound the search with --max-states")
             return [], note
+    if getattr(ex, "lists_kept", "all") != "all":
+        # the search recorded only the successor lists the complete check reads (temporal/need.py;
+        # a state or depth bound keeps them all)
+        if result.stop == Stop.MEMORY and not (left is not None and left <= 0):
+            result.reason = (f"{result.reason}; LTL/CTL properties are decided on the states explored only when "
+                             f"--max-states or --max-depth bounds the search")
+        return [], note
     try:
         if left is not None and left <= 0:
             raise TimeUp()
+        why_not: list = []
         with _watchdog(left), _deadline(machine, left):
             # the Python explorer records a state's steps as they come: a stop other than the
             # state or depth limit (checked between two states) may have cut the last state's
-            got = check_partial(ex, temporal, fair=list(fair or []), stopped_inside=type(ex) is Explorer and not (
-                result.reason or "").startswith(BOUND_REASONS))
+            got = check_partial(ex, temporal, fair=list(fair or []),
+                                stopped_inside=type(ex) is Explorer and result.stop not in Stop.BOUNDS,
+                                notes=why_not)
+        if why_not:
+            # (fairness constraints, INVAR: why no LTL/CTL property is decided on the states explored)
+            result.reason = "; ".join([result.reason] + why_not)
     except (TimeUp, DeadlineReached, MemoryError, KeyboardInterrupt):
         got = []                # (the properties stay incomplete, as the search is)
     except AsmError:
@@ -736,20 +793,18 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
 
 
 SYMMETRY_PYTHON = "symmetry reduction (--symmetry) runs on the Python engine"
-# the reasons of a search stopped by a state or depth bound (checked between two states), and by
-# any limit
-BOUND_REASONS = ("state limit", "depth limit")
-LIMIT_REASONS = BOUND_REASONS + ("time limit", "memory limit", "out of memory")
 
 
-def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair):
+def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling, fair, which="python",
+              graph=False):
     """The symmetry a search with ``symmetry=True`` reduces (explore.symmetry.Symmetry, possibly
     without any interchangeable element: its ``lines`` say why)."""
     from .explore.symmetry import Symmetry, detect
     from .parallel import run as scaled
-    if scaled.wanted(workers, **(scaling or {})):
-        raise UsageError("--symmetry runs in one process: it cannot be combined with --workers, --cluster or "
-                         "--bitstate")
+    if scaled.wanted(workers, **(scaling or {})) and not (which == "native" and
+                                                          scaled.native_threads(workers, **(scaling or {}))):
+        raise UsageError("--symmetry runs in one process (or on the native engine's threads, --workers N): it "
+                         "cannot be combined with --cluster, --bitstate or the Python engine's workers")
     if fair:
         why = "--fair makes each agent or choice fair on its own, which a class of states does not keep"
         return Symmetry([], [why], why)
@@ -758,10 +813,26 @@ def _symmetry(model, state_props, step_props, temporal, engine, workers, scaling
     except Exception as exc:        # noqa: BLE001 - an analysis that fails reduces nothing
         why = f"the analysis failed ({type(exc).__name__}: {exc})"
         return Symmetry([], [why], why)
-    if sym.active and engine == "native":
+    why = _symmetry_python(sym, which, graph)
+    if why and engine == "native":
         raise UsageError(f"the native explorer cannot run {Path(model.path).name} with --symmetry: "
-                         f"{SYMMETRY_PYTHON} (use --engine auto or python)")
+                         f"{why} (use --engine auto or python)")
+    if why and scaled.wanted(workers, **(scaling or {})):
+        raise UsageError(f"--symmetry with --workers runs on the native engine's threads, which cannot reduce "
+                         f"{Path(model.path).name}: {why} (drop --workers)")
     return sym
+
+
+def _symmetry_python(sym, which, graph) -> str:
+    """Why a symmetric search runs on the Python engine ('' when the native engine reduces it, or
+    nothing is reduced)."""
+    from .explore.symmetry import native_reason
+    if sym is None or not sym.active or which != "native":
+        return ""
+    if graph:
+        return f"{SYMMETRY_PYTHON} with --graph"
+    why = native_reason(sym)
+    return f"{SYMMETRY_PYTHON}: {why}" if why else ""
 
 
 def _symmetry_hint(model, state_props, step_props, temporal) -> str:
@@ -944,6 +1015,12 @@ class Exploration:
     @property
     def reason(self) -> str:
         return self.result.reason
+
+    @property
+    def stop(self) -> str:
+        """Why the search stopped before its end, in one word (explore.bfs.Stop: ``states``,
+        ``depth``, ``time``, ``memory``, ``interrupt``, ...); "" for a search that covered every state."""
+        return self.result.stop
 
     @property
     def exit_code(self) -> int:
@@ -1306,12 +1383,18 @@ def check_spec(path: str, *, strict: bool = False, avalla_dir=None, root=None, c
         model = load(path, import_path=import_path, monitored=monitored, int_range=int_range,
                      properties=properties, default_properties=default_properties, unknown_monitored="ignore",
                      properties_must_apply=False)
+        declared = {getattr(d, "name", None) for d in model.spec.domains}
+        if explore.get("fair"):
+            # (the gate's --fair names the domains of some of its specs: each spec takes those it has)
+            explore = {**explore, "fair": [d for d in explore["fair"] if d == "all" or d in declared]}
         run = model.explore(**explore)
         out = run.outcome(strict=strict, root=root, avalla_dir=avalla_dir, temporal_error=run.temporal_error)
         out.interrupted = run.interrupted
         # symmetry=True: the states are classes (the gate's table says so under it)
         out.symmetry = run.symmetry.describe() if run.symmetry is not None and run.symmetry.active else ""
         out.symmetry_hint = run.symmetry_hint
+        # the names of its domains and monitored functions (the gate's check of --fair and --monitored)
+        out.declared = {"domain": declared, "function": {f.name for f in model.spec.functions}}
         if not out.properties:
             out.properties = [_gate.judge(_gate.PropertyOutcome("(no property)", "input", "none",
                                                                 message=no_property_message(model)), False, False)]
@@ -1364,15 +1447,42 @@ def check(paths=("specs",), *, strict_expect: bool = False, avalla_dir=None, roo
     if not specs:
         raise UsageError("no .asm specs under " + ", ".join(os.fspath(p) for p in paths))
     outcomes = []
-    for path in specs:
+    for i, path in enumerate(specs):
         if progress is not None:
             progress(path)
         o = check_spec(path, strict=strict_expect, avalla_dir=avalla_dir, root=root, clock=clock, **options)
         outcomes.append(o)
         if getattr(o, "interrupted", False):
-            break               # Ctrl-C: what was checked so far is the report
+            # Ctrl-C: what was checked so far is the report, and the specs left are listed unchecked
+            why = f"{o.reason or interrupt_reason()} before this spec"
+            for rest in specs[i + 1:]:
+                left = _gate.SpecOutcome(_gate.display_path(rest, root), "", "incomplete", reason=why)
+                left.properties = [_gate.judge(_gate.PropertyOutcome("(not checked)", "input", "incomplete",
+                                                                     message=why), False, False)]
+                outcomes.append(left)
+            break
+    names = unused_names(outcomes, options) if not any(getattr(o, "interrupted", False) for o in outcomes) else []
     outcomes += unused_property_files(specs, options.get("properties"), root)
+    outcomes += names
     return Gate(outcomes, root)
+
+
+def unused_names(outcomes, options) -> list:
+    """Input-error outcomes for the ``fair`` domains and ``monitored`` functions that none of the
+    checked specs declares (each spec takes the names it has, so a typo would otherwise pass the
+    gate with nothing constrained); not judged when a spec could not be loaded."""
+    seen = [getattr(o, "declared", None) for o in outcomes]
+    if not seen or None in seen:
+        return []
+    out = []
+    for flag, kind, names in (("--fair", "domain", [d for d in options.get("fair") or () if d != "all"]),
+                              ("--monitored", "function", list(dict(options.get("monitored") or {})))):
+        for name in names:
+            if not any(name in d[kind] for d in seen):
+                out.append(_gate.error_outcome(f"{flag} {name}", UsageError(
+                    f"{flag} {name}: none of the checked specs has a {kind} {name}"), None))
+                out[-1].subject = "option"
+    return out
 
 
 def unused_property_files(specs, given, root=None) -> list:
@@ -1401,6 +1511,7 @@ def unused_property_files(specs, given, root=None) -> list:
                                                                     f"{', '.join(pf.applies)}: none of the checked "
                                                                     f"specs has that name; fix its 'applies to' "
                                                                     f"line"), root))
+        out[-1].subject = "property file"
     return out
 
 

@@ -329,22 +329,43 @@ def test_a_limit_names_the_flag(tmp_path):
     assert done.symmetry_hint == "" and "hint" not in done.json()
 
 
-def test_the_native_engine_is_not_asked(tmp_path, monkeypatch):
+def test_which_engine_reduces(tmp_path, monkeypatch):
+    """The native engine reduces what its canonical form orders (its tests are in
+    test_symmetry_native.py); a String location over the symmetric domain stays on the Python
+    engine, with the reason."""
     model = asmcheck.load(write(tmp_path, BINGO))
-    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Bingo.asm with --symmetry: symmetry "
-                                                  r"reduction \(--symmetry\) runs on the Python engine \(use --engine "
-                                                  r"auto or python\)$"):
-        model.explore(engine="native", symmetry=True)
-    with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process: it cannot be combined with "
-                                                  "--workers, --cluster or --bitstate$"):
+    with pytest.raises(asmcheck.UsageError, match="^--symmetry runs in one process \\(or on the native engine's "
+                                                  "threads, --workers N\\): it cannot be combined with --cluster, "
+                                                  "--bitstate or the Python engine's workers$"):
         model.explore(engine="python", symmetry=True, workers=2)
     with pytest.raises(asmcheck.UsageError, match="^symmetry must be True or False, not 'yes'$"):
         model.explore(engine="python", symmetry="yes")
     monkeypatch.delenv("ASMCHECK_ENGINE", raising=False)
     run = model.explore(engine="auto", symmetry=True)
-    assert run.engine == "python" and (run.states, run.transitions) == (48, 113)
-    assert run.engine_note == "symmetry reduction (--symmetry) runs on the Python engine"
-    assert run.json()["engine_note"] == "native engine not used: symmetry reduction (--symmetry) runs on the Python engine"
+    assert run.engine == "native" and (run.states, run.transitions) == (48, 113)
+    names = asmcheck.load(write(tmp_path, NAMES))
+    why = "--symmetry: tag over P holds values of String, which the native canonical form does not order"
+    with pytest.raises(asmcheck.UsageError, match="^the native explorer cannot run Names.asm: " + why + "$"):
+        names.explore(engine="native", symmetry=True)
+    run = names.explore(engine="auto", symmetry=True)
+    assert run.engine == "python" and (run.states, run.transitions) == (10, 13)
+    assert run.engine_note == why
+    assert run.json()["engine_note"] == "native engine not used: " + why
+
+
+# a name per process: a String location over the symmetric domain
+NAMES = """asm Names
+import StandardLibrary
+signature:
+	enum domain P = {PA | PB | PC}
+	dynamic controlled tag: P -> String
+definitions:
+	main rule r_Main =
+		choose $p in P with tag($p) != "bb" do
+			if tag($p) = "a" then tag($p) := "bb" else tag($p) := "a" endif
+default init s0:
+	function tag($p in P) = ""
+"""
 
 
 def test_cli(tmp_path, capsys):

@@ -19,4 +19,6 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..review.advise import run_advise
+    from .common import check_limits
+    check_limits(args)
     return run_advise(args)

@@ -5,12 +5,13 @@ import json
 from pathlib import Path
 
 from .. import api
-from .common import EXIT_ERROR, add_domain_options, color_on, error, load_options, out
+from .common import EXIT_ERROR, add_domain_options, check_limits, color_on, error, load_options, out
 
 
 def run(args) -> int:
     if args.k < 0:
         raise api.UsageError("-k must be 0 or more")
+    check_limits(args)
     model = api.load(args.file, **load_options(args))
     try:
         res = model.bmc(args.k, induction=args.induction, properties=args.property, assume=args.assume,

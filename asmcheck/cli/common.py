@@ -7,6 +7,7 @@ import re
 import sys
 import time
 from contextlib import contextmanager
+from pathlib import Path
 
 from ..api import TimeUp, UsageError, default_max_memory, parse_int_range, parse_range  # noqa: F401
 
@@ -130,14 +131,25 @@ def parse_size(text: str) -> int:
     return int(n)
 
 
+#: the files asmcheck reads, which a report never overwrites (a spec given as the report's name
+#: by mistake was replaced by the report)
+INPUT_SUFFIXES = {".asm": "a spec", ".prop": "a property file"}
+
+
 def check_output_path(path: str, what: str, folder_ok: bool = False) -> None:
     """An output path must be writable before the work starts: not a folder (unless
     ``folder_ok``), not a special file, not read-only.  A missing parent folder is created
     now, and asmcheck says so on stderr."""
+    if path == "-":
+        raise UsageError(f"{what} -: only --json and --format print a report on standard output; give a file "
+                         f"name")
     target = os.path.abspath(path)
     real = os.path.realpath(target)
     if real.startswith(("/proc/", "/sys/", "/dev/")) or real in ("/proc", "/sys", "/dev"):
         raise UsageError(f"{what} {path}: is a file of the system, not one asmcheck writes reports to")
+    if os.path.isfile(real) and Path(real).suffix.lower() in INPUT_SUFFIXES:
+        raise UsageError(f"{what} {path}: is {INPUT_SUFFIXES[Path(real).suffix.lower()]}; asmcheck does not write "
+                         f"a report over it (give another file name)")
     if os.path.isdir(target):
         if not folder_ok:
             raise UsageError(f"{what} {path}: is a folder; give a file name")
@@ -269,9 +281,10 @@ def add_explore_options(p) -> None:
     add_scaling_options(p)
 
 
-def explore_options(args) -> dict:
-    """The options of :meth:`asmcheck.Model.explore` given on the command line; the time limit
-    counts from the start of the command."""
+def check_limits(args) -> None:
+    """The limits every command takes (--max-states, --max-depth, --max-seconds, --loop-bound), checked
+    alike: a usage error for a negative count, a loop bound below 1, or a time that is not a
+    number of seconds, 0 or more (nan, inf)."""
     for name in ("max_states", "max_depth"):
         v = getattr(args, name, None)
         if v is not None and v < 0:
@@ -279,6 +292,16 @@ def explore_options(args) -> dict:
     secs = getattr(args, "max_seconds", None)
     if secs is not None and not (secs >= 0 and secs < float("inf")):
         raise UsageError("--max-seconds must be a number of seconds, 0 or more")
+    bound = getattr(args, "loop_bound", None)
+    if bound is not None and bound < 1:
+        raise UsageError("--loop-bound must be 1 or more")
+
+
+def explore_options(args) -> dict:
+    """The options of :meth:`asmcheck.Model.explore` given on the command line; the time limit
+    counts from the start of the command."""
+    check_limits(args)
+    secs = getattr(args, "max_seconds", None)
     mem = getattr(args, "max_memory", None)
     opts = {"engine": getattr(args, "engine", "auto"), "max_states": getattr(args, "max_states", None),
             "max_depth": getattr(args, "max_depth", None), "max_seconds": secs,

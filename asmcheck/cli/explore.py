@@ -111,7 +111,8 @@ def add_symmetry_option(p) -> None:
                         "elements (the elements of an enum, static abstract or Integer subset domain that no literal "
                         "names, when the spec and its properties only compare them by equality); the counts are then "
                         "counts of "
-                        "classes, on the Python engine; the report says which domains are reduced, or why none is")
+                        "classes (on the native engine, its threads with --workers, else the Python engine); the "
+                        "report says which domains are reduced, or why none is")
 
 
 def check_outputs(args) -> None:
@@ -125,6 +126,8 @@ def check_outputs(args) -> None:
         check_output_path(args.html, "--html")
     if args.avalla:
         check_output_path(args.avalla, "--avalla", folder_ok=not args.avalla.endswith(".avalla"))
+    if getattr(args, "coverage", None) and args.coverage != "-":
+        check_output_path(args.coverage, "--coverage")
 
 
 def register(sub) -> None:

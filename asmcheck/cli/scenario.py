@@ -5,10 +5,12 @@ import json
 import os
 
 from .. import api
-from .common import EXIT_ERROR, EXIT_OK, EXIT_VIOLATED, add_domain_options, out
+from .common import EXIT_ERROR, EXIT_OK, EXIT_VIOLATED, add_domain_options, check_output_path, out
 
 
 def run(args) -> int:
+    if getattr(args, "coverage", None) and args.coverage != "-":
+        check_output_path(args.coverage, "--coverage")
     results = []
     code = EXIT_OK
     files = _expand(args.files)

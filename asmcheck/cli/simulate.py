@@ -4,7 +4,7 @@ from __future__ import annotations
 import json
 
 from .. import api
-from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, color_on, load_options, out
+from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, color_on, error, load_options, out
 
 
 def run(args) -> int:
@@ -26,9 +26,11 @@ def run(args) -> int:
         out(json.dumps(sim.json(), indent=2))
     elif args.format == "asmeta":
         out(sim.asmeta().rstrip("\n"))
+        if sim.interrupted:
+            error(f"asmcheck: {sim.stopped_note()}")
     else:
         out(sim.text().rstrip("\n"))
-    return EXIT_OK if sim.ok else EXIT_VIOLATED
+    return sim.exit_code
 
 
 def register(sub) -> None:

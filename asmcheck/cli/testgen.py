@@ -10,11 +10,14 @@ def register(sub) -> None:
         description="Explore FILE and write a small set of Avalla scenarios, each a shortest path from the initial "
                     "state, that together cover every coverable target of the criterion; the targets no "
                     "reachable configuration covers (dead code) are listed.",
-        epilog="Exit codes: 0 done; 2 usage, syntax or type error.")
+        epilog="Exit codes: 0 done; 2 usage, syntax or type error; 3 incomplete (a limit stopped the exploration "
+               "first: more targets may be coverable).")
     add_testgen_options(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from ..review.testgen import run_testgen
+    from .common import check_limits
+    check_limits(args)
     return run_testgen(args)

@@ -46,6 +46,27 @@ class TimeLimit:
         return head + self.detail
 
 
+class Stop:
+    """Why a search ended before it covered every state, in one word (:attr:`Result.stop`), set
+    where the reason text is set; the checks that depend on how a search stopped read this, never
+    the reason's words.  ``""``: the search covered every state."""
+    STATES = "states"               # the state limit (checked between two states)
+    DEPTH = "depth"                 # the depth limit (a state at the bound is not expanded)
+    TIME = "time"                   # the time limit
+    MEMORY = "memory"               # the memory limit, or the memory ran out
+    SHARE = "memory share"          # a worker of the partitioned search went over its share of the memory
+    STEP_FAILED = "step failed"     # a state's steps could not be enumerated (an error outside any branch)
+    TOO_MANY = "too many"           # a state with more sequences of choices than the search follows
+    FIRST = "first violation"       # stopped at the first violation
+    INTERRUPT = "interrupt"         # Ctrl-C or SIGTERM
+    INTERNAL = "internal"           # an internal error after the search (the LTL/CTL phase)
+    #: the bounds checked between two states: the states and steps recorded are those of one
+    #: sequential search, whatever the number of workers
+    BOUNDS = frozenset({STATES, DEPTH})
+    #: the limits a user sets (a reduction such as --symmetry may let the search end within them)
+    LIMITS = frozenset({STATES, DEPTH, TIME, MEMORY})
+
+
 @dataclass
 class Result:
     verdict: str                 # holds violated incomplete
@@ -57,6 +78,7 @@ class Result:
     reason: str = ""             # why incomplete
     checked: list = field(default_factory=list)    # the properties checked
     time_limit: TimeLimit | None = None            # the reason in fields, when the time limit ended the run
+    stop: str = ""               # why incomplete, in one word (a :class:`Stop`); "" with an empty reason
 
     @property
     def stopped_early(self) -> bool:
@@ -370,6 +392,7 @@ class Explorer:
         violated: set = set()
         transitions = 0
         reason = ""
+        stop = ""
 
         def record(v: Violation):
             key = v.prop.name
@@ -417,12 +440,12 @@ class Explorer:
                             record(Violation(prop, sid))
                     if self.stop_at_first and violations:
                         incomplete = True
-                        reason = reason or "stopped at the first violation"
+                        reason, stop = reason or "stopped at the first violation", stop or Stop.FIRST
                         frontier = []
                         break
                     if self.max_depth is not None and depth >= self.max_depth:
                         incomplete = True
-                        reason = f"depth limit {self.max_depth} reached"
+                        reason, stop = f"depth limit {self.max_depth} reached", Stop.DEPTH
                         continue
                     # successors: the well-defined ones; each branch whose step fails is an
                     # error (the first one found is the 'error' violation, with its trace)
@@ -435,7 +458,7 @@ class Explorer:
                         # a limit, not a property of the spec: the search stops, incomplete, and
                         # says which choices multiply (the last sequence of choices enumerated)
                         incomplete = True
-                        reason = too_many_reason(m, e)
+                        reason, stop = too_many_reason(m, e), Stop.TOO_MANY
                         next_frontier = []
                         frontier = []
                         break
@@ -444,7 +467,7 @@ class Explorer:
                         err = PseudoProperty("error", "error", e.span)
                         record(Violation(err, sid, message=e.message, error=e))
                         incomplete = True
-                        reason = reason or "a step could not be computed"
+                        reason, stop = reason or "a step could not be computed", stop or Stop.STEP_FAILED
                         continue
                     for e in failed:
                         if "error" not in violated:
@@ -483,7 +506,7 @@ class Explorer:
                                          "the only successor is the state itself"))
                     if self.max_states is not None and len(self.frozen) >= self.max_states:
                         incomplete = True
-                        reason = f"state limit {self.max_states} reached"
+                        reason, stop = f"state limit {self.max_states} reached", Stop.STATES
                         next_frontier = []
                         frontier = []
                         break
@@ -491,7 +514,7 @@ class Explorer:
                     if self.max_seconds is not None and now - t0 >= self.max_seconds:
                         incomplete = True
                         time_limit = TimeLimit(self.max_seconds)
-                        reason = time_limit.text()
+                        reason, stop = time_limit.text(), Stop.TIME
                         next_frontier = []
                         frontier = []
                         break
@@ -501,6 +524,7 @@ class Explorer:
                                 self.memory() > self.max_memory:
                             incomplete = True
                             reason = f"memory limit {self.max_memory / 2**20:,.0f} MB reached"
+                            stop = Stop.MEMORY
                             next_frontier = []
                             frontier = []
                             break
@@ -514,7 +538,7 @@ class Explorer:
                                 self.warn(msg)
                     if self.stop_at_first and violations:
                         incomplete = True
-                        reason = reason or "stopped at the first violation"
+                        reason, stop = reason or "stopped at the first violation", stop or Stop.FIRST
                         next_frontier = []
                         frontier = []
                         break
@@ -532,14 +556,15 @@ class Explorer:
             incomplete = interrupted = True
             reason = interrupt_reason(exc) + stopped_inside(getattr(exc, "enumerated", 0) or 0,
                                                             getattr(exc, "choices", None), current)
+            stop = Stop.INTERRUPT
         except (TimeUp, DeadlineReached) as exc:
             incomplete = True
             time_limit = TimeLimit(self.max_seconds, stopped_inside(getattr(exc, "enumerated", 0) or 0,
                                                                     getattr(exc, "choices", None), current))
-            reason = time_limit.text()
+            reason, stop = time_limit.text(), Stop.TIME
         except MemoryError:
             incomplete = True
-            reason = "out of memory"
+            reason, stop = "out of memory", Stop.MEMORY
         if time_limit is not None and self.warnings:
             time_limit = TimeLimit(time_limit.seconds, time_limit.detail + "; " + self.warnings[-1])
             reason = time_limit.text()
@@ -556,6 +581,7 @@ class Explorer:
         res.deadlock_checked = self.deadlock
         res.interrupted = interrupted
         res.time_limit = time_limit
+        res.stop = stop if incomplete else ""
         return res
 
     # -------------------------------------------------------------- traces

@@ -386,6 +386,7 @@ class Generator:
         self._loose = None
         self._any_read = False           # the term being translated may be a location of type Any
         self.uid = 0
+        self.sym = None                  # symmetry reduction (explore.symmetry.Symmetry, active): native_sym.c
 
     # -------------------------------------------------------------- helpers
     def fresh(self, prefix="t") -> str:
@@ -2798,10 +2799,11 @@ class Generator:
                          "c->in_prop = 0; return r; }"]
         step = [f"static void step_main(Ctx *c) {{ {main}(c); }}"]
         head.append(f"#define CN_NDYN {len(self.dyn)}")
+        head.append(f"#define SYM_ON {1 if self.sym is not None else 0}")
         if "lz_note" in self.defined_done:
             step = [f"static void step_main(Ctx *c) {{ {main}(c); lz_flush(c); }}"]
         src = "\n".join(head) + "\n" + rt + "\n" + "\n".join(tables + decs + layout) + "\n" + \
-            self.canon_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
+            self.canon_code() + "\n" + self.sym_code() + "\n" + "\n\n".join(self.funcs) + "\n" + "\n".join(inv_code + step) + "\n" + bfs
         src += "\n" + self.label_entry(label_exprs)
         return src
 
@@ -3324,6 +3326,19 @@ class Generator:
         canon = resources.files("asmcheck.explore").joinpath("native_canon.c").read_text()
         return "\n".join(out) + "\n" + canon
 
+    def sym_code(self) -> str:
+        """The tables of native_sym.c and the file itself (nothing without symmetry reduction)."""
+        if self.sym is None:
+            return ""
+        from .symmetry import NativeRefused, native_tables
+        if len(self.step_props) > 63:
+            raise Unsupported("more than 63 step properties with --symmetry")
+        try:
+            tables = native_tables(self.sym, self)
+        except NativeRefused as e:
+            raise Unsupported(f"--symmetry: {e}") from None
+        return tables + resources.files("asmcheck.explore").joinpath("native_sym.c").read_text()
+
     def r_Extend(self, r, env):
         d = r.domain
         di = self.dyn.get(getattr(d, "name", None))
@@ -3837,6 +3852,7 @@ _SYMBOLS = {
     "asm_err_states": (_i64, [_i64p]),
     "asm_err_succ": (_i64, [_i64, _i64p, _i64]),
     "asm_qf": (None, [_i64, _i64p, _i64]),
+    "asm_qf_cond": (None, [_i64, _i64p, ctypes.c_char_p]),
     "asm_qf_status": (None, [_i64p]),
     "asm_qf_has_out": (_i64, [ctypes.c_void_p]),
     "asm_qf_quotient": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_uint64]),
@@ -3873,6 +3889,7 @@ _SHARED_STATICS = frozenset("""
     succs
     grow_deadline grow_mask grow_abandoned
     wide_of_word self_first sb_self sb_self_cap
+    sym_refused
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
@@ -3920,6 +3937,9 @@ int64_t asm_step_atoms(int64_t src, const int64_t *ks, int64_t nk, int64_t *out,
 #endif
         if (ok) {
             store_state(c, sw, nw);
+#if SYM_ON
+            if (sym_canon(nw) < 0) return -1;     /* (symmetry: the class's representative) */
+#endif
             int64_t dst = asm_find(nw);
             if (dst >= 0) {
                 int32_t P = c->pos;
@@ -3965,7 +3985,8 @@ class NativeExplorer:
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None, deadlock=False,
                  state_props=None, step_props=None, keep_graph=False, progress=None, warn=None, workers=1,
-                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, **_ignored):
+                 max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, symmetry=None,
+                 **_ignored):
         from ..semantics.analysis import mentions_monitored
         self.m = machine
         self.state_props = list(state_props or [])
@@ -3984,6 +4005,10 @@ class NativeExplorer:
         self.gen.invars = self.invars
         self.gen.label_atoms = label_atoms
         self.gen.invar_pre = any(mentions_monitored(t) for t in self.invars)
+        # symmetry reduction (explore.symmetry.Symmetry, active): the search stores the Python
+        # canonical form's representatives (native_sym.c)
+        self.sym = symmetry if symmetry is not None and symmetry.active else None
+        self.gen.sym = self.sym
         # the element slots an earlier search of the same spec and properties needed: the C is
         # generated once, with them (not first with too few, then again)
         self._slots_key = self._element_slots_key(label_atoms)
@@ -4105,12 +4130,13 @@ class NativeExplorer:
                 from ..props import evaluate_all
                 if not all(any(v is True for v in evaluate_all(self.m, fn, st, None)) for fn in invar_fns):
                     continue
-            w = g.pack(st)
+            w = g.pack(st if self.sym is None else self.sym.canon(st)[0])
             if w not in inits:
                 inits.append(w)
         flat = (ctypes.c_uint64 * max(len(inits) * g.nwords, 1))(*[x for w in inits for x in w])
         nprops = len(self.state_props)
         out = (ctypes.c_int64 * (12 + 3 * (nprops + 2 + len(self.step_props))))()
+        self._run_out = out         # (the counts so far, for a search a Ctrl-C ends: counts_so_far)
         t0 = time.perf_counter()
         if g.dyn:
             self.dll.asm_canon_reset()
@@ -4178,6 +4204,10 @@ class NativeExplorer:
         self._err_code = self.dll.asm_err_code()
         if status == 4 and g.dyn and self._canon_refusal():
             return self._more_element_slots()
+        if status == 4 and self.sym is not None and _sym_refused(self.dll):
+            from .symmetry import NATIVE_MAX_NUMBERINGS
+            raise Unsupported(f"--symmetry: a state whose canonical form tries more than {NATIVE_MAX_NUMBERINGS:,} "
+                              f"numberings of the interchangeable elements")
         if status == 4:
             code = out[4]
             self.failed_state = out[5]     # the state whose step or property was refused
@@ -4236,6 +4266,8 @@ class NativeExplorer:
                       else f"memory limit {self.table_memory / 2**20:,.1f} MB of tables reached")}.get(status, "")
         if stopped and not reason:
             reason = "a step could not be computed"
+        from .bfs import Stop
+        stop = {1: Stop.STATES, 2: Stop.DEPTH, 3: Stop.TIME, 8: Stop.MEMORY}.get(status, Stop.STEP_FAILED if stopped else "")
         time_limit = None
         if status == 3:
             from .bfs import TimeLimit
@@ -4250,7 +4282,14 @@ class NativeExplorer:
         res.workers = self.workers
         res.compile_seconds = self.compile_seconds
         res.time_limit = time_limit
+        res.stop = stop if incomplete else ""
         return res
+
+    def counts_so_far(self) -> tuple:
+        """(states, transitions, depth) the search had reached at its last return to Python: what
+        a search that a Ctrl-C ended reports."""
+        out = getattr(self, "_run_out", None)
+        return (int(out[0]), int(out[1]), int(out[2])) if out is not None else (0, 0, 0)
 
     def _take_edges(self, n: int) -> None:
         """The edge arrays (4 bytes an end) copied out of the search, whose own copy is freed (each
@@ -4299,6 +4338,8 @@ class NativeExplorer:
 
     def _qf_start(self) -> bool:
         """Set the search up to record the steps of the temporal quotient (when it can)."""
+        self.lists_kept = "all"
+        self.dll.asm_qf_cond(-1, None, None)
         got = self._qf_atoms()
         if got is None:
             return False
@@ -4310,7 +4351,65 @@ class NativeExplorer:
             self.dll.asm_qf_table_limit(self.QF_TABLE)
         if self.QF_DIRECT_BITS is not None:
             self.dll.asm_qf_direct_bits(self.QF_DIRECT_BITS)
+        self._qc_start(ks)
         return True
+
+    def _qc_start(self, ks) -> None:
+        """Have the search record only the successor lists the CTL check reads, the first entry of the
+        others (temporal/need.py:
+        the plan's ``need``), where it can: one thread, no atom that reads a monitored function,
+        no state or depth bound (the check of a partial state space reads every list), no element
+        made by extend, no symmetry reduction, every atom of the condition translated.  ``self.lists_kept``: "none", "some" or "all"."""
+        from ..temporal.need import ALL, EdgeNeed
+        self.lists_kept = "all"
+        self.edge_need = ALL
+        self.dll.asm_qf_cond(-1, None, None)
+        if ks or os.environ.get("ASMCHECK_EDGE_NEED", "") == "all":
+            return
+        if self.max_states is not None or self.max_depth is not None or self.gen.dyn or self.sym is not None:
+            return
+        got = getattr(self, "_need_again", None)
+        if got is None:
+            fn = getattr(self.step_quotient_plan, "need", None)
+            if fn is None:
+                return
+            try:
+                got = fn(list(self.gen.init_states))
+            except AsmError:
+                return
+        need, atoms = got
+        if not isinstance(need, EdgeNeed):
+            return
+        ids = need.atoms()
+        if len(ids) > 16:
+            return
+        index = {}
+        for k, (term, env) in enumerate(getattr(self.gen, "labels", ())):
+            index.setdefault((id(term), _env_key(env)), k)
+        lab = [index.get((id(atoms.items[i].term), _env_key(atoms.items[i].env))) for i in ids]
+        if any(k is None or self.gen.label_exprs[k] is None for k in lab):
+            return
+        table = bytes(need.table(ids))
+        if all(table):
+            return              # (every list)
+        self.dll.asm_qf_cond(len(lab), (ctypes.c_int64 * max(len(lab), 1))(*lab), table)
+        self.edge_need = need
+        self.lists_kept = "none" if not any(table) else "some"
+
+    def lists_again(self, need, atoms) -> None:
+        """The search again, recording the lists of ``need`` (temporal/need.py: an ``ag``/``ef``
+        property the set of states did not decide reads more): the same states in the same
+        order."""
+        from .bfs import TimeUp
+        self._need_again = (need, atoms)
+        keep = (self.progress, self.warn, list(self.warnings), self.counts)
+        self.progress = self.warn = None
+        try:
+            res = self.run()
+        finally:
+            self.progress, self.warn, self.warnings = keep[:3]
+        if res.stopped_early or self.counts != keep[3]:
+            raise TimeUp()
 
     def _qf_recorded(self) -> bool:
         """Whether the search recorded the steps of the temporal quotient, not yet handed over."""
@@ -4424,6 +4523,7 @@ class NativeExplorer:
         gen.invars = self.gen.invars
         gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
+        gen.sym = getattr(self.gen, "sym", None)
         gen.cn_k = cn_k
         if getattr(self.gen, "undef_args", None):
             gen.undef_args = set(self.gen.undef_args)
@@ -4499,6 +4599,7 @@ class NativeExplorer:
         gen.label_atoms = getattr(self.gen, "label_atoms", None)
         gen.invar_pre = getattr(self.gen, "invar_pre", False)
         gen.cn_k = self.gen.cn_k
+        gen.sym = getattr(self.gen, "sym", None)
         gen.undef_args = set(getattr(self.gen, "undef_args", ())) | {fi}
         src = gen.generate()
         dll = build_library(src)
@@ -4514,6 +4615,8 @@ class NativeExplorer:
 
     def _norm(self, st: dict) -> tuple:
         """The canonical form of a successor the Python step function made, and the renaming."""
+        if self.sym is not None:
+            return self.sym.canon(st)[0], {}
         if not self.gen.dyn:
             return st, {}
         if self._canon is None:
@@ -4557,7 +4660,7 @@ class NativeExplorer:
             return {}
         sids = (ctypes.c_int64 * n)()
         self.dll.asm_err_states(sids)
-        py = Explorer(self.m)          # its admitted_successors: the INVAR constraints, canonical names
+        py = Explorer(self.m, symmetry=self.sym)    # its admitted_successors: the INVAR constraints, canonical names
         out: dict = {}
         for i, sid in enumerate(sids):
             self.failed_checked = (i, n)   # (how far the check got, where a time limit ends it)
@@ -4864,6 +4967,8 @@ class NativeExplorer:
     def replay_steps(self, first: int, steps: list) -> list:
         from ..semantics.machine import ScriptChooser
         from .bfs import ReplayError
+        if self.sym is not None:
+            return self._replay_concrete(first, steps)
         m = self.m
         st0 = self.state(first)
         init_log = None
@@ -4896,11 +5001,52 @@ class NativeExplorer:
             cur = want
         return out
 
+    def _replay_concrete(self, first: int, steps: list) -> list:
+        """:meth:`replay_steps` under symmetry reduction, as the Python explorer's: the stored states are
+        class representatives, the trace concrete (see bfs.Explorer._replay_concrete).  The choices of
+        a step not given are those of the representative's first step into the stored target."""
+        from ..semantics.machine import ScriptChooser
+        from .bfs import Explorer
+        picked = []
+        for picks, dst in steps:
+            if picks is None:
+                src = first if not picked else picked[-1][1]
+                picks = self.picks_between(src, dst)
+            picked.append((picks, dst))
+        py = Explorer(self.m, symmetry=self.sym)
+        want0 = self.state(first)
+        init_log = None
+        for log, st in self.m.initial_states():
+            if self.sym.canon(st)[0] == want0:
+                init_log = log
+                break
+        py.via = {first: tuple(c.pick for c in init_log or ())}
+        py.frozen = _StoredFrozen(self, py)
+        return py._replay_concrete(first, picked)
+
     def close(self):
         try:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _sym_refused(dll) -> bool:
+    """Whether a symmetric search stopped on a state with too many numberings (native_sym.c)."""
+    fn = dll.asm_sym_refused
+    fn.restype, fn.argtypes = ctypes.c_int64, []
+    return bool(fn())
+
+
+class _StoredFrozen:
+    """The native explorer's stored states as an Explorer's ``frozen`` list (its layout's frozen
+    forms), for the replay of a symmetric trace."""
+
+    def __init__(self, ex, py):
+        self.ex, self.py = ex, py
+
+    def __getitem__(self, sid: int):
+        return self.py.layout.freeze(self.ex.state(sid))
 
 
 def _made_step(made: dict, machine, log, mon: dict) -> tuple:

@@ -6,6 +6,10 @@
  * Python explorer), packs each successor and looks it up.
  */
 
+#if !SYM_ON
+#define SYM_SELF(m) 0          /* (symmetry reduction: native_sym.c) */
+#endif
+
 /* a run of the step starts from an empty update set, no choice taken yet and a new
    generation of the working-state marks */
 static inline void begin_run(Ctx *c) {
@@ -1017,6 +1021,40 @@ static inline int qf_item(uint32_t x) {
 
 static int64_t qf_pair(uint32_t d, uint64_t v);
 
+/* ------------------------------------------------------------------ the lists the CTL check reads
+ * asm_qf_cond(nk, ks, table) after asm_qf(0, ..): a state's list is recorded only where a condition
+ * on the state holds (table[x] != 0 for x the bits of the atoms ks[k], evaluated in the state); the
+ * list of any other state keeps its first entry only (temporal/need.py says why the CTL check then
+ * gives the same verdicts and paths).  nk -1: every list (the default).  An
+ * atom that cannot be evaluated keeps the list. */
+static struct { int on, nk; int64_t ks[16]; uint8_t *table; } QC;
+
+void asm_qf_cond(int64_t nk, const int64_t *ks, const uint8_t *table) {
+    free(QC.table);
+    memset(&QC, 0, sizeof(QC));
+    if (nk < 0 || nk > 16) return;
+    QC.table = (uint8_t *)malloc((size_t)1 << nk);
+    if (!QC.table) return;
+    memcpy(QC.table, table, (size_t)1 << nk);
+    for (int64_t k = 0; k < nk; k++) QC.ks[k] = ks[k];
+    QC.nk = (int)nk; QC.on = 1;
+}
+
+/* whether the list of the state loaded in c is recorded */
+static int qc_holds(Ctx *c) {
+    uint64_t x = 0;
+    int in_prop = c->in_prop;
+    c->in_prop = 1;
+    for (int k = 0; k < QC.nk; k++) {
+        c->err = 0;
+        V v = check_label(c, (int)QC.ks[k]);
+        if (c->err) { c->err = 0; c->in_prop = in_prop; return 1; }
+        if (v == 1) x |= 1ULL << k;
+    }
+    c->in_prop = in_prop;
+    return QC.table[x] != 0;
+}
+
 /* the entries made pair numbers (a code no longer fits): the expanded state's pairs so far are the
    pairs met under their numbers; 0 when out of memory */
 static int qf_undirect(void) {
@@ -1123,6 +1161,26 @@ static int qf_atoms(Ctx *c, int64_t bi) {
 static int self_first = 0;
 static uint8_t *sb_self = 0;
 static int64_t sb_self_cap = 0;
+
+#if SYM_ON
+/* symmetry reduction (native_sym.c): each successor of an expansion made its class's representative,
+   once the whole expansion is made (mc_tail patches the step's own words); a successor moved into the
+   state's own class is no deadlock (SYM_MOVED) */
+static int sym_finish(Succ *b, int *err) {
+    for (int64_t i = 0; i < b->n; i++) {
+#ifndef MC_TAIL_ON
+        if (self_first && sb_self[i]) continue;
+#endif
+        int moved = sym_canon(b->w + i * NWORDS);
+        if (moved < 0) { *err = E_UNSUPPORTED; return EXP_HARD0; }
+        if (moved) b->m[2 * i + 1] |= SYM_MOVED;
+    }
+    return EXP_OK;
+}
+#define SYM_DONE(b, err) sym_finish(b, err)
+#else
+#define SYM_DONE(b, err) EXP_OK
+#endif
 
 #if CN_NDYN > 0
 /* No element made in the run, and the bits of the locations that hold or are keyed by elements
@@ -1242,7 +1300,7 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
         }
     next_choice: ;
         /* the next sequence of choices */
-        if (!next_choices(c, 0)) return EXP_OK;
+        if (!next_choices(c, 0)) return SYM_DONE(b, err);
     }
 }
 
@@ -1443,6 +1501,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         /* successors: every sequence of choices, kept aside until the whole step has run
            (a run-time error leaves the state without successors, as in the Python explorer) */
         int steperr = 0, xe = 0, xsite = 0;
+        int qc_self = QF.on && !QF.nk && QC.on && !qc_holds(c);     /* (asm_qf_cond) */
         if (QF.on && !qf_state(sid)) { status = 5; goto finish; }
 #ifndef MC_TAIL_ON
         self_first = 1;
@@ -1534,8 +1593,9 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                     if (p < 0 || (sset_first(&QF.seen, p) && !qf_item((uint32_t)p))) { status = 5; goto finish; }
                 }
             if (failing && !ef_succ(tid)) { status = 5; goto finish; }
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
         }
+        if (qc_self && QF.n > QF.off[sid] + 1) QF.n = QF.off[sid] + 1;   /* the list not read: its first entry (asm_qf_cond) */
         /* a state where a step fails is not a deadlock: the error is reported */
         if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);
         int stop = stop_after(nstates);
@@ -2285,7 +2345,7 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
                 for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
                 trans += !seen;
             } else trans += sset_first(&w->ss, tid);
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
             bad |= w->cm[2 * q];
         }
         if (bad || (S.deadlock && only_self && !pl->only_inv && !S.violated[NINV] && !C.ssteperr[li])) w->events++;
@@ -2705,7 +2765,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             if (isnew) run_n++;
             if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q, 0)) { status = 5; break; }
             if (failing && !ef_succ(tid)) { status = 5; break; }
-            if (tid != sid) only_self = 0;
+            if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
         }
         if (status < 0) {
             if (S.deadlock && only_self && !failing && !S.violated[NINV]) record(NINV, sid, -1);

@@ -377,6 +377,25 @@ class Symmetry:
             out[k] = v
         return out
 
+    def concrete_error(self, machine, state: dict, err):
+        """The failing branch of ``state``'s step (a concrete state of a trace) that is the image of
+        ``err``, a failing branch of the step of its class's representative: the same choices with
+        the elements renamed (the first such branch in the step function's order), or None."""
+        from ..errors import AsmError
+        perm = self.canon(state)[1]         # concrete element -> the representative's
+        ren = {_vid(a): b for a, b in perm.items()}
+        want = _choice_keys(getattr(err, "choices", None) or (), {})
+        errors: list = []
+        try:
+            for _ in machine.successors(state, errors=errors):
+                pass
+        except AsmError as e:
+            errors = [e]
+        for e in errors:
+            if _choice_keys(getattr(e, "choices", None) or (), ren) == want:
+                return e
+        return None
+
     @staticmethod
     def inverse(perm: dict) -> dict:
         return {b: a for a, b in perm.items()}
@@ -391,6 +410,379 @@ class Symmetry:
             if c != a:
                 out[a] = c
         return out
+
+
+# -------------------------------------------------------------------- the native canonical form
+#: False: native_sym.c's general signatures (rank lists) even where one 64-bit number holds each (tests)
+NATIVE_FAST = True
+
+
+class NativeRefused(Exception):
+    """A symmetry the native engine does not reduce (the reason is the message)."""
+
+
+def native_reason(sym: Symmetry) -> str:
+    """Why the native engine cannot reduce ``sym`` before any code is generated ('' when it may)."""
+    return ""
+
+
+#: the most numberings the native canonical form of a function with several positions tries in
+#: one state (more: the native search stops there, and the Python engine takes the run)
+NATIVE_MAX_NUMBERINGS = 40_320
+
+
+def native_multi_tables(sym: Symmetry, gen) -> str:
+    """The C tables of native_sym.c's canonical form for functions with several positions over
+    symmetric domains (:meth:`Symmetry.canon_multi`, the same representative): per location of a
+    function over a symmetric domain (a narrow slot), its holes (position, element or the value),
+    the rank of its text with the free elements left out (per code), its value's rank (per code)
+    and its key's place in the order of the state's items; NativeRefused otherwise."""
+    dom_no = {id(sd): i for i, sd in enumerate(sym.domains)}
+    for key in gen.slots:
+        if type(key) is tuple and key and key[0] == "map" and not gen.local_slot(key):
+            # (its locations' keys would have to take their places among the items compared)
+            raise NativeRefused(f"{gen.spec.functions[key[1]].name}'s locations are one map value in the native "
+                                f"layout, beside a function with several positions over a symmetric domain")
+    ms = []                  # (slot, f, [(p, domain number, element global or -1)], codes' values)
+    for s, key in enumerate(gen.slots):
+        if type(key) is tuple and key and key[0] == "map":
+            continue
+        if type(key) is tuple:
+            if not key or key[0] == "#dom" or type(key[0]) is not int or len(key) != 2:
+                continue
+            fi, args = key
+        elif type(key) is int:
+            fi, args = key, ()
+        else:
+            continue
+        ps = sym.multi.get(fi)
+        if ps is None:
+            one = sym.positions.get(fi)
+            if one is None:
+                continue
+            ps = [one]
+        f = gen.spec.functions[fi]
+        codes = gen.slot_values[s]
+        if codes is None or gen.bits[s] >= 32:
+            raise NativeRefused(f"{f.name} over {_and(sorted({sd.name for _, sd in ps}))} holds values of "
+                                f"{f.codomain}, which the native canonical form does not order")
+        if fi in getattr(gen, "map_slot", {}):
+            raise NativeRefused(f"{f.name}'s locations are one map value in the native layout")
+        values = [codes[x] if x < len(codes) else None for x in range(1 << gen.bits[s])]
+        holes = []
+        for p, sd in ps:
+            if p >= 0:
+                ix = sd.free_ids.get(_vid(args[p]))
+                holes.append((p, dom_no[id(sd)], -1 if ix is None else sd.offset + ix))
+            else:
+                holes.append((p, dom_no[id(sd)], -2))
+        if all(g == -1 for _, _, g in holes):
+            continue
+        ms.append((s, fi, args, holes, values, ps))
+    for fi in list(sym.multi) + list(sym.positions):
+        if fi in getattr(gen, "map_slot", {}):
+            raise NativeRefused(f"{gen.spec.functions[fi].name}'s locations are one map value in the native layout")
+    # the texts of the locations (per code), the values' order, the keys' order
+    consts, const_of = [], []
+    vranks, undef_code = [], []
+    for s, fi, args, holes, values, ps in ms:
+        free_args = {p for p, _, g in holes if p >= 0 and g >= 0}
+        row_c, row_v = [], []
+        order = sorted(range(len(values)), key=lambda x: (values[x] is None, vkey(values[x])))
+        vr = [0] * len(values)
+        for r, x in enumerate(order):
+            vr[x] = r
+        und = next((x for x, v in enumerate(values) if v is None), -1)
+        for x, v in enumerate(values):
+            if v is None:
+                row_c.append(None)
+                continue
+            vfree = any(p < 0 for p, _, _ in holes) and \
+                sym.domains[next(d for p, d, _ in holes if p < 0)].free_ids.get(_vid(v)) is not None
+            c = (fi, tuple(vkey(a) if i not in free_args else (-1,) for i, a in enumerate(args)),
+                 (-1,) if vfree else vkey(v))
+            row_c.append(c)
+            consts.append(c)
+        const_of.append(row_c)
+        vranks.append(vr)
+        undef_code.append(und)
+        if und < 0:
+            raise NativeRefused(f"a location of {gen.spec.functions[fi].name} has no undef code in the native layout")
+    consts.sort()
+    crank: dict = {}
+    for c in consts:
+        if c not in crank:
+            crank[c] = len(crank)
+    # keys in the order of Python's items (vkey of the key), over every slot
+    keyorder = sorted(range(len(gen.slots)), key=lambda s: vkey(gen.slots[s]) if not (
+        type(gen.slots[s]) is tuple and gen.slots[s] and gen.slots[s][0] == "map") else (99,))
+    grank = [0] * len(gen.slots)
+    for r, s in enumerate(keyorder):
+        grank[s] = r
+    m_of_slot = {s: m for m, (s, *_rest) in enumerate(ms)}
+    # the renamed argument: slot + (index of the new element - index of the old) * stride
+    fpidx, fp_off = [], {}
+    h_p, h_dom, h_g, h_stride, h_fp, h_cur, m_hoff, m_h = [], [], [], [], [], [], [], []
+    vmap, vinv, m_vmap, m_vinv = [], [], [], []
+    for m, (s, fi, args, holes, values, ps) in enumerate(ms):
+        m_hoff.append(len(h_p))
+        m_h.append(len(holes))
+        base_info = gen.fn_base.get(fi)
+        vh = None
+        for p, d, g in holes:
+            sd = sym.domains[d]
+            h_p.append(p)
+            h_dom.append(d)
+            h_g.append(g)
+            if p >= 0:
+                if base_info is None:
+                    raise NativeRefused(f"{gen.spec.functions[fi].name} has no regular layout")
+                arg_values = base_info[1]
+                stride = 1
+                for vals in arg_values[p + 1:]:
+                    stride *= len(vals)
+                key = (fi, p)
+                if key not in fp_off:
+                    fp_off[key] = len(fpidx)
+                    for e in sd.free:
+                        fpidx.append(next(i for i, a in enumerate(arg_values[p]) if _vid(a) == _vid(e)))
+                cur = next(i for i, a in enumerate(arg_values[p]) if _vid(a) == _vid(args[p]))
+                h_stride.append(stride)
+                h_fp.append(fp_off[key])
+                h_cur.append(cur)
+                if g >= 0:
+                    for j, e in enumerate(sd.free):
+                        t = gen.slot_of.get((fi, args[:p] + (e,) + args[p + 1:]))
+                        if t != s + (fpidx[fp_off[key] + j] - cur) * stride:
+                            raise NativeRefused(f"{gen.spec.functions[fi].name}'s slots are not laid out by their "
+                                                f"arguments")
+            else:
+                vh = sd
+                h_stride.append(0)
+                h_fp.append(0)
+                h_cur.append(0)
+        if vh is not None:
+            per_code = [-1 if v is None else vh.free_ids.get(_vid(v), -1) for v in values]
+            inv = [-1] * len(vh.free)
+            for x, i in enumerate(per_code):
+                if i >= 0 and inv[i] < 0:
+                    inv[i] = x
+            if any(x < 0 for x in inv):
+                raise NativeRefused(f"a location of {gen.spec.functions[fi].name} cannot hold every element of "
+                                    f"{vh.name} in the native layout")
+            m_vmap.append(len(vmap))
+            vmap.extend(-1 if i < 0 else vh.offset + i for i in per_code)
+            m_vinv.append(len(vinv))
+            vinv.extend(inv)
+        else:
+            m_vmap.append(-1)
+            m_vinv.append(-1)
+    # every renamed location is one of them (a location whose holes hold no free element keeps its place)
+    for m, (s, fi, args, holes, values, ps) in enumerate(ms):
+        for p, d, g in holes:
+            if p >= 0 and g >= 0:
+                for e in sym.domains[d].free:
+                    t = gen.slot_of.get((fi, args[:p] + (e,) + args[p + 1:]))
+                    if t not in m_of_slot:
+                        raise NativeRefused(f"{gen.spec.functions[fi].name}'s renamed locations are not all slots")
+    m_const, m_vrank, consts_flat, vr_flat = [], [], [], []
+    for m in range(len(ms)):
+        m_const.append(len(consts_flat))
+        consts_flat.extend(-1 if c is None else crank[c] for c in const_of[m])
+        m_vrank.append(len(vr_flat))
+        vr_flat.extend(vranks[m])
+    korder = sorted(range(len(ms)), key=lambda m: grank[ms[m][0]])
+    others = [s for s in range(len(gen.slots)) if s not in m_of_slot and not gen.local_slot(gen.slots[s])]
+
+    def arr(ctype, name, xs):
+        return f"static const {ctype} {name}[] = {{{', '.join(str(int(x)) for x in xs) or '0'}}};"
+    hmax = max(m_h, default=1)
+    maxd = max((len(sd.free) for sd in sym.domains), default=1)
+    out = [f"#define SYM_N {sym._n}", f"#define SYM_ND {len(sym.domains)}", f"#define SYM_MAXD {maxd}",
+           f"#define SYM_NMS {len(ms)}", f"#define SYM_HMAX {hmax}", f"#define SYM_NH {len(h_p)}",
+           f"#define SYM_MAXNUM {NATIVE_MAX_NUMBERINGS}", f"#define SYM_NOTHER {len(others)}",
+           arr("int", "SYM_DOFF", [sd.offset for sd in sym.domains]),
+           arr("int", "SYM_DLEN", [len(sd.free) for sd in sym.domains]),
+           arr("int", "SYM_MS_SLOT", [x[0] for x in ms]), arr("int", "SYM_MS_HOFF", m_hoff), arr("int", "SYM_MS_H", m_h),
+           arr("int", "SYM_MS_CONST", m_const), arr("int32_t", "SYM_CONST", consts_flat),
+           arr("int", "SYM_MS_VRANK", m_vrank), arr("int32_t", "SYM_VRANKS", vr_flat),
+           arr("int", "SYM_MS_UNDEF", undef_code), arr("int", "SYM_MS_VMAP", m_vmap), arr("int32_t", "SYM_VMAPS", vmap),
+           arr("int", "SYM_MS_VINV", m_vinv), arr("int32_t", "SYM_VINVS", vinv),
+           arr("int", "SYM_H_P", h_p), arr("int", "SYM_H_G", h_g), arr("int64_t", "SYM_H_STRIDE", h_stride),
+           arr("int", "SYM_H_FP", h_fp), arr("int", "SYM_H_CUR", h_cur), arr("int", "SYM_FPIDX", fpidx),
+           arr("int", "SYM_KORDER", korder), arr("int", "SYM_MS_GRANK", [grank[x[0]] for x in ms]),
+           arr("int", "SYM_OTHER", others), arr("int", "SYM_OTHER_GRANK", [grank[s] for s in others]),
+           f"#define SYM_NMSLOT {len(gen.slots) or 1}",
+           arr("int", "SYM_M_OF_SLOT", [m_of_slot.get(s, -1) for s in range(len(gen.slots))])]
+    return "\n".join(out) + "\n"
+
+
+
+def native_tables(sym: Symmetry, gen) -> str:
+    """The C tables of native_sym.c for the native engine's layout (``gen``: its Generator, after
+    the layout and the slots' bits are made), from the Python canonical form's own location keys
+    and signature entries (so both give the same representative).  NativeRefused when a location
+    of a symmetric domain is not a narrow slot of the layout."""
+    why = native_reason(sym)
+    if why:
+        raise NativeRefused(why)
+    if sym.multi:
+        return "#define SYM_MULTI 1\n" + native_multi_tables(sym, gen)
+    for fi in sym.positions:
+        if fi in getattr(gen, "map_slot", {}):
+            f = gen.spec.functions[fi]
+            raise NativeRefused(f"{f.name}'s locations are one map value in the native layout")
+    dom_no = {id(sd): i for i, sd in enumerate(sym.domains)}
+    rows: dict = {}          # prefix -> [domain number, {free index: slot}, per code rank entries]
+    vals: list = []          # (slot, domain number, prefix, per code: free index or -1)
+    entries: list = []
+    for s, key in enumerate(gen.slots):
+        if type(key) is tuple and key and key[0] == "map":
+            continue
+        try:
+            info = sym._info(key)
+        except (TypeError, IndexError, KeyError):
+            continue
+        if info is None:
+            continue
+        p, sd = info[0], info[1]
+        f = gen.spec.functions[key if type(key) is int else key[0]]
+        codes = gen.slot_values[s]
+        if codes is None and p >= 0 and gen.bits[s] == 64 and T.root(f.codomain) in (T.INTEGER, T.NATURAL) \
+                and not gen.any_typed(f.codomain):
+            # an Integer location (its word is the integer, or undef): its entries are ordered by
+            # (the row's place, the integer), as Python orders (prefix, 2, (2, n))
+            row = rows.get(info[3])
+            if row is None:
+                row = rows[info[3]] = [dom_no[id(sd)], {}, None, (info[3], 2, (2,))]
+                entries.append(row[3])
+            elif row[3] is None:
+                raise NativeRefused(f"{f.name} over {sd.name} has narrow and wide locations")
+            row[1][info[2] - sd.offset] = s
+            continue
+        if codes is None or gen.bits[s] >= 32:
+            raise NativeRefused(f"{f.name} over {sd.name} holds values of {f.codomain}, which the native canonical "
+                                f"form does not order")
+        ncodes = 1 << gen.bits[s]
+        values = [codes[x] if x < len(codes) else None for x in range(ncodes)]
+        if p >= 0:
+            row = rows.get(info[3])
+            if row is None:
+                row = rows[info[3]] = [dom_no[id(sd)], {}, None, None]
+                row[2] = [None if v is None else sym._entry(info, v)[1] for v in values]
+            elif row[3] is not None:
+                raise NativeRefused(f"{f.name} over {sd.name} has narrow and wide locations")
+            row[1][info[2] - sd.offset] = s
+            for e in row[2]:
+                if e is not None:
+                    entries.append(e)
+        else:
+            ent = (info[3], 0, 0)
+            entries.append(ent)
+            vals.append((s, dom_no[id(sd)], ent, [-1 if v is None else sd.free_ids.get(_vid(v), -1)
+                                                   for v in values]))
+    entries.sort()
+    rank: list = []
+    for e in entries:
+        if not rank or rank[-1][0] != e:
+            rank.append((e, len(rank)))
+
+    def rank_of(e) -> int:
+        lo, hi = 0, len(rank)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if rank[mid][0] < e:
+                lo = mid + 1
+            else:
+                hi = mid
+        return rank[lo][1]
+    rslots, rranks, row_dom, row_slot, row_rank, row_wide = [], [], [], [], [], []
+    for prefix in sorted(rows):
+        d, by_el, ents, wide = rows[prefix]
+        row_wide.append(-1 if wide is None else rank_of(wide))
+        n = len(sym.domains[d].free)
+        if len(by_el) != n:
+            f = gen.spec.functions[prefix[0]]
+            raise NativeRefused(f"not every location of {f.name} over {sym.domains[d].name} is a slot of the "
+                                f"native layout")
+        row_dom.append(d)
+        row_slot.append(len(rslots))
+        rslots.extend(by_el[i] for i in range(n))
+        row_rank.append(len(rranks))
+        if ents is not None:
+            rranks.extend(-1 if e is None else rank_of(e) for e in ents)
+    vmap, vinv, val_slot, val_dom, val_rank, val_map, val_inv = [], [], [], [], [], [], []
+    seen: dict = {}
+    for s, d, ent, per_code in vals:
+        n = len(sym.domains[d].free)
+        inv = [-1] * n
+        for x, i in enumerate(per_code):
+            if i >= 0 and inv[i] < 0:
+                inv[i] = x
+        if any(x < 0 for x in inv):
+            f = gen.spec.functions[gen.slots[s] if type(gen.slots[s]) is int else gen.slots[s][0]]
+            raise NativeRefused(f"a location of {f.name} cannot hold every element of {sym.domains[d].name} "
+                                f"in the native layout")
+        key = (tuple(per_code), tuple(inv))
+        if key not in seen:
+            seen[key] = (len(vmap), len(vinv))
+            vmap.extend(per_code)
+            vinv.extend(inv)
+        val_slot.append(s)
+        val_dom.append(d)
+        val_rank.append(rank_of(ent))
+        val_map.append(seen[key][0])
+        val_inv.append(seen[key][1])
+
+    # the rows and value slots in the order of their entries' prefixes: an element's entries come
+    # out of them in ascending order; when an element has at most ke entries of kb bits each (its
+    # rank + 1), its signature is one 64-bit number (entries from the top, 0 where none is left)
+    srcs = sorted([(prefix, r) for r, prefix in enumerate(sorted(rows))] +
+                  [(vals[v][2][0], len(row_dom) + v) for v in range(len(vals))])
+    per_dom = [0] * len(sym.domains)
+    for d in row_dom + val_dom:
+        per_dom[d] += 1
+    ke = max(per_dom, default=0)
+    kb = max(len(rank), 1).bit_length()
+    fast = 1 if NATIVE_FAST and 0 < ke and ke * kb <= 64 and all(x < 0 for x in row_wide) else 0
+
+    def arr(ctype, name, xs):
+        return f"static const {ctype} {name}[] = {{{', '.join(str(int(x)) for x in xs) or '0'}}};"
+    nent = len(rslots) + len(val_slot)
+    maxd = max((len(sd.free) for sd in sym.domains), default=1)
+    out = [f"#define SYM_N {sym._n}", f"#define SYM_ND {len(sym.domains)}", f"#define SYM_NROW {len(row_dom)}",
+           f"#define SYM_NVAL {len(val_slot)}", f"#define SYM_NENT {nent}", f"#define SYM_MAXD {maxd}",
+           arr("int", "SYM_DOFF", [sd.offset for sd in sym.domains]),
+           arr("int", "SYM_DLEN", [len(sd.free) for sd in sym.domains]),
+           arr("int", "SYM_ROW_DOM", row_dom), arr("int", "SYM_ROW_SLOT", row_slot),
+           arr("int", "SYM_ROW_RANK", row_rank), arr("int", "SYM_RSLOTS", rslots),
+           arr("int32_t", "SYM_ROW_WIDE", row_wide),
+           arr("int32_t", "SYM_RRANK", rranks),
+           arr("int", "SYM_VAL_SLOT", val_slot), arr("int", "SYM_VAL_DOM", val_dom),
+           arr("int32_t", "SYM_VAL_RANK", val_rank), arr("int", "SYM_VAL_MAP", val_map),
+           arr("int", "SYM_VAL_INV", val_inv), arr("int32_t", "SYM_VMAP", vmap), arr("int32_t", "SYM_VINV", vinv),
+           f"#define SYM_FAST {fast}", f"#define SYM_KE {ke}", f"#define SYM_KB {kb}", f"#define SYM_NSRC {len(srcs)}",
+           arr("int", "SYM_SRC", [x for _, x in srcs])]
+    return "\n".join(out) + "\n"
+
+
+def _renamed(v, ren: dict):
+    """``v`` (a choice's value: bindings, tuples, elements) with the elements renamed by ``ren``
+    (value id -> element)."""
+    if isinstance(v, dict):
+        return tuple((k, _renamed(x, ren)) for k, x in v.items())
+    if type(v) is tuple or type(v) is list:
+        return tuple(_renamed(x, ren) for x in v)
+    try:
+        got = ren.get(_vid(v), v)
+    except TypeError:
+        return v
+    return vkey(got) if got is not None else None
+
+
+def _choice_keys(choices, ren: dict) -> tuple:
+    """The choices of a step, compared up to the renaming ``ren``: kind, place, value, nested."""
+    return tuple((c.kind, c.label, _renamed(c.value, ren), _choice_keys(c.nested or (), ren)) for c in choices)
 
 
 def _numberings(choices):

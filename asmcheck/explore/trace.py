@@ -59,6 +59,9 @@ class Trace:
     message: str = ""
     # a step that fails (property 'error'): the inputs and choices it had taken when it failed
     failing: list | None = None
+    # a lasso of a search under symmetry reduction: what its last state equals its loop's first
+    # state up to ("the symmetry of Proc's 4 unnamed elements"); "" when the two are equal
+    up_to: str = ""
 
 
 def _elements(v, out: set) -> None:
@@ -262,5 +265,13 @@ def build_trace(explorer, violation) -> Trace:
     steps = trace_steps([(r[0], r[1], r[2], r[4] if len(r) > 5 else None, r[5] if len(r) > 5 else None)
                          for r in replayed])
     err = getattr(violation, "error", None)
+    message = violation.message
+    sym = getattr(explorer, "sym", None)
+    if sym is not None and err is not None and violation.prop.name == "error" and steps:
+        # (symmetry reduction: the failing branch of the trace's last, concrete state, not the
+        # representative's, so that its choices name the trace's elements)
+        concrete = sym.concrete_error(explorer.m, steps[-1].state, err)
+        if concrete is not None:
+            err, message = concrete, concrete.message
     failing = getattr(err, "choices", None) if violation.prop.name == "error" else None
-    return Trace(violation.prop, steps, kind, violation.message, list(failing) if failing is not None else None)
+    return Trace(violation.prop, steps, kind, message, list(failing) if failing is not None else None)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import time
 from array import array
 
-from ..explore.bfs import DEADLOCK, PseudoProperty, Result, TimeLimit, Violation
+from ..explore.bfs import DEADLOCK, PseudoProperty, Result, Stop, TimeLimit, Violation
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
 from .native_expand import MoreSlots, Refused
 from .partition import SHIFT, Partition
@@ -95,6 +95,7 @@ class PartitionedSearch:
         names_order: list = []
         incomplete = False
         reason = ""
+        why_stop = ""
         transitions = 0
         n_states = 0
         depth_seen = 0
@@ -132,9 +133,10 @@ class PartitionedSearch:
             if "memory" in stopped:
                 w = next(w for w, r in enumerate(reports) if r["stopped"] == "memory")
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,
-                                     f"worker {w + 1} went over its memory share at depth {depth}")
+                                     f"worker {w + 1} went over its memory share at depth {depth}", Stop.SHARE)
             if stopped:
-                res = self._partial(t0, n_states, transitions, depth_seen, chosen, TimeLimit(self.max_seconds).text())
+                res = self._partial(t0, n_states, transitions, depth_seen, chosen, TimeLimit(self.max_seconds).text(),
+                                    Stop.TIME)
                 res.time_limit = TimeLimit(self.max_seconds)
                 return res
             level_fail = {}
@@ -147,7 +149,7 @@ class PartitionedSearch:
             if not expand:
                 # depth limit: the frontier's states are checked, not expanded
                 incomplete = True
-                reason = f"depth limit {self.max_depth} reached"
+                reason, why_stop = f"depth limit {self.max_depth} reached", Stop.DEPTH
                 for name, rec in sorted(level_fail.items(), key=lambda kv: kv[1][0]):
                     if name not in chosen:
                         chosen[name] = (rec[0], rec)
@@ -157,7 +159,7 @@ class PartitionedSearch:
             if any(isinstance(r, str) for r in received):
                 w = next(w for w, r in enumerate(received) if isinstance(r, str))
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,
-                                     f"worker {w + 1} went over its memory share at depth {depth + 1}")
+                                     f"worker {w + 1} went over its memory share at depth {depth + 1}", Stop.SHARE)
             # merge: every new state's discovery key, tagged with its owner
             tagged = array("q")
             for w, keys in enumerate(received):
@@ -184,18 +186,18 @@ class PartitionedSearch:
                 # errors before the cut leave the run incomplete
                 if any(s <= cut_sid for s in errors):
                     incomplete = True
-                    reason = reason or "a step could not be computed"
+                    reason, why_stop = reason or "a step could not be computed", why_stop or Stop.STEP_FAILED
                 if why == "state limit":
                     incomplete = True
-                    reason = f"state limit {self.max_states} reached"
+                    reason, why_stop = f"state limit {self.max_states} reached", Stop.STATES
                 elif why == "too many":
                     incomplete = True
-                    reason = too_many[1]
+                    reason, why_stop = too_many[1], Stop.TOO_MANY
             else:
                 limit = None
                 if errors:
                     incomplete = True
-                    reason = reason or "a step could not be computed"
+                    reason, why_stop = reason or "a step could not be computed", why_stop or Stop.STEP_FAILED
             if branches:
                 branches.sort(key=lambda b: b[0])       # (stable: a state's branches in their order)
                 self.error_edges.extend(branches)
@@ -246,7 +248,7 @@ class PartitionedSearch:
             if not stop and self.max_seconds is not None and time.time() > deadline and frontier_size:
                 incomplete = True
                 time_limit = TimeLimit(self.max_seconds)
-                reason = time_limit.text()
+                reason, why_stop = time_limit.text(), Stop.TIME
                 break
         self.n_states = n_states
         violations = [self._violation(chosen[name][1]) for name in
@@ -256,6 +258,7 @@ class PartitionedSearch:
                      reason if incomplete else "", all_props)
         res.deadlock_checked = self.deadlock
         res.time_limit = time_limit if incomplete else None
+        res.stop = why_stop if incomplete else ""
         return res
 
     # -------------------------------------------------------------- helpers
@@ -321,7 +324,7 @@ class PartitionedSearch:
         # limit after a state's successors before it meets the next state's enumeration
         return min(cands, key=lambda c: (c[0], c[1] == "too many", c[1] != "state limit"))
 
-    def _partial(self, t0, n_states, transitions, depth_seen, chosen, reason) -> Result:
+    def _partial(self, t0, n_states, transitions, depth_seen, chosen, reason, stop) -> Result:
         """The report of a search that a worker's limit ended: what the completed levels found."""
         self.n_states = n_states
         violations = [self._violation(chosen[name][1]) for name in sorted(chosen, key=lambda nm: chosen[nm][0])]
@@ -329,6 +332,7 @@ class PartitionedSearch:
                      time.perf_counter() - t0, violations, reason,
                      self.state_props + self.step_props)
         res.reason = reason
+        res.stop = stop
         res.deadlock_checked = self.deadlock
         return res
 

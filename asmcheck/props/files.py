@@ -95,13 +95,9 @@ def read_prop_file(path: str) -> PropFile:
         rest = body[col + len(kw):]
         rest_col = col + len(kw) + 1
         if kw.startswith("applies"):
-            names = strip_comments(rest).replace("\n", " ")
-            items = [x.strip() for x in names.split(",") if x.strip()]
+            items = _applies_names(path, strip_comments(rest), line, rest_col)
             if not items:
                 raise AsmSyntaxError(Span(path, line + 1, col + 1), "'applies to' needs spec names or '*'")
-            for it in items:
-                if not re.fullmatch(r"\*|[A-Za-z_][A-Za-z0-9_]*", it):
-                    raise AsmSyntaxError(Span(path, line + 1, col + 1), f"bad spec name {it!r} in 'applies to'")
             applies = items
             applies_span = Span(path, line + 1, col + 1)
             continue
@@ -128,6 +124,42 @@ def read_prop_file(path: str) -> PropFile:
         tcol = (rest_col + offset) if "\n" not in pre else len(pre.split("\n")[-1]) + 1
         decls.append(PropDecl(kind, name, term_text, tline, tcol, path, name_span or Span(path, line + 1, col + 1)))
     return PropFile(path, applies, decls, applies_span)
+
+
+_APPLIES_TOKEN = re.compile(r",|[^\s,]+")
+
+
+def _applies_names(path: str, rest: str, line: int, rest_col: int) -> list[str]:
+    """The names of an 'applies to' line (``rest``: what follows the keyword, comments blanked,
+    starting at 0-based ``line`` and 1-based column ``rest_col``): names separated by commas;
+    anything else is an error at its own line and column."""
+    def where(offset: int) -> Span:
+        before = rest[:offset]
+        if "\n" not in before:
+            return Span(path, line + 1, rest_col + offset)
+        return Span(path, line + 1 + before.count("\n"), offset - before.rindex("\n"))
+
+    names: list[str] = []
+    want_name = True
+    for m in _APPLIES_TOKEN.finditer(rest):
+        tok = m.group(0)
+        if tok == ",":
+            if want_name:
+                raise AsmSyntaxError(where(m.start()), "expected a spec name or '*' before ',' in 'applies to'")
+            want_name = True
+        elif not re.fullmatch(r"\*|[A-Za-z_][A-Za-z0-9_]*", tok):
+            raise AsmSyntaxError(where(m.start()), f"bad spec name {tok!r} in 'applies to'")
+        elif not want_name:
+            raise AsmSyntaxError(where(m.start()), f"unexpected {tok!r} after the spec names of 'applies to' "
+                                                   f"(names are separated by commas; a declaration starts with "
+                                                   f"'invariant', 'step', 'LTLSPEC', 'CTLSPEC', 'JUSTICE' or "
+                                                   f"'COMPASSION')")
+        else:
+            names.append(tok)
+            want_name = False
+    if names and want_name:
+        raise AsmSyntaxError(where(len(rest.rstrip())), "expected a spec name or '*' after ',' in 'applies to'")
+    return names
 
 
 def strip_comments(text: str) -> str:

@@ -38,7 +38,7 @@ from pathlib import Path
 from .describe import (Choice, ChooseIndex, Location, StepRecord, display_path, failing_record, flat_choices,  # noqa: F401
                        one_line, property_text, shown_inputs, source_text, span_location, step_inputs,
                        step_records, term_text)
-from .trace import (RENAMED, cx_summary, failing_note, lasso_renamed, step_header, temporal_json,  # noqa: F401
+from .trace import (RENAMED, cx_summary, failing_note, lasso_renamed, renamed_note, step_header, temporal_json,  # noqa: F401
                     temporal_text, trace_lines)
 
 PASS, FAIL, INCOMPLETE, ERROR = "pass", "fail", "incomplete", "error"
@@ -60,6 +60,7 @@ class Counterexample:
     inputs_step: bool = False       # the last step only shows the inputs of the state before it
     fairness: list = field(default_factory=list)    # the fairness constraints a temporal verdict assumed
     failing_note: str = ""           # a temporal path that ends with a step that fails: what then
+    up_to: str = ""                  # lasso under symmetry reduction: its return is up to this renaming
 
 
 @dataclass
@@ -102,6 +103,8 @@ class SpecOutcome:
     properties: list = field(default_factory=list)   # [PropertyOutcome]
     header: Location | None = None  # the 'asm NAME' header
     main: Location | None = None    # the main rule's declaration
+    # what the row is about: a spec, or an input of the whole gate ('property file', 'option')
+    subject: str = "spec"
 
     @property
     def status(self) -> str:
@@ -365,7 +368,8 @@ def temporal_counterexample(machine, t, chooses, root=None, *, spec_path=None, a
     except Exception:       # pragma: no cover
         text = []
     cx = Counterexample("lasso" if loop is not None else "path", getattr(t, "message", "") or "", steps, js, loop,
-                        text, inputs_step=inputs_step, fairness=list(getattr(t, "fairness", None) or ()))
+                        text, inputs_step=inputs_step, fairness=list(getattr(t, "fairness", None) or ()),
+                        up_to=getattr(tr, "up_to", "") if tr is not None else "")
     if tr is not None and getattr(tr, "failing", None) is not None and steps:
         # the path ends with a step that fails: the run halts in its last state
         cx.failing = failing_record(machine, tr, chooses, root)

@@ -7,7 +7,7 @@ from html import escape
 from pathlib import Path
 
 from ..version import __version__
-from .gate import RENAMED, counts, cx_summary, lasso_renamed, step_header
+from .gate import counts, cx_summary, lasso_renamed, renamed_note, step_header
 from .trace import no_change_text, step_mark
 
 LAST_STATES = 4          # states drawn in the picture
@@ -64,7 +64,7 @@ def _svg(cx) -> str:
     labels = [step_header(r) + ("  " + step_mark(cx, r) if step_mark(cx, r) else "") for r in steps[1:]]
     caption = ""
     if cx.kind == "lasso" and cx.loop_start is not None:
-        again = f"again {RENAMED}" if lasso_renamed(cx) else "again"
+        again = f"again {renamed_note(cx)}" if lasso_renamed(cx) else "again"
         caption = f"state {last} is state {cx.loop_start} {again}: the loop repeats for ever"
     elif cx.kind == "state":
         caption = f"state {last} violates the property"

@@ -170,7 +170,8 @@ def sarif_log(outcomes, code: int, root: str | None = None, command_line: str | 
                  "descriptor": {"id": "input-error"}}
             if o.error_location:
                 n["locations"] = [_location(o.error_location)]
-            else:
+            elif getattr(o, "subject", "spec") != "option":
+                # (an option of the whole gate, --fair NAME, is in no file)
                 n["locations"] = [_location(_spec_location(o))]
             notes.append(n)
             continue

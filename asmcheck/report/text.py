@@ -11,7 +11,8 @@ def summary_table(outcomes, color: bool = False, timings: bool = True) -> list[s
     rows = []
     for o in outcomes:
         for p in o.properties:
-            row = [o.path, p.name, p.label, f"{o.states:,}" if o.verdict != "error" else "-"]
+            # (a spec not read, or not reached before a Ctrl-C, has no count of states)
+            row = [o.path, p.name, p.label, f"{o.states:,}" if o.verdict != "error" and o.name else "-"]
             if timings:
                 row.append(f"{o.seconds:.2f}")
             rows.append((row, p.status))
@@ -41,7 +42,8 @@ def details(outcomes, color: bool = False, traces: str = "failing") -> list[str]
     for o in outcomes:
         if o.error:
             out.append("")
-            out.append(f"ERROR {o.path}: the spec could not be checked")
+            out.append(f"ERROR {o.path}: the spec could not be checked" if getattr(o, "subject", "spec") == "spec"
+                       else f"ERROR {o.path}: the {o.subject} does not apply")
             out.extend("  " + ln for ln in o.error.splitlines())
             continue
         for p in o.properties:

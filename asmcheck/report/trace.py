@@ -124,6 +124,7 @@ class TraceView:
     failing: object = None          # property 'error': the StepRecord of the step that fails
     inputs_step: bool = False       # the last step only shows the inputs of the state before it
     failing_note: str = ""          # a temporal path that ends with a step that fails: what then
+    up_to: str = ""                 # lasso under symmetry reduction: its return is up to this renaming
 
 
 def describe_trace(machine, trace: Trace, *, kind: str | None = None, loop: int | None = None,
@@ -135,7 +136,8 @@ def describe_trace(machine, trace: Trace, *, kind: str | None = None, loop: int 
     recs = step_records(machine, trace, chooses, root, inputs)
     if kind is None:
         kind = "lasso" if loop is not None else trace.kind
-    return TraceView(kind, recs, loop, failing_record(machine, trace, chooses, root), inputs_step)
+    return TraceView(kind, recs, loop, failing_record(machine, trace, chooses, root), inputs_step,
+                     up_to=getattr(trace, "up_to", "") or "")
 
 
 def step_header(rec) -> str:
@@ -176,7 +178,8 @@ def cx_summary(cx, what: str = "counterexample") -> str:
 
 def lasso_renamed(cx) -> bool:
     """A lasso whose last state is its loop's first state (as the explorer stores states)
-    but shows the elements made by extend under other names (as a simulation names them)."""
+    but shows the elements made by extend under other names (as a simulation names them), or,
+    under symmetry reduction, under a renaming of the interchangeable elements."""
     if cx.kind != "lasso" or cx.loop_start is None or not cx.steps:
         return False
     first = next((r for r in cx.steps if r.number == cx.loop_start), None)
@@ -188,7 +191,7 @@ def step_mark(cx, rec) -> str:
     last = cx.steps[-1].number
     lasso = cx.kind == "lasso" and cx.loop_start is not None
     if lasso and rec.number == last:
-        return f"<- back to state {cx.loop_start}" + (" " + RENAMED if lasso_renamed(cx) else "")
+        return f"<- back to state {cx.loop_start}" + (" " + renamed_note(cx) if lasso_renamed(cx) else "")
     if lasso and rec.number == cx.loop_start:
         return f"<- the loop starts here (state {cx.loop_start})"
     if rec.number == last and getattr(cx, "failing", None) is None:
@@ -291,6 +294,12 @@ def explore_violation_lines(machine, violation, trace: Trace, color: bool = Fals
 RENAMED = "(up to the names of the elements made by extend)"
 
 
+def renamed_note(cx) -> str:
+    """How a lasso whose last state shows its loop's first state under other names says so."""
+    up_to = getattr(cx, "up_to", "")
+    return f"(up to {up_to})" if up_to else RENAMED
+
+
 def temporal_text(result, machine, color: bool = False) -> list[str]:
     """A temporal result as ``asmcheck explore`` prints it: the verdict, the formula and the
     replayed counterexample (or witness), a lasso marked where its loop starts."""
@@ -337,6 +346,10 @@ def temporal_json(result, machine) -> dict:
         trace, loop, inputs_step = tr
         out["trace"] = trace_json(machine, trace)
         out["loop_start"] = loop          # the last entry is the same state as this one
+        up_to = getattr(trace, "up_to", "")
+        if up_to and loop is not None and trace.steps and trace.steps[loop].state != trace.steps[-1].state:
+            # (symmetry reduction: the same state up to a renaming of the interchangeable elements)
+            out["loop_up_to"] = up_to
         out["witness"] = self.holds
         if inputs_step:
             out["inputs_step"] = True     # the last step only shows the inputs of the state before

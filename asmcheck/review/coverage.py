@@ -111,7 +111,10 @@ def coverage(unf, obs, sources: Sources | None = None, *, whole_space: bool = Tr
 
 def _why(node, key, obs, parents, sources, whole_space) -> str:
     acts = obs.node_configs.get(id(node), 0)
-    run = "reachable configuration" if whole_space else "scenario step"
+    # (whole_space "explored": a limit stopped the exploration, the configurations are those explored)
+    run = "explored configuration" if whole_space == "explored" else "reachable configuration" if whole_space \
+        else "scenario step"
+    a_run = ("an " if run[0] in "aeiou" else "a ") + run
     if key[0] in ("rule", "update") and not acts:
         p = parents.get(id(node))
         seen = set()
@@ -124,11 +127,11 @@ def _why(node, key, obs, parents, sources, whole_space) -> str:
                 if isinstance(encl, ir.If):
                     want = "true" if label == "then" else "false"
                     return (f"the enclosing if (line {encl.span.line}) never has its guard {ctext} {want} "
-                            f"in a {run}")
-                return f"the enclosing switch (line {encl.span.line}) never takes this case in a {run}"
+                            f"in {a_run}")
+                return f"the enclosing switch (line {encl.span.line}) never takes this case in {a_run}"
             if label is None and isinstance(encl, (ir.Choose, ir.Forall)) and obs.node_configs.get(id(encl), 0):
                 return (f"the enclosing {rule_kind(encl)} (line {encl.span.line}) never finds an element "
-                        f"satisfying its condition in a {run}")
+                        f"satisfying its condition in {a_run}")
             p = parents.get(id(encl))
         return f"no {run} runs the rule that holds it"
     if key[0] == "update":
@@ -140,7 +143,7 @@ def _why(node, key, obs, parents, sources, whole_space) -> str:
         return (f"the guard {ctext} is " + ("false" if key[2] == "then" else "true") +
                 f" in every {run} that reaches it")
     if isinstance(node, ir.SwitchRule):
-        return f"the subject {sources.excerpt(node.subject.span)} never matches this case in a {run}"
+        return f"the subject {sources.excerpt(node.subject.span)} never matches this case in {a_run}"
     return f"not taken in any {run}"
 
 
@@ -197,7 +200,8 @@ def explore_coverage(path: str, options=None, *, max_states=None, max_seconds=No
     from .advise import Review
     from .common import load_spec
     rv = Review(load_spec(path), options, max_states=max_states, max_seconds=max_seconds)
-    doc = coverage(rv.unf, rv.obs, rv.src, whole_space=True, depth_of=rv.space.depth)
+    doc = coverage(rv.unf, rv.obs, rv.src, whole_space="explored" if rv.incomplete else True,
+                   depth_of=rv.space.depth)
     doc.update({"spec": rv.spec.name, "path": path, "states": rv.space.states, "transitions": rv.space.transitions,
                 "configurations": rv.obs.configs, "incomplete": rv.incomplete})
     return rv, doc
@@ -246,7 +250,8 @@ def cli_coverage(path: str, target: str, options=None, *, fmt: str = "text", max
     """For ``explore --coverage[=OUT.html]``: the coverage over the explored state space, as text
     lines (or the JSON document), and the HTML view written to ``target`` unless it is ``-``."""
     rv, doc = explore_coverage(path, options, max_states=max_states, max_seconds=max_seconds)
-    title = f"{doc['spec']} over {doc['states']} states"
+    title = f"{doc['spec']} over {doc['states']} states" + (
+        f" (exploration incomplete: {doc['incomplete']})" if doc.get("incomplete") else "")
     if target and target != "-":
         from pathlib import Path
         Path(target).write_text(coverage_html(doc, title, rv.src), encoding="utf-8")

@@ -268,7 +268,12 @@ def run_testgen(args) -> int:
             lines.append(f"exploration incomplete ({doc['incomplete']}): more targets may be coverable")
         for s in doc["scenarios"]:
             lines.append(f"  {s['file'] or s['name']}: {s['steps']} steps, {len(s['covers'])} targets")
-        if doc["uncoverable"]:
+        if doc["uncoverable"] and doc["incomplete"]:
+            lines.append(f"not covered in the states explored (dead code, or beyond the limit): "
+                         f"{len(doc['uncoverable'])}")
+            for u in doc["uncoverable"]:
+                lines.append(f"  {u['target']}: {u['text']}")
+        elif doc["uncoverable"]:
             lines.append(f"uncoverable (dead code): {len(doc['uncoverable'])}")
             for u in doc["uncoverable"]:
                 lines.append(f"  {u['target']}: {u['text']}")
@@ -277,7 +282,7 @@ def run_testgen(args) -> int:
             for u in doc["failing_only"]:
                 lines.append(f"  {u['target']}: {u['text']}")
         sys.stdout.write("\n".join(lines) + "\n")
-    return 0
+    return 3 if doc["incomplete"] else 0
 
 
 def testgen_itf(path: str, criterion: str = "branch", max_states=None, options=None) -> list[dict]:

@@ -123,7 +123,14 @@ def _replay(explorer, K, nodes, loop, prop=None):
     replayed = [(st, log, ups, raw, mapping) for st, log, ups, _, raw, mapping in got]
     tsteps = trace_steps(replayed)
     tr = Trace(None, tsteps, "temporal")
+    sym = getattr(explorer, "sym", None)
+    if sym is not None and loop is not None:
+        tr.up_to = sym.describe()
     if failing is not None:
+        sym = getattr(explorer, "sym", None)
+        if sym is not None and tsteps:
+            # (symmetry reduction: the branch of the trace's last, concrete state)
+            failing = sym.concrete_error(explorer.m, tsteps[-1].state, failing) or failing
         tr.failing = list(getattr(failing, "choices", None) or ())
         tr.message = failing.message
     items = getattr(K, "mon_items", None) if K.mode == "step" else None
@@ -276,6 +283,16 @@ def quotient_plan(machine, props, fair=(), graph=False):
             return None
         return [(atoms.items[i].term, atoms.items[i].env) for i in mon]
     plan.edges_too = edges_too
+
+    def need(states):
+        # the successor lists the CTL check reads (temporal/need.py), ``states`` the initial states:
+        # (EdgeNeed or ALL, the atoms)
+        from .need import ALL, edge_need
+        atoms, checks, justice, compassion, _, errors, invars, used = formulas(machine, props, [], states[0])
+        if errors or edges_too:
+            return ALL, atoms
+        return edge_need(checks, atoms, justice, compassion, invars, used, machine=machine, initial=states), atoms
+    plan.need = need
     return plan
 
 
@@ -297,6 +314,28 @@ def step_halts(explorer, n_states: int, on_error: str):
     for src, _, _, _ in halts:
         has_out[src] = 1
     return has_out, halts, (error_edges[0][2] if error_edges else None)
+
+
+def _lists_missing(explorer, K):
+    """When the search recorded only some successor lists (temporal/need.py): the condition of the
+    lists the ``ag(p)`` properties not decided by their ``p`` read (some node breaks p), or None
+    (nothing more to record)."""
+    from .formula import FALSE, Or
+    from .need import EdgeNeed, later_cond
+    need = getattr(explorer, "edge_need", None)
+    if not isinstance(need, EdgeNeed) or not need.later:
+        return None
+    from .ctl import CTL
+    ctl = CTL(K)
+    from .need import ALL
+    more = FALSE
+    for kind, p in need.later:
+        if ctl.sat(p).find(0) >= 0:
+            r = later_cond(kind, p)
+            if r == ALL:
+                return ALL
+            more = Or(more, r)
+    return None if more == FALSE else Or(need.cond, more)
 
 
 def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: bool = True):
@@ -330,7 +369,15 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
         return structures[step]
     try:
         if any(kind != "ltl" and f is not None for _, kind, f, _ in checks):
-            kripke(True)
+            more = _lists_missing(explorer, kripke(True))
+            if more is not None:
+                # an ag(p) broken: the search again with the lists its path reads
+                from .need import ALL, EdgeNeed
+                structures.clear()
+                cache.clear()
+                explorer.lists_again(EdgeNeed(more, []) if more != ALL else ALL, atoms)
+                has_out, halts, relative_to = step_halts(explorer, explorer.n_states, on_error)
+                kripke(True)
         if any(kind == "ltl" and f is not None for _, kind, f, _ in checks):
             kripke(False)
     except (AtomError, AsmError) as e:

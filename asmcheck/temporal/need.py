@@ -1,0 +1,229 @@
+"""The successor lists the CTL check reads ("edge need").
+
+The CTL structure of a spec whose atoms read no monitored function has a node for each state s and
+each successor t of s (merged by the labels of s: :mod:`.kripke`); its labels are those of s, and
+its successors are the nodes leaving t.  The value of a CTL formula at node (s, t) depends on t only
+through the fixpoint steps taken there, and a fixpoint reads the list of state s only where it is
+evaluated as a step:
+
+* ``E[a U b]`` with ``a`` and ``b`` free of temporal operators: its value at (s, t) is
+  ``b(s) or (a(s) and E(t))`` with ``E(x) = b(x) or (a(x) and E(u) for some successor u of x)``:
+  it reads the lists of the states where ``a and not b`` holds;
+* ``E[a U b]`` with ``a`` free of temporal operators and ``b`` not: the lists of the ``a`` states
+  and those ``b`` reads;
+* ``EG a`` with ``a`` free of temporal operators: the fair components of the subgraph of ``a``
+  nodes, the lists of the ``a`` states;
+* ``EX a``, and an ``E[.. U ..]`` or ``EG`` over a temporal operand: every list.
+
+The witnesses and counterexamples (:meth:`asmcheck.temporal.ctl.CTL.explain`) read the same lists:
+a breadth-first path for ``E[a U b]`` expands only ``a and not b`` nodes, a lasso of ``EG a`` stays
+in ``a`` nodes, and the path that shows ``EG a`` false expands only ``a`` nodes.
+
+So where the condition (the disjunction of what every subformula reads) does not hold, the search
+keeps only the first entry of the state's list: every node leaving such a state has the same value
+for every subformula (its target is never read), so the one node left stands for them all (it is
+the first of them a breadth-first search meets), and the verdicts and the paths (state for state)
+are those of the whole state graph.  Two top-level forms (also as
+top-level conjuncts) are decided by the set of states alone, every stored state being reachable and
+the source of a node:
+
+* ``ag(p)`` (``not E[true U not p]``) holds iff every node satisfies ``p`` (for p free of temporal
+  operators: every state), which needs only the lists p reads;
+* ``ef(p)`` (``E[true U p]``) holds when every initial state satisfies ``p`` (known before the
+  search; otherwise it reads the lists of the ``not p`` states).
+
+``ag(p)`` reads nothing when so decided (``deferred``); otherwise the lists it reads (the ``p``
+states) are recorded by the search again.
+
+Anything else needs every list (:data:`ALL`): LTL, fairness constraints, ``--fair``, ``--graph``,
+INVAR constraints, atoms that read monitored functions, a formula that cannot be built."""
+from __future__ import annotations
+
+from .formula import FALSE, TRUE, And, Not, Or
+
+#: every list is read
+ALL = "all"
+
+
+def temporal_free(f) -> bool:
+    """Whether ``f`` is a boolean combination of atoms."""
+    op = f[0]
+    if op in ("true", "false", "ap"):
+        return True
+    if op in ("not", "and", "or"):
+        return all(temporal_free(x) for x in f[1:])
+    return False
+
+
+def reads(f):
+    """The condition (a formula over atoms) on the states whose lists the fixpoints of ``f`` and
+    their paths read; :data:`ALL` for every state."""
+    op = f[0]
+    if op in ("true", "false", "ap"):
+        return FALSE
+    if op in ("not", "and", "or"):
+        out = FALSE
+        for x in f[1:]:
+            r = reads(x)
+            if r == ALL:
+                return ALL
+            out = Or(out, r)
+        return out
+    if op == "EU" and temporal_free(f[1]) and temporal_free(f[2]):
+        return And(f[1], Not(f[2]))
+    if op == "EU" and temporal_free(f[1]):
+        # a temporal b: the steps are taken at a states (b's value at a node whose source is
+        # outside a and outside what b reads does not depend on the node's target)
+        r = reads(f[2])
+        return ALL if r == ALL else Or(f[1], r)
+    if op == "EG" and temporal_free(f[1]):
+        return f[1]
+    return ALL
+
+
+def deferred(f):
+    """("ag", p) for ``not E[true U not p]``, ("ef", p) for ``E[true U p]`` with p free of temporal
+    operators; None otherwise."""
+    if f[0] == "not" and f[1][0] == "EU" and f[1][1] == TRUE:
+        return ("ag", Not(f[1][2]))
+    if f[0] == "EU" and f[1] == TRUE and temporal_free(f[2]):
+        return ("ef", f[2])
+    return None
+
+
+def conjuncts(f) -> list:
+    """The top-level conjuncts of ``f``."""
+    if f[0] == "and":
+        return conjuncts(f[1]) + conjuncts(f[2])
+    return [f]
+
+
+class EdgeNeed:
+    """What the CTL check of a run reads: ``cond`` the condition on the states whose lists are
+    recorded (FALSE: none), ``later`` the top-level ``ag``/``ef`` properties decided by the set of
+    states, each with the condition it reads when the set does not decide it."""
+
+    def __init__(self, cond, later):
+        self.cond = cond
+        self.later = later          # [(kind "ag"/"ef", p)]
+
+    def atoms(self) -> list[int]:
+        out: set = set()
+        _atoms(self.cond, out)
+        return sorted(out)
+
+    def table(self, ids: list[int]) -> bytearray:
+        """The condition's truth table over the atoms ``ids``: entry ``x`` for the assignment
+        whose bit k is atom ids[k]."""
+        out = bytearray(1 << len(ids))
+        for x in range(len(out)):
+            val = {a: bool(x >> k & 1) for k, a in enumerate(ids)}
+            out[x] = 1 if evaluate(self.cond, val) else 0
+        return out
+
+
+def evaluate(f, val: dict) -> bool:
+    op = f[0]
+    if op == "true":
+        return True
+    if op == "false":
+        return False
+    if op == "ap":
+        return val[f[1]]
+    if op == "not":
+        return not evaluate(f[1], val)
+    if op == "and":
+        return evaluate(f[1], val) and evaluate(f[2], val)
+    if op == "or":
+        return evaluate(f[1], val) or evaluate(f[2], val)
+    raise ValueError(op)
+
+
+def _atoms(f, out: set) -> None:
+    if f[0] == "ap":
+        out.add(f[1])
+    for x in f[1:]:
+        if isinstance(x, tuple):
+            _atoms(x, out)
+
+
+def at_initial(f, atoms, machine, states) -> bool:
+    """Whether ``f`` (free of temporal operators) holds in every one of ``states`` (False when an atom
+    cannot be evaluated)."""
+    from ..errors import AsmError
+    from ..semantics.machine import Chooser, Ctx
+    ids: set = set()
+    _atoms(f, ids)
+    for st in states:
+        val = {}
+        for i in ids:
+            a = atoms.items[i]
+            ctx = Ctx(machine, st, Chooser())
+            ctx.env = dict(a.env) if a.env else {}
+            try:
+                val[i] = a.fn(ctx) is True
+            except AsmError:
+                return False
+        if not evaluate(f, val):
+            return False
+    return bool(states)
+
+
+def edge_need(checks, atoms, justice, compassion, invars, used, fair=(), graph=False, machine=None, initial=()):
+    """The :class:`EdgeNeed` of the LTL/CTL properties ``checks`` ((prop, kind, formula, error) as
+    :func:`asmcheck.temporal.formulas` gives them), or :data:`ALL`.  ``initial``: the initial states
+    (``ef(p)`` reads nothing when every one satisfies ``p``)."""
+    if graph or fair or justice or compassion or invars:
+        return ALL
+    if any(atoms.items[i].monitored for i in used):
+        return ALL
+    cond = FALSE
+    later = []
+    for _p, kind, f, err in checks:
+        if f is None or err or kind != "ctl":
+            return ALL
+        # a property holds where each of its top-level conjuncts does (forall $x with ag(..) is one)
+        for c in conjuncts(f):
+            d = deferred(c)
+            if d is not None and d[0] == "ag":
+                # decided by p's value at every node (p reads what it reads)
+                r = reads(d[1])
+                if r == ALL:
+                    return ALL
+                cond = Or(cond, r)
+                later.append(d)
+                continue
+            if d is not None and machine is not None and at_initial(d[1], atoms, machine, initial):
+                continue
+            r = reads(c)
+            if r == ALL:
+                return ALL
+            cond = Or(cond, r)
+    if cond == TRUE:
+        return ALL
+    return EdgeNeed(cond, later)
+
+
+def later_cond(kind: str, p):
+    """The lists ``ag(p)`` reads when a node breaks p: those of ``E[true U not p]``."""
+    return reads(("EU", TRUE, Not(p)))
+
+
+def state_set(f, labs: dict, n: int) -> bytearray:
+    """The states (of ``n``) where ``f``, free of temporal operators, holds; ``labs``: atom -> the
+    states where it holds."""
+    from .graph import b_and, b_not, b_or, full
+    op = f[0]
+    if op == "true":
+        return full(n)
+    if op == "false":
+        return bytearray(n)
+    if op == "ap":
+        return bytearray(labs[f[1]])
+    if op == "not":
+        return b_not(state_set(f[1], labs, n))
+    if op == "and":
+        return b_and(state_set(f[1], labs, n), state_set(f[2], labs, n))
+    if op == "or":
+        return b_or(state_set(f[1], labs, n), state_set(f[2], labs, n))
+    raise ValueError(op)
