@@ -227,3 +227,20 @@ def test_a_step_that_leaves_the_element_bits_as_they_were_keeps_its_state_canoni
     # Python engine's states, in the same order
     from test_native_extend import same_states
     assert same_states(tmp_path, REWRITE) == (16, 24, 11)
+
+
+@pytest.mark.parametrize("whole_keys", [False, True], ids=["differences", "whole"])
+def test_the_kept_canonical_forms_as_differences_or_whole_keys_give_the_same_states(tmp_path, monkeypatch,
+                                                                                     whole_keys):
+    # native_canon.c keeps a key of at most 64 words as its differences from the first key kept,
+    # and its result as the bits and words that differ; a longer key whole (forced here with
+    # -DCN_NO_DIFF): the Python engine's states, in the same order, either way
+    import os
+    from test_native_extend import FOREST, QUEUE, TOKENS, same_states
+    flags = os.environ.get("ASMCHECK_CFLAGS") or "-O1"
+    if whole_keys:
+        monkeypatch.setenv("ASMCHECK_CFLAGS", flags + " -DCN_NO_DIFF")
+    assert same_states(tmp_path, FOREST) == (476, 1088, 11)
+    assert same_states(tmp_path, QUEUE) == (14, 20, 9)
+    assert same_states(tmp_path, TOKENS) == (43, 74, 6)
+    assert same_states(tmp_path, REWRITE) == (16, 24, 11)

@@ -579,14 +579,41 @@ static uint64_t cn_key_hash(const V *k) {
 /* (an entry of the table: 31 high bits of the key's hash above the entry's offset in the pool,
    which stays below 2^25, so that most probes are decided without reading the pool; -1: empty) */
 #define CN_DFP(h) ((int64_t)((h) >> 33) << 32)
+#if CN_KL <= 64 && !defined(CN_NO_DIFF)
+/* Keys of at most 64 words are kept as their differences from the first key kept (the pool's
+ * first CN_KL words): an entry is the key's hash, the bits of the key's words that differ, those
+ * words, then the result: the bits of the words where the canonical successor differs from the
+ * key, then its words there.  Most of a key stays as it was from state to
+ * state (CompleteApplication: 51 words a key, 30-odd of them differ; 341 bytes an entry, not
+ * 561).  (-DCN_NO_DIFF in $ASMCHECK_CFLAGS: whole keys, as longer ones are kept; tests.) */
+#define CN_DIFF 1
+static inline uint64_t cn_key_diff(const V *base, const V *k, V *out, int *n) {
+    uint64_t m = 0;
+    int c = 0;
+    for (int i = 0; i < CN_KL; i++) if (k[i] != base[i]) { m |= 1ULL << i; out[c++] = k[i]; }
+    *n = c;
+    return m;
+}
+#endif
+/* the result kept for key k (see cn_done_add), or 0 */
 static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
-    if (!W->dtab) return 0;
+    if (!W->dtab || !W->dpool) return 0;
+#ifdef CN_DIFF
+    V dv[CN_KL];
+    int dn;
+    uint64_t dm = cn_key_diff(W->dpool, k, dv, &dn);
+#endif
     int64_t *tab = W->dtab, fp = CN_DFP(h);
     uint64_t m = W->dmask, i = h & m;
     while (tab[i] >= 0) {
         if ((tab[i] & ~(int64_t)0xffffffff) == fp) {
             const V *e = W->dpool + (tab[i] & 0xffffffff);
-            if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e;
+#ifdef CN_DIFF
+            if ((uint64_t)e[0] == h && (uint64_t)e[1] == dm && memcmp(e + 2, dv, (size_t)dn * sizeof(V)) == 0)
+                return e + 2 + dn;
+#else
+            if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e + CN_KL;
+#endif
         }
         i = (i + 1) & m;
     }
@@ -596,8 +623,17 @@ static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
 static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
     int nd = 0;
     for (int i = 0; i < CN_NKW; i++) if ((V)(w[CN_KW[i]] & CN_KMASK[i]) != k[i]) nd++;
-    int64_t size = CN_KL + 1 + 2 * nd;
-    if (W->dn >= (1 << 20) || W->dused + size > ((int64_t)1 << 25)) return;     /* enough kept */
+#ifdef CN_DIFF
+    V dv[CN_KL];
+    int dn = 0;
+    uint64_t dm = 0;
+    int64_t head = W->dused > 0 ? 0 : CN_KL;         /* the first key: the pool's header */
+    if (!head) dm = cn_key_diff(W->dpool, k, dv, &dn);
+    int64_t size = 2 + dn + 1 + nd;
+#else
+    int64_t head = 0, size = CN_KL + 1 + 2 * nd;
+#endif
+    if (W->dn >= (1 << 20) || W->dused + head + size > ((int64_t)1 << 25)) return;     /* enough kept */
     if ((W->dn + 1) * 2 > (int64_t)(W->dmask + 1)) {
         uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
         int64_t *t = (int64_t *)malloc(ncap * sizeof(int64_t));
@@ -605,26 +641,47 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
         memset(t, 0xff, ncap * sizeof(int64_t));
         for (uint64_t j = 0; W->dtab && j <= W->dmask; j++) {
             if (W->dtab[j] < 0) continue;
+#ifdef CN_DIFF
+            uint64_t i = (uint64_t)W->dpool[W->dtab[j] & 0xffffffff] & (ncap - 1);     /* (the hash kept) */
+#else
             uint64_t i = cn_key_hash(W->dpool + (W->dtab[j] & 0xffffffff)) & (ncap - 1);
+#endif
             while (t[i] >= 0) i = (i + 1) & (ncap - 1);
             t[i] = W->dtab[j];
         }
         free(W->dtab); W->dtab = t; W->dmask = ncap - 1;
     }
-    if (W->dused + size > W->dcap) {
+    if (W->dused + head + size > W->dcap) {
         int64_t nc = W->dcap ? W->dcap * 2 : 4096;
-        while (nc < W->dused + size) nc *= 2;
+        while (nc < W->dused + head + size) nc *= 2;
         V *p = (V *)realloc(W->dpool, nc * sizeof(V));
         if (!p) return;
         W->dpool = p; W->dcap = nc;
     }
+    if (head) { memcpy(W->dpool, k, CN_KL * sizeof(V)); W->dused = head; }
     V *e = W->dpool + W->dused;
+#ifdef CN_DIFF
+    e[0] = (V)h; e[1] = (V)dm;
+    memcpy(e + 2, dv, (size_t)dn * sizeof(V));
+    V *r = e + 2 + dn;
+#else
     memcpy(e, k, CN_KL * sizeof(V));
-    e[CN_KL] = nd;
-    for (int i = 0, q = CN_KL + 1; i < CN_NKW; i++) {
+    V *r = e + CN_KL;
+#endif
+#ifdef CN_DIFF
+    uint64_t rm = 0;          /* (the result: the bits of the words that differ, then the words) */
+    for (int i = 0, q = 1; i < CN_NKW; i++) {
         V x = (V)(w[CN_KW[i]] & CN_KMASK[i]);
-        if (x != k[i]) { e[q++] = i; e[q++] = x; }
+        if (x != k[i]) { rm |= 1ULL << i; r[q++] = x; }
     }
+    r[0] = (V)rm;
+#else
+    r[0] = nd;
+    for (int i = 0, q = 1; i < CN_NKW; i++) {
+        V x = (V)(w[CN_KW[i]] & CN_KMASK[i]);
+        if (x != k[i]) { r[q++] = i; r[q++] = x; }
+    }
+#endif
     uint64_t i = h & W->dmask;
     while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
     W->dtab[i] = CN_DFP(h) | W->dused;
@@ -671,10 +728,18 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     {
         const V *res = cn_done_find(W, key, kh);
         if (res) {
-            for (V q = 0; q < res[CN_KL]; q++) {
-                int i = (int)res[CN_KL + 1 + 2 * q];
-                w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[CN_KL + 2 + 2 * q];
+#ifdef CN_DIFF
+            int q = 1;
+            for (uint64_t rm = (uint64_t)res[0]; rm; rm &= rm - 1, q++) {
+                int i = __builtin_ctzll(rm);
+                w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[q];
             }
+#else
+            for (V q = 0; q < res[0]; q++) {
+                int i = (int)res[1 + 2 * q];
+                w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[2 + 2 * q];
+            }
+#endif
             return 0;
         }
     }
