@@ -381,7 +381,9 @@ def test_tombola():
 
 # ------------------------------------------------------------------ the corpus differential
 MAX_STATES = 3000       # a spec whose symmetric run needs more is outside the comparison
-MAX_SECONDS = 5         # the Python engine's time bound per spec
+MAX_SECONDS = 2         # the Python engine's time bound per spec (the compared specs take at most
+                        # about 1 s; 18 of the skipped ones spend the whole bound on one state)
+SHARDS = 4              # the differential runs as SHARDS tests, every SHARDS-th spec each
 
 
 def symmetric_specs() -> list:
@@ -428,14 +430,22 @@ def compare(path) -> tuple[str, str]:
     return "native", f"{py['states']} classes"
 
 
-@pytest.mark.slow
-@pytest.mark.corpus
-def test_corpus_differential():
+@pytest.fixture(scope="module")
+def all_symmetric_specs():
     if not ASMETA.exists():
         pytest.skip(f"the ASMETA corpus is not at {ASMETA}")
     specs = symmetric_specs()
     assert len(specs) >= 40
-    results = {str(p): compare(p) for p in specs}
+    return specs
+
+
+@pytest.mark.slow
+@pytest.mark.corpus
+@pytest.mark.parametrize("index", range(SHARDS))
+def test_corpus_differential(all_symmetric_specs, index):
+    """The corpus specs that get a symmetry (every SHARDS-th from ``index``): the same report on
+    both engines, native wherever the native canonical form allows."""
+    results = {str(p): compare(p) for p in all_symmetric_specs[index::SHARDS]}
     differs = {k: v for k, v in results.items() if v[0] == "differs"}
     assert not differs
     native = [k for k, v in results.items() if v[0] == "native"]
@@ -443,7 +453,8 @@ def test_corpus_differential():
     for k, (o, d) in results.items():
         if o == "python":
             assert "symmetry reduction (--symmetry) runs on the Python engine" in d or "cannot" in d, (k, d)
-    assert len(native) >= 10
+    # 25 of the 50 run native (this machine, 2026-11): at least 2 in each shard
+    assert len(native) >= 2, results
 
 
 if __name__ == "__main__":      # python tests/test_symmetry_native.py [SPEC...]: the differential's lines
