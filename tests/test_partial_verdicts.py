@@ -294,19 +294,24 @@ def test_with_sink_reads_lists_of_states_through_the_table_of_nodes():
 
 
 # ----------------------------------------------------------------- the corpus
+DIFF_SHARDS = 3        # the corpus differential runs as this many tests, every third spec each
+
+
 @pytest.mark.slow
 @pytest.mark.corpus
 @pytest.mark.engines("native")
-def test_corpus_differential():
-    """Every corpus spec with CTLSPEC/LTLSPEC that explores to the end within 10 s, at up to six
-    state bounds and three depth bounds, on the native engine and (up to 1,500 states) the Python
-    one: no verdict decided with a bound differs from the whole run's, and an undecided one is
-    incomplete (``python tests/partial_diff.py`` runs ten state bounds and five depth bounds)."""
+@pytest.mark.parametrize("index", range(DIFF_SHARDS))
+def test_corpus_differential(index):
+    """Every corpus spec with CTLSPEC/LTLSPEC that explores to the end within 10 s (every
+    DIFF_SHARDS-th from ``index``), at up to six state bounds and three depth bounds, on the native
+    engine and (up to 1,500 states) the Python one: no verdict decided with a bound differs from
+    the whole run's, and an undecided one is incomplete (``python tests/partial_diff.py`` runs ten
+    state bounds and five depth bounds)."""
     need_asmeta()
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from partial_diff import check_spec, corpus_specs
     wrong, decided, runs, specs = [], 0, 0, 0
-    for p in corpus_specs(ASMETA):
+    for p in corpus_specs(ASMETA)[index::DIFF_SHARDS]:
         r = check_spec(p, python_states=1500, few=True)
         if r["skipped"]:
             continue
@@ -315,7 +320,8 @@ def test_corpus_differential():
         decided += r["decided"]
         wrong += [(str(p.relative_to(ASMETA)),) + w for w in r["wrong"]]
     assert not wrong
-    assert specs >= 40 and runs >= 400 and decided >= 400, (specs, runs, decided)
+    # 53 specs, 1,308 runs and 1,115 decided verdicts over the three shards (2026-11)
+    assert specs >= 13 and runs >= 130 and decided >= 130, (specs, runs, decided)
 
 
 @pytest.mark.slow
