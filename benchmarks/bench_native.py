@@ -214,6 +214,11 @@ def _row(name, path, extra, r) -> dict:
         why = "killed at the time limit" if r["code"] is None else lines[-1][:200] if lines else ""
         row.update(engine="-", error=why)
         return row
+    if isinstance(res.get("error"), dict):
+        # the spec is refused (the report's error: a usage or input error, with its place)
+        e = res["error"]
+        row.update(engine="-", error=f"exit {r['code']}: line {e.get('line')}: {str(e.get('message', ''))[:160]}")
+        return row
     search = max(float(res.get("seconds") or 0.0), 1e-6)
     row.update(engine=res.get("engine", "?"), verdict=res.get("verdict"), states=res.get("states", 0),
                transitions=res.get("transitions", 0), search=res.get("seconds"),
