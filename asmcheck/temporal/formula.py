@@ -57,6 +57,16 @@ def span_text(span: Span | None, limit: int = 200) -> str:
 
 
 # ----------------------------------------------------------------- constructors (with simplification)
+def temporal_free(f) -> bool:
+    """Whether ``f`` is a boolean combination of atoms (a state formula: no temporal operator)."""
+    op = f[0]
+    if op in ("true", "false", "ap"):
+        return True
+    if op in ("not", "and", "or"):
+        return all(temporal_free(x) for x in f[1:])
+    return False
+
+
 def Not(f):
     if f[0] == "not":
         return f[1]

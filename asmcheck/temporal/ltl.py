@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections import deque
 
-from .formula import FALSE, TRUE, FormulaError
+from .formula import FALSE, TRUE, FormulaError, temporal_free
 from .graph import bfs_path, cover_cycle, fair_sccs
 
 _PAST = ("Y", "Z", "S", "T")
@@ -261,18 +261,9 @@ class LTLResult:
         self.automaton_states = automaton_states
 
 
-def _state_formula(f) -> bool:
-    op = f[0]
-    if op in ("true", "false", "ap"):
-        return True
-    if op in ("not", "and", "or"):
-        return all(_state_formula(x) for x in f[1:])
-    return False
-
-
 def _gf(f):
     """p when f is g(f(p)) with p a state formula, else None."""
-    if f[0] == "R" and f[1] == FALSE and f[2][0] == "U" and f[2][1] == TRUE and _state_formula(f[2][2]):
+    if f[0] == "R" and f[1] == FALSE and f[2][0] == "U" and f[2][1] == TRUE and temporal_free(f[2][2]):
         return f[2][2]
     return None
 

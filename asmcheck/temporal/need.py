@@ -41,20 +41,10 @@ Anything else needs every list (:data:`ALL`): LTL, fairness constraints, ``--fai
 INVAR constraints, atoms that read monitored functions, a formula that cannot be built."""
 from __future__ import annotations
 
-from .formula import FALSE, TRUE, And, Not, Or
+from .formula import FALSE, TRUE, And, Not, Or, temporal_free
 
 #: every list is read
 ALL = "all"
-
-
-def temporal_free(f) -> bool:
-    """Whether ``f`` is a boolean combination of atoms."""
-    op = f[0]
-    if op in ("true", "false", "ap"):
-        return True
-    if op in ("not", "and", "or"):
-        return all(temporal_free(x) for x in f[1:])
-    return False
 
 
 def reads(f):
