@@ -329,7 +329,7 @@ def test_a_failing_step_gives_the_sequential_report_whatever_the_workers(write_s
     crashed the run.)"""
     import asmcheck
     run = asmcheck.load(write_spec(CLASH_ON_INPUT)).explore(workers=workers, engine="python")
-    assert (run.states, run.transitions, run.verdict) == (4, 4, "violated")
+    assert (run.states, run.transitions, run.verdict) == (4, 4, "violated"), (run.result.reason, run.result.stop)
     assert [v.property for v in run.violations] == ["error", "inv_small"]
     assert [len(v.trace.raw.steps) - 1 for v in run.violations] == [1, 3]
     assert run.scaling_lines() == []
