@@ -281,11 +281,39 @@ def test_a_worker_over_its_memory_share_ends_with_a_partial_report(monkeypatch):
     assert (rr.states, rr.transitions) == (113, 175)
 
 
-def test_cli_worker_memory_gives_exit_3():
-    r = run_cli("explore", "specs/sb_async_master.asm", "--workers", "2", "--worker-memory", "1", "--engine", "python")
+FAN = """asm Fan
+import StandardLibrary
+signature:
+	domain Wide subsetof Integer
+	controlled x: Wide
+	monitored pick: Wide
+definitions:
+	domain Wide = {0 : 199999}
+	invariant inv_x over x: x >= 0
+	main rule r_main = x := pick
+default init s0:
+	function x = 0
+"""
+
+
+def test_cli_worker_memory_gives_exit_3(write_spec):
+    # 200,000 successors of the initial state: each worker adds far more than 1 MB when it takes
+    # its half of level 1 (the share counts what a worker adds, not what it was forked with)
+    r = run_cli("explore", write_spec(FAN), "--workers", "2", "--worker-memory", "1", "--engine", "python")
     assert r.returncode == 3, r.stderr
-    assert "incomplete: worker 1 went over its memory share at depth 0" in r.stdout
+    assert "incomplete: worker 1 went over its memory share at depth 1" in r.stdout
     assert r.stdout.rstrip().endswith("verdict: incomplete")
+
+
+def test_a_worker_forked_from_a_large_process_is_not_charged_for_its_pages(write_spec):
+    """The forked workers inherit the calling process's pages (shared until written): a share of
+    200 MB each is of what a worker adds.  It was charged for the caller's 300 MB and stopped at
+    depth 0 with 1 state ('worker 1 went over its memory share at depth 0')."""
+    import asmcheck
+    ballast = b"\x01" * (300 << 20)          # resident: every page written
+    run = asmcheck.load(write_spec(CLASH_ON_INPUT)).explore(workers=2, engine="python", max_memory=400 << 20)
+    assert len(ballast) == 300 << 20
+    assert (run.states, run.transitions, run.verdict) == (4, 4, "violated"), (run.result.reason, run.result.stop)
 
 
 def test_a_time_limit_stops_at_a_level_boundary(tmp_path):

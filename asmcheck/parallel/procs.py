@@ -11,13 +11,17 @@ import os
 import signal
 import traceback
 
-from .partition import Partition
+from .partition import Partition, rss_bytes
 from .search import WorkerLost
 
 
 def _serve(conn, wid, n, make_expander, memory_share, keep_graph):
+    # the worker's share is of the memory it adds: the pages it was forked with are the calling
+    # process's (shared until written), however large that process has grown
+    inherited = rss_bytes()
     try:
-        part = Partition(wid, n, make_expander(), memory_share, keep_graph)
+        share = memory_share + inherited if memory_share is not None else None
+        part = Partition(wid, n, make_expander(), share, keep_graph)
     except BaseException as e:  # pragma: no cover - reported to the coordinator
         conn.send(("err", f"{type(e).__name__}: {e}"))
         return
