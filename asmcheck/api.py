@@ -27,7 +27,7 @@ from pathlib import Path
 from .errors import AsmError, UsageError, interrupt_reason
 from .parallel import parse_workers  # noqa: F401  (re-exported: --workers N|auto)
 from .options import default_max_memory, monitored_ranges, parse_int_range, parse_range  # noqa: F401
-from .explore.bfs import Explorer, ReplayError, Result, Stop, TimeLimit, TimeUp
+from .explore.bfs import Explorer, ReplayError, Result, Stop, TimeLimit, TimeUp, memory_text
 from .explore.store import memory_in_use  # noqa: F401  (part of the API)
 from .semantics.choice import DeadlineReached
 from .props.files import properties_for, strip_comments
@@ -756,7 +756,7 @@ def _partial_temporal(ex, temporal, fair, result, max_seconds, begin, machine, m
         used = memory_in_use() or 0
         if used + need > max_memory:
             result.reason = (f"{result.reason}; no memory left to decide LTL/CTL properties on the states explored "
-                             f"(about {need / 2**20:,.0f} MB more, over the bound of {max_memory / 2**20:,.0f} MB): "
+                             f"(about {memory_text(need)} more, over the bound of {memory_text(max_memory)}): "
                              f"bound the search with --max-states")
             return [], note
     if getattr(ex, "lists_kept", "all") != "all":
