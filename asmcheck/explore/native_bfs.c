@@ -2008,7 +2008,7 @@ static int64_t canon_bytes(void) {
         if (!w) continue;
         b += (int64_t)sizeof(CnW) + (w->memo ? (int64_t)(w->mmask + 1) * (int64_t)sizeof(CnMemo) : 0)
              + w->mtext.cap + w->tb.cap + (int64_t)w->capsp * (int64_t)sizeof(CnSpan)
-             + w->dcap * (int64_t)sizeof(V) + (w->dtab ? (int64_t)(w->dmask + 1) * (int64_t)sizeof(int64_t) : 0);
+             + w->dcap + (w->dtab ? (int64_t)(w->dmask + 1) * (int64_t)sizeof(int64_t) : 0);
     }
     return b;
 #else

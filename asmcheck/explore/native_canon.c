@@ -46,7 +46,7 @@ typedef struct {
     V val[NSLOTS > 0 ? NSLOTS : 1], new_[NSLOTS > 0 ? NSLOTS : 1];
     CnMemo *memo; uint64_t mmask, mcount; CnBuf mtext;       /* texts of round 0 */
     CnBuf tb; CnSpan *sp; int nsp, capsp;                    /* the texts of this round */
-    V *dpool; int64_t dn, dused, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept */
+    uint8_t *dpool; int64_t dn, dused, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept (bytes) */
     int64_t my_search;
     /* the elements made in this run of the step (fgen): domain, number, the seq step that made
        them (restamped to the enclosing step when a seq block ends, as updates are); the ones a
@@ -555,12 +555,21 @@ static int cn_add_span(CnW *W, int off, int len) {
 
 static inline V slot_decode(int s, V code);
 
-/* Canonical forms already worked out, one entry each in a pool: key (the bits of the words
- * that hold locations that may hold elements or counts, CN_KMASK, then the counts of this
- * step), then the same bits of the canonical successor where they differ from the key's: their
- * number, then pairs (position among the CN_KW words, bits).  The table holds the entries'
- * offsets. */
+/* Canonical forms already worked out (a cache: most successors' keys were met before).  The key:
+ * the bits of the words that hold locations that may hold elements or counts (CN_KMASK), then
+ * the counts of this step; the result: the same bits of the canonical successor.  Kept in a pool
+ * of bytes, whose head is the first key kept (the base): an entry is its key's length (a
+ * varint), the key, then the result.  A key is a bitmap of the words that differ from the base's
+ * (CN_KB bytes), then each such word's xor with the base's as its nonzero bytes (a bitmap of
+ * them, then the bytes: cn_put_word); the result the same, against the key.  Most of a key
+ * stays as it was from state to state, and a word that changes changes in a few bytes
+ * (CompleteApplication: 51 words a key, 30-odd of them differ from the base's, in 2 or 3 bytes
+ * each).  With -DCN_NO_DIFF in $ASMCHECK_CFLAGS (tests) a key is its words whole.  The table
+ * holds the entries' offsets under 31 bits of the key's hash, which also place them. */
 #define CN_KL (CN_NKW + CN_NDYN)
+#define CN_KB ((CN_KL + 7) / 8)                /* bytes of a bitmap over the key's words */
+#define CN_ENC_MAX (CN_KB + 9 * CN_KL + 8)     /* an encoded key at most (and room to spare) */
+#define CN_POOL_MAX ((int64_t)1 << 28)         /* bytes kept at most (offsets below 2^32) */
 
 static uint64_t cn_key_hash(const V *k) {
     /* four lanes, so that the multiplications overlap (as hash_state) */
@@ -576,76 +585,83 @@ static uint64_t cn_key_hash(const V *k) {
     for (; i < CN_KL; i++) h = cn_mix(h ^ (uint64_t)k[i]);
     return h;
 }
-/* (an entry of the table: 31 high bits of the key's hash above the entry's offset in the pool,
-   which stays below 2^25, so that most probes are decided without reading the pool; -1: empty) */
-#define CN_DFP(h) ((int64_t)((h) >> 33) << 32)
-#if CN_KL <= 64 && !defined(CN_NO_DIFF)
-/* Keys of at most 64 words are kept as their differences from the first key kept (the pool's
- * first CN_KL words): an entry is the key's hash, the bits of the key's words that differ, those
- * words, then the result: the bits of the words where the canonical successor differs from the
- * key, then its words there.  Most of a key stays as it was from state to
- * state (CompleteApplication: 51 words a key, 30-odd of them differ; 341 bytes an entry, not
- * 561).  (-DCN_NO_DIFF in $ASMCHECK_CFLAGS: whole keys, as longer ones are kept; tests.) */
-#define CN_DIFF 1
-static inline uint64_t cn_key_diff(const V *base, const V *k, V *out, int *n) {
-    uint64_t m = 0;
-    int c = 0;
-    for (int i = 0; i < CN_KL; i++) if (k[i] != base[i]) { m |= 1ULL << i; out[c++] = k[i]; }
-    *n = c;
-    return m;
+/* (an entry of the table: 31 high bits of the key's hash above the entry's offset in the pool;
+   its place is taken from the same bits, so that a bigger table is filled from the entries
+   alone; -1: empty) */
+#define CN_DFP(h) ((int64_t)((h) >> 33))
+
+/* the nonzero word d as the bitmap of its nonzero bytes, then those bytes (low first) at o; the
+   number of bytes written */
+static inline int cn_put_word(uint8_t *o, uint64_t d) {
+    uint64_t t = d | (d >> 4);
+    t |= t >> 2;
+    t |= t >> 1;
+    t &= 0x0101010101010101ULL;
+    unsigned bm = (unsigned)((t * 0x0102040810204080ULL) >> 56);     /* (bit j: byte j is nonzero) */
+    o[0] = (uint8_t)bm;
+    int n = 1;
+    for (unsigned m = bm; m; m &= m - 1) o[n++] = (uint8_t)(d >> (8 * __builtin_ctz(m)));
+    return n;
 }
-#endif
-/* the result kept for key k (see cn_done_add), or 0 */
-static const V *cn_done_find(CnW *W, const V *k, uint64_t h) {
-    if (!W->dtab || !W->dpool) return 0;
-#ifdef CN_DIFF
-    V dv[CN_KL];
-    int dn;
-    uint64_t dm = cn_key_diff(W->dpool, k, dv, &dn);
-#endif
-    int64_t *tab = W->dtab, fp = CN_DFP(h);
-    uint64_t m = W->dmask, i = h & m;
-    while (tab[i] >= 0) {
-        if ((tab[i] & ~(int64_t)0xffffffff) == fp) {
-            const V *e = W->dpool + (tab[i] & 0xffffffff);
-#ifdef CN_DIFF
-            if ((uint64_t)e[0] == h && (uint64_t)e[1] == dm && memcmp(e + 2, dv, (size_t)dn * sizeof(V)) == 0)
-                return e + 2 + dn;
+static inline uint64_t cn_get_word(const uint8_t **p) {
+    const uint8_t *q = *p;
+    uint64_t d = 0;
+    for (unsigned m = *q++; m; m &= m - 1) d |= (uint64_t)*q++ << (8 * __builtin_ctz(m));
+    *p = q;
+    return d;
+}
+
+/* the key k encoded at o (see above; base: the pool's head); its length */
+static int cn_key_enc(const V *base, const V *k, uint8_t *o) {
+#ifdef CN_NO_DIFF
+    (void)base;
+    memcpy(o, k, CN_KL * sizeof(V));
+    return (int)(CN_KL * sizeof(V));
 #else
-            if (memcmp(e, k, CN_KL * sizeof(V)) == 0) return e + CN_KL;
+    memset(o, 0, CN_KB);
+    int n = CN_KB;
+    for (int i = 0; i < CN_KL; i++) {
+        uint64_t d = (uint64_t)k[i] ^ (uint64_t)base[i];
+        if (d) { o[i >> 3] |= (uint8_t)(1u << (i & 7)); n += cn_put_word(o + n, d); }
+    }
+    return n;
 #endif
+}
+
+/* the result kept for the key k (encoded as enc, *elen bytes, when the pool has a base: else
+   *elen is 0), or 0 */
+static const uint8_t *cn_done_find(CnW *W, const V *k, uint64_t h, uint8_t *enc, int *elen) {
+    *elen = 0;
+    if (!W->dtab || !W->dpool) return 0;
+    int n = cn_key_enc((const V *)W->dpool, k, enc);
+    *elen = n;
+    int64_t *tab = W->dtab, fp = CN_DFP(h);
+    uint64_t m = W->dmask, i = (uint64_t)fp & m;
+    while (tab[i] >= 0) {
+        if ((tab[i] >> 32) == fp) {
+            const uint8_t *e = W->dpool + (tab[i] & 0xffffffff);
+            int len = 0, sh = 0;
+            for (;; sh += 7) { uint8_t b = *e++; len |= (int)(b & 0x7f) << sh; if (!(b & 0x80)) break; }
+            if (len == n && memcmp(e, enc, (size_t)n) == 0) return e + n;
         }
         i = (i + 1) & m;
     }
     return 0;
 }
-/* the canonical successor w of key k */
-static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
-    int nd = 0;
-    for (int i = 0; i < CN_NKW; i++) if ((V)(w[CN_KW[i]] & CN_KMASK[i]) != k[i]) nd++;
-#ifdef CN_DIFF
-    V dv[CN_KL];
-    int dn = 0;
-    uint64_t dm = 0;
-    int64_t head = W->dused > 0 ? 0 : CN_KL;         /* the first key: the pool's header */
-    if (!head) dm = cn_key_diff(W->dpool, k, dv, &dn);
-    int64_t size = 2 + dn + 1 + nd;
-#else
-    int64_t head = 0, size = CN_KL + 1 + 2 * nd;
-#endif
-    if (W->dn >= (1 << 20) || W->dused + head + size > ((int64_t)1 << 25)) return;     /* enough kept */
-    if ((W->dn + 1) * 2 > (int64_t)(W->dmask + 1)) {
+/* the canonical successor w of the key k (encoded as enc, elen bytes; 0: not yet) */
+static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w, uint8_t *enc, int elen) {
+    int64_t head = W->dused > 0 ? 0 : (int64_t)(CN_KL * sizeof(V));     /* the first key: the base */
+    if (head || !elen) elen = cn_key_enc(head ? k : (const V *)W->dpool, k, enc);
+    int64_t size = 5 + elen + CN_KB + 9 * CN_NKW;          /* at most (the varint, the key, the result) */
+    if (W->dn >= (1 << 20) || W->dused + head + size > CN_POOL_MAX) return;     /* enough kept */
+    if ((W->dn + 1) * 4 > (int64_t)(W->dmask + 1) * 3) {
         uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
         int64_t *t = (int64_t *)malloc(ncap * sizeof(int64_t));
         if (!t) return;
         memset(t, 0xff, ncap * sizeof(int64_t));
         for (uint64_t j = 0; W->dtab && j <= W->dmask; j++) {
             if (W->dtab[j] < 0) continue;
-#ifdef CN_DIFF
-            uint64_t i = (uint64_t)W->dpool[W->dtab[j] & 0xffffffff] & (ncap - 1);     /* (the hash kept) */
-#else
-            uint64_t i = cn_key_hash(W->dpool + (W->dtab[j] & 0xffffffff)) & (ncap - 1);
-#endif
+            uint64_t i = (uint64_t)(W->dtab[j] >> 32) & (ncap - 1);
             while (t[i] >= 0) i = (i + 1) & (ncap - 1);
             t[i] = W->dtab[j];
         }
@@ -654,38 +670,30 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
     if (W->dused + head + size > W->dcap) {
         int64_t nc = W->dcap ? W->dcap * 2 : 4096;
         while (nc < W->dused + head + size) nc *= 2;
-        V *p = (V *)realloc(W->dpool, nc * sizeof(V));
+        uint8_t *p = (uint8_t *)realloc(W->dpool, (size_t)nc);
         if (!p) return;
         W->dpool = p; W->dcap = nc;
     }
     if (head) { memcpy(W->dpool, k, CN_KL * sizeof(V)); W->dused = head; }
-    V *e = W->dpool + W->dused;
-#ifdef CN_DIFF
-    e[0] = (V)h; e[1] = (V)dm;
-    memcpy(e + 2, dv, (size_t)dn * sizeof(V));
-    V *r = e + 2 + dn;
-#else
-    memcpy(e, k, CN_KL * sizeof(V));
-    V *r = e + CN_KL;
-#endif
-#ifdef CN_DIFF
-    uint64_t rm = 0;          /* (the result: the bits of the words that differ, then the words) */
-    for (int i = 0, q = 1; i < CN_NKW; i++) {
-        V x = (V)(w[CN_KW[i]] & CN_KMASK[i]);
-        if (x != k[i]) { rm |= 1ULL << i; r[q++] = x; }
+    uint8_t *e = W->dpool + W->dused, *o = e;
+    for (uint32_t x = (uint32_t)elen; ; x >>= 7) {
+        if (x < 0x80) { *o++ = (uint8_t)x; break; }
+        *o++ = (uint8_t)(x | 0x80);
     }
-    r[0] = (V)rm;
-#else
-    r[0] = nd;
-    for (int i = 0, q = 1; i < CN_NKW; i++) {
-        V x = (V)(w[CN_KW[i]] & CN_KMASK[i]);
-        if (x != k[i]) { r[q++] = i; r[q++] = x; }
+    memcpy(o, enc, (size_t)elen);
+    o += elen;
+    uint8_t *r = o;          /* the result: the bitmap of the words that differ from the key's, then them */
+    memset(r, 0, CN_KB);
+    o += CN_KB;
+    for (int i = 0; i < CN_NKW; i++) {
+        uint64_t d = (w[CN_KW[i]] & CN_KMASK[i]) ^ (uint64_t)k[i];
+        if (d) { r[i >> 3] |= (uint8_t)(1u << (i & 7)); o += cn_put_word(o, d); }
     }
-#endif
-    uint64_t i = h & W->dmask;
+    int64_t fp = CN_DFP(h);
+    uint64_t i = (uint64_t)fp & W->dmask;
     while (W->dtab[i] >= 0) i = (i + 1) & W->dmask;
-    W->dtab[i] = CN_DFP(h) | W->dused;
-    W->dused += size;
+    W->dtab[i] = (fp << 32) | W->dused;
+    W->dused += o - e;
     W->dn++;
 }
 
@@ -725,21 +733,18 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int i = 0; i < CN_NKW; i++) key[i] = (V)(w[CN_KW[i]] & CN_KMASK[i]);
     for (int d = 0; d < CN_NDYN; d++) key[CN_NKW + d] = n[d];
     uint64_t kh = cn_key_hash(key);
+    uint8_t kenc[CN_ENC_MAX];
+    int kelen = 0;
     {
-        const V *res = cn_done_find(W, key, kh);
+        const uint8_t *res = cn_done_find(W, key, kh, kenc, &kelen);
         if (res) {
-#ifdef CN_DIFF
-            int q = 1;
-            for (uint64_t rm = (uint64_t)res[0]; rm; rm &= rm - 1, q++) {
-                int i = __builtin_ctzll(rm);
-                w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[q];
-            }
-#else
-            for (V q = 0; q < res[0]; q++) {
-                int i = (int)res[1 + 2 * q];
-                w[CN_KW[i]] = (w[CN_KW[i]] & ~CN_KMASK[i]) | (uint64_t)res[2 + 2 * q];
-            }
-#endif
+            /* (the words of the result: the key's, whose xor the entry keeps) */
+            const uint8_t *q = res + CN_KB;
+            for (int b = 0; b < CN_KB; b++)
+                for (unsigned m = res[b]; m; m &= m - 1) {
+                    int i = 8 * b + __builtin_ctz(m);
+                    w[CN_KW[i]] ^= cn_get_word(&q);
+                }
             return 0;
         }
     }
@@ -886,7 +891,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (k != els[i].num) changed = 1;
     }
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)W->val[CN_COUNT_SLOT[d]]) changed = 1;
-    if (!changed) { cn_done_add(W, key, kh, w); return 0; }
+    if (!changed) { cn_done_add(W, key, kh, w, kenc, kelen); return 0; }
     /* rebuild: locations over elements move with them, values are renamed */
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
@@ -922,7 +927,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
     }
-    cn_done_add(W, key, kh, w);
+    cn_done_add(W, key, kh, w, kenc, kelen);
     return 0;
 }
 
@@ -932,6 +937,18 @@ static int canon_state(Ctx *c, uint64_t *w) {
        one thread, no reason to give) */
     if (r && !vt_missed) cn_why(r, 0);
     return r;
+}
+
+/* the canonical-form tables of the first search context (tests, benchmarks): out[0] forms kept,
+   [1] their pool's bytes in use, [2] its bytes allocated, [3] their table's entries, [4] round-0
+   texts kept, [5] their table's entries, [6] their bytes allocated, [7] words of a key (CN_KL) */
+void asm_canon_stats(int64_t *out) {
+    for (int i = 0; i < 8; i++) out[i] = 0;
+    out[7] = CN_KL;
+    CnW *w = cn_ws[0].w;
+    if (!w) return;
+    out[0] = w->dn; out[1] = w->dused; out[2] = w->dcap; out[3] = w->dtab ? (int64_t)w->dmask + 1 : 0;
+    out[4] = (int64_t)w->mcount; out[5] = w->memo ? (int64_t)w->mmask + 1 : 0; out[6] = w->mtext.cap;
 }
 
 int64_t asm_canon_reason(int64_t *out) { int r = cn_reason; out[0] = cn_reason_dom; cn_reason = 0; return r; }
