@@ -472,7 +472,7 @@ static inline uint64_t cn_mix(uint64_t z) {
 }
 
 static int cn_memo_grow(CnW *W) {
-    uint64_t ncap = W->mmask ? (W->mmask + 1) * 2 : 4096;
+    uint64_t ncap = W->mmask ? (W->mmask + 1) * 2 : 256;
     CnMemo *t = (CnMemo *)malloc(ncap * sizeof(CnMemo));
     if (!t) return 0;
     for (uint64_t i = 0; i < ncap; i++) t[i].slot = -1;
@@ -559,16 +559,19 @@ static inline V slot_decode(int s, V code);
  * the bits of the words that hold locations that may hold elements or counts (CN_KMASK), then
  * the counts of this step; the result: the same bits of the canonical successor.  Kept in a pool
  * of bytes, whose head is the first key kept (the base): an entry is its key's length (a
- * varint), the key, then the result.  A key is a bitmap of the words that differ from the base's
- * (CN_KB bytes), then each such word's xor with the base's as its nonzero bytes (a bitmap of
- * them, then the bytes: cn_put_word); the result the same, against the key.  Most of a key
- * stays as it was from state to state, and a word that changes changes in a few bytes
- * (CompleteApplication: 51 words a key, 30-odd of them differ from the base's, in 2 or 3 bytes
- * each).  With -DCN_NO_DIFF in $ASMCHECK_CFLAGS (tests) a key is its words whole.  The table
- * holds the entries' offsets under 31 bits of the key's hash, which also place them. */
+ * varint), the key, then the result.  A key is, per word, the number of low bytes its xor with
+ * the base's word takes (0 to 8, half a byte a word: CN_KN bytes), then those bytes, word after
+ * word; the result is the bitmap of the words where it differs from the key (CN_KB bytes), then
+ * for each the number of low bytes its xor with the key's word takes and those bytes.  Most of
+ * a key stays as it was from state to state (CompleteApplication: 51 words a key, 30-odd of
+ * them differ from the base's; an entry takes about 150 bytes, not 341 as whole differing
+ * words); the key is made without a branch on the bytes (it is made at every look-up).  With
+ * -DCN_NO_DIFF in $ASMCHECK_CFLAGS (tests) a key is its words whole.  The table holds the
+ * entries' offsets under 31 bits of the key's hash, which also place them. */
 #define CN_KL (CN_NKW + CN_NDYN)
-#define CN_KB ((CN_KL + 7) / 8)                /* bytes of a bitmap over the key's words */
-#define CN_ENC_MAX (CN_KB + 9 * CN_KL + 8)     /* an encoded key at most (and room to spare) */
+#define CN_KN ((CN_KL + 1) / 2)                /* bytes of the key's lengths (half a byte a word) */
+#define CN_KB ((CN_NKW + 7) / 8)               /* bytes of a bitmap over the words of a result */
+#define CN_ENC_MAX (CN_KN + 8 * CN_KL + 8)     /* an encoded key at most (and 8 bytes written past it) */
 #define CN_POOL_MAX ((int64_t)1 << 28)         /* bytes kept at most (offsets below 2^32) */
 
 static uint64_t cn_key_hash(const V *k) {
@@ -590,51 +593,74 @@ static uint64_t cn_key_hash(const V *k) {
    alone; -1: empty) */
 #define CN_DFP(h) ((int64_t)((h) >> 33))
 
-/* the nonzero word d as the bitmap of its nonzero bytes, then those bytes (low first) at o; the
-   number of bytes written */
-static inline int cn_put_word(uint8_t *o, uint64_t d) {
-    uint64_t t = d | (d >> 4);
-    t |= t >> 2;
-    t |= t >> 1;
-    t &= 0x0101010101010101ULL;
-    unsigned bm = (unsigned)((t * 0x0102040810204080ULL) >> 56);     /* (bit j: byte j is nonzero) */
-    o[0] = (uint8_t)bm;
-    int n = 1;
-    for (unsigned m = bm; m; m &= m - 1) o[n++] = (uint8_t)(d >> (8 * __builtin_ctz(m)));
-    return n;
-}
-static inline uint64_t cn_get_word(const uint8_t **p) {
-    const uint8_t *q = *p;
-    uint64_t d = 0;
-    for (unsigned m = *q++; m; m &= m - 1) d |= (uint64_t)*q++ << (8 * __builtin_ctz(m));
-    *p = q;
-    return d;
+/* the number of low bytes the word d takes (0 for 0) */
+static inline int cn_len(uint64_t d) { return ((71 - __builtin_clzll(d | 1)) >> 3) & -(int)(d != 0); }
+/* the low n bytes (1 to 8) at q, 8 bytes readable there */
+static inline uint64_t cn_low(const uint8_t *q, int n) {
+    uint64_t d;
+    memcpy(&d, q, 8);
+    return d & (~0ULL >> (64 - 8 * n));
 }
 
-/* the key k encoded at o (see above; base: the pool's head); its length */
+/* the key k encoded at o (see above; base: the pool's head), writing up to 8 bytes past it; its
+   length */
 static int cn_key_enc(const V *base, const V *k, uint8_t *o) {
 #ifdef CN_NO_DIFF
     (void)base;
     memcpy(o, k, CN_KL * sizeof(V));
     return (int)(CN_KL * sizeof(V));
 #else
-    memset(o, 0, CN_KB);
-    int n = CN_KB;
-    for (int i = 0; i < CN_KL; i++) {
-        uint64_t d = (uint64_t)k[i] ^ (uint64_t)base[i];
-        if (d) { o[i >> 3] |= (uint8_t)(1u << (i & 7)); n += cn_put_word(o + n, d); }
+    uint8_t *p = o + CN_KN;
+    for (int i = 0; i < CN_KL; i += 2) {
+        uint64_t d0 = (uint64_t)k[i] ^ (uint64_t)base[i];
+        int n0 = cn_len(d0);
+        memcpy(p, &d0, 8);
+        p += n0;
+        int n1 = 0;
+        if (i + 1 < CN_KL) {
+            uint64_t d1 = (uint64_t)k[i + 1] ^ (uint64_t)base[i + 1];
+            n1 = cn_len(d1);
+            memcpy(p, &d1, 8);
+            p += n1;
+        }
+        o[i >> 1] = (uint8_t)(n0 | (n1 << 4));
     }
-    return n;
+    return (int)(p - o);
 #endif
 }
 
-/* the result kept for the key k (encoded as enc, *elen bytes, when the pool has a base: else
-   *elen is 0), or 0 */
-static const uint8_t *cn_done_find(CnW *W, const V *k, uint64_t h, uint8_t *enc, int *elen) {
-    *elen = 0;
+/* is the entry's key at e (see above) the key k (base: the pool's head)?  (read where it is kept,
+   without making k's encoding: most look-ups find their key) */
+static const uint64_t CN_LOW[9] = {0, 0xffULL, 0xffffULL, 0xffffffULL, 0xffffffffULL, 0xffffffffffULL,
+                                   0xffffffffffffULL, 0xffffffffffffffULL, ~0ULL};
+static inline int cn_key_eq(const V *base, const V *k, const uint8_t *e, int len) {
+#ifdef CN_NO_DIFF
+    (void)base;
+    return len == (int)(CN_KL * sizeof(V)) && memcmp(e, k, CN_KL * sizeof(V)) == 0;
+#else
+    /* (no branch inside: a key that passed the hash's bits is almost always the key) */
+    const uint8_t *p = e + CN_KN;
+    uint64_t diff = 0;
+    for (int i = 0; i < CN_KL; i += 2) {
+        int nb = e[i >> 1], n0 = nb & 15, n1 = nb >> 4;
+        uint64_t x;
+        memcpy(&x, p, 8);
+        diff |= ((uint64_t)k[i] ^ (uint64_t)base[i]) ^ (x & CN_LOW[n0]);
+        p += n0;
+        if (i + 1 < CN_KL) {
+            memcpy(&x, p, 8);
+            diff |= ((uint64_t)k[i + 1] ^ (uint64_t)base[i + 1]) ^ (x & CN_LOW[n1]);
+            p += n1;
+        }
+    }
+    if (diff) return 0;
+    return p - e == len;
+#endif
+}
+
+/* the result kept for the key k, or 0 */
+static const uint8_t *cn_done_find(CnW *W, const V *k, uint64_t h) {
     if (!W->dtab || !W->dpool) return 0;
-    int n = cn_key_enc((const V *)W->dpool, k, enc);
-    *elen = n;
     int64_t *tab = W->dtab, fp = CN_DFP(h);
     uint64_t m = W->dmask, i = (uint64_t)fp & m;
     while (tab[i] >= 0) {
@@ -642,17 +668,19 @@ static const uint8_t *cn_done_find(CnW *W, const V *k, uint64_t h, uint8_t *enc,
             const uint8_t *e = W->dpool + (tab[i] & 0xffffffff);
             int len = 0, sh = 0;
             for (;; sh += 7) { uint8_t b = *e++; len |= (int)(b & 0x7f) << sh; if (!(b & 0x80)) break; }
-            if (len == n && memcmp(e, enc, (size_t)n) == 0) return e + n;
+            if (cn_key_eq((const V *)W->dpool, k, e, len)) return e + len;
         }
         i = (i + 1) & m;
     }
     return 0;
 }
-/* the canonical successor w of the key k (encoded as enc, elen bytes; 0: not yet) */
-static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w, uint8_t *enc, int elen) {
+/* the canonical successor w of the key k */
+static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w) {
     int64_t head = W->dused > 0 ? 0 : (int64_t)(CN_KL * sizeof(V));     /* the first key: the base */
-    if (head || !elen) elen = cn_key_enc(head ? k : (const V *)W->dpool, k, enc);
-    int64_t size = 5 + elen + CN_KB + 9 * CN_NKW;          /* at most (the varint, the key, the result) */
+    uint8_t enc[CN_ENC_MAX];
+    int elen = cn_key_enc(head ? k : (const V *)W->dpool, k, enc);
+    int64_t size = 5 + elen + CN_KB + 9 * CN_NKW + 8;      /* at most (the varint, the key, the result, 8 bytes
+                                                              written or read past it) */
     if (W->dn >= (1 << 20) || W->dused + head + size > CN_POOL_MAX) return;     /* enough kept */
     if ((W->dn + 1) * 4 > (int64_t)(W->dmask + 1) * 3) {
         uint64_t ncap = W->dmask ? (W->dmask + 1) * 2 : 1024;
@@ -687,7 +715,13 @@ static void cn_done_add(CnW *W, const V *k, uint64_t h, const uint64_t *w, uint8
     o += CN_KB;
     for (int i = 0; i < CN_NKW; i++) {
         uint64_t d = (w[CN_KW[i]] & CN_KMASK[i]) ^ (uint64_t)k[i];
-        if (d) { r[i >> 3] |= (uint8_t)(1u << (i & 7)); o += cn_put_word(o, d); }
+        if (d) {
+            int n = cn_len(d);
+            r[i >> 3] |= (uint8_t)(1u << (i & 7));
+            *o++ = (uint8_t)n;
+            memcpy(o, &d, 8);
+            o += n;
+        }
     }
     int64_t fp = CN_DFP(h);
     uint64_t i = (uint64_t)fp & W->dmask;
@@ -733,17 +767,16 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int i = 0; i < CN_NKW; i++) key[i] = (V)(w[CN_KW[i]] & CN_KMASK[i]);
     for (int d = 0; d < CN_NDYN; d++) key[CN_NKW + d] = n[d];
     uint64_t kh = cn_key_hash(key);
-    uint8_t kenc[CN_ENC_MAX];
-    int kelen = 0;
     {
-        const uint8_t *res = cn_done_find(W, key, kh, kenc, &kelen);
+        const uint8_t *res = cn_done_find(W, key, kh);
         if (res) {
             /* (the words of the result: the key's, whose xor the entry keeps) */
             const uint8_t *q = res + CN_KB;
             for (int b = 0; b < CN_KB; b++)
                 for (unsigned m = res[b]; m; m &= m - 1) {
-                    int i = 8 * b + __builtin_ctz(m);
-                    w[CN_KW[i]] ^= cn_get_word(&q);
+                    int i = 8 * b + __builtin_ctz(m), n = *q++;
+                    w[CN_KW[i]] ^= cn_low(q, n);
+                    q += n;
                 }
             return 0;
         }
@@ -891,7 +924,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         if (k != els[i].num) changed = 1;
     }
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)W->val[CN_COUNT_SLOT[d]]) changed = 1;
-    if (!changed) { cn_done_add(W, key, kh, w, kenc, kelen); return 0; }
+    if (!changed) { cn_done_add(W, key, kh, w); return 0; }
     /* rebuild: locations over elements move with them, values are renamed */
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
@@ -927,7 +960,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         uint64_t mask = ((1ULL << SLOT_BITS[s]) - 1) << SLOT_SHIFT[s];
         w[SLOT_WORD[s]] = (w[SLOT_WORD[s]] & ~mask) | ((uint64_t)code << SLOT_SHIFT[s]);
     }
-    cn_done_add(W, key, kh, w, kenc, kelen);
+    cn_done_add(W, key, kh, w);
     return 0;
 }
 
