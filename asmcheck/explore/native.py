@@ -811,6 +811,7 @@ class Generator:
         if self.spec.default_init is not None:
             for _func, _params, body, _span in self.spec.default_init.functions:
                 walk(body)
+        del walk        # (the closure refers to itself: freed now, with the ids seen, not by the collector)
         self._used = used
         return used
 
@@ -3037,6 +3038,7 @@ class Generator:
                     walk(v)
         for r in self.spec.rules:
             walk(r.body)
+        del walk        # (the closure refers to itself: freed now, with the ids seen, not by the collector)
         self.dyn_doms = [found[n] for n in sorted(found)]
         self.dyn = {d.name: i for i, d in enumerate(self.dyn_doms)}
         self.codec.dyn = self.dyn
