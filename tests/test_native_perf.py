@@ -45,8 +45,8 @@ default init s0:
 	function mode = IDLE
 """
 
-# n takes 70,001 values: its dictionary outgrows its field again and again (up to 16 bits), then
-# the word is kept as it is (more than 65,536 values); k1 takes 35,001, m 1,000, the rest one each
+# n takes 70,001 values: its dictionary outgrows 1, 2, 4, ... 32 bits, then the word is kept
+# as it is (more than 65,536 values); k1 takes 35,001, m 1,000, the rest one each
 GROWTH = """asm PackedGrowth
 import StandardLibrary
 signature:
@@ -128,8 +128,8 @@ def test_a_dictionary_that_outgrows_its_field_widens_it_and_then_keeps_the_word(
     r1, ex1, par1, st1, pw1 = run(path, packed=True)
     r0, ex0, par0, st0, pw0 = run(path, packed=False)
     assert summary(r1) == summary(r0) == ("holds", 70001, 70001, 70000, [])
-    # n kept as it is (64 bits), k1 in 16 (at most), m in 12 (with room for three times as many
-    # values again), the three constants in none: two words instead of six
+    # n kept as it is (64 bits), k1 in 32, m in 16 (with room for three times as many values
+    # again), the three constants in none: two words instead of six
     assert ex1.gen.nwords == 6 and pw1 == 2
     assert par1 == par0 == [-1] + list(range(70000))
     assert st1 == st0

@@ -162,12 +162,11 @@ static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t
 
 /* ------------------------------------------------------------------ the packed store
  * With one thread (asm_pack(1) before asm_start) and at least PK_MIN_WORDS words a state, a
- * stored state is the codes of its words in bit fields of 0 to 64 bits: the code of
+ * stored state is the codes of its words in bit fields of 0, 1, 2, 4, ... 64 bits: the code of
  * a word is its number in that word's dictionary (the values the word took, numbered as met), or
  * the word itself once it took more than PK_RAW_AFTER values.  A word that never changes takes
  * no bit.  When a dictionary outgrows its field, the fields are laid out again and every stored
- * state repacked (a field takes the bits of four times its dictionary's values; widest first,
- * each in the first record word with room, so none straddles two words).  States are
+ * state repacked (the fields sorted by width, so none straddles two words).  States are
  * numbered as in the plain store (the codes only decide equality); the threaded search keeps
  * the plain store.  intern() keeps the codes of the state being expanded (pk_par_*): a word
  * equal to its parent's takes the parent's code without a dictionary lookup.
@@ -179,7 +178,6 @@ static inline __attribute__((always_inline)) int64_t intern_words(const uint64_t
  */
 #define PK_MIN_WORDS 6
 #define PK_RAW_AFTER 65536
-#define PK_RAW_BITS 16            /* (the bits of PK_RAW_AFTER codes) */
 #define PK_NW (NWORDS > 0 ? NWORDS : 1)
 static int pk_allow = 0, pk_on = 0;
 static int64_t PW = NWORDS;                      /* words of a stored state */
@@ -273,19 +271,14 @@ static void pk_pack(const uint64_t *codes, uint64_t *rec) {
     for (int i = 0; i < pk_nact; i++) { int j = pk_act[i]; rec[pk_at[j]] |= codes[j] << pk_sh[j]; }
 }
 
-/* the offsets of the fields (PW: the words they take): widest first, each in the first record
-   word with room for it (a field never straddles two words) */
+/* the offsets of the fields, widest first (PW: the words they take) */
 static void pk_place(void) {
-    int room[PK_NW + 1], nr = 0;          /* bits left in each record word */
-    for (int b = 64; b >= 1; b--)
+    int64_t pos = 0;
+    for (int b = 64; b >= 1; b /= 2)
         for (int j = 0; j < NWORDS; j++)
-            if (pk_bits[j] == b) {
-                int i = 0;
-                while (i < nr && room[i] < b) i++;
-                if (i == nr) room[nr++] = 64;
-                pk_at[j] = i; pk_sh[j] = 64 - room[i]; room[i] -= b;
-            }
-    PW = nr < 1 ? 1 : nr;
+            if (pk_bits[j] == b) { pk_at[j] = (int)(pos / 64); pk_sh[j] = (int)(pos % 64); pos += b; }
+    PW = (pos + 63) / 64;
+    if (PW < 1) PW = 1;
     pk_nact = 0;
     for (int j = 0; j < NWORDS; j++) if (pk_bits[j]) pk_act[pk_nact++] = j;
     int n = 0;
@@ -308,8 +301,7 @@ static int pk_widen(void) {
         if (pk_raw[j] || pk_bits[j] == 64 || pk_n[j] <= (1LL << pk_bits[j])) continue;
         if (pk_n[j] > PK_RAW_AFTER) { pk_raw[j] = 1; pk_bits[j] = 64; continue; }
         int b = pk_bits[j] ? pk_bits[j] : 1;
-        while ((1LL << b) < 4 * pk_n[j]) b++;          /* room for three times as many again, */
-        if ((1LL << b) > PK_RAW_AFTER) b = PK_RAW_BITS;   /* but the word is kept as it is after that */
+        while ((1LL << b) < 4 * pk_n[j]) b *= 2;       /* room for three times as many again */
         pk_bits[j] = b;
     }
     pk_place();
