@@ -232,8 +232,8 @@ def test_a_step_that_leaves_the_element_bits_as_they_were_keeps_its_state_canoni
 @pytest.mark.parametrize("whole_keys", [False, True], ids=["differences", "whole"])
 def test_the_kept_canonical_forms_as_differences_or_whole_keys_give_the_same_states(tmp_path, monkeypatch,
                                                                                      whole_keys):
-    # native_canon.c keeps a key of at most 64 words as its differences from the first key kept,
-    # and its result as the bits and words that differ; a longer key whole (forced here with
+    # native_canon.c keeps a key as the low bytes of its words' differences from the first key
+    # kept, and its result as those of the words that differ; or whole keys (forced here with
     # -DCN_NO_DIFF): the Python engine's states, in the same order, either way
     import os
     from test_native_extend import FOREST, QUEUE, TOKENS, same_states

@@ -565,9 +565,10 @@ static inline V slot_decode(int s, V code);
  * for each the number of low bytes its xor with the key's word takes and those bytes.  Most of
  * a key stays as it was from state to state (CompleteApplication: 51 words a key, 30-odd of
  * them differ from the base's; an entry takes about 150 bytes, not 341 as whole differing
- * words); the key is made without a branch on the bytes (it is made at every look-up).  With
- * -DCN_NO_DIFF in $ASMCHECK_CFLAGS (tests) a key is its words whole.  The table holds the
- * entries' offsets under 31 bits of the key's hash, which also place them. */
+ * words).  A look-up reads a kept key where it is, without a branch (cn_key_eq); a key is
+ * encoded only to be kept.  With -DCN_NO_DIFF in $ASMCHECK_CFLAGS (tests) a key is its words
+ * whole.  The table holds the entries' offsets under 31 bits of the key's hash, which also
+ * place them. */
 #define CN_KL (CN_NKW + CN_NDYN)
 #define CN_KN ((CN_KL + 1) / 2)                /* bytes of the key's lengths (half a byte a word) */
 #define CN_KB ((CN_NKW + 7) / 8)               /* bytes of a bitmap over the words of a result */
