@@ -657,21 +657,9 @@ static void note_range(const uint64_t *w, int64_t depth, const uint64_t *par) {
         if (w[j] != par[j] && wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth);
 }
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
                   double max_seconds, int64_t deadlock, int64_t keep_graph) {
     asm_free();                      /* a previous search in this process */
-#ifdef __GLIBC__
-    /* glibc maps a block of 128 kB or more by itself, until the process frees such a block (Python
-       does): then it raises that bound, and the search's growing arrays (the store, the hash
-       table, the canonical forms kept) grow in its heap, where each growth leaves the old block
-       as a hole (the end of VisualServoing's search: 0.7 MB more free in the heap than after a
-       one-state search).  With the bound fixed at 128 kB, an array grows where it is mapped
-       (mremap) and a freed one goes back to the system. */
-    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
-#endif
     pk_start();
     memset(&ctx_static, 0, sizeof(Ctx));
     ld_ok = 0;
