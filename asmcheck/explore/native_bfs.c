@@ -934,7 +934,7 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
  * (asm_step_atoms's enumeration, done here right after the step ran).  Without such atoms (nk 0) a
  * pair is its target, and the lists are the edges without their sources.  An entry of a list is the
  * target (nk 0) or the pair's number (pd, pv); off[s] is where state s's list begins.  After the
- * search asm_qf_quotient() turns the lists into the quotient's, in place, and asm_qf_take() hands
+ * search asm_qf_quotient() turns the lists into the quotient's, in place, and asm_qf_give() hands
  * them over.  A branch whose step fails is no pair (as it is no edge).  failed: an atom could not be
  * evaluated (the caller records the edges again; the search itself goes on). */
 static V check_label(Ctx *c, int k);
@@ -1698,7 +1698,7 @@ void asm_edges_take(int64_t which, uint32_t *out) {
  * (sig[source], bits, target), numbered by its first step in search order -- and turns each state's
  * list into the list of its quotient nodes, in place (returns the number of nodes, -1 when it cannot:
  * out of memory, lists too long for 32-bit offsets); asm_qf_chunk copies the lists out a part at a time
- * (giving the memory of each part back), and asm_qf_take the offsets and each node's first step, and
+ * (giving the memory of each part back), and asm_qf_give the offsets and each node's first step, and
  * frees it all. */
 static void qf_close(void) {
     if (qf_grow((void **)&QF.off, &QF.capoff, nstates + 1, sizeof(int64_t)))
@@ -1929,15 +1929,26 @@ void asm_qf_chunk(int64_t start, int64_t n, void *out) {
 #endif
 }
 
-/* the offsets of the lists and each quotient node's first step copied out; everything freed */
-void asm_qf_take(int32_t *off, uint32_t *fsrc, int32_t *fdst, uint64_t *fvec) {
-    for (int64_t s = 0; s <= nstates; s++) off[s] = (int32_t)QF.off[s];
-    if (QF.nq) {
-        memcpy(fsrc, QF.fsrc, QF.nq * sizeof(uint32_t));
-        memcpy(fdst, QF.fdst, QF.nq * sizeof(int32_t));
-        memcpy(fvec, QF.fvec, QF.nq * sizeof(uint64_t));
-    }
-    qf_free();
+/* the offsets of the lists and each quotient node's first step copied out, a piece at a time, each
+   piece's memory given back once copied (a copy and its original are not held together): which 0
+   the offsets (int32), 1 the nodes' sources, 2 their targets, 3 their bits (uint8 entries with at
+   most 8 atoms, else uint64); 4 frees the rest */
+void asm_qf_give(int64_t which, void *out) {
+    if (which == 0) {
+        int32_t *o = (int32_t *)out;
+        for (int64_t s = 0; s <= nstates; s++) o[s] = (int32_t)QF.off[s];
+        free(QF.off); QF.off = 0; QF.noff = QF.capoff = 0;
+    } else if (which == 1) {
+        if (QF.nq) memcpy(out, QF.fsrc, QF.nq * sizeof(uint32_t));
+        free(QF.fsrc); QF.fsrc = 0;
+    } else if (which == 2) {
+        if (QF.nq) memcpy(out, QF.fdst, QF.nq * sizeof(int32_t));
+        free(QF.fdst); QF.fdst = 0;
+    } else if (which == 3) {
+        if (QF.nk <= 8) for (int64_t q = 0; q < QF.nq; q++) ((uint8_t *)out)[q] = (uint8_t)QF.fvec[q];
+        else if (QF.nq) memcpy(out, QF.fvec, QF.nq * sizeof(uint64_t));
+        free(QF.fvec); QF.fvec = 0;
+    } else qf_free();
 }
 
 
