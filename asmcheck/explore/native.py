@@ -3890,6 +3890,7 @@ _SHARED_STATICS = frozenset("""
     grow_deadline grow_mask grow_abandoned
     wide_of_word self_first sb_self sb_self_cap
     sym_refused
+    pk_par_t pk_dirty pk_dirty_ok pre_dm inv_wm inv_wm_ok cm_on sb_cm sb_cm_cap cn_wm cn_wm_ok
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")
