@@ -2111,9 +2111,12 @@ class Generator:
         if r.kind == "par":
             return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
         f = self.fresh("sf")
+        # (the last step's updates are not written into the working state: the end of the block
+        # restores what the steps wrote there at once, and nothing reads it in between)
         steps = " ".join(f"seq_step_begin(c); {{ {self.rule(x, env)} }} if (c->err) {{ seq_end(c, &{f}); return; }} "
-                         f"seq_step_end(c, &{f});" for x in r.rules)
-        return f"{{ SeqFrame {f}; seq_begin(c, &{f}); {steps} seq_end(c, &{f}); if (c->err) return; }}"
+                         f"seq_step_end(c, &{f});" for x in r.rules[:-1])
+        last = f"seq_step_begin(c); {{ {self.rule(r.rules[-1], env)} }}" if r.rules else ""
+        return f"{{ SeqFrame {f}; seq_begin(c, &{f}); {steps} {last} seq_end(c, &{f}); if (c->err) return; }}"
 
     def r_Loop(self, r, env):
         f = self.fresh("sf")
