@@ -1235,18 +1235,6 @@ static int sym_finish(Succ *b, const uint64_t *src, int *err) {
 #define SYM_DONE(b, err) EXP_OK
 #endif
 
-#if CN_NDYN > 0
-/* No element made in the run, and the bits of the locations that hold or are keyed by elements
-   and of the counts (the key of native_canon.c's kept forms) those of the state expanded: the
-   successor's canonical form leaves it as it is (the expanded state is canonical, and the form
-   depends on those bits alone), so canon_state need not look it up. */
-static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w) {
-    if (c->cn_made == c->gen) return 0;
-    for (int i = 0; i < CN_NKW; i++) if ((w[CN_KW[i]] ^ src[CN_KW[i]]) & CN_KMASK[i]) return 0;
-    return 1;
-}
-#endif
-
 /* asm_run's expansions (cm_on) note for each successor i the words that may differ from the state
    expanded (sb_cm + i * PK_MW: those of the slots updated, and of the canonical form's locations when
    it was worked out), so that packing it compares only those (pk_prepare) */
@@ -1256,7 +1244,7 @@ static int cm_on = 0;
 static uint64_t *sb_cm = 0, cn_wm[PK_MW];
 static int64_t sb_cm_cap = 0;
 static int cn_wm_ok = 0;
-static inline int cm_note(Ctx *c, int64_t i, int canon) {
+static inline uint64_t *cm_note(Ctx *c, int64_t i) {
     if ((i + 1) * PK_MW > sb_cm_cap) {
         int64_t nc = sb_cm_cap ? sb_cm_cap * 2 : 64 * PK_MW;
         while (nc < (i + 1) * PK_MW) nc *= 2;
@@ -1273,19 +1261,36 @@ static inline int cm_note(Ctx *c, int64_t i, int canon) {
         m[j >> 6] |= 1ULL << (j & 63);
     }
 #if CN_NDYN > 0
-    if (canon) {
-        if (!cn_wm_ok) {
-            for (int q = 0; q < CN_NKW; q++) cn_wm[CN_KW[q] >> 6] |= 1ULL << (CN_KW[q] & 63);
-            cn_wm_ok = 1;
-        }
-        for (int q = 0; q < PK_MW; q++) m[q] |= cn_wm[q];
+    if (!cn_wm_ok) {
+        for (int q = 0; q < CN_NKW; q++) cn_wm[CN_KW[q] >> 6] |= 1ULL << (CN_KW[q] & 63);
+        cn_wm_ok = 1;
+    }
+#endif
+    return m;
+}
+#endif
+
+#if CN_NDYN > 0
+/* No element made in the run, and the bits of the locations that hold or are keyed by elements
+   and of the counts (the key of native_canon.c's kept forms) those of the state expanded: the
+   successor's canonical form leaves it as it is (the expanded state is canonical, and the form
+   depends on those bits alone), so canon_state need not look it up. */
+static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w, const uint64_t *cm) {
+    if (c->cn_made == c->gen) return 0;
+#ifdef CM_ON
+    if (cm) {      /* (no word of the key among those the step updated) */
+        uint64_t any = 0;
+        for (int q = 0; q < PK_MW; q++) any |= cm[q] & cn_wm[q];
+        if (!any) return 1;
     }
 #else
-    (void)canon;
+    (void)cm;
 #endif
+    for (int i = 0; i < CN_NKW; i++) if ((w[CN_KW[i]] ^ src[CN_KW[i]]) & CN_KMASK[i]) return 0;
     return 1;
 }
 #endif
+
 
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
@@ -1350,9 +1355,15 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             c->err = 0;
 #endif
             uint64_t *nw = b->w + b->n * NWORDS;
-            store_state(c, src, nw);
-            if (MISSED()) return EXP_MISSED;
             int same = 0;
+#ifndef MC_TAIL_ON
+            /* (a successor that is the state itself is not stored: its words are not read) */
+            if (!self_first || c->nupd != 0 || c->cn_made == c->gen)
+#endif
+            {
+                store_state(c, src, nw);
+                if (MISSED()) return EXP_MISSED;
+            }
 #ifndef MC_TAIL_ON
             if (self_first) {
                 if (b->n >= sb_self_cap) {
@@ -1367,20 +1378,22 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
                 sb_self[b->n] = (uint8_t)same;
             }
 #endif
-            int canon = 0;
+            uint64_t *cm = 0;
+#ifdef CM_ON
+            if (cm_on && !(cm = cm_note(c, b->n))) return EXP_MEM;
+#endif
 #if CN_NDYN > 0
-            if (!same && !cn_key_unchanged(c, src, nw)) {
-                canon = 1;
+            if (!same && !cn_key_unchanged(c, src, nw, cm)) {
+#ifdef CM_ON
+                if (cm) for (int q = 0; q < PK_MW; q++) cm[q] |= cn_wm[q];    /* (words canon_state may write) */
+#endif
                 if (canon_state(c, nw)) {
                     if (MISSED()) return EXP_MISSED;
                     *err = E_UNSUPPORTED; return EXP_HARD0;
                 }
             }
 #endif
-            (void)same; (void)canon;
-#ifdef CM_ON
-            if (cm_on && !cm_note(c, b->n, canon)) return EXP_MEM;
-#endif
+            (void)same; (void)cm;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
         }
