@@ -284,3 +284,32 @@ def test_a_broken_ag_of_a_temporal_formula_searches_again_with_every_list(tmp_pa
     assert run.explorer.lists_kept == "all"
     assert [r[1] for r in rows] == ["violated"]
     assert rows == old_rows
+
+
+@needs_cc
+def test_a_search_run_again_has_only_the_time_left(tmp_path, monkeypatch):
+    """The search that runs again after an ag(p) broke has what is left of the call's time, not the
+    whole of it again: here the time is up when ag(x < 600) breaks, so the property is not decided
+    (it was violated, on a fresh 60 s).  The search looks at the clock every 256 states: the walk
+    has 1,024."""
+    from asmcheck.explore import native as N
+    import time
+    text = WALK.replace("{0 : 15}", "{0 : 1023}").replace("mod 16", "mod 1024").replace(
+        "{props}", "\tCTLSPEC ag(x < 600)")
+    path = write(tmp_path, text)
+    orig = N.NativeExplorer._watched_broken
+
+    def late(self, sid):
+        self.check_deadline = time.monotonic() - 1.0       # the call's time ran out meanwhile
+        return orig(self, sid)
+
+    monkeypatch.setattr(N.NativeExplorer, "_watched_broken", late)
+    model = api.load(path)
+    run = model.explore(engine="native", max_seconds=60)
+    assert run.rows == [{"property": "ctl_1", "kind": "ctl", "verdict": "incomplete"}]
+    assert (run.stop, run.reason, run.states) == ("time", "time limit 60 s reached", 259)
+    # and without the clock moved, the same search decides it
+    monkeypatch.setattr(N.NativeExplorer, "_watched_broken", orig)
+    run = model.explore(engine="native", max_seconds=60)
+    assert run.rows == [{"property": "ctl_1", "kind": "ctl", "verdict": "violated"}]
+    assert (run.stop, run.states) == ("", 1024)

@@ -252,7 +252,8 @@ def load_options(args) -> dict:
 
 
 def add_explore_options(p) -> None:
-    p.add_argument("--max-states", type=int, metavar="N", help="stop after N distinct states (verdict incomplete)")
+    p.add_argument("--max-states", type=int, metavar="N", help="stop once N distinct states are found (verdict incomplete); the state being "
+                   "expanded is finished first, so the report may count a few more")
     p.add_argument("--max-depth", type=int, metavar="N", help="do not go deeper than N steps (verdict incomplete)")
     p.add_argument("--max-seconds", type=float, metavar="S",
                    help="stop after S seconds of wall-clock time for the whole command, LTL/CTL and the "

@@ -4124,6 +4124,18 @@ class NativeExplorer:
                 out.append((self.m.location_text(g.slots[s]), lo, hi))
         return out
 
+    def _seconds_left(self) -> float:
+        """The time the search may take (-1: no bound): ``max_seconds``, or what is left of it
+        when the run has a deadline (``check_deadline``, time.monotonic(): the whole call's), so
+        that a search run again (an ``ag`` broken, the lists or edges recorded afresh) does not
+        start the clock again."""
+        if self.max_seconds is None:
+            return -1.0
+        deadline = getattr(self, "check_deadline", None)
+        if deadline is None:
+            return float(self.max_seconds)
+        return max(min(float(self.max_seconds), deadline - time.monotonic()), 0.0)
+
     def run(self):
         from .bfs import DEADLOCK, PseudoProperty, Result, Violation
         g = self.gen
@@ -4148,8 +4160,7 @@ class NativeExplorer:
         # in bit fields); the threads share the plain one
         self.dll.asm_pack(1 if self.packed and not self.threaded and (self.workers <= 1 or self.thread_unsafe) else 0)
         self.dll.asm_start(flat, len(inits), -1 if self.max_states is None else self.max_states,
-                           -1 if self.max_depth is None else self.max_depth,
-                           -1.0 if self.max_seconds is None else float(self.max_seconds),
+                           -1 if self.max_depth is None else self.max_depth, self._seconds_left(),
                            1 if self.deadlock else 0, 1 if self.keep_graph else 0)
         self.dll.asm_limit_memory(self._table_bound())
         self.qf = self._qf_start()
