@@ -87,6 +87,14 @@ typedef struct {
     int32_t post_slot[MAXUPD];
 } Ctx;
 
+/* a pointer to a thread-local variable, kept in a register: without it the compiler may compute the
+   address again at each use, and in a shared library that is a call (__tls_get_addr) */
+#if defined(__GNUC__) || defined(__clang__)
+#define TLS_KEEP(p) __asm__("" : "+r"(p))
+#else
+#define TLS_KEEP(p) ((void)0)
+#endif
+
 static int choice(Ctx *c, int n) {
     if (c->pos >= MAXCH) { if (!c->err) { c->err = E_CHOICES; c->err_site = 0; } return 0; }
     int i = c->pos < c->plen ? c->prefix[c->pos] : 0;
