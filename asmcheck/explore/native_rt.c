@@ -270,8 +270,8 @@ static void seq_end(Ctx *c, SeqFrame *f) {
                 continue;
             }
         }
-        c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->ustamp[w] = c->curstep; c->uprev[w] = q;
-        c->uagent[w] = c->uagent[i];
+        if (w != i) { c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->uagent[w] = c->uagent[i]; c->uprev[w] = q; }
+        c->ustamp[w] = c->curstep;
         c->wpos[s] = w;
         w++;
     }
