@@ -244,10 +244,15 @@ def test_sigint_at_any_moment_ends_well(tmp_path, command, cpu):
     path = write(tmp_path, COUNTER)
     proc = subprocess.Popen([sys.executable, "-m", "asmcheck", command, path, "--engine", "python"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
-    while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
-        time.sleep(0.05)
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=60)
+    try:
+        while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:     # (the counter never stops: a run the signal missed is ended here)
+            proc.kill()
+            proc.communicate()
     if proc.returncode == 1 and err.startswith(INTERPRETER_START):
         # the signal came while the interpreter ran the site packages' .pth lines, before any
         # line of the program (its own report, which the program cannot replace)

@@ -322,9 +322,14 @@ def test_a_ctrl_c_at_any_moment_of_the_start_up_ends_with_a_message_and_exit_cod
     for i in range(12):
         proc = subprocess.Popen([sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python"],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path)
-        time.sleep(0.05 * i)
-        proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=120)
+        try:
+            time.sleep(0.05 * i)
+            proc.send_signal(signal.SIGINT)
+            out, err = proc.communicate(timeout=120)
+        finally:
+            if proc.poll() is None:     # (the counter never stops: a run the signal missed is ended here)
+                proc.kill()
+                proc.communicate()
         if proc.returncode == 1 and err.startswith(INTERPRETER_START):
             ends.append("interpreter")          # before any line of the program: the interpreter's own
             continue

@@ -3873,7 +3873,7 @@ _SYMBOLS = {
     "asm_qf_chunk": (None, [_i64, _i64, ctypes.c_void_p]),
     "asm_qf_table_limit": (None, [_i64]),
     "asm_qf_steps": (_i64, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
-    "asm_qf_take": (None, [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
+    "asm_qf_give": (None, [_i64, ctypes.c_void_p]),
     "asm_qf_layout": (None, [_i64p]),
     "asm_qf_keys": (None, [ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_direct_bits": (None, [_i64]),
@@ -4493,6 +4493,7 @@ class NativeExplorer:
         the atoms the search evaluated (in the same order), ``sig`` each state's signature, steps from
         states with ``ok_state`` unset or whose bits miss one of ``need`` dropped.  None when the
         search did not record them for these atoms (then the edges are recorded by a search again).
+        The bits come as array('B') with at most 8 atoms (empty without atoms), else array('q').
         The lists come as 16-bit entries when they fit (array('H')): the nodes when there are at
         most 65,536, else -- without atoms, at most 65,536 states -- the targets, and ``adj`` is
         then ``(targets, key, tab, n)``: the node of target t in state s's list is
@@ -4518,6 +4519,24 @@ class NativeExplorer:
         self.dll.asm_qf_layout(lay)
         self.qf_direct = bool(lay[2])      # (the tests read it)
         code = "i" if lay[0] == 0 else "H"
+        # each node's first step and the offsets, before the lists: each array copied out and its C
+        # original freed before the next is made (the bits first: 8 bytes a node there, 1 here with at
+        # most 8 atoms; none without atoms)
+        nk = len(items)
+        give = self.dll.asm_qf_give
+        if nk:
+            fvec = array("B" if nk <= 8 else "q", [0]) * max(nq, 1)
+            give(3, ptr(addr(fvec)))
+            del fvec[nq:]
+        else:
+            fvec = array("B")
+        fsrc = array("I", [0]) * max(nq, 1)
+        give(1, ptr(addr(fsrc)))
+        fdst = array("i", [0]) * max(nq, 1)
+        give(2, ptr(addr(fdst)))
+        off = array("i", [0]) * (n + 1)
+        give(0, ptr(addr(off)))
+        del fsrc[nq:], fdst[nq:]
         # the lists a part at a time (a long one is not held twice), then the rest
         adj = array(code)
         part = array(code, [0]) * min(max(na, 1), 1 << 16)
@@ -4533,12 +4552,7 @@ class NativeExplorer:
             self.dll.asm_qf_keys(ptr(addr(key)), ptr(addr(tab)))
             del key[n:], tab[lay[1] * n:]
             adj = (adj, key, tab, n)
-        off = array("i", [0]) * (n + 1)
-        fsrc = array("I", [0]) * max(nq, 1)
-        fdst = array("i", [0]) * max(nq, 1)
-        fvec = array("q", [0]) * max(nq, 1)
-        self.dll.asm_qf_take(ptr(addr(off)), ptr(addr(fsrc)), ptr(addr(fdst)), ptr(addr(fvec)))
-        del fsrc[nq:], fdst[nq:], fvec[nq:]
+        give(4, None)
         self.qf = False
         return fsrc, fdst, fvec, off, adj
 

@@ -976,7 +976,7 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
  * (asm_step_atoms's enumeration, done here right after the step ran).  Without such atoms (nk 0) a
  * pair is its target, and the lists are the edges without their sources.  An entry of a list is the
  * target (nk 0) or the pair's number (pd, pv); off[s] is where state s's list begins.  After the
- * search asm_qf_quotient() turns the lists into the quotient's, in place, and asm_qf_take() hands
+ * search asm_qf_quotient() turns the lists into the quotient's, in place, and asm_qf_give() hands
  * them over.  A branch whose step fails is no pair (as it is no edge).  failed: an atom could not be
  * evaluated (the caller records the edges again; the search itself goes on). */
 static V check_label(Ctx *c, int k);
@@ -997,7 +997,8 @@ static struct {
     /* the quotient (asm_qf_quotient): each node's first step; its lists' layout (0: 32-bit nodes,
        1: 16-bit nodes, 2: 16-bit targets, the node of target t in state s's list qtab[qkey[s] *
        nstates + t], nkeys rows) */
-    uint32_t *fsrc; int32_t *fdst; uint64_t *fvec; int64_t nq;
+    uint32_t *fsrc; int32_t *fdst; int64_t nq;
+    uint64_t *fvec; uint8_t *fvec8;            /* the bits: fvec8 with 1 to 8 atoms, fvec with more, none without */
     int lay; int64_t nkeys; int32_t *qkey, *qtab;
 } QF;
 
@@ -1005,10 +1006,12 @@ static struct {
 /* the target and the bits of the pair at entry e */
 #define QD(e) (QF.direct ? QI(e) >> QF.nk : QF.pd[QI(e)])
 #define QV(e) (QF.direct ? (uint64_t)(QI(e) & ((1u << QF.nk) - 1)) : QF.pv[QI(e)])
+/* the bits of quotient node i's first step */
+#define QFV(i) (QF.nk == 0 ? 0 : QF.nk <= 8 ? (uint64_t)QF.fvec8[i] : QF.fvec[i])
 
 static void qf_free(void) {
     free(QF.item); free(QF.off); free(QF.pd); free(QF.pv); free(QF.ph); free(QF.rb); free(QF.rv);
-    free(QF.seen.set); free(QF.fsrc); free(QF.fdst); free(QF.fvec); free(QF.qkey); free(QF.qtab);
+    free(QF.seen.set); free(QF.fsrc); free(QF.fdst); free(QF.fvec); free(QF.fvec8); free(QF.qkey); free(QF.qtab);
     memset(&QF, 0, sizeof(QF));
 }
 
@@ -1833,7 +1836,7 @@ void asm_edges_take(int64_t which, uint32_t *out) {
  * (sig[source], bits, target), numbered by its first step in search order -- and turns each state's
  * list into the list of its quotient nodes, in place (returns the number of nodes, -1 when it cannot:
  * out of memory, lists too long for 32-bit offsets); asm_qf_chunk copies the lists out a part at a time
- * (giving the memory of each part back), and asm_qf_take the offsets and each node's first step, and
+ * (giving the memory of each part back), and asm_qf_give the offsets and each node's first step, and
  * frees it all. */
 static void qf_close(void) {
     if (qf_grow((void **)&QF.off, &QF.capoff, nstates + 1, sizeof(int64_t)))
@@ -1957,7 +1960,7 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
                     uint32_t *h2 = (uint32_t *)calloc((size_t)nc, sizeof(uint32_t));
                     if (!h2) { free(h); free(tab); free(out32); goto oom; }
                     for (int64_t i = 0; i < nq; i++) {
-                        uint64_t x = mix64((uint64_t)qk_id(&kt, sig[QF.fsrc[i]], QF.fvec[i]) ^ ((uint64_t)(uint32_t)QF.fdst[i] << 32)) & (uint64_t)(nc - 1);
+                        uint64_t x = mix64((uint64_t)qk_id(&kt, sig[QF.fsrc[i]], QFV(i)) ^ ((uint64_t)(uint32_t)QF.fdst[i] << 32)) & (uint64_t)(nc - 1);
                         while (h2[x]) x = (x + 1) & (uint64_t)(nc - 1);
                         h2[x] = (uint32_t)(i + 1);
                     }
@@ -1967,7 +1970,7 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
                 p = mix64((uint64_t)k ^ ((uint64_t)d << 32)) & msk;
                 while (h[p]) {
                     int64_t i = h[p] - 1;
-                    if ((uint32_t)QF.fdst[i] == d && QF.fvec[i] == v && sig[QF.fsrc[i]] == g) { q = i; break; }
+                    if ((uint32_t)QF.fdst[i] == d && QFV(i) == v && sig[QF.fsrc[i]] == g) { q = i; break; }
                     p = (p + 1) & msk;
                 }
             }
@@ -1976,11 +1979,16 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
                     int64_t c1 = qcap, c2 = qcap, c3 = qcap;
                     if (!qf_grow((void **)&QF.fsrc, &c1, nq + 1, sizeof(uint32_t)) ||
                         !qf_grow((void **)&QF.fdst, &c2, nq + 1, sizeof(int32_t)) ||
-                        !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) { free(h); free(tab); free(out32); goto oom; }
+                        (QF.nk > 8 && !qf_grow((void **)&QF.fvec, &c3, nq + 1, sizeof(uint64_t))) ||
+                        (QF.nk >= 1 && QF.nk <= 8 && !qf_grow((void **)&QF.fvec8, &c3, nq + 1, sizeof(uint8_t)))) {
+                        free(h); free(tab); free(out32); goto oom;
+                    }
                     qcap = c1;
                 }
                 q = nq++;
-                QF.fsrc[q] = (uint32_t)s; QF.fdst[q] = (int32_t)d; QF.fvec[q] = v;
+                QF.fsrc[q] = (uint32_t)s; QF.fdst[q] = (int32_t)d;
+                if (QF.nk > 8) QF.fvec[q] = v;
+                else if (QF.nk) QF.fvec8[q] = (uint8_t)v;
                 if (tab) tab[k * n + d] = (int32_t)q;
                 else h[p] = (uint32_t)(q + 1);
             }
@@ -2064,15 +2072,26 @@ void asm_qf_chunk(int64_t start, int64_t n, void *out) {
 #endif
 }
 
-/* the offsets of the lists and each quotient node's first step copied out; everything freed */
-void asm_qf_take(int32_t *off, uint32_t *fsrc, int32_t *fdst, uint64_t *fvec) {
-    for (int64_t s = 0; s <= nstates; s++) off[s] = (int32_t)QF.off[s];
-    if (QF.nq) {
-        memcpy(fsrc, QF.fsrc, QF.nq * sizeof(uint32_t));
-        memcpy(fdst, QF.fdst, QF.nq * sizeof(int32_t));
-        memcpy(fvec, QF.fvec, QF.nq * sizeof(uint64_t));
-    }
-    qf_free();
+/* the offsets of the lists and each quotient node's first step copied out, a piece at a time, each
+   piece's memory given back once copied (a copy and its original are not held together): which 0
+   the offsets (int32), 1 the nodes' sources, 2 their targets, 3 their bits (uint8 entries with at
+   most 8 atoms, else uint64); 4 frees the rest */
+void asm_qf_give(int64_t which, void *out) {
+    if (which == 0) {
+        int32_t *o = (int32_t *)out;
+        for (int64_t s = 0; s <= nstates; s++) o[s] = (int32_t)QF.off[s];
+        free(QF.off); QF.off = 0; QF.noff = QF.capoff = 0;
+    } else if (which == 1) {
+        if (QF.nq) memcpy(out, QF.fsrc, QF.nq * sizeof(uint32_t));
+        free(QF.fsrc); QF.fsrc = 0;
+    } else if (which == 2) {
+        if (QF.nq) memcpy(out, QF.fdst, QF.nq * sizeof(int32_t));
+        free(QF.fdst); QF.fdst = 0;
+    } else if (which == 3) {
+        if (QF.nk > 8 && QF.nq) memcpy(out, QF.fvec, QF.nq * sizeof(uint64_t));
+        else if (QF.nk && QF.nq) memcpy(out, QF.fvec8, QF.nq);
+        free(QF.fvec); free(QF.fvec8); QF.fvec = 0; QF.fvec8 = 0;
+    } else qf_free();
 }
 
 

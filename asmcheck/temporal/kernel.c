@@ -25,13 +25,37 @@ void kn_layout(int64_t mode, const int32_t *key, const int32_t *tab, int64_t n) 
 #define ENT(A, c, e) (L_mode == 0 ? ((const int32_t *)(A))[e] : L_mode == 1 ? (int32_t)((const uint16_t *)(A))[e] \
                       : L_tab[(int64_t)L_key[c] * L_n + ((const uint16_t *)(A))[e]])
 
-static int32_t *P_k = 0, *P_q = 0, *P_off = 0, *P_adj = 0, *P_init = 0;
+static int32_t *P_k = 0, *P_q = 0, *P_init = 0;
 static int64_t P_n = 0, P_nadj = 0, P_ninit = 0;
+/* the product's successors are not stored: they are made again from the Kripke structure and the
+   automaton (the caller's arrays, which outlive the product) through the table of product nodes */
+static int32_t *P_ids = 0;
+static int64_t P_Q = 0;
+static const int32_t *P_cls = 0, *P_coff = 0, *P_goff = 0, *P_gadj = 0;
+static const void *P_cadj = 0;
+static const uint64_t *P_sig = 0, *P_posm = 0, *P_negm = 0;
 
 void kn_free(void) {
-    free(P_k); free(P_q); free(P_off); free(P_adj); free(P_init);
-    P_k = P_q = P_off = P_adj = P_init = 0;
+    free(P_k); free(P_q); free(P_init); free(P_ids);
+    P_k = P_q = P_init = P_ids = 0;
     P_n = P_nadj = P_ninit = 0;
+}
+
+/* the number of positions of product node x's successors (Kripke successor e, automaton successor f
+   of x's automaton node), and the successor at position p (-1: its labels do not match) */
+static inline int64_t prod_len(int64_t x) {
+    int32_t c = P_cls[P_k[x]], q = P_q[x];
+    return (int64_t)(P_coff[c + 1] - P_coff[c]) * (P_goff[q + 1] - P_goff[q]);
+}
+static inline int32_t prod_succ(int64_t x, int64_t p) {
+    int32_t c = P_cls[P_k[x]], q = P_q[x];
+    int64_t dq = P_goff[q + 1] - P_goff[q];
+    int64_t e = dq == 1 ? p : p / dq, f = dq == 1 ? 0 : p - e * dq;
+    int32_t k2 = ENT(P_cadj, c, P_coff[c] + e);
+    int32_t q2 = P_gadj[P_goff[q] + f];
+    uint64_t s = P_sig[k2];
+    if ((s & P_posm[q2]) != P_posm[q2] || (s & P_negm[q2])) return -1;
+    return P_ids[(int64_t)k2 * P_Q + q2];
 }
 
 static int push32(int32_t **a, int64_t *cap, int64_t n, int32_t x) {
@@ -59,7 +83,7 @@ int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const voi
     int32_t *ids = (int32_t *)malloc((size_t)n * (size_t)Q * sizeof(int32_t));
     if (!ids && n > 0) return -1;
     memset(ids, 0xff, (size_t)n * (size_t)Q * sizeof(int32_t));
-    int64_t capa = 0, capi = 0, capo = 0, capq = 0, capk = 0;
+    int64_t capi = 0, capq = 0, capk = 0;
     int64_t N = 0, na = 0, ni = 0;
 #define NODE(K, QQ, OUTV) do { \
         int64_t key_ = (int64_t)(K) * Q + (QQ); \
@@ -84,9 +108,8 @@ int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const voi
             if (!dup) { if (!push32(&P_init, &capi, ni, v)) goto oom; ni++; }
         }
     }
-    /* breadth first: node i's successors are listed when i is taken from the queue, and the
-       queue is the numbering itself */
-    if (!push32(&P_off, &capo, 0, 0)) goto oom;
+    /* breadth first: node i's successors are met when i is taken from the queue, and the queue is
+       the numbering itself (they are counted, not stored: prod_succ makes them again) */
     for (int64_t i = 0; i < N; i++) {
         int32_t k = P_k[i], q = P_q[i];
         int32_t c = cls[k];
@@ -98,14 +121,14 @@ int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const voi
                 if ((s & posm[q2]) != posm[q2] || (s & negm[q2])) continue;
                 int32_t v;
                 NODE(k2, q2, v);
-                if (!push32(&P_adj, &capa, na, v)) goto oom;
+                (void)v;
                 na++;
             }
         }
-        if (!push32(&P_off, &capo, i + 1, (int32_t)na)) goto oom;
     }
 #undef NODE
-    free(ids);
+    P_ids = ids; P_Q = Q;
+    P_cls = cls; P_coff = coff; P_cadj = cadj; P_sig = sig; P_goff = goff; P_gadj = gadj; P_posm = posm; P_negm = negm;
     P_n = N; P_nadj = na; P_ninit = ni;
     return N;
 oom:
@@ -126,9 +149,17 @@ void kn_sig(int64_t n, int64_t nl, const uint8_t *labels, const uint64_t *bits, 
 int64_t kn_adj_len(void) { return P_nadj; }
 int64_t kn_init_len(void) { return P_ninit; }
 void kn_nodes(int32_t *k, int32_t *q) { memcpy(k, P_k, P_n * sizeof(int32_t)); memcpy(q, P_q, P_n * sizeof(int32_t)); }
+/* the product's successor lists (made again, kn_layout set as for kn_product) and initial nodes */
 void kn_succ(int32_t *off, int32_t *adj, int32_t *init) {
-    memcpy(off, P_off, (P_n + 1) * sizeof(int32_t));
-    memcpy(adj, P_adj, P_nadj * sizeof(int32_t));
+    int64_t na = 0;
+    off[0] = 0;
+    for (int64_t i = 0; i < P_n; i++) {
+        for (int64_t p = 0, m = prod_len(i); p < m; p++) {
+            int32_t v = prod_succ(i, p);
+            if (v >= 0) adj[na++] = v;
+        }
+        off[i + 1] = (int32_t)na;
+    }
     memcpy(init, P_init, P_ninit * sizeof(int32_t));
 }
 /* out[i] = byte[k of node i] (a Kripke node set), or byte[q of node i] (an automaton node set) */
@@ -151,7 +182,7 @@ static int64_t fair_core(int lay, int64_t N, int64_t ncls, const int32_t *cls, c
                          int32_t *comp);
 
 int64_t kn_fair(int64_t nj, const uint8_t *just, int64_t nc, const uint8_t *cp, const uint8_t *cq, int32_t *comp) {
-    return fair_core(0, P_n, 0, 0, P_off, P_adj, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
+    return fair_core(2, P_n, 0, 0, 0, 0, P_ninit, P_init, 0, nj, just, nc, cp, cq, comp);
 }
 
 /* the same on a graph given by the caller: the successors of node v are the list of its class
@@ -190,10 +221,11 @@ static int64_t fair_core(int lay, int64_t N, int64_t ncls, const int32_t *cls, c
 #define REGION(v) (region ? region[v] : ((mask && (v) < N && !mask[v]) ? -1 : 0))
     /* a vertex's successors: positions BEG(x) .. END(x) - 1, the one at position p SUCC(x, p) (a
        node with classes: its class, at position -1) */
-#define BEG(x) (relay ? ((x) < N ? -1 : P_off[(x) - N]) : P_off[x])
-#define END(x) (relay ? ((x) < N ? 0 : P_off[(x) - N + 1]) : P_off[(x) + 1])
+    /* (lay 2: the LTL product's, made on the fly, -1 where the labels do not match) */
+#define BEG(x) (lay == 2 ? 0 : relay ? ((x) < N ? -1 : P_off[(x) - N]) : P_off[x])
+#define END(x) (lay == 2 ? prod_len(x) : relay ? ((x) < N ? 0 : P_off[(x) - N + 1]) : P_off[(x) + 1])
 #define AENT(c, p) (lay ? ENT(P_adj, c, p) : ((const int32_t *)P_adj)[p])
-#define SUCC(x, p) (relay && (x) < N ? (int32_t)(N + cls[x]) : AENT(relay ? (x) - N : (x), p))
+#define SUCC(x, p) (lay == 2 ? prod_succ(x, p) : relay && (x) < N ? (int32_t)(N + cls[x]) : AENT(relay ? (x) - N : (x), p))
     for (int64_t v = 0; v < V; v++) {
         index[v] = -1;
         if (region) region[v] = (mask && v < N && !mask[v]) ? -1 : 0;
@@ -219,10 +251,11 @@ static int64_t fair_core(int lay, int64_t N, int64_t ncls, const int32_t *cls, c
             while (wp > 0) {
                 int32_t v = work[wp - 1];
                 int pushed = 0;
-                while (wpos[wp - 1] < END(v)) {
+                int64_t endv = END(v);
+                while (wpos[wp - 1] < endv) {
                     int32_t w = SUCC(v, wpos[wp - 1]);
                     wpos[wp - 1]++;
-                    if (REGION(w) != reg) continue;
+                    if (w < 0 || REGION(w) != reg) continue;
                     if (index[w] == -1) {
                         index[w] = low[w] = (int32_t)counter++;
                         stack[sp++] = w; onstack[w] = 1;
@@ -245,7 +278,7 @@ static int64_t fair_core(int lay, int64_t N, int64_t ncls, const int32_t *cls, c
                 if (size == 1) {
                     ok = 0;
                     if (!relay)
-                        for (int32_t e = P_off[v]; e < P_off[v + 1]; e++) if (AENT(v, e) == v) { ok = 1; break; }
+                        for (int64_t e = BEG(v); e < END(v); e++) if (SUCC(v, e) == v) { ok = 1; break; }
                 }
                 for (int64_t j = 0; ok && j < nj; j++) {
                     const uint8_t *J = just + j * N;

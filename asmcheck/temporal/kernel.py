@@ -148,6 +148,10 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         return None
 
     def build():
+        # the product's successors are made again from these arrays (kernel.c: prod_succ), read in
+        # the Kripke structure's layout
+        _csr(K)
+        _ = (sig, goff, gadj, pm, nm)       # (held until then: the kernel reads them)
         kk = array("i", bytes(4 * max(N, 1)))
         qq = array("i", bytes(4 * max(N, 1)))
         dll.kn_nodes(_addr(kk), _addr(qq))
