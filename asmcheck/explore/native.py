@@ -2112,9 +2112,12 @@ class Generator:
         if r.kind == "par":
             return "{ " + " ".join(self.rule(x, env) for x in r.rules) + " }"
         f = self.fresh("sf")
+        # (the last step's updates are not written into the working state: the end of the block
+        # restores what the steps wrote there at once, and nothing reads it in between)
         steps = " ".join(f"seq_step_begin(c); {{ {self.rule(x, env)} }} if (c->err) {{ seq_end(c, &{f}); return; }} "
-                         f"seq_step_end(c, &{f});" for x in r.rules)
-        return f"{{ SeqFrame {f}; seq_begin(c, &{f}); {steps} seq_end(c, &{f}); if (c->err) return; }}"
+                         f"seq_step_end(c, &{f});" for x in r.rules[:-1])
+        last = f"seq_step_begin(c); {{ {self.rule(r.rules[-1], env)} }}" if r.rules else ""
+        return f"{{ SeqFrame {f}; seq_begin(c, &{f}); {steps} {last} seq_end(c, &{f}); if (c->err) return; }}"
 
     def r_Loop(self, r, env):
         f = self.fresh("sf")
@@ -2326,16 +2329,21 @@ class Generator:
         cacheable = not env
         pre = ""
         post = ""
+        # (the thread's own list and cache marks are one thread-local record, reached through a
+        # pointer taken once: each use of a thread-local variable of a shared library is a call)
+        tl = self.fresh("tl")
+        decl = (f"static _Thread_local struct {{ V cand[{sizes * k}]; int64_t ep; int cn; uint32_t lg; }} {tl} = {{ .ep = -1 }}; "
+                f"__typeof__({tl}) *p_{tl} = &{tl}; TLS_KEEP(p_{tl}); V *{cand} = p_{tl}->cand; ")
         if cacheable:
-            ep = self.fresh("ep")
-            cn = self.fresh("cn")
-            lg = self.fresh("lg")
-            pre = (f"static _Thread_local int64_t {ep} = -1; static _Thread_local int {cn} = 0; "
-                   f"static _Thread_local uint32_t {lg} = 0; int pos0 = c->pos; "
-                   f"int first_{lg} = {lg} != c->gen; {lg} = c->gen; if (!first_{lg}) {ep} = -1; "
-                   f"if (pos0 == 0 && first_{lg} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
-            post = f" if (c->pos == pos0 && pos0 == 0 && first_{lg}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
-        return ("{ " + f"static _Thread_local V {cand}[{sizes * k}]; int {n} = 0; " + pre + " ".join(heads) +
+            ep = f"p_{tl}->ep"
+            cn = f"p_{tl}->cn"
+            lg = f"p_{tl}->lg"
+            first = self.fresh("first")
+            pre = (f"int pos0 = c->pos; "
+                   f"int {first} = {lg} != c->gen; {lg} = c->gen; if (!{first}) {ep} = -1; "
+                   f"if (pos0 == 0 && {first} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
+            post = f" if (c->pos == pos0 && pos0 == 0 && {first}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
+        return ("{ " + decl + f"int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -2458,14 +2466,17 @@ class Generator:
         env2, heads, names = self.run_time_heads(r, env)
         k = len(names)
         mc, cand, cap, n, g, i, e = (self.fresh(x) for x in ("mc", "cand", "cap", "n", "g", "i", "e"))
+        # (the thread's own record, list and its size reached through pointers taken once: see TLS_KEEP)
+        tl = mc
+        cand, cap = f"p_{tl}->cand", f"p_{tl}->cap"
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
         body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
         cacheable = not (r.guard is not None and self.makes_choices(r.guard)) and \
             not any(self.makes_choices(rg) for _, rg in r.bindings)
         key = list(dict.fromkeys(env.values())) + ["c->self"]
         grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
-                f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
-                f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
+                f"int nc_{tl} = {cap} ? 2 * {cap} : 64; V *t_{tl} = (V *)realloc({cand}, (size_t)nc_{tl} * {k} * sizeof(V)); "
+                f"if (!t_{tl}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{tl}; {cap} = nc_{tl}; }}")
         collect = (f"int {n} = 0; " + " ".join(heads) +
                    f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                    f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
@@ -2488,8 +2499,8 @@ class Generator:
                     f"for (int {i} = 0; {i} < {n}; {i}++) {{ c->curstep = MC_STAMP; c->seqstart = -1; "
                     f"{{ {pick} {run} }} c->curstep = st_{e}; c->seqstart = ss_{e}; {fails}"
                     f"if (!mc_outcome(c, m_{e}, {e}, mk_{e})) return; }}")
-        return ("{ " + f"static _Thread_local MChoose {mc}; static _Thread_local V *{cand} = 0; "
-                f"static _Thread_local int {cap} = 0; MChoose *m_{e} = &{mc}; V key_{e}[{len(key)}] = {{{', '.join(key)}}}; "
+        return ("{ " + f"static _Thread_local struct {{ MChoose m; V *cand; int cap; }} {tl}; __typeof__({tl}) *p_{tl} = &{tl}; "
+                f"TLS_KEEP(p_{tl}); MChoose *m_{e} = &p_{tl}->m; V key_{e}[{len(key)}] = {{{', '.join(key)}}}; "
                 f"int ca_{e} = {1 if cacheable else 0} && c->seqstart < 0; "
                 f"int32_t {e} = ca_{e} ? mc_find(c, m_{e}, key_{e}, {len(key)}) : -1; "
                 f"if ({e} < 0) {{ {collect} {e} = mc_begin(c, m_{e}, key_{e}, {len(key)}, {n}, ca_{e}); "
@@ -2517,14 +2528,17 @@ class Generator:
         env2, heads, names = self.run_time_heads(r, env)
         k = len(names)
         cand, cap, n, g, i = self.fresh("cand"), self.fresh("cap"), self.fresh("n"), self.fresh("g"), self.fresh("i")
+        tl = cand      # (the thread's buffer and its size reached through a pointer taken once: see TLS_KEEP)
+        cand, cap = f"p_{tl}->cand", f"p_{tl}->cap"
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
         body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
         grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
-                f"int nc_{cap} = {cap} ? 2 * {cap} : 64; V *t_{cap} = (V *)realloc({cand}, (size_t)nc_{cap} * {k} * sizeof(V)); "
-                f"if (!t_{cap}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{cap}; {cap} = nc_{cap}; }}")
+                f"int nc_{tl} = {cap} ? 2 * {cap} : 64; V *t_{tl} = (V *)realloc({cand}, (size_t)nc_{tl} * {k} * sizeof(V)); "
+                f"if (!t_{tl}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{tl}; {cap} = nc_{tl}; }}")
         # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
         # and the candidate is copied out before the body runs
-        return ("{ " + f"static _Thread_local V *{cand} = 0; static _Thread_local int {cap} = 0; int {n} = 0; " + " ".join(heads) +
+        return ("{ " + f"static _Thread_local struct {{ V *cand; int cap; }} {tl}; __typeof__({tl}) *p_{tl} = &{tl}; "
+                f"TLS_KEEP(p_{tl}); int {n} = 0; " + " ".join(heads) +
                 f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                 f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
@@ -3892,6 +3906,7 @@ _SHARED_STATICS = frozenset("""
     grow_deadline grow_mask grow_abandoned
     wide_of_word self_first sb_self sb_self_cap
     sym_refused
+    pk_par_t pk_dirty pk_dirty_ok pre_dm inv_wm inv_wm_ok cm_on sb_cm sb_cm_cap cn_wm cn_wm_ok
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")

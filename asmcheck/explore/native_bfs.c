@@ -189,6 +189,14 @@ static PkEnt *pk_tab = 0;                        /* (word, value) -> code */
 static uint64_t pk_mask = 0;
 static int64_t pk_count = 0;
 static uint64_t pk_par_w[PK_NW], pk_par_c[PK_NW], pk_par_rec[PK_NW], pk_par_h;
+/* the terms of pk_par_w in its hash (pk_term), and the words of pk_par_w changed since
+   load_state_delta last read them (bits of a mask of PK_MW words: see state_words) */
+#define PK_MW ((PK_NW + 63) / 64)
+static uint64_t pk_par_t[PK_NW], pk_dirty[PK_MW];
+static int pk_dirty_ok = 0;
+#define MW_EACH(mask, j, body) \
+    for (int mw_ = 0; mw_ < PK_MW; mw_++) \
+        for (uint64_t mb_ = (mask)[mw_]; mb_; mb_ &= mb_ - 1) { int j = mw_ * 64 + __builtin_ctzll(mb_); body }
 static int pk_par_ok = 0, pk_par_set = 0;
 static uint64_t pk_first[PK_NW], pk_first_h[PK_NW];   /* the first stored state's words, their terms */
 static int pk_act[PK_NW], pk_nact = 0;             /* the words with a field (bits > 0) */
@@ -227,11 +235,12 @@ static int pk_grow_tab(void) {
     return 1;
 }
 
-/* the code of value v in word j's dictionary (added when add), -1 when absent (or out of memory) */
-static int64_t pk_lookup(uint32_t j, uint64_t v, int add) {
+/* the code of value v in word j's dictionary (added when add), -1 when absent (or out of memory);
+   hv: pk_hash(j, v) */
+static int64_t pk_lookup_h(uint32_t j, uint64_t v, int add, uint64_t hv) {
     if (add && (pk_count + 1) * 4 > (int64_t)(pk_mask + 1) * 3 && !pk_grow_tab()) return -1;
     if (!pk_tab) return -1;
-    uint64_t h = pk_hash(j, v) & pk_mask;
+    uint64_t h = hv & pk_mask;
     while (pk_tab[h].j != 0xffffffffu) {
         if (pk_tab[h].j == j && pk_tab[h].v == v) return pk_tab[h].code;
         h = (h + 1) & pk_mask;
@@ -250,6 +259,7 @@ static int64_t pk_lookup(uint32_t j, uint64_t v, int add) {
     pk_count++;
     return pk_n[j]++;
 }
+static int64_t pk_lookup(uint32_t j, uint64_t v, int add) { return pk_lookup_h(j, v, add, pk_hash(j, v)); }
 
 static inline uint64_t pk_field(const uint64_t *rec, int j) {
     int b = pk_bits[j];
@@ -352,28 +362,41 @@ static int pk_codes(const uint64_t *w, uint64_t *codes, int add, int *wide) {
 
 /* the record and hash of a successor w of the state decoded last (pk_par_*): the parent's record
    with the fields of the words that differ written over.  0 when a field is too narrow (or out of
-   memory): pk_intern then takes the whole way */
-static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp) {
+   memory): pk_intern then takes the whole way.  cand (or 0: every word): PK_MW mask words, the
+   only words of w that may differ from the parent's; dm (or 0): set to the words that do */
+static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp, const uint64_t *cand, uint64_t *dm) {
     memcpy(rec, pk_par_rec, PW * sizeof(uint64_t));
     uint64_t hh = pk_par_h;
     /* the words that differ, their dictionary entries fetched before any is read (a successor
        changes several words: the look-ups' cache misses overlap) */
     int ch[PK_NW], nch = 0;
-    for (int j = 0; j < NWORDS; j++) {
-        uint64_t x = w[j];
-        if (x == pk_par_w[j]) continue;
-        ch[nch++] = j;
-        if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[pk_hash((uint32_t)j, x) & pk_mask]);
+    uint64_t hx[PK_NW];
+    if (cand) {
+        MW_EACH(cand, j, {
+            uint64_t x = w[j];
+            if (x == pk_par_w[j]) continue;
+            if (!pk_raw[j] && pk_tab) { hx[nch] = pk_hash((uint32_t)j, x); __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]); }
+            ch[nch++] = j;
+        })
+    } else {
+        for (int j = 0; j < NWORDS; j++) {
+            uint64_t x = w[j];
+            if (x == pk_par_w[j]) continue;
+            if (!pk_raw[j] && pk_tab) { hx[nch] = pk_hash((uint32_t)j, x); __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]); }
+            ch[nch++] = j;
+        }
     }
+    if (dm) memset(dm, 0, PK_MW * sizeof(uint64_t));
     for (int q = 0; q < nch; q++) {
         int j = ch[q];
         uint64_t x = w[j];
-        hh += pk_term(j, x) - pk_term(j, pk_par_w[j]);
+        hh += pk_term(j, x) - pk_par_t[j];
+        if (dm) dm[j >> 6] |= 1ULL << (j & 63);
         uint64_t k = x;
         if (!pk_raw[j]) {
-            int64_t q = pk_lookup((uint32_t)j, x, 1);
-            if (q < 0) return 0;
-            k = (uint64_t)q;
+            int64_t q2 = pk_tab ? pk_lookup_h((uint32_t)j, x, 1, hx[q]) : pk_lookup((uint32_t)j, x, 1);
+            if (q2 < 0) return 0;
+            k = (uint64_t)q2;
         }
         int b = pk_bits[j];
         if (b == 64) { rec[pk_at[j]] = k; continue; }
@@ -392,7 +415,7 @@ static int64_t pk_intern(const uint64_t *w, uint32_t parent, int *isnew) {
     }
     if (pk_par_ok) {
         uint64_t hh;
-        if (pk_prepare(w, rec, &hh)) return intern_hashed(rec, PW, hh, parent, isnew);
+        if (pk_prepare(w, rec, &hh, 0, 0)) return intern_hashed(rec, PW, hh, parent, isnew);
     }
     if (pk_codes(w, codes, 1, &wide) < 0) return -1;
     if (wide) {
@@ -416,6 +439,8 @@ static const uint64_t *state_words(int64_t sid) {
     const uint64_t *rec = states + sid * PW;
     if (!pk_par_set) {      /* a word without a field holds the first state's word in every state */
         memcpy(pk_par_w, pk_first, sizeof(pk_par_w));
+        memcpy(pk_par_t, pk_first_h, sizeof(pk_par_t));
+        pk_dirty_ok = 0;
         memset(pk_par_c, 0, sizeof(pk_par_c));
         memset(pk_par_rec, 0, sizeof(pk_par_rec));    /* (every code 0) */
         pk_par_h = 0;        /* (the hash of the first state's words) */
@@ -441,8 +466,11 @@ static const uint64_t *state_words(int64_t sid) {
         int j = ch[q];
         uint64_t x = cx[q];
         uint64_t v = pk_raw[j] ? x : pk_vals[j][x];
-        pk_par_h += pk_term(j, v) - pk_term(j, pk_par_w[j]);
+        uint64_t t = pk_term(j, v);
+        pk_par_h += t - pk_par_t[j];
+        pk_par_t[j] = t;
         pk_par_c[j] = x;
+        if (v != pk_par_w[j]) pk_dirty[j >> 6] |= 1ULL << (j & 63);
         pk_par_w[j] = v;
     }
     memcpy(pk_par_rec, rec, PW * sizeof(uint64_t));
@@ -456,7 +484,7 @@ static void pk_start(void) {
     for (int j = 0; j < NWORDS; j++) { pk_bits[j] = 0; pk_raw[j] = 0; pk_n[j] = 0; }
     pk_place();
     if (!pk_on) PW = NWORDS;
-    pk_par_ok = 0; pk_par_set = 0;
+    pk_par_ok = 0; pk_par_set = 0; pk_dirty_ok = 0;
 }
 
 static void pk_free(void) {
@@ -495,28 +523,38 @@ static void load_state(Ctx *c, const uint64_t *w) {
     }
 }
 
+static inline void load_word(Ctx *c, int j, uint64_t word) {
+    ld_w[j] = word;
+    for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
+        int s = ws_slot[i];
+        V v;
+        if (SLOT_BITS[s] == 64) v = (V)word;
+        else v = SLOT_DECODE[s][(int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1))];
+        c->cur[s] = v;
+#if NSTEP > 0 || NINVAR > 0
+        c->post[s] = v;          /* (post follows: see make_post) */
+#endif
+    }
+}
+/* (in the packed store, w is pk_par_w, and ld_w differs from it only in the words state_words
+   marked in pk_dirty since the last call: only those are compared) */
 static void load_state_delta(Ctx *c, const uint64_t *w) {
+    int dirty = pk_on && w == pk_par_w;
     if (!ld_ok) {
         load_state(c, w);
         memcpy(ld_w, w, NWORDS * sizeof(uint64_t));
         ld_ok = 1;
+        if (dirty) memset(pk_dirty, 0, sizeof(pk_dirty));
+        pk_dirty_ok = dirty;
         return;
     }
-    for (int j = 0; j < NWORDS; j++) {
-        uint64_t word = w[j];
-        if (word == ld_w[j]) continue;
-        ld_w[j] = word;
-        for (int i = ws_off[j]; i < ws_off[j + 1]; i++) {
-            int s = ws_slot[i];
-            V v;
-            if (SLOT_BITS[s] == 64) v = (V)word;
-            else v = SLOT_DECODE[s][(int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1))];
-            c->cur[s] = v;
-#if NSTEP > 0 || NINVAR > 0
-            c->post[s] = v;          /* (post follows: see make_post) */
-#endif
-        }
+    if (dirty && pk_dirty_ok) {
+        MW_EACH(pk_dirty, j, { if (w[j] != ld_w[j]) load_word(c, j, w[j]); })
+    } else {
+        for (int j = 0; j < NWORDS; j++) if (w[j] != ld_w[j]) load_word(c, j, w[j]);
     }
+    if (dirty) memset(pk_dirty, 0, sizeof(pk_dirty));
+    pk_dirty_ok = dirty;
     if (ld_check) {     /* (tests) the working state is what a whole load gives */
         V full[NSLOTS > 0 ? NSLOTS : 1];
         memcpy(full, c->cur, sizeof(full));
@@ -655,6 +693,10 @@ static void note_range(const uint64_t *w, int64_t depth, const uint64_t *par) {
     /* only the words that differ from the parent's (the others were noted when the parent was new) */
     for (int j = 0; j < NWORDS; j++)
         if (w[j] != par[j] && wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth);
+}
+/* the same, given the words that differ from the parent's (PK_MW mask words) */
+static void note_range_m(const uint64_t *w, int64_t depth, const uint64_t *dm) {
+    MW_EACH(dm, j, { if (wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth); })
 }
 
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
@@ -1196,17 +1238,62 @@ static int sym_finish(Succ *b, const uint64_t *src, int *err) {
 #define SYM_DONE(b, err) EXP_OK
 #endif
 
+/* asm_run's expansions (cm_on) note for each successor i the words that may differ from the state
+   expanded (sb_cm + i * PK_MW: those of the slots updated, and of the canonical form's locations when
+   it was worked out), so that packing it compares only those (pk_prepare) */
+#if !defined(MC_TAIL_ON) && !SYM_ON
+#define CM_ON 1
+static int cm_on = 0;
+static uint64_t *sb_cm = 0, cn_wm[PK_MW];
+static int64_t sb_cm_cap = 0;
+static int cn_wm_ok = 0;
+static inline uint64_t *cm_note(Ctx *c, int64_t i) {
+    if ((i + 1) * PK_MW > sb_cm_cap) {
+        int64_t nc = sb_cm_cap ? sb_cm_cap * 2 : 64 * PK_MW;
+        while (nc < (i + 1) * PK_MW) nc *= 2;
+        uint64_t *x = (uint64_t *)realloc(sb_cm, nc * sizeof(uint64_t));
+        if (!x) return 0;
+        sb_cm = x;
+        sb_cm_cap = nc;
+    }
+    uint64_t *m = sb_cm + i * PK_MW;
+    memset(m, 0, PK_MW * sizeof(uint64_t));
+    for (int q = 0; q < c->nupd; q++) {
+        int s = c->upd_slot[q];
+        int j = SLOT_WORD[s >= NSLOTS ? c->vs_slot[s - NSLOTS] : s];
+        m[j >> 6] |= 1ULL << (j & 63);
+    }
+#if CN_NDYN > 0
+    if (!cn_wm_ok) {
+        for (int q = 0; q < CN_NKW; q++) cn_wm[CN_KW[q] >> 6] |= 1ULL << (CN_KW[q] & 63);
+        cn_wm_ok = 1;
+    }
+#endif
+    return m;
+}
+#endif
+
 #if CN_NDYN > 0
 /* No element made in the run, and the bits of the locations that hold or are keyed by elements
    and of the counts (the key of native_canon.c's kept forms) those of the state expanded: the
    successor's canonical form leaves it as it is (the expanded state is canonical, and the form
    depends on those bits alone), so canon_state need not look it up. */
-static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w) {
+static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint64_t *w, const uint64_t *cm) {
     if (c->cn_made == c->gen) return 0;
+#ifdef CM_ON
+    if (cm) {      /* (no word of the key among those the step updated) */
+        uint64_t any = 0;
+        for (int q = 0; q < PK_MW; q++) any |= cm[q] & cn_wm[q];
+        if (!any) return 1;
+    }
+#else
+    (void)cm;
+#endif
     for (int i = 0; i < CN_NKW; i++) if ((w[CN_KW[i]] ^ src[CN_KW[i]]) & CN_KMASK[i]) return 0;
     return 1;
 }
 #endif
+
 
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
@@ -1271,9 +1358,15 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             c->err = 0;
 #endif
             uint64_t *nw = b->w + b->n * NWORDS;
-            store_state(c, src, nw);
-            if (MISSED()) return EXP_MISSED;
             int same = 0;
+#ifndef MC_TAIL_ON
+            /* (a successor that is the state itself is not stored: its words are not read) */
+            if (!self_first || c->nupd != 0 || c->cn_made == c->gen)
+#endif
+            {
+                store_state(c, src, nw);
+                if (MISSED()) return EXP_MISSED;
+            }
 #ifndef MC_TAIL_ON
             if (self_first) {
                 if (b->n >= sb_self_cap) {
@@ -1288,13 +1381,22 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
                 sb_self[b->n] = (uint8_t)same;
             }
 #endif
+            uint64_t *cm = 0;
+#ifdef CM_ON
+            if (cm_on && !(cm = cm_note(c, b->n))) return EXP_MEM;
+#endif
 #if CN_NDYN > 0
-            if (!same && !cn_key_unchanged(c, src, nw) && canon_state(c, nw)) {
-                if (MISSED()) return EXP_MISSED;
-                *err = E_UNSUPPORTED; return EXP_HARD0;
+            if (!same && !cn_key_unchanged(c, src, nw, cm)) {
+#ifdef CM_ON
+                if (cm) for (int q = 0; q < PK_MW; q++) cm[q] |= cn_wm[q];    /* (words canon_state may write) */
+#endif
+                if (canon_state(c, nw)) {
+                    if (MISSED()) return EXP_MISSED;
+                    *err = E_UNSUPPORTED; return EXP_HARD0;
+                }
             }
 #endif
-            (void)same;
+            (void)same; (void)cm;
             /* the values of the temporal quotient's atoms in this step (asm_qf) */
             if (QF.on && QF.nk && !skip && !QF.failed && !qf_atoms(c, b->n)) return EXP_MEM;
         }
@@ -1334,10 +1436,11 @@ static void fill_out(int64_t *out, int status) {
    here; w its words, mask its step-property masks): depth and ranges, the transition and its edge,
    the step properties it violates.  0: out of memory */
 static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint64_t *w, const uint64_t *mask,
-                                 const uint64_t *par) {
+                                 const uint64_t *par, const uint64_t *dm) {
     if (isnew) {
         if (S.depth + 1 > S.maxd) S.maxd = S.depth + 1;
-        note_range(w, S.depth + 1, par);
+        if (dm) note_range_m(w, S.depth + 1, dm);
+        else note_range(w, S.depth + 1, par);
     }
     if (sset_first(&succs, tid)) {
         S.transitions++;
@@ -1420,6 +1523,7 @@ static int step_failed_at(int64_t sid, int steperr) {
 }
 
 static uint64_t *pre_h = 0, *pre_rec = 0;     /* asm_run: its successors' hashes and records */
+static uint64_t *pre_dm = 0;                  /* and the words where each differs from the state (PK_MW) */
 static int64_t pre_cap = 0;
 
 /* The invariants a state must be checked for: those that read a bit (INV_W, INV_M, from the code
@@ -1440,8 +1544,19 @@ typedef uint64_t InvNeed;
 static InvNeed *inv_need = 0;
 static int64_t inv_cap = 0;
 
-/* the invariants to check in state tid, first met as a successor of the state of words par */
-static int inv_note(int64_t tid, const uint64_t *w, const uint64_t *par) {
+#if INV_SKIP
+static uint64_t inv_wm[NINV > 0 ? NINV : 1][PK_MW];     /* the words each invariant reads (INV_W) */
+static int inv_wm_ok = 0;
+static void inv_words(void) {
+    inv_wm_ok = 1;
+    memset(inv_wm, 0, sizeof(inv_wm));
+    for (int k = 0; k < NINV; k++)
+        for (int i = INV_OFF[k]; i < INV_OFF[k + 1]; i++) inv_wm[k][INV_W[i] >> 6] |= 1ULL << (INV_W[i] & 63);
+}
+#endif
+/* the invariants to check in state tid, first met as a successor of the state of words par (dm, or
+   0: the words that differ from par's, PK_MW mask words) */
+static int inv_note(int64_t tid, const uint64_t *w, const uint64_t *par, const uint64_t *dm) {
 #if INV_SKIP
     if (tid >= inv_cap) {
         int64_t nc = inv_cap ? inv_cap * 2 : 4096;
@@ -1455,12 +1570,18 @@ static int inv_note(int64_t tid, const uint64_t *w, const uint64_t *par) {
     InvNeed need = 0;
     for (int k = 0; k < NINV; k++) {
         if (INV_ALL[k]) { need |= (InvNeed)1 << k; continue; }
+        if (dm) {
+            if (!inv_wm_ok) inv_words();
+            uint64_t any = 0;
+            for (int m = 0; m < PK_MW; m++) any |= dm[m] & inv_wm[k][m];
+            if (!any) continue;
+        }
         for (int i = INV_OFF[k]; i < INV_OFF[k + 1]; i++)
             if ((w[INV_W[i]] ^ par[INV_W[i]]) & INV_M[i]) { need |= (InvNeed)1 << k; break; }
     }
     inv_need[tid] = need;
 #else
-    (void)tid; (void)w; (void)par;
+    (void)tid; (void)w; (void)par; (void)dm;
 #endif
     return 1;
 }
@@ -1521,8 +1642,17 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
 #ifndef MC_TAIL_ON
         self_first = 1;
 #endif
+#ifdef CM_ON
+        cm_on = pk_on && pk_par_ok;
+#endif
         int xr = expand_state(c, sw, &sb0, &steperr, &xe, &xsite, 0);
         self_first = 0;
+#ifdef CM_ON
+        const uint64_t *cand = cm_on ? sb_cm : 0;
+        cm_on = 0;
+#else
+        const uint64_t *cand = 0;
+#endif
         if (xr == EXP_HARD) {
             out[4] = xe; out[5] = sid; out[6] = xsite; out[10] = c->clash_slot;
             status = 4; goto finish;
@@ -1552,6 +1682,9 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             uint64_t *x = (uint64_t *)realloc(pre_h, nc * sizeof(uint64_t));
             if (!x) { status = 5; goto finish; }
             pre_h = x;
+            x = (uint64_t *)realloc(pre_dm, nc * PK_MW * sizeof(uint64_t));
+            if (!x) { status = 5; goto finish; }
+            pre_dm = x;
             x = (uint64_t *)realloc(pre_rec, nc * (PW > NWORDS ? PW : NWORDS) * sizeof(uint64_t));
             if (!x) { status = 5; goto finish; }
             pre_rec = x;
@@ -1565,7 +1698,8 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         if (pk_on && pk_par_ok) {
             for (; npre < nbuf; npre++) {
                 if (same && same[npre]) continue;
-                if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre)) break;
+                if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre,
+                                cand ? cand + npre * PK_MW : 0, pre_dm + npre * PK_MW)) break;
                 __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
             }
         } else if (!pk_on) {
@@ -1598,10 +1732,11 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
                 status = 3; goto finish;
             }
             const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
-            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par)) {
+            const uint64_t *dm = pk_on && b < npre ? pre_dm + b * PK_MW : 0;   /* (the words that differ) */
+            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par, dm)) {
                 status = 5; goto finish;
             }
-            if (isnew && !inv_note(tid, wb, par)) { status = 5; goto finish; }
+            if (isnew && !inv_note(tid, wb, par, dm)) { status = 5; goto finish; }
             if (QF.on && QF.nk && !QF.failed)
                 for (; qr < QF.nr && QF.rb[qr] == b; qr++) {
                     int64_t p = qf_pair((uint32_t)tid, QF.rv[qr]);
@@ -1985,6 +2120,10 @@ void asm_free(void) {
     free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
     free(sb_self); sb_self = 0; sb_self_cap = 0;
     free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
+    free(pre_dm); pre_dm = 0;
+#ifdef CM_ON
+    free(sb_cm); sb_cm = 0; sb_cm_cap = 0;
+#endif
     free(inv_need); inv_need = 0; inv_cap = 0;
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     pk_free();
@@ -2794,7 +2933,7 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
             if (tid < 0) tid = C.anum[-1 - tid];
             int isnew = tid == run_n;
             if (isnew) run_n++;
-            if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q, 0)) { status = 5; break; }
+            if (!note_successor(sid, tid, isnew, states + tid * NWORDS, w->cm + 2 * q, 0, 0)) { status = 5; break; }
             if (failing && !ef_succ(tid)) { status = 5; break; }
             if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
         }

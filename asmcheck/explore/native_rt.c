@@ -87,6 +87,14 @@ typedef struct {
     int32_t post_slot[MAXUPD];
 } Ctx;
 
+/* a pointer to a thread-local variable, kept in a register: without it the compiler may compute the
+   address again at each use, and in a shared library that is a call (__tls_get_addr) */
+#if defined(__GNUC__) || defined(__clang__)
+#define TLS_KEEP(p) __asm__("" : "+r"(p))
+#else
+#define TLS_KEEP(p) ((void)0)
+#endif
+
 static int choice(Ctx *c, int n) {
     if (c->pos >= MAXCH) { if (!c->err) { c->err = E_CHOICES; c->err_site = 0; } return 0; }
     int i = c->pos < c->plen ? c->prefix[c->pos] : 0;
@@ -262,8 +270,8 @@ static void seq_end(Ctx *c, SeqFrame *f) {
                 continue;
             }
         }
-        c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->ustamp[w] = c->curstep; c->uprev[w] = q;
-        c->uagent[w] = c->uagent[i];
+        if (w != i) { c->upd_slot[w] = s; c->upd_code[w] = c->upd_code[i]; c->uagent[w] = c->uagent[i]; c->uprev[w] = q; }
+        c->ustamp[w] = c->curstep;
         c->wpos[s] = w;
         w++;
     }
