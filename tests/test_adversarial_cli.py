@@ -232,6 +232,21 @@ def test_time_limits_hold_under_a_wall_clock(tmp_path, limit):
 
 
 # ----------------------------------------------------------------- Ctrl-C at any moment
+def wait_for_exec(proc, words: list[str], seconds: float = 60.0) -> None:
+    """Until the child runs the program (its command line is ``words``): a signal sent between the
+    fork and the exec reaches the copy of this process, whose handler only notes it, and is lost
+    (under heavy load that window is long enough to hit)."""
+    want = "\0".join(words).encode()
+    end = time.monotonic() + seconds
+    while proc.poll() is None and time.monotonic() < end:
+        try:
+            if Path(f"/proc/{proc.pid}/cmdline").read_bytes().rstrip(b"\0") == want:
+                return
+        except OSError:
+            return
+        time.sleep(0.001)
+
+
 def cpu_seconds(pid: int) -> float:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
@@ -242,9 +257,10 @@ def cpu_seconds(pid: int) -> float:
 @pytest.mark.parametrize("command", ["explore", "check"])
 def test_sigint_at_any_moment_ends_well(tmp_path, command, cpu):
     path = write(tmp_path, COUNTER)
-    proc = subprocess.Popen([sys.executable, "-m", "asmcheck", command, path, "--engine", "python"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    argv = [sys.executable, "-m", "asmcheck", command, path, "--engine", "python"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
     try:
+        wait_for_exec(proc, argv)
         while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
             time.sleep(0.05)
         proc.send_signal(signal.SIGINT)
