@@ -25,7 +25,9 @@ if _sys.argv[:1] == ["-m"] or _sys.argv[:1] and _sys.argv[0].rsplit("/", 1)[-1] 
             _os._exit(3)
     _interrupted_while_loading.asmcheck_startup = True
     try:
-        _signal.signal(_signal.SIGINT, _interrupted_while_loading)
+        # (started with Ctrl-C ignored, as `nohup` and a script's `&` start programs: it stays so)
+        if _signal.getsignal(_signal.SIGINT) is not _signal.SIG_IGN:
+            _signal.signal(_signal.SIGINT, _interrupted_while_loading)
     except (ValueError, OSError):                       # pragma: no cover - not the main thread
         pass
 

@@ -247,6 +247,13 @@ def wait_for_exec(proc, words: list[str], seconds: float = 60.0) -> None:
         time.sleep(0.001)
 
 
+def sigint_default() -> None:
+    """(In the child, before the program:) Ctrl-C as a terminal's foreground program has it,
+    whatever this process has (a test run started in the background ignores it, and so would
+    the program, as it should)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def cpu_seconds(pid: int) -> float:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
@@ -258,7 +265,8 @@ def cpu_seconds(pid: int) -> float:
 def test_sigint_at_any_moment_ends_well(tmp_path, command, cpu):
     path = write(tmp_path, COUNTER)
     argv = [sys.executable, "-m", "asmcheck", command, path, "--engine", "python"]
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
+                            preexec_fn=sigint_default)
     try:
         wait_for_exec(proc, argv)
         while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
@@ -344,3 +352,29 @@ def test_a_time_bound_beyond_the_platform_timer_ends_well(tmp_path):
     clean(out)
     assert code == 3
     assert out.endswith("incomplete: state limit 50 reached\nverdict: incomplete\n"), out
+
+
+@pytest.mark.engines("python")
+def test_a_program_started_with_ctrl_c_ignored_keeps_ignoring_it(tmp_path):
+    """As `nohup` and a script's `cmd &` start it: a Ctrl-C to the terminal's programs does not end
+    it (SIGTERM still does, with the partial report)."""
+    path = write(tmp_path, COUNTER)
+    argv = [sys.executable, "-m", "asmcheck", "explore", path, "--engine", "python"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    try:
+        wait_for_exec(proc, argv)
+        for moment in (0.0, 0.5, 1.5):            # the start-up, the imports, the search
+            while proc.poll() is None and cpu_seconds(proc.pid) < moment:
+                time.sleep(0.02)
+            proc.send_signal(signal.SIGINT)
+        time.sleep(0.5)
+        assert proc.poll() is None
+        proc.send_signal(signal.SIGTERM)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    clean(out + err)
+    assert proc.returncode == 3 and "interrupted (SIGTERM)" in out, (out, err)
