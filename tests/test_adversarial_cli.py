@@ -232,21 +232,6 @@ def test_time_limits_hold_under_a_wall_clock(tmp_path, limit):
 
 
 # ----------------------------------------------------------------- Ctrl-C at any moment
-def wait_for_exec(proc, words: list[str], seconds: float = 60.0) -> None:
-    """Until the child runs the program (its command line is ``words``): a signal sent between the
-    fork and the exec reaches the copy of this process, whose handler only notes it, and is lost
-    (under heavy load that window is long enough to hit)."""
-    want = "\0".join(words).encode()
-    end = time.monotonic() + seconds
-    while proc.poll() is None and time.monotonic() < end:
-        try:
-            if Path(f"/proc/{proc.pid}/cmdline").read_bytes().rstrip(b"\0") == want:
-                return
-        except OSError:
-            return
-        time.sleep(0.001)
-
-
 def sigint_default() -> None:
     """(In the child, before the program:) Ctrl-C as a terminal's foreground program has it,
     whatever this process has (a test run started in the background ignores it, and so would
@@ -268,7 +253,6 @@ def test_sigint_at_any_moment_ends_well(tmp_path, command, cpu):
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
                             preexec_fn=sigint_default)
     try:
-        wait_for_exec(proc, argv)
         while proc.poll() is None and cpu_seconds(proc.pid) < cpu:
             time.sleep(0.05)
         proc.send_signal(signal.SIGINT)
@@ -363,7 +347,6 @@ def test_a_program_started_with_ctrl_c_ignored_keeps_ignoring_it(tmp_path):
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
     try:
-        wait_for_exec(proc, argv)
         for moment in (0.0, 0.5, 1.5):            # the start-up, the imports, the search
             while proc.poll() is None and cpu_seconds(proc.pid) < moment:
                 time.sleep(0.02)

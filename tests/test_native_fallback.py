@@ -314,7 +314,7 @@ def test_a_ctrl_c_at_any_moment_of_the_start_up_ends_with_a_message_and_exit_cod
     import sys
     import time
     from pathlib import Path
-    from test_adversarial_cli import COUNTER, INTERPRETER_START, sigint_default, wait_for_exec
+    from test_adversarial_cli import COUNTER, INTERPRETER_START, sigint_default
     root = Path(__file__).resolve().parent.parent
     env = dict(os.environ, PYTHONPATH=str(root))
     path = write(tmp_path, COUNTER)
@@ -324,7 +324,6 @@ def test_a_ctrl_c_at_any_moment_of_the_start_up_ends_with_a_message_and_exit_cod
         proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path,
                                 preexec_fn=sigint_default)
         try:
-            wait_for_exec(proc, argv)
             time.sleep(0.05 * i)
             proc.send_signal(signal.SIGINT)
             out, err = proc.communicate(timeout=120)
