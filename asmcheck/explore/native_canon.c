@@ -596,11 +596,14 @@ static uint64_t cn_key_hash(const V *k) {
 
 /* the number of low bytes the word d takes (0 for 0) */
 static inline int cn_len(uint64_t d) { return ((71 - __builtin_clzll(d | 1)) >> 3) & -(int)(d != 0); }
-/* the low n bytes (1 to 8) at q, 8 bytes readable there */
+/* the mask of the low n bytes of a word (0 to 8) */
+static const uint64_t CN_LOW[9] = {0, 0xffULL, 0xffffULL, 0xffffffULL, 0xffffffffULL, 0xffffffffffULL,
+                                   0xffffffffffffULL, 0xffffffffffffffULL, ~0ULL};
+/* the low n bytes (0 to 8) at q, 8 bytes readable there */
 static inline uint64_t cn_low(const uint8_t *q, int n) {
     uint64_t d;
     memcpy(&d, q, 8);
-    return d & (~0ULL >> (64 - 8 * n));
+    return d & CN_LOW[n];
 }
 
 /* the key k encoded at o (see above; base: the pool's head), writing up to 8 bytes past it; its
@@ -632,8 +635,6 @@ static int cn_key_enc(const V *base, const V *k, uint8_t *o) {
 
 /* is the entry's key at e (see above) the key k (base: the pool's head)?  (read where it is kept,
    without making k's encoding: most look-ups find their key) */
-static const uint64_t CN_LOW[9] = {0, 0xffULL, 0xffffULL, 0xffffffULL, 0xffffffffULL, 0xffffffffffULL,
-                                   0xffffffffffffULL, 0xffffffffffffffULL, ~0ULL};
 static inline int cn_key_eq(const V *base, const V *k, const uint8_t *e, int len) {
 #ifdef CN_NO_DIFF
     (void)base;
@@ -644,13 +645,10 @@ static inline int cn_key_eq(const V *base, const V *k, const uint8_t *e, int len
     uint64_t diff = 0;
     for (int i = 0; i < CN_KL; i += 2) {
         int nb = e[i >> 1], n0 = nb & 15, n1 = nb >> 4;
-        uint64_t x;
-        memcpy(&x, p, 8);
-        diff |= ((uint64_t)k[i] ^ (uint64_t)base[i]) ^ (x & CN_LOW[n0]);
+        diff |= ((uint64_t)k[i] ^ (uint64_t)base[i]) ^ cn_low(p, n0);
         p += n0;
         if (i + 1 < CN_KL) {
-            memcpy(&x, p, 8);
-            diff |= ((uint64_t)k[i + 1] ^ (uint64_t)base[i + 1]) ^ (x & CN_LOW[n1]);
+            diff |= ((uint64_t)k[i + 1] ^ (uint64_t)base[i + 1]) ^ cn_low(p, n1);
             p += n1;
         }
     }

@@ -559,7 +559,7 @@ def _quotient_recorded(explorer, S, mon_items, ok_state, need, slab, st_atoms, i
         return None
     fsrc, fdst, fvec, off, adj = res
     if mon_items:
-        vecs = Vectors(fvec if len(mon_items) > 8 or fvec.typecode == "B" else array("B", fvec), len(mon_items))
+        vecs = Vectors(fvec, len(mon_items))        # (one byte a node with at most 8 atoms)
     else:
         vecs = Vectors(None, 0, len(fsrc))
     got = cache[("recorded", key)] = (fsrc, fdst, vecs, off, adj)
