@@ -56,6 +56,18 @@ def spec(sig: str, defs: str, init: str = "") -> str:
             ("\ndefault init s0:\n" + init + "\n" if init else "\n"))
 
 
+def engine_free(report: dict, engine: str | None = None) -> dict:
+    """``report`` (``explore --format json``) without what differs from one engine's run to the
+    other's: the engine (checked to be ``engine`` when given), the times and the engine's notes;
+    changed in place, and returned."""
+    got = report.pop("engine")
+    if engine is not None:
+        assert got == engine
+    for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
+        report.pop(key, None)
+    return report
+
+
 def both(tmp_path, capsys, text, *extra):
     """``explore --format json`` of the spec ``text`` on the native engine and on the Python engine:
     the two reports must be equal but for the engine and the times; returns (exit code, report)."""
@@ -69,11 +81,7 @@ def both(tmp_path, capsys, text, *extra):
     outs = []
     for engine in ("native", "python"):
         code = main(["explore", path, "--format", "json", "--engine", engine, *extra])
-        out = json.loads(capsys.readouterr().out)
-        assert out.pop("engine") == engine
-        for key in ("seconds", "compile_seconds", "engine_note", "engine_reason"):
-            out.pop(key, None)
-        outs.append((code, out))
+        outs.append((code, engine_free(json.loads(capsys.readouterr().out), engine)))
     assert outs[0] == outs[1]
     return outs[0]
 
