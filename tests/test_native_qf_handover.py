@@ -10,9 +10,9 @@ import pytest
 from asmcheck import api
 from asmcheck.explore.native import NativeExplorer
 from asmcheck.explore.native_build import compiler
-from asmcheck.report.trace import temporal_text
 
 from helpers import write
+from test_temporal_quotient import structure_arrays, temporal_rows
 
 pytestmark = pytest.mark.engines("native")
 
@@ -55,15 +55,6 @@ NINE = HEAD.format(name="NineAtoms", props="\n".join(
     f"\tCTLSPEC ag(ef(noise = {k}))" for k in range(9)) + "\n\tCTLSPEC eg(not(noise = 8))")
 
 
-def _arrays(K):
-    return (K.n, list(K.sid), list(K.tgt), list(K.vec), [list(c) for c in K.cls_succ], list(K.init),
-            {i: bytes(lab) for i, lab in K.label.items()})
-
-
-def _rows(model, run):
-    return [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes")) for r in run.temporal]
-
-
 @needs_cc
 @pytest.mark.parametrize("text,atoms,code,nodes,verdicts", [
     (NONE, 0, "B", 9, ["holds", "holds", "violated"]),
@@ -87,14 +78,14 @@ def test_handover(tmp_path, monkeypatch, text, atoms, code, nodes, verdicts):
     assert got == [(atoms, code, nodes if atoms else 0, nodes)]
     K = run.temporal[0].K
     assert K.n == nodes
-    rows = _rows(model, run)
+    rows = temporal_rows(model, run)
     assert [r[1] for r in rows] == verdicts
     # the route through the edges
     monkeypatch.setattr(api, "_quotient_plan", lambda *a: None)
     old_model = api.load(path)
     old = old_model.explore(engine="native")
     assert old.explorer.edge_src is not None
-    assert _arrays(old.temporal[0].K) == _arrays(K)
-    assert _rows(old_model, old) == rows
+    assert structure_arrays(old.temporal[0].K) == structure_arrays(K)
+    assert temporal_rows(old_model, old) == rows
     py_model = api.load(path)
-    assert _rows(py_model, py_model.explore(engine="python")) == rows
+    assert temporal_rows(py_model, py_model.explore(engine="python")) == rows

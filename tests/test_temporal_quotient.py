@@ -297,12 +297,14 @@ def _old_route(monkeypatch):
     monkeypatch.setattr(api, "_quotient_plan", lambda *a: None)
 
 
-def _structure_arrays(K):
+def structure_arrays(K):
+    """The arrays of the Kripke structure K, to compare two structures (test_native_qf_handover.py too)."""
     return (K.n, list(K.sid), list(K.tgt), list(K.vec), [list(c) for c in K.cls_succ], list(K.init),
             {i: bytes(lab) for i, lab in K.label.items()})
 
 
-def _rows(model, run):
+def temporal_rows(model, run):
+    """Each temporal row of ``run``: name, verdict, its text and the structure's nodes."""
     return [(r.name, r.verdict, temporal_text(r, model.machine), r.stats.get("kripke_nodes")) for r in run.temporal]
 
 
@@ -315,16 +317,16 @@ def test_recorded_steps_structure(tmp_path, monkeypatch, text, nodes):
     assert run.explorer.edge_src is None            # recorded: the pairs, no edges
     K = run.temporal[0].K
     assert K.n == nodes and {r.stats["kripke_nodes"] for r in run.temporal} == {nodes}
-    rows = _rows(model, run)
+    rows = temporal_rows(model, run)
     with monkeypatch.context() as mp:
         _old_route(mp)
         old_model = api.load(path)
         old = old_model.explore(engine="native")
         assert old.explorer.edge_src is not None
-        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(K)
-        assert _rows(old_model, old) == rows
+        assert structure_arrays(old.temporal[0].K) == structure_arrays(K)
+        assert temporal_rows(old_model, old) == rows
     py_model = api.load(path)
-    assert _rows(py_model, py_model.explore(engine="python")) == rows
+    assert temporal_rows(py_model, py_model.explore(engine="python")) == rows
 
 
 @needs_cc
@@ -340,8 +342,8 @@ def test_recorded_steps_merged_by_hashing(tmp_path, monkeypatch, text):
     model2 = api.load(path)
     run2 = model2.explore(engine="native")
     assert run2.explorer.edge_src is None
-    assert _structure_arrays(run2.temporal[0].K) == _structure_arrays(run.temporal[0].K)
-    assert _rows(model2, run2) == _rows(model, run)
+    assert structure_arrays(run2.temporal[0].K) == structure_arrays(run.temporal[0].K)
+    assert temporal_rows(model2, run2) == temporal_rows(model, run)
 
 
 @needs_cc
@@ -373,7 +375,7 @@ def test_recorded_steps_past_a_failing_step(tmp_path, monkeypatch):
     model = api.load(path)
     run = model.explore(engine="native")
     assert run.explorer.edge_src is None                # recorded, not searched again
-    rows = _rows(model, run)
+    rows = temporal_rows(model, run)
     assert any("relative to the run-time error" in r[2][0] for r in rows)
     assert {r[3] for r in rows} == {18}
     with monkeypatch.context() as mp:
@@ -381,10 +383,10 @@ def test_recorded_steps_past_a_failing_step(tmp_path, monkeypatch):
         old_model = api.load(path)
         old = old_model.explore(engine="native")
         assert old.explorer.edge_src is not None
-        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(run.temporal[0].K)
-        assert _rows(old_model, old) == rows
+        assert structure_arrays(old.temporal[0].K) == structure_arrays(run.temporal[0].K)
+        assert temporal_rows(old_model, old) == rows
     py_model = api.load(path)
-    assert _rows(py_model, py_model.explore(engine="python")) == rows
+    assert temporal_rows(py_model, py_model.explore(engine="python")) == rows
 
 
 def test_quotient_plan(tmp_path):
@@ -431,14 +433,14 @@ def test_recorded_steps_beside_the_edges(tmp_path, monkeypatch, opts):
     ex = run.explorer
     assert ex.edge_src is not None and len(ex.edge_src) == run.transitions
     assert ex._qf_edges_too
-    rows = _rows(model, run)
+    rows = temporal_rows(model, run)
     assert {r[3] for r in rows} == {24 if "fair" in opts else 18}
     with monkeypatch.context() as mp:
         _old_route(mp)
         old_model = api.load(path)
         old = old_model.explore(engine="native", **opts)
         assert not old.explorer._qf_edges_too
-        assert _structure_arrays(old.temporal[0].K) == _structure_arrays(run.temporal[0].K)
-        assert _rows(old_model, old) == rows
+        assert structure_arrays(old.temporal[0].K) == structure_arrays(run.temporal[0].K)
+        assert temporal_rows(old_model, old) == rows
     py_model = api.load(path)
-    assert _rows(py_model, py_model.explore(engine="python", **opts)) == rows
+    assert temporal_rows(py_model, py_model.explore(engine="python", **opts)) == rows
