@@ -176,7 +176,76 @@ def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None)
         row = warm
     if row.get("states"):
         row.update(search_loop(path, extra, engine, max_seconds, env))
+        row.update(search_growth(path, extra, engine, max_seconds, env, row["states"]))
     return row
+
+
+def search_growth(path, extra, engine, max_seconds, env, states: int) -> dict:
+    """The memory the command needs from the start of its search on (``--growth``, in a process
+    of its own): ``growth_bytes`` and ``growth_bytes_per_state`` (over ``states``)."""
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--growth", str(path), "--engine", engine, "--",
+           "--max-seconds", str(max_seconds), *extra]
+    r = measure(cmd, timeout=max_seconds + 30, env=env)
+    try:
+        res = json.loads(r["stdout"])
+    except ValueError:
+        return {}
+    if res.get("states") != states or res.get("growth_bytes") is None:
+        return {}
+    return {"growth_bytes": res["growth_bytes"],
+            "growth_bytes_per_state": round(res["growth_bytes"] / max(states, 1))}
+
+
+def _proc_kb(field: str) -> int:
+    m = re.search(rf"^{field}:\s+(\d+) kB", Path("/proc/self/status").read_text(), re.M)
+    return int(m.group(1)) if m else 0
+
+
+def growth(spec: str, extra: list[str], engine: str) -> dict:
+    """``explore SPEC`` in this process, measuring the resident memory it needs from the start of
+    its search on: at the first call of the search (``NativeExplorer.run`` or ``Explorer.run``)
+    the garbage is collected, freed heap memory is handed back (``malloc_trim``), the peak
+    resident size is reset (Linux: ``/proc/self/clear_refs``) and the resident size read; at the
+    end, the peak.  ``growth_bytes`` = peak - resident size at the start: what the search, the
+    state graph, the LTL/CTL checks, the traces and the report hold above the parsed spec, the
+    compiled engine and the interpreter (the fixed cost, which dominates small models' whole-process
+    peak).  Only on Linux (None elsewhere)."""
+    import ctypes
+    import gc
+    import asmcheck.cli as cli
+    import asmcheck.explore.bfs as bfs
+    from asmcheck.explore import native
+    mark: dict = {}
+
+    def at_start():
+        if mark:
+            return
+        gc.collect()
+        try:
+            ctypes.CDLL("libc.so.6").malloc_trim(0)
+            Path("/proc/self/clear_refs").write_text("5")
+        except OSError:
+            mark["start_kb"] = None
+            return
+        mark["start_kb"] = _proc_kb("VmRSS")
+
+    for cls in (native.NativeExplorer, bfs.Explorer):
+        orig = cls.run
+
+        def run(self, *a, _orig=orig, **k):
+            at_start()
+            return _orig(self, *a, **k)
+        cls.run = run
+    import io
+    import contextlib
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        code = cli.main(["explore", spec, "--format", "json", "--engine", engine, *extra])
+    res = json.loads(out.getvalue())
+    start = mark.get("start_kb")
+    grown = None if not start else max(_proc_kb("VmHWM") - start, 0) * 1024
+    return {"spec": spec, "exit": code, "engine": res.get("engine"), "states": res.get("states"),
+            "start_bytes": start * 1024 if start else None, "growth_bytes": grown}
 
 
 LOOP_RUNS = 3          # the native search loop is timed as the fastest of at least this many runs
@@ -368,12 +437,17 @@ def main(argv=None):
                     "(the fastest is reported; for profilers: perf record ... --phases SPEC --loop-runs 50)")
     ap.add_argument("--loop-seconds", type=float, default=0.0, help="with --phases: and more runs while they took "
                     "less than this in all")
-    ap.add_argument("extra", nargs="*", help="with --phases: more arguments for explore")
+    ap.add_argument("--growth", metavar="SPEC", help="only: the memory explore SPEC needs from the start of its "
+                    "search on (in process, Linux)")
+    ap.add_argument("extra", nargs="*", help="with --phases or --growth: more arguments for explore")
     ap.add_argument("--render", metavar="JSON", help="only: print the markdown table of a results file")
     args = ap.parse_args(argv)
     if args.render:
         data = json.loads(Path(args.render).read_text())
         print(markdown(data["rows"], data["meta"]), end="")
+        return
+    if args.growth:
+        print(json.dumps(growth(args.growth, args.extra, args.engine), indent=1))
         return
     if args.phases:
         print(json.dumps(phases(args.phases, args.extra, args.engine, args.loop_runs, args.loop_seconds), indent=1))

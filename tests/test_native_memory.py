@@ -88,3 +88,24 @@ def test_kept_canonical_forms_of_values_that_differ_in_every_byte(tmp_path, monk
         assert used >= (forms + 1) * whole
     else:
         assert 2 * used < forms * whole
+
+
+def test_a_search_run_again_in_one_process_starts_from_a_zeroed_context(tmp_path):
+    # the search's working context (native_bfs.c: mapped, not a static array, so that only the
+    # pages a search writes become resident) is given back and reads as zeros at the next
+    # asm_start: the same states, counts and order, run after run, on one thread and on two
+    text = WIDE.replace("made < 4", "made < 3")
+    spec = check_file(write(tmp_path, text))
+    py = Explorer(Machine(spec, {}))
+    r_py = py.run()
+    want = [py.state(i) for i in range(py.n_states)]
+    assert (r_py.states, r_py.transitions, r_py.depth) == (40, 269, 4)
+    for workers in (1, 2):
+        nat = NativeExplorer(Machine(spec, {}), workers=workers)
+        try:
+            for _ in range(3):
+                r = nat.run()
+                assert (r.states, r.transitions, r.depth) == (40, 269, 4)
+                assert [nat.state(i) for i in range(nat.n_states)] == want
+        finally:
+            nat.close()

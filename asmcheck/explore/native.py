@@ -3897,7 +3897,7 @@ def build_library(src: str):
 # elements and the search counter (atomic), the table of search contexts (compare-and-swap).
 _SHARED_STATICS = frozenset("""
     vpool npool cap_pool vtab nvals cap_vals vhash vmask vt_oom vt_frozen
-    states nstates cap_states parents table tmask tcount ctx_static sb0 global_epoch
+    states nstates cap_states parents table tmask tcount ctx0 sb0 global_epoch
     pk_allow pk_on PW pk_bits pk_raw pk_at pk_sh pk_vals pk_n pk_cap pk_tab pk_mask pk_count pk_par_w pk_par_c
     pk_par_ok pk_first pk_act pk_wf_off pk_wf ld_w ld_ok ld_bad ws_off pre_h pre_cap inv_need inv_cap wide_slots nwide
     interrupted stop_all W C nworkers bar_n ptime chunk_new chunk_trans newtab newmask max_chunk

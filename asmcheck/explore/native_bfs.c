@@ -506,11 +506,30 @@ static inline V slot_decode(int s, V code) {
    only the slots of the words that differ (load_state_delta): ld_w are the words c->cur holds,
    while ld_ok (any other load_state of that context ends it); ws_slot[ws_off[j] ..
    ws_off[j + 1]) are the slots of word j */
-static Ctx ctx_static;
+/* thread 0's context.  A Ctx is some megabytes of buffers sized for the largest step, of which a
+   step uses a few pages: it is mapped (ctx_new), not a static array that asm_start zeroes, so that
+   only the pages a search writes become resident (zeroing it touched every page: 3 MB of a small
+   model's peak) */
+static Ctx *ctx0 = 0;
+#define ctx_static (*ctx0)
 static uint64_t ld_w[NWORDS > 0 ? NWORDS : 1];
 static int ld_ok = 0, ld_check = 0;
 static int64_t ld_bad = 0;
 static int ws_off[NWORDS + 1], ws_slot[NSLOTS > 0 ? NSLOTS : 1];
+
+#include <sys/mman.h>
+/* *pc zeroed: a fresh mapping at the first call (zero pages, resident only once written), its
+   pages given back at the next (they read as zeros again) */
+static int ctx_zero(Ctx **pc) {
+    if (!*pc) {
+        void *m = mmap(NULL, sizeof(Ctx), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (m == MAP_FAILED) return 0;
+        *pc = (Ctx *)m;
+        return 1;
+    }
+    if (madvise((void *)*pc, sizeof(Ctx), MADV_DONTNEED) != 0) memset(*pc, 0, sizeof(Ctx));
+    return 1;
+}
 
 static void load_state(Ctx *c, const uint64_t *w) {
     if (c == &ctx_static) ld_ok = 0;
@@ -703,7 +722,6 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
                   double max_seconds, int64_t deadlock, int64_t keep_graph) {
     asm_free();                      /* a previous search in this process */
     pk_start();
-    memset(&ctx_static, 0, sizeof(Ctx));
     ld_ok = 0;
     memset(ws_off, 0, sizeof(ws_off));
     for (int s = 0; s < NSLOTS; s++) ws_off[SLOT_WORD[s] + 1]++;
@@ -713,9 +731,10 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
         memcpy(fill, ws_off, sizeof(fill));
         for (int s = 0; s < NSLOTS; s++) ws_slot[fill[SLOT_WORD[s]]++] = s;
     }
+    memset(&S, 0, sizeof(S));
+    if (!ctx_zero(&ctx0)) { S.status = 5; return 5; }      /* (out of memory: asm_run says so) */
     ctx_static.seqstart = -1;
     ctx_static.rd = ctx_static.cur;
-    memset(&S, 0, sizeof(S));
     for (int s = 0; s < NSLOTS; s++) {
         S.lo[s] = S.wlo[s] = INT64_MAX; S.hi[s] = S.whi[s] = INT64_MIN + 1; S.grew[s] = -1;
     }
@@ -2951,7 +2970,6 @@ static int walk_chunk(const Plan *pl, int64_t n0) {
 }
 
 static void ctx_init(Ctx *c) {
-    memset(c, 0, sizeof(Ctx));
     c->seqstart = -1;
     c->rd = c->cur;
 }
@@ -2988,9 +3006,10 @@ int64_t asm_run_par(double slice_seconds, int64_t *out, int64_t nthreads) {
         if (W[t].c) continue;
         if (t == 0) W[t].c = &ctx_static;
         else {
-            W[t].c = (Ctx *)malloc(sizeof(Ctx));
-            if (!W[t].c) return asm_run(slice_seconds, out);
-            ctx_init(W[t].c);
+            Ctx *c = 0;
+            if (!ctx_zero(&c)) return asm_run(slice_seconds, out);
+            W[t].c = c;
+            ctx_init(c);
         }
     }
     int nt = (int)nthreads;
