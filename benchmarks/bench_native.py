@@ -12,7 +12,10 @@ Rates are per second of the exploration (the JSON's ``seconds``: search, code ge
 compilation, LTL/CTL); each row is also given as a ratio of
 the transitions/s of the benchmark twin T=63 K=250 measured in the same run (T=31 K=128 with
 ``--quick``).  Bytes/state is the peak memory above that of the same command on a one-state spec,
-divided by the states.  The measured processes keep their Python bytecode in a folder of the run
+divided by the states: at small sizes mostly the fixed cost of the spec (its syntax tree, the compiled
+engine, the modules the command imports).  Search bytes/state is the peak above the resident size at
+the start of the search (``--growth``: measured in process, Linux), divided by the states: what the
+search, the state graph, the checks and the report hold.  The measured processes keep their Python bytecode in a folder of the run
 (PYTHONDONTWRITEBYTECODE is dropped), as an installed asmcheck does.  The models:
 
 * specs/*.asm with their property files (the ones beside them, as ``explore`` finds them);
@@ -307,18 +310,19 @@ def markdown(rows, meta) -> str:
              f"Machine: {meta['machine']}; twin transitions/s: {meta['twin_tps']:,.0f}; baseline peak "
              f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
              "Rates are per second of the explore phase (the JSON's seconds; shown from 0.01 s); bytes/state is peak memory above "
-             "the baseline per state (shown from 1,000 states); compile s is the cold run's compile time, "
+             "the baseline per state (shown from 1,000 states); search bytes/state is the peak above the resident memory at the "
+             "start of the search (the parsed spec, the compiled engine and the interpreter: --growth) per state; compile s is the cold run's compile time, "
              "the row itself the warm run (cache filled).  The loop columns time the search loop alone "
              f"(measured in process, the native search's fastest of {meta.get('loop_runs', 1)} or more runs; "
              f"the twin's loop: {meta.get('twin_loop_tps', 0):,.0f} transitions/s): the rest of "
              "the explore phase is the fixed cost of code generation or the cache lookup, property set-up and LTL/CTL.", "",
              "| model | engine | verdict | states | transitions | wall s | explore s | compile s (cold wall) | states/s | "
-             "transitions/s | × twin | loop s | loop transitions/s | × twin's loop | peak MB | bytes/state |",
-             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "transitions/s | × twin | loop s | loop transitions/s | × twin's loop | peak MB | bytes/state | search bytes/state |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         if "states" not in r:
             lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | | | | "
-                         f"{r['peak_mb']:.0f} | |")
+                         f"{r['peak_mb']:.0f} | | |")
             continue
         timed = (r.get("search") or 0) >= MIN_TIMED
         rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
@@ -327,11 +331,13 @@ def markdown(rows, meta) -> str:
         loop = (f"{r['loop_seconds']:.3f} | {r['loop_transitions_per_s']:,} | {r.get('loop_ratio', float('nan')):.3f}"
                 if loop_timed else f"{r.get('loop_seconds') or 0:.3f} | - | -" if r.get("loop_seconds") else "- | - | -")
         bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
+        gps = (f"{r['growth_bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY and
+               r.get("growth_bytes_per_state") is not None else "-")
         comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = (r.get("verdict") or "-") + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states'] or 0:,} | {r['transitions'] or 0:,} | "
                      f"{r['wall']:.2f} | {r['search'] or 0:.2f} | {comp} | {rate(r['states_per_s'])} | "
-                     f"{rate(r['transitions_per_s'])} | {ratio} | {loop} | {r['peak_mb']:.0f} | {bps} |")
+                     f"{rate(r['transitions_per_s'])} | {ratio} | {loop} | {r['peak_mb']:.0f} | {bps} | {gps} |")
     return "\n".join(lines) + "\n"
 
 
