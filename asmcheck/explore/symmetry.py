@@ -46,8 +46,8 @@ from itertools import permutations
 
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.analysis import abstract_codomain
-from ..semantics.values import EnumValue, abstract_value, vkey
+from ..semantics.analysis import abstract_codomain, is_subdomain
+from ..semantics.values import EnumValue, abstract_value, show, vkey
 
 
 class SymmetricDomain:
@@ -393,7 +393,8 @@ class Symmetry:
         from ..errors import AsmError
         perm = self.canon(state)[1]         # concrete element -> the representative's
         ren = {_vid(a): b for a, b in perm.items()}
-        want = _choice_keys(getattr(err, "choices", None) or (), {})
+        typed = self._choice_types(machine)
+        want = _choice_keys(getattr(err, "choices", None) or (), {}, typed)
         errors: list = []
         try:
             for _ in machine.successors(state, errors=errors):
@@ -401,9 +402,15 @@ class Symmetry:
         except AsmError as e:
             errors = [e]
         for e in errors:
-            if _choice_keys(getattr(e, "choices", None) or (), ren) == want:
+            if _choice_keys(getattr(e, "choices", None) or (), ren, typed) == want:
                 return e
         return None
+
+    def _choice_types(self, machine) -> "_ChoiceTypes":
+        got = getattr(self, "_typed", None)
+        if got is None or got.machine is not machine:
+            got = self._typed = _ChoiceTypes(machine, [sd.domain for sd in self.domains])
+        return got
 
     @staticmethod
     def inverse(perm: dict) -> dict:
@@ -811,9 +818,107 @@ def _renamed(v, ren: dict):
     return vkey(got) if got is not None else None
 
 
-def _choice_keys(choices, ren: dict) -> tuple:
-    """The choices of a step, compared up to the renaming ``ren``: kind, place, value, nested."""
-    return tuple((c.kind, c.label, _renamed(c.value, ren), _choice_keys(c.nested or (), ren)) for c in choices)
+class _ChoiceTypes:
+    """Which parts of a step's choices hold elements of the symmetric ``domains``, from the types
+    the spec declares: a choose rule's variables (by the rule's label, "choose at <place>"), a
+    monitored function's codomain and argument positions (by the location's text).  An Integer
+    that a monitored function or a variable over Integer takes is not an element of a subset of
+    Integer, even when it is equal to one, and is not renamed."""
+
+    def __init__(self, machine, domains: list):
+        self.machine = machine
+        self.domains = domains
+        self.choose: dict = {}       # label -> {variable name: holds elements}
+        self.functions = {f.name: f for f in machine.spec.functions}
+        seen: set = set()
+
+        def walk(x):
+            if isinstance(x, (ir.Term, ir.Rule)):
+                if id(x) in seen:
+                    return
+                seen.add(id(x))
+                if isinstance(x, ir.Choose):
+                    self.choose[f"choose at {x.span.short()}"] = {v.name: self.holds(v.type) for v, _ in x.bindings}
+                for v in vars(x).values():
+                    walk(v)
+            elif isinstance(x, (list, tuple)):
+                for v in x:
+                    walk(v)
+        for r in machine.spec.rules:
+            walk(r)
+
+    def holds(self, t, depth: int = 0) -> bool:
+        """Whether a value of type ``t`` may hold an element of the symmetric domains (unknown
+        types: yes)."""
+        if t is None or depth > 20:
+            return True
+        if isinstance(t, T.Domain):
+            return t.kind == "any" or any(is_subdomain(t, d) for d in self.domains)
+        if isinstance(t, T.Struct):
+            return any(self.holds(a, depth + 1) for a in t.args)
+        return True
+
+    def value(self, c) -> bool:
+        """Whether choice ``c``'s value may hold elements (a choose's bindings: a dict of them)."""
+        if c.kind == "monitored":
+            f = self.functions.get(c.label.split("(", 1)[0])
+            return True if f is None else self.holds(f.codomain)
+        return True
+
+    def binding(self, c, name: str) -> bool:
+        got = self.choose.get(c.label)
+        return True if got is None else got.get(name, True)
+
+    def label(self, c, ren: dict) -> str:
+        """A monitored location's text with the elements among its arguments renamed."""
+        if c.kind != "monitored" or "(" not in c.label or not ren:
+            return c.label
+        name, rest = c.label.split("(", 1)
+        f = self.functions.get(name)
+        if f is None or not rest.endswith(")"):
+            return c.label
+        args = _split_args(rest[:-1])
+        if len(args) != len(f.domain):
+            return c.label
+        texts = {show(a): show(b) for (_, a), b in ren.items()}
+        out = [texts.get(a, a) if self.holds(d) else a for a, d in zip(args, f.domain)]
+        return f"{name}({','.join(out)})"
+
+
+def _split_args(text: str) -> list:
+    """The top-level comma-separated parts of ``text`` (brackets nest)."""
+    out, depth, cur = [], 0, []
+    for ch in text:
+        if ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        if ch == "," and depth == 0:
+            out.append("".join(cur))
+            cur = []
+        else:
+            cur.append(ch)
+    out.append("".join(cur))
+    return out
+
+
+def _choice_keys(choices, ren: dict, typed: _ChoiceTypes | None = None) -> tuple:
+    """The choices of a step, compared up to the renaming ``ren``: kind, place, value, nested.
+    With ``typed``, only the values and arguments whose declared types may hold elements of the
+    symmetric domains are renamed (an Integer equal to an element of a subset of Integer is not
+    one)."""
+    if typed is None:
+        return tuple((c.kind, c.label, _renamed(c.value, ren), _choice_keys(c.nested or (), ren)) for c in choices)
+    out = []
+    for c in choices:
+        if c.kind == "monitored":
+            v = _renamed(c.value, ren) if typed.value(c) else _renamed(c.value, {})
+        elif isinstance(c.value, dict):
+            v = tuple((k, _renamed(x, ren if typed.binding(c, k) else {})) for k, x in c.value.items())
+        else:
+            v = _renamed(c.value, ren)
+        out.append((c.kind, typed.label(c, ren), v, _choice_keys(c.nested or (), ren, typed)))
+    return tuple(out)
 
 
 def _numberings(choices):
