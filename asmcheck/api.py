@@ -548,6 +548,8 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     sym_python = _symmetry_python(sym, which, graph)
     if sym_python:
         which = "python"
+    if sym is None and warn is not None:
+        progress = _hinting(progress, warn, lambda: _symmetry_hint(model, state_props, step_props, temporal))
     # the searches get the time left of the whole run
     search_seconds = None if max_seconds is None else max(max_seconds - (t0 - begin), 0.0)
     ex = None
@@ -831,6 +833,29 @@ def _symmetry_python(sym, which, graph) -> str:
         return f"{SYMMETRY_PYTHON} with --graph"
     why = native_reason(sym)
     return f"{SYMMETRY_PYTHON}: {why}" if why else ""
+
+
+#: a search without --symmetry that runs this long (seconds) says, while it goes on, that the
+#: model has interchangeable elements (the hint a limit's end gives): a search that will not end
+#: in the memory or the time there is is better stopped and run again with --symmetry
+SYMMETRY_HINT_SECONDS = 10.0
+
+
+def _hinting(progress, warn, hint):
+    """``progress`` (or nothing) for a search, and after SYMMETRY_HINT_SECONDS of it, once,
+    ``warn`` with ``hint()`` (when it has one)."""
+    t0 = time.perf_counter()
+    said = [False]
+
+    def report(states, depth, transitions, secs):
+        if not said[0] and time.perf_counter() - t0 >= SYMMETRY_HINT_SECONDS:
+            said[0] = True
+            text = hint()
+            if text:
+                warn(f"{text} (this search goes on)")
+        if progress is not None:
+            progress(states, depth, transitions, secs)
+    return report
 
 
 def _symmetry_hint(model, state_props, step_props, temporal) -> str:

@@ -297,6 +297,7 @@ class _Growth:
 
 class Explorer:
     MAX_SUCCESSORS = 1_000_000      # the sequences of choices enumerated from one state, at most
+    REPORT_SECONDS = 0.25           # between two looks at the memory, the growing locations and progress
 
     def __init__(self, machine: Machine, *, max_states=None, max_depth=None, max_seconds=None,
                  deadlock=False, progress=None, keep_graph=False, state_props=None, step_props=None,
@@ -524,7 +525,7 @@ class Explorer:
                         next_frontier = []
                         frontier = []
                         break
-                    if now - last_report > 0.25:
+                    if now - last_report > self.REPORT_SECONDS:
                         last_report = now
                         if self.max_memory is not None and self.memory is not None and \
                                 self.memory() > self.max_memory:

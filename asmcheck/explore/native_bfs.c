@@ -1617,10 +1617,13 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
     double ts = now_seconds();
     int status = S.status == -1 ? 0 : S.status;
     if (S.status != -1) goto done;
+    /* (a slice expands at least the state it starts at: one ended by the clock at that very state
+       would end every call there, with a slice as short as the clock's step) */
+    const int64_t sid0 = S.sid;
     for (; S.sid < nstates; S.sid++) {
         int64_t sid = S.sid;
         if (sid >= P.until) { status = 9; goto done; }     /* the parallel search's chunk ends here */
-        if ((sid & 255) == 0 && sid > 0) {
+        if ((sid & 255) == 0 && sid > sid0) {
             double t = now_seconds();
             if (S.max_seconds >= 0 && t - S.t0 >= S.max_seconds) { status = 3; goto finish; }
             if (t - ts >= slice_seconds) { status = 6; goto done; }
