@@ -15,7 +15,9 @@ the transitions/s of the benchmark twin T=63 K=250 measured in the same run (T=3
 divided by the states: at small sizes mostly the fixed cost of the spec (its syntax tree, the compiled
 engine, the modules the command imports).  Search bytes/state is the peak above the resident size at
 the start of the search (``--growth``: measured in process, Linux), divided by the states: what the
-search, the state graph, the checks and the report hold.  The measured processes keep their Python bytecode in a folder of the run
+search, the state graph, the checks and the report hold.  Engine bytes/state is the native engine's
+own count of what its tables hold at the end of the search (asm_memory_bytes), per state: the
+marginal cost of a state, without the fixed costs.  The measured processes keep their Python bytecode in a folder of the run
 (PYTHONDONTWRITEBYTECODE is dropped), as an installed asmcheck does.  The models:
 
 * specs/*.asm with their property files (the ones beside them, as ``explore`` finds them);
@@ -195,8 +197,10 @@ def search_growth(path, extra, engine, max_seconds, env, states: int) -> dict:
         return {}
     if res.get("states") != states or res.get("growth_bytes") is None:
         return {}
-    return {"growth_bytes": res["growth_bytes"],
-            "growth_bytes_per_state": round(res["growth_bytes"] / max(states, 1))}
+    out = {"growth_bytes": res["growth_bytes"], "growth_bytes_per_state": round(res["growth_bytes"] / max(states, 1))}
+    if res.get("engine_bytes") is not None:
+        out["engine_bytes_per_state"] = round(res["engine_bytes"] / max(states, 1))
+    return out
 
 
 def _proc_kb(field: str) -> int:
@@ -209,7 +213,10 @@ def growth(spec: str, extra: list[str], engine: str) -> dict:
     its search on: at the first call of the search (``NativeExplorer.run`` or ``Explorer.run``)
     the garbage is collected, freed heap memory is handed back (``malloc_trim``), the peak
     resident size is reset (Linux: ``/proc/self/clear_refs``) and the resident size read; at the
-    end, the peak.  ``growth_bytes`` = peak - resident size at the start: what the search, the
+    end, the peak.  ``engine_bytes``: the native engine's own count of the bytes its
+    tables hold at the end of the search (``asm_memory_bytes``: states, hash table, value table,
+    canonical forms, recorded lists and edges; the most of its runs).  ``growth_bytes`` = peak -
+    resident size at the start: what the search, the
     state graph, the LTL/CTL checks, the traces and the report hold above the parsed spec, the
     compiled engine and the interpreter (the fixed cost, which dominates small models' whole-process
     peak).  Only on Linux (None elsewhere)."""
@@ -237,7 +244,12 @@ def growth(spec: str, extra: list[str], engine: str) -> dict:
 
         def run(self, *a, _orig=orig, **k):
             at_start()
-            return _orig(self, *a, **k)
+            res = _orig(self, *a, **k)
+            held = getattr(getattr(self, "dll", None), "asm_memory_bytes", None)
+            if held is not None:
+                held.restype = ctypes.c_int64
+                mark["engine_bytes"] = max(mark.get("engine_bytes", 0), int(held()))
+            return res
         cls.run = run
     import io
     import contextlib
@@ -248,7 +260,8 @@ def growth(spec: str, extra: list[str], engine: str) -> dict:
     start = mark.get("start_kb")
     grown = None if not start else max(_proc_kb("VmHWM") - start, 0) * 1024
     return {"spec": spec, "exit": code, "engine": res.get("engine"), "states": res.get("states"),
-            "start_bytes": start * 1024 if start else None, "growth_bytes": grown}
+            "start_bytes": start * 1024 if start else None, "growth_bytes": grown,
+            "engine_bytes": mark.get("engine_bytes")}
 
 
 LOOP_RUNS = 3          # the native search loop is timed as the fastest of at least this many runs
@@ -311,18 +324,20 @@ def markdown(rows, meta) -> str:
              f"{meta['baseline_mb']:.1f} MB; search time limit {meta.get('max_seconds')} s.",
              "Rates are per second of the explore phase (the JSON's seconds; shown from 0.01 s); bytes/state is peak memory above "
              "the baseline per state (shown from 1,000 states); search bytes/state is the peak above the resident memory at the "
-             "start of the search (the parsed spec, the compiled engine and the interpreter: --growth) per state; compile s is the cold run's compile time, "
+             "start of the search (the parsed spec, the compiled engine and the interpreter: --growth) per state; engine bytes/state is what the native "
+             "engine's tables hold at the end of the search by its own count, per state; compile s is the cold run's compile time, "
              "the row itself the warm run (cache filled).  The loop columns time the search loop alone "
              f"(measured in process, the native search's fastest of {meta.get('loop_runs', 1)} or more runs; "
              f"the twin's loop: {meta.get('twin_loop_tps', 0):,.0f} transitions/s): the rest of "
              "the explore phase is the fixed cost of code generation or the cache lookup, property set-up and LTL/CTL.", "",
              "| model | engine | verdict | states | transitions | wall s | explore s | compile s (cold wall) | states/s | "
-             "transitions/s | × twin | loop s | loop transitions/s | × twin's loop | peak MB | bytes/state | search bytes/state |",
-             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "transitions/s | × twin | loop s | loop transitions/s | × twin's loop | peak MB | bytes/state | search bytes/state "
+             "| engine bytes/state |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         if "states" not in r:
             lines.append(f"| {r['model']} | - | error: {r.get('error', '')} | | | {r['wall']:.2f} | | | | | | | | | "
-                         f"{r['peak_mb']:.0f} | | |")
+                         f"{r['peak_mb']:.0f} | | | |")
             continue
         timed = (r.get("search") or 0) >= MIN_TIMED
         rate = (lambda x: f"{x:,}") if timed else (lambda x: "-")
@@ -331,13 +346,13 @@ def markdown(rows, meta) -> str:
         loop = (f"{r['loop_seconds']:.3f} | {r['loop_transitions_per_s']:,} | {r.get('loop_ratio', float('nan')):.3f}"
                 if loop_timed else f"{r.get('loop_seconds') or 0:.3f} | - | -" if r.get("loop_seconds") else "- | - | -")
         bps = f"{r['bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY else "-"
-        gps = (f"{r['growth_bytes_per_state']:,}" if r["states"] >= MIN_STATES_MEMORY and
-               r.get("growth_bytes_per_state") is not None else "-")
+        gps, eps = ((f"{r[k]:,}" if r["states"] >= MIN_STATES_MEMORY and r.get(k) is not None else "-")
+                    for k in ("growth_bytes_per_state", "engine_bytes_per_state"))
         comp = "-" if r.get("compile_seconds") is None or r.get("engine") != "native" else f"{r['compile_seconds']:.2f} ({r.get('cold_wall', float('nan')):.2f})"
         verdict = (r.get("verdict") or "-") + (f" ({r['reason']})" if r.get("reason") else "")
         lines.append(f"| {r['model']} | {r['engine']} | {verdict} | {r['states'] or 0:,} | {r['transitions'] or 0:,} | "
                      f"{r['wall']:.2f} | {r['search'] or 0:.2f} | {comp} | {rate(r['states_per_s'])} | "
-                     f"{rate(r['transitions_per_s'])} | {ratio} | {loop} | {r['peak_mb']:.0f} | {bps} | {gps} |")
+                     f"{rate(r['transitions_per_s'])} | {ratio} | {loop} | {r['peak_mb']:.0f} | {bps} | {gps} | {eps} |")
     return "\n".join(lines) + "\n"
 
 
