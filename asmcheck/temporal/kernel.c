@@ -41,6 +41,12 @@ void kn_free(void) {
     P_n = P_nadj = P_ninit = 0;
 }
 
+/* whether atom bits s satisfy automaton node q's literals (posm: the atoms that must hold, negm:
+   those that must not) */
+static inline int kn_labels_match(uint64_t s, int32_t q, const uint64_t *posm, const uint64_t *negm) {
+    return (s & posm[q]) == posm[q] && !(s & negm[q]);
+}
+
 /* the number of positions of product node x's successors (Kripke successor e, automaton successor f
    of x's automaton node), and the successor at position p (-1: its labels do not match) */
 static inline int64_t prod_len(int64_t x) {
@@ -53,8 +59,7 @@ static inline int32_t prod_succ(int64_t x, int64_t p) {
     int64_t e = dq == 1 ? p : p / dq, f = dq == 1 ? 0 : p - e * dq;
     int32_t k2 = ENT(P_cadj, c, P_coff[c] + e);
     int32_t q2 = P_gadj[P_goff[q] + f];
-    uint64_t s = P_sig[k2];
-    if ((s & P_posm[q2]) != P_posm[q2] || (s & P_negm[q2])) return -1;
+    if (!kn_labels_match(P_sig[k2], q2, P_posm, P_negm)) return -1;
     return P_ids[(int64_t)k2 * P_Q + q2];
 }
 
@@ -100,7 +105,7 @@ int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const voi
         uint64_t s = sig[k];
         for (int64_t b = 0; b < nginit; b++) {
             int32_t q = ginit[b];
-            if ((s & posm[q]) != posm[q] || (s & negm[q])) continue;
+            if (!kn_labels_match(s, q, posm, negm)) continue;
             int32_t v;
             NODE(k, q, v);
             int dup = 0;
@@ -118,7 +123,7 @@ int64_t kn_product(int64_t n, const int32_t *cls, const int32_t *coff, const voi
             uint64_t s = sig[k2];
             for (int32_t f = goff[q]; f < goff[q + 1]; f++) {
                 int32_t q2 = gadj[f];
-                if ((s & posm[q2]) != posm[q2] || (s & negm[q2])) continue;
+                if (!kn_labels_match(s, q2, posm, negm)) continue;
                 int32_t v;
                 NODE(k2, q2, v);
                 (void)v;
