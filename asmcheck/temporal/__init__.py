@@ -37,6 +37,7 @@ ASMETA's model checker.
 from __future__ import annotations
 
 import time
+from array import array
 
 from ..errors import AsmError
 from .formula import AG, Atoms, Builder, FormulaError, atoms_of, span_text
@@ -373,7 +374,8 @@ def ef_shown(explorer, K, ctl, b) -> bool:
     search tree's (parent -> child) and the entries of the lists kept (at least the first of each).
     The successors of s0 are the targets of its nodes and the states whose parent is s0 (a state
     found first from s0); s0 itself reaches everything.  False: not shown (violated or not)."""
-    from .graph import b_and
+    from . import kernel
+    from .graph import b_and, b_not, b_or, members
     bn = b_and(ctl.sat(b), ctl.fair)
     init = K.init
     if not init:
@@ -382,49 +384,58 @@ def ef_shown(explorer, K, ctl, b) -> bool:
         return True
     S = explorer.n_states
     par = explorer.parent
-    tgt, succ = K.tgt, K.cls_succ
+    tgt = K.tgt
     s0 = K.sid[init[0]]
     # the states a b node leaves
     reach = _leaving(K, S, bn)
-    if reach.find(1) < 0:
-        return False
-    for _ in range(16):
-        before = bytes(reach)
-        # the tree: a parent reaches its children (a parent is numbered before them)
-        for s in range(S - 1, 0, -1):
-            if reach[s]:
-                p = par[s]
-                if p >= 0:
-                    reach[p] = 1
+    new = reach
+    for _ in range(256):
+        # the tree: a parent reaches its children (each state walked up once)
+        for s in members(new):
+            p = par[s]
+            while p >= 0 and not reach[p]:
+                reach[p] = 1
+                p = par[p]
         # the lists kept (the nodes leaving s, their targets): a state with a target that reaches
-        for s in range(S - 1, -1, -1):
-            if not reach[s]:
-                for w in succ[s]:
-                    if reach[tgt[w]]:
-                        reach[s] = 1
-                        break
-        if bytes(reach) == before:
+        more = b_or(reach, _leaving(K, S, kernel.gather(tgt, reach)))
+        new = b_and(more, b_not(reach))
+        reach = more
+        if new.find(1) < 0:
             break
+    else:
+        return False
     if not all(bn[v] or reach[tgt[v]] for v in init):
         return False
-    for t in range(1, S):
-        if par[t] == s0 and not reach[t]:
+    # (the states found from s0 are numbered right after it)
+    t = s0 + 1
+    while t < S and par[t] == s0:
+        if not reach[t]:
             return False
+        t += 1
     return True
 
 
-def _leaving(K, S: int, g: bytearray, first: bool = False) -> bytearray:
-    """The states (of ``S``) with a ``g`` node in their list (the nodes leaving them); ``first``:
-    only the first such state, in the search's order."""
+class _ByState:
+    """The structure's lists read state by state (state s's list is class s): the compiled ``ex`` over
+    it tells, for each state, whether its list has a node of a set."""
+
+    def __init__(self, K, S: int):
+        self.n = S
+        self.cls = array("i", range(S))
+        self.cls_succ = K.cls_succ
+
+
+def _leaving(K, S: int, g: bytearray) -> bytearray:
+    """The states (of ``S``) with a ``g`` node in their list (the nodes leaving them)."""
+    from . import kernel
+    got = kernel.ex(_ByState(K, S), g) if S else bytearray()
+    if got is not None:
+        return got
     out = bytearray(S)
     succ = K.cls_succ
     for s in range(S):
-        for w in succ[s]:
-            if g[w]:
-                out[s] = 1
-                break
-        if first and out[s]:
-            break
+        if any(g[w] for w in succ[s]):
+            out[s] = 1
     return out
 
 
@@ -460,7 +471,7 @@ def tree_path(explorer, K, ctl, b, budget: int = 11):
     if first is not None:
         nodes, loop = ctl.explain(b, first, True, budget)
         return nodes, loop, K
-    y = _leaving(K, explorer.n_states, bn, first=True).find(1)
+    y = _leaving(K, explorer.n_states, bn).find(1)
     if y < 0:
         return None
     w = next(x for x in K.cls_succ[y] if bn[x])
