@@ -57,7 +57,8 @@ what p or b reads (the entries ``"agt"``/``"ef"`` of :attr:`EdgeNeed.later`):
   :func:`asmcheck.temporal.ef_shown`), and where they do not show it (violated, or reachable only
   through edges not kept) the search runs again recording the lists ``E[true U b]`` reads.  Its
   witness is the tree's path, as for ``ag``.
-A run-time error (a failing step: a halt node) makes both read their lists again."""
+A run-time error (a failing step: a halt node, which the tree does not have) makes every such
+``ef(b)`` and every such ``ag(p)`` broken read their lists again."""
 from __future__ import annotations
 
 from .formula import FALSE, TRUE, And, Not, Or, temporal_free
