@@ -88,14 +88,15 @@ def test_reads_of_each_operator():
 @pytest.mark.parametrize("props,want", [
     (["ag(x < 16)", "not(ef(x = 20))"], ("FALSE", 2)),
     (["ef(x = 0)"], ("FALSE", 0)),              # holds in the initial state
-    (["ef(x = 5)"], ("!x = 5", 0)),
+    (["ef(x = 5)"], ("FALSE", 1)),             # the whole property, one initial state: after the search
     (["eg(x < 4)"], ("x < 4", 0)),
     (["eu(x < 3, x = 3)", "ag(x < 16)"], ("x < 3 & !x = 3", 1)),
     (["ag(ef(x = 0))"], ("!x = 0", 1)),          # ef(x = 0) at every node: the lists it reads
     (["ag(ef(x = 0)) and ef(x = 3)"], ("!x = 0 | !x = 3", 1)),   # top-level conjuncts, each on its own
     (["ag(ef(x = 0)) or ef(x = 3)"], None),      # E[true U ..] not at the top: every list
     (["ag(x < 3 implies ax(x < 7))"], None),
-    (["ef(eg(x = 1))"], None),
+    (["ef(eg(x = 1))"], ("x = 1", 1)),         # (what eg(x = 1) reads)
+    (["ef(eg(x = 1)) and ag(x < 16)"], None),
 ])
 def test_need_of_properties(tmp_path, props, want):
     from asmcheck.temporal.formula import show_formula
@@ -131,16 +132,18 @@ def test_fairness_ltl_graph_and_invar_need_every_list(tmp_path):
     (["ag(x < 16)", "not(ef(x = 20))", "ef(x = 0)"], "none", 16, False, ["holds", "holds", "holds"]),
     # x < 3 and not x = 3: states 0, 1, 2 keep their 4 successors
     (["eu(x < 3, x = 3)"], "some", 13 + 3 * 4, False, ["holds"]),
-    (["eg(x < 4)", "ef(x = 5)"], "some", 15 * 4 + 1, False, ["holds", "holds"]),
-    # ag(x < 9) broken at x = 9: the search again, with the lists of the x < 9 states
-    (["ag(x < 9)", "ag(x < 16)"], "some", 9 * 4 + 7, True, ["violated", "holds"]),
-    (["not(ef(x = 11))"], "some", 15 * 4 + 1, True, ["violated"]),
+    # ef(x = 5) the whole property: decided from the edges kept, its witness the search tree's path
+    (["eg(x < 4)", "ef(x = 5)"], "some", 4 * 4 + 12, False, ["holds", "holds"]),
+    # ag(x < 9) the whole property, broken at x = 9: its path is the search tree's (no search again)
+    (["ag(x < 9)", "ag(x < 16)"], "none", 16, False, ["violated", "holds"]),
+    (["not(ef(x = 11))"], "none", 16, False, ["violated"]),
     # ef(x = 0) at every node: read where x is not 0
     (["ag(ef(x = 0))"], "some", 15 * 4 + 1, False, ["holds"]),
-    # conjuncts: ag(x < 16) holds, ag(x < 9) is broken (the lists of x < 9 read again)
+    # conjuncts: ag(x < 16) holds, ag(x < 9) is broken (watched: the lists of x < 9 read again)
     (["(forall $v in Step with ag(x < 16 + $v))"], "none", 16, False, ["holds"]),
     (["ag(x < 16) and ag(x < 9)"], "some", 9 * 4 + 7, True, ["violated"]),
-    (["ag(x < 9)", "ag(x < 5)"], "some", 9 * 4 + 7, 2, ["violated", "violated"]),
+    (["ag(x < 9)", "ag(x < 5)"], "none", 16, False, ["violated", "violated"]),
+    (["ag(x < 9) and ag(x < 16)", "ag(x < 5) and ag(x < 16)"], "some", 9 * 4 + 7, 2, ["violated", "violated"]),
 ])
 def test_same_report_as_every_list(tmp_path, monkeypatch, props, kept, entries, again, verdicts):
     from asmcheck.explore import native as N
@@ -291,11 +294,11 @@ def test_a_search_run_again_has_only_the_time_left(tmp_path, monkeypatch):
     """The search that runs again after an ag(p) broke has what is left of the call's time, not the
     whole of it again: here the time is up when ag(x < 600) breaks, so the property is not decided
     (it was violated, on a fresh 60 s).  The search looks at the clock every 256 states: the walk
-    has 1,024."""
+    has 1,024.  (A conjunction: the whole property ag(p) is not watched, its path is the search tree's.)"""
     from asmcheck.explore import native as N
     import time
     text = WALK.replace("{0 : 15}", "{0 : 1023}").replace("mod 16", "mod 1024").replace(
-        "{props}", "\tCTLSPEC ag(x < 600)")
+        "{props}", "\tCTLSPEC ag(x < 600) and ag(x < 2000)")
     path = write(tmp_path, text)
     orig = N.NativeExplorer._watched_broken
 

@@ -37,6 +37,7 @@ ASMETA's model checker.
 from __future__ import annotations
 
 import time
+from array import array
 
 from ..errors import AsmError
 from .formula import AG, Atoms, Builder, FormulaError, atoms_of, span_text
@@ -316,26 +317,198 @@ def step_halts(explorer, n_states: int, on_error: str):
     return has_out, halts, (error_edges[0][2] if error_edges else None)
 
 
-def _lists_missing(explorer, K):
+def _lists_missing(explorer, K, halts=()):
     """When the search recorded only some successor lists (temporal/need.py): the condition of the
-    lists the ``ag(p)`` properties not decided by their ``p`` read (some node breaks p), or None
-    (nothing more to record)."""
+    lists the properties decided after the search read when they are not decided so (an ``ag(p)``
+    some node breaks, an ``ef(b)`` the edges kept do not show, a whole ``ag``/``ef`` where a step
+    fails), or None (nothing more to record).  When something is recorded again, so are the lists
+    of every ``ef(b)`` and of every whole ``ag(p)`` broken (the search again leaves nothing to decide
+    or explain after it)."""
     from .formula import FALSE, Or
-    from .need import EdgeNeed, later_cond
+    from .need import ALL, EdgeNeed, later_cond
     need = getattr(explorer, "edge_need", None)
     if not isinstance(need, EdgeNeed) or not need.later:
         return None
     from .ctl import CTL
     ctl = CTL(K)
-    from .need import ALL
     more = FALSE
     for kind, p in need.later:
-        if ctl.sat(p).find(0) >= 0:
+        if kind == "ef":
+            if not halts and ef_shown(explorer, K, ctl, p):
+                continue
+        elif ctl.sat(p).find(0) < 0 or (kind == "agt" and not halts):
+            continue
+        r = later_cond(kind, p)
+        if r == ALL:
+            return ALL
+        more = Or(more, r)
+    if more == FALSE:
+        return None
+    for kind, p in need.later:
+        if kind == "ef" or (kind == "agt" and ctl.sat(p).find(0) >= 0):
             r = later_cond(kind, p)
             if r == ALL:
                 return ALL
             more = Or(more, r)
-    return None if more == FALSE else Or(need.cond, more)
+    return Or(need.cond, more)
+
+
+def _tree_entry(explorer, f):
+    """The ``later`` entry ("agt", p) or ("ef", b) of the recorded need that the property ``f`` is,
+    or None."""
+    from .need import EdgeNeed, whole
+    need = getattr(explorer, "edge_need", None)
+    if not isinstance(need, EdgeNeed):
+        return None
+    w = whole(f)
+    if w is None or w[0] not in ("agt", "ef") or w not in need.later:
+        return None
+    return w
+
+
+def ef_shown(explorer, K, ctl, b) -> bool:
+    """Whether the edges the structure keeps show that ``E[true U b]`` holds at every node of the one
+    initial state s0 (a structure whose lists outside the need's condition keep their first entry
+    only, each node leaving such a state with the same value of b): b holds at s0's node, or every
+    successor t of s0 reaches a state that a b node leaves, through edges known to be there -- the
+    search tree's (parent -> child) and the entries of the lists kept (at least the first of each).
+    The successors of s0 are the targets of its nodes and the states whose parent is s0 (a state
+    found first from s0); s0 itself reaches everything.  False: not shown (violated or not)."""
+    from . import kernel
+    from .graph import b_and, b_not, b_or, members
+    bn = b_and(ctl.sat(b), ctl.fair)
+    init = K.init
+    if not init:
+        return False
+    if all(bn[v] for v in init):
+        return True
+    S = explorer.n_states
+    par = explorer.parent
+    tgt = K.tgt
+    s0 = K.sid[init[0]]
+    # the states a b node leaves
+    reach = _leaving(K, S, bn)
+    new = reach
+    for _ in range(256):
+        # the tree: a parent reaches its children (each state walked up once)
+        for s in members(new):
+            p = par[s]
+            while p >= 0 and not reach[p]:
+                reach[p] = 1
+                p = par[p]
+        # the lists kept (the nodes leaving s, their targets): a state with a target that reaches
+        more = b_or(reach, _leaving(K, S, kernel.gather(tgt, reach)))
+        new = b_and(more, b_not(reach))
+        reach = more
+        if new.find(1) < 0:
+            break
+    else:
+        return False
+    if not all(bn[v] or reach[tgt[v]] for v in init):
+        return False
+    # (the states found from s0 are numbered right after it)
+    t = s0 + 1
+    while t < S and par[t] == s0:
+        if not reach[t]:
+            return False
+        t += 1
+    return True
+
+
+class _ByState:
+    """The structure's lists read state by state (state s's list is class s): the compiled ``ex`` over
+    it tells, for each state, whether its list has a node of a set."""
+
+    def __init__(self, K, S: int):
+        self.n = S
+        self.cls = array("i", range(S))
+        self.cls_succ = K.cls_succ
+
+
+def _leaving(K, S: int, g: bytearray) -> bytearray:
+    """The states (of ``S``) with a ``g`` node in their list (the nodes leaving them)."""
+    from . import kernel
+    got = kernel.ex(_ByState(K, S), g) if S else bytearray()
+    if got is not None:
+        return got
+    out = bytearray(S)
+    succ = K.cls_succ
+    for s in range(S):
+        if any(g[w] for w in succ[s]):
+            out[s] = 1
+    return out
+
+
+def tree_path(explorer, K, ctl, b, budget: int = 11):
+    """The path that shows ``E[true U b]`` at the one initial state s0 (the witness of ``ef(b)``, the
+    counterexample of ``ag(not b)``), from the search's breadth-first tree: (nodes, loop, the
+    structure the nodes are of), or None when no b node is reached.
+
+    :meth:`CTL.explain` searches breadth first from the nodes leaving s0 (in the order of s0's
+    list), moving out of the nodes where ``E[true U b]`` holds, for a b node.  Expanding a node
+    (s, t) enqueues the nodes leaving t in t's list order, and tests each.  Take, for each state t
+    reached, u_t the first node enqueued with target t.  A node whose target's list was enumerated
+    before enqueues only targets enqueued before; so the targets are first enqueued while expanding
+    some u_p, and by induction the states are first enqueued in the order in which the search
+    numbers them (it expands the states in that order, each list in its order), u_t is enqueued
+    while expanding u_p for p the parent the search gave t (the first state whose list holds t),
+    and the u are expanded in the search's order.  Nodes where ``E[true U b]`` is false are not
+    expanded, but what they would enqueue reaches no b node either, nor does anything found only
+    through them (it would reach b through them): the order among the states that reach b is the
+    same.  So the first b node found is the first b node of the list of y, the first state in the
+    search's order with a b node in its list (s0: the first b node leaving it, tested first), and
+    its path is u_{s1} .. u_y of the tree's path s0 s1 .. y, then that node (a node whose target's
+    list is not all kept has the value of b of every node of that list: the first kept entry is
+    the first b node).  The nodes u are not in the structure (s0's list, or a parent's, may keep
+    only its first entry): the path uses nodes appended after the structure's (the structure
+    returned reads them), each a step parent -> child, whose choices are found again as the
+    structure's own nodes' are (:meth:`picks_between`).  Then b's own path from that node, as
+    :meth:`CTL.explain` continues (``budget``: the one it has there)."""
+    from .graph import b_and
+    bn = b_and(ctl.sat(b), ctl.fair)
+    init = K.init
+    first = next((v for v in init if bn[v]), None)
+    if first is not None:
+        nodes, loop = ctl.explain(b, first, True, budget)
+        return nodes, loop, K
+    y = _leaving(K, explorer.n_states, bn).find(1)
+    if y < 0:
+        return None
+    w = next(x for x in K.cls_succ[y] if bn[x])
+    path = explorer.path_to(y)
+    steps = list(zip(path, path[1:]))
+    nodes, loop = ctl.explain(b, w, True, budget)
+    extra = [K.n + i for i in range(len(steps))]
+    if loop is not None:
+        loop += len(extra)
+    return extra + nodes, loop, _TreeSteps(K, explorer, steps)
+
+
+class _TreeSteps:
+    """A structure read as ``K`` with the steps of a tree's path appended as nodes K.n, K.n + 1, ..
+    (source, target): what a trace replays of them (their states and choices)."""
+
+    def __init__(self, K, explorer, steps):
+        self._K = K
+        self._explorer = explorer
+        self.sid = _Appended(K.sid, [s for s, _ in steps], K.n)
+        self.tgt = _Appended(K.tgt, [t for _, t in steps], K.n)
+
+    def __getattr__(self, name):
+        return getattr(self._K, name)
+
+    def picks_from(self, v: int, src: int):
+        if v >= self._K.n:
+            return self._explorer.picks_between(src, self.tgt[v])
+        return self._K.picks_from(v, src)
+
+
+class _Appended:
+    def __init__(self, base, more, n):
+        self.base, self.more, self.n = base, more, n
+
+    def __getitem__(self, v):
+        return self.more[v - self.n] if v >= self.n else self.base[v]
 
 
 def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: bool = True):
@@ -369,7 +542,7 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
         return structures[step]
     try:
         if any(kind != "ltl" and f is not None for _, kind, f, _ in checks):
-            more = _lists_missing(explorer, kripke(True))
+            more = _lists_missing(explorer, kripke(True), halts)
             if more is not None:
                 # an ag(p) broken: the search again with the lists its path reads
                 from .need import ALL, EdgeNeed
@@ -406,6 +579,21 @@ def check_temporal(explorer, props, fair=(), on_error: str = "halt", quotient: b
         if ctl is None:
             from .ctl import CTL
             ctl = CTL(K)
+        entry = _tree_entry(explorer, f)
+        if entry is not None:
+            # decided after the search, explained by the search tree's path (temporal/need.py)
+            kind_, p_ = entry
+            holds = kind_ == "ef" or ctl.sat(p_).find(0) < 0
+            nodes, loop, KT = [], None, K
+            if holds != (kind_ == "agt"):
+                # the path of E[true U b]: f is that, or not(that)
+                got = tree_path(explorer, K, ctl, f[2] if kind_ == "ef" else f[1][2])
+                if got is not None:
+                    nodes, loop, KT = got
+            results.append(TemporalResult(p, kind, holds, nodes=nodes, loop=loop, fairness=fairness_text,
+                                          explorer=explorer, K=KT, seconds=time.perf_counter() - t0,
+                                          stats={"kripke_nodes": K.n}, witness=holds and bool(nodes)))
+            continue
         holds, bad = ctl.check(f)
         nodes, loop, witness = [], None, False
         # from the initial node with the shortest path (the first of several equally short)

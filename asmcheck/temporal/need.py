@@ -38,7 +38,27 @@ watches p and stops at the first state that breaks it, to start again with those
 broken ``ag(p)`` costs the search up to that state, not a whole second search).
 
 Anything else needs every list (:data:`ALL`): LTL, fairness constraints, ``--fair``, ``--graph``,
-INVAR constraints, atoms that read monitored functions, a formula that cannot be built."""
+INVAR constraints, atoms that read monitored functions, a formula that cannot be built.
+
+With one initial state s0 (every stored state is reachable from it), a property that is exactly
+``ag(p)`` or ``ef(b)`` (not a conjunct among others), with ``reads(b)`` not every list, reads only
+what p or b reads (the entries ``"agt"``/``"ef"`` of :attr:`EdgeNeed.later`):
+
+* ``ag(p)`` holds iff every node satisfies p; when a node breaks it, its counterexample (the path
+  of ``E[true U not p]``) is the path of the search's own breadth-first tree to the first state,
+  in the search's order, that a ``not p`` node leaves (:func:`asmcheck.temporal.tree_path` argues
+  it is the path :meth:`~asmcheck.temporal.ctl.CTL.explain` finds on every list), so the search
+  neither watches it nor runs again;
+* ``ef(b)`` (``E[true U b]``) is *not* decided by the set of states: a node of s0 stands for one
+  first step, and ``ef(b)`` must hold after every first step (s0 -> t1 where t1 only loops on
+  itself, s0 -> t2 where b holds: violated although a state satisfies b).  It holds iff b holds
+  at s0's node or every successor of s0 reaches a state a b node leaves; the check shows it with
+  the edges it has (the tree's, the first entry of each list, the lists recorded:
+  :func:`asmcheck.temporal.ef_shown`), and where they do not show it (violated, or reachable only
+  through edges not kept) the search runs again recording the lists ``E[true U b]`` reads.  Its
+  witness is the tree's path, as for ``ag``.
+A run-time error (a failing step: a halt node, which the tree does not have) makes every such
+``ef(b)`` and every such ``ag(p)`` broken read their lists again."""
 from __future__ import annotations
 
 from .formula import FALSE, TRUE, And, Not, Or, temporal_free
@@ -83,6 +103,17 @@ def deferred(f):
     return None
 
 
+def whole(f):
+    """("agt", p) for a property ``not E[true U not p]``, ("ef", b) for ``E[true U b]``, when what p
+    or b reads is not every list (decided and explained with one initial state from the search's
+    tree: see the module's text); None otherwise."""
+    if f[0] == "not" and f[1][0] == "EU" and f[1][1] == TRUE and reads(f[1][2]) != ALL:
+        return ("agt", Not(f[1][2]))
+    if f[0] == "EU" and f[1] == TRUE and reads(f[2]) != ALL:
+        return ("ef", f[2])
+    return None
+
+
 def conjuncts(f) -> list:
     """The top-level conjuncts of ``f``."""
     if f[0] == "and":
@@ -92,8 +123,11 @@ def conjuncts(f) -> list:
 
 class EdgeNeed:
     """What the CTL check of a run reads: ``cond`` the condition on the states whose lists are
-    recorded (FALSE: none), ``later`` the top-level ``ag``/``ef`` properties decided by the set of
-    states, each with the condition it reads when the set does not decide it."""
+    recorded (FALSE: none), ``later`` the top-level properties decided after the search, each with
+    the condition it reads when they are not decided so: ("ag", p) the ``ag(p)`` conjuncts decided
+    by the set of states (watched by the search when p is free of temporal operators), ("agt", p)
+    and ("ef", b) the whole properties ``ag(p)`` and ``ef(b)`` of a structure with one initial
+    state, explained from the search's tree (see the module's text)."""
 
     def __init__(self, cond, later):
         self.cond = cond
@@ -205,6 +239,13 @@ def edge_need(checks, atoms, justice, compassion, invars, used, fair=(), graph=F
     for _p, kind, f, err in checks:
         if f is None or err or kind != "ctl":
             return ALL
+        w = whole(f) if len(initial) == 1 and machine is not None else None
+        if w is not None and not (w[0] == "ef" and temporal_free(w[1]) and at_initial(w[1], atoms, machine, initial)):
+            # decided and explained after the search (the tree's path): reads what p or b reads
+            r = reads(w[1])
+            cond = Or(cond, r)
+            later.append(w)
+            continue
         # a property holds where each of its top-level conjuncts does (forall $x with ag(..) is one)
         for c in conjuncts(f):
             d = deferred(c)
@@ -228,8 +269,9 @@ def edge_need(checks, atoms, justice, compassion, invars, used, fair=(), graph=F
 
 
 def later_cond(kind: str, p):
-    """The lists ``ag(p)`` reads when a node breaks p: those of ``E[true U not p]``."""
-    return reads(("EU", TRUE, Not(p)))
+    """The lists ``ag(p)`` reads when a node breaks p: those of ``E[true U not p]``; those ``ef(p)``
+    reads when the edges kept do not show it: those of ``E[true U p]``."""
+    return reads(("EU", TRUE, p if kind == "ef" else Not(p)))
 
 
 def state_set(f, labs: dict, n: int) -> bytearray:
