@@ -35,7 +35,9 @@
  * Each search context (one per thread of a parallel search) has its own: looked up once per
  * call by the context's address. */
 typedef struct { char *p; int n, cap; } CnBuf;
-typedef struct { int off, len; } CnSpan;
+/* a text of a buffer: where it starts, its length, its first 8 bytes big-endian (0 past its end:
+   texts hold no byte 0), which order most pairs of texts without reading them (cn_span_pre) */
+typedef struct { uint64_t pre; int off, len; } CnSpan;
 typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
 typedef struct { int slot; int ent; int nel; int el[8]; int cnt[8]; } CnLoc;
 typedef struct {
@@ -59,7 +61,12 @@ typedef struct {
     int vdom[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
     uint64_t vold[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
     CnLoc locs[CN_NLOC];
-    int eloc[CN_NLOC * 8];
+    int eloc[CN_NLOC * 8], ecnt[CN_NLOC * 8];     /* each element's locations, its occurrences there */
+    /* per slot: bit 1, an argument is of a type of values with members (walked); bit 4, else an
+       argument is an element; bit 2, the value's type has members (else the value is an element or
+       holds none): what the walk of a location looks at (made with the tables: the slots are fixed) */
+    uint8_t sflag[NSLOTS > 0 ? NSLOTS : 1];
+    uint8_t hv[NSLOTS > 0 ? NSLOTS : 1];          /* the slot's value holds elements (this form's walk) */
 } CnW;
 static int64_t cn_search = 0;               /* counts the searches started (asm_canon_reset) */
 
@@ -74,6 +81,24 @@ static void cn_fresh_search(CnW *W) {
     free(W->dpool); W->dpool = 0; W->dn = W->dused = W->dcap = 0; free(W->dtab); W->dtab = 0; W->dmask = 0;
 }
 
+static inline int cn_is_fresh(V v);
+static inline int cn_ty_members(int ty) {
+    int k = CN_TY[ty];
+    return k == T_SEQ || k == T_TUPLE || k == T_SET || k == T_LMAP;
+}
+static void cn_slot_flags(CnW *W) {
+    for (int r = 0; r < CN_NREL; r++) {
+        int s = CN_REL[r], f = 0;
+        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) {
+            V a = CN_ARGS[CN_SLOT_ARG[s] + 3 * i];
+            if (cn_ty_members((int)CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1])) f |= 1;
+            else if (cn_is_fresh(a)) f |= 4;
+        }
+        if (cn_ty_members(CN_SLOT_VTY[s])) f |= 2;
+        W->sflag[s] = (uint8_t)f;
+    }
+}
+
 #define CN_MAXW 256
 static struct { Ctx *volatile c; CnW *volatile w; } cn_ws[CN_MAXW];
 
@@ -86,7 +111,7 @@ static CnW *cn_w(Ctx *c) {
             Ctx *expect = 0;
             if (!__atomic_compare_exchange_n(&cn_ws[i].c, &expect, c, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) { i--; continue; }
             CnW *w = (CnW *)calloc(1, sizeof(CnW));
-            if (w) { w->my_search = -1; cn_fresh_search(w); }
+            if (w) { w->my_search = -1; cn_fresh_search(w); cn_slot_flags(w); }
             __atomic_store_n(&cn_ws[i].w, w, __ATOMIC_SEQ_CST);
             return w;
         }
@@ -255,10 +280,22 @@ static int cn_itoa(char *t, V x) {
     return k;
 }
 
-static int cn_span_cmp_base(const char *base, const CnSpan *x, const CnSpan *y) {
-    int n = x->len < y->len ? x->len : y->len;
-    int r = memcmp(base + x->off, base + y->off, n);
-    if (r) return r;
+static inline void cn_span_pre(const char *base, CnSpan *x) {
+    const uint8_t *p = (const uint8_t *)base + x->off;
+    int n = x->len < 8 ? x->len : 8;
+    uint64_t v = 0;
+    for (int i = 0; i < n; i++) v |= (uint64_t)p[i] << (56 - 8 * i);
+    x->pre = v;
+}
+/* the order of two texts (memcmp's, then the shorter first) */
+static inline int cn_span_cmp_base(const char *base, const CnSpan *x, const CnSpan *y) {
+    if (x->pre != y->pre) return x->pre < y->pre ? -1 : 1;
+    /* (the same first bytes: a text of at most 8 bytes is the other's beginning) */
+    if (x->len > 8 && y->len > 8) {
+        int n = x->len < y->len ? x->len : y->len;
+        int r = memcmp(base + x->off + 8, base + y->off + 8, n - 8);
+        if (r) return r;
+    }
     return x->len < y->len ? -1 : x->len > y->len;
 }
 /* spans sorted by their texts in base (insertion sort: a few texts at a time) */
@@ -355,6 +392,7 @@ static int cn_text(CnW *W, CnBuf *b, V v, int ty) {
             ok = cn_text(W, &tmp, e[i], CN_TY[ty + 1]);
             sp[i].len = tmp.n - sp[i].off;
         }
+        for (int i = 0; ok && i < n; i++) cn_span_pre(tmp.p, &sp[i]);
         if (ok) {
             cn_sort_spans(tmp.p, sp, n);
             ok = cn_put(b, "{", 1);
@@ -549,7 +587,9 @@ static int cn_add_span(CnW *W, int off, int len) {
         if (!x) return 0;
         W->sp = x; W->capsp = nc;
     }
-    W->sp[W->nsp].off = off; W->sp[W->nsp].len = len; W->nsp++;
+    CnSpan *x = &W->sp[W->nsp++];
+    x->off = off; x->len = len;
+    cn_span_pre(W->tb.p, x);
     return 1;
 }
 
@@ -796,6 +836,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     memset(occ, 0, sizeof(occ));
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
+        W->hv[s] = 0;
         if (W->val[s] == UNDEF) continue;
         int lmap = CN_TY[CN_SLOT_VTY[s]] == T_LMAP;
         int nent = lmap ? v_len(W->val[s]) / 2 : 1;
@@ -805,9 +846,20 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                 int ty = CN_SLOT_VTY[s];
                 cn_walk(v_elems(W->val[s])[2 * ent], CN_TY[ty + 2], list, &nl);
                 cn_walk(v_elems(W->val[s])[2 * ent + 1], CN_TY[ty + 3], list, &nl);
+                if (nl) W->hv[s] = 1;
             } else {
-                for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], list, &nl);
-                cn_walk(W->val[s], CN_SLOT_VTY[s], list, &nl);
+                int f = W->sflag[s];
+                if (f & 1)
+                    for (int i = 0; i < CN_SLOT_NARGS[s]; i++) cn_walk(CN_ARGS[CN_SLOT_ARG[s] + 3 * i], CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 1], list, &nl);
+                else if (f & 4)
+                    for (int i = 0; i < CN_SLOT_NARGS[s]; i++) {
+                        V a = CN_ARGS[CN_SLOT_ARG[s] + 3 * i];
+                        if (cn_is_fresh(a)) list[nl++] = cn_eidx(a);     /* (fewer than 256 arguments) */
+                    }
+                int na = nl;
+                if (f & 2) cn_walk(W->val[s], CN_SLOT_VTY[s], list, &nl);
+                else if (cn_is_fresh(W->val[s])) cn_walk(W->val[s], CN_SLOT_VTY[s], list, &nl);
+                if (nl != na) W->hv[s] = 1;
             }
             if (nl < 0) return CN_TEXT;
             if (!nl) continue;
@@ -853,7 +905,8 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     memset(eoff, 0, sizeof(eoff));
     for (int l = 0; l < nloc; l++) for (int x = 0; x < W->locs[l].nel; x++) eoff[W->locs[l].el[x] + 1]++;
     for (int e = 0; e < CN_MAXE; e++) { eoff[e + 1] += eoff[e]; efill[e] = eoff[e]; }
-    for (int l = 0; l < nloc; l++) for (int x = 0; x < W->locs[l].nel; x++) W->eloc[efill[W->locs[l].el[x]]++] = l;
+    for (int l = 0; l < nloc; l++)
+        for (int x = 0; x < W->locs[l].nel; x++) { int q = efill[W->locs[l].el[x]]++; W->eloc[q] = l; W->ecnt[q] = W->locs[l].cnt[x]; }
     /* a domain with one element needs no colours, nor does any when every domain has one */
     int need = 0;
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] > 1) need = 1;
@@ -887,8 +940,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                 els[q].sig_off = W->nsp;
                 for (int li = eoff[e]; li < eoff[e + 1]; li++) {
                     CnLoc *L = &W->locs[W->eloc[li]];
-                    int cnt = 0;
-                    for (int x = 0; x < L->nel; x++) if (L->el[x] == e) cnt = L->cnt[x];
+                    int cnt = W->ecnt[li];
                     int off = W->tb.n;
                     if (!(L->ent >= 0 ? cn_text_ent(W, &W->tb, L->slot, L->ent) :
                           r == 0 ? cn_text_loc0(W, &W->tb, L->slot, W->val[L->slot], e) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
@@ -932,7 +984,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
         V v = W->val[s];
-        if (CN_SLOT_BASE[s] < 0) { W->new_[s] = cn_rename(c, v, CN_SLOT_VTY[s], map); continue; }
+        if (CN_SLOT_BASE[s] < 0) { W->new_[s] = W->hv[s] ? cn_rename(c, v, CN_SLOT_VTY[s], map) : v; continue; }
         if (v == UNDEF) continue;
         int t = CN_SLOT_BASE[s];
         for (int i = 0; i < CN_SLOT_NARGS[s]; i++) {
@@ -942,7 +994,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
             if (cn_is_fresh(a)) idx += map[cn_eidx(a)] - cn_num(a);
             t += idx * stride;
         }
-        W->new_[t] = cn_rename(c, v, CN_SLOT_VTY[s], map);
+        W->new_[t] = W->hv[s] ? cn_rename(c, v, CN_SLOT_VTY[s], map) : v;
     }
     if (c->err) return CN_TEXT;
     for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = kept[d];
