@@ -188,13 +188,7 @@ def run_model(name, path, extra, engine, max_seconds, cache: Path | None = None)
 def search_growth(path, extra, engine, max_seconds, env, states: int) -> dict:
     """The memory the command needs from the start of its search on (``--growth``, in a process
     of its own): ``growth_bytes`` and ``growth_bytes_per_state`` (over ``states``)."""
-    cmd = [sys.executable, str(Path(__file__).resolve()), "--growth", str(path), "--engine", engine, "--",
-           "--max-seconds", str(max_seconds), *extra]
-    r = measure(cmd, timeout=max_seconds + 30, env=env)
-    try:
-        res = json.loads(r["stdout"])
-    except ValueError:
-        return {}
+    res = _in_process(["--growth", str(path), "--engine", engine], path, extra, max_seconds, env)
     if res.get("states") != states or res.get("growth_bytes") is None:
         return {}
     out = {"growth_bytes": res["growth_bytes"], "growth_bytes_per_state": round(res["growth_bytes"] / max(states, 1))}
@@ -268,20 +262,25 @@ LOOP_RUNS = 3          # the native search loop is timed as the fastest of at le
 LOOP_SECONDS = 2.0     # and of more (up to 4 * LOOP_RUNS) while they took less than this in all
 
 
+def _in_process(mode: list, path, extra, max_seconds, env) -> dict:
+    """This script run with ``mode`` (--phases or --growth) on one model, in a process of its own:
+    its JSON ({} when it printed none)."""
+    cmd = [sys.executable, str(Path(__file__).resolve()), *mode, "--", "--max-seconds", str(max_seconds), *extra]
+    r = measure(cmd, timeout=max_seconds + 30, env=env)
+    try:
+        return json.loads(r["stdout"])
+    except ValueError:
+        return {}
+
+
 def search_loop(path, extra, engine, max_seconds, env) -> dict:
     """The seconds of the search loop alone (``NativeExplorer.run`` or ``Explorer.run``, measured
     in process by ``--phases``) and the rates over it: what the explore phase costs beyond it
     (code generation or the cache lookup, INVAR and property set-up, LTL/CTL, traces) is a fixed
     cost that dominates small models.  The native search is the fastest of several runs
     (LOOP_RUNS, LOOP_SECONDS): one run of a few milliseconds on a shared machine is mostly noise."""
-    cmd = [sys.executable, str(Path(__file__).resolve()), "--phases", str(path), "--engine", engine,
-           "--loop-runs", str(LOOP_RUNS), "--loop-seconds", str(LOOP_SECONDS), "--",
-           "--max-seconds", str(max_seconds), *extra]
-    r = measure(cmd, timeout=max_seconds + 30, env=env)
-    try:
-        res = json.loads(r["stdout"])
-    except ValueError:
-        return {}
+    res = _in_process(["--phases", str(path), "--engine", engine, "--loop-runs", str(LOOP_RUNS),
+                       "--loop-seconds", str(LOOP_SECONDS)], path, extra, max_seconds, env)
     ph = res.get("phases", {})
     loop = ph.get("search (native)") if res.get("engine") == "native" else ph.get("search (python)")
     if not loop or res.get("transitions") is None:

@@ -35,26 +35,9 @@ default init s0:
 """
 
 # the second draw fails when it reads sensor($n): the location's argument is an element
-ARGUMENT = """asm Sym2
-import StandardLibrary
-signature:
-	domain Num subsetof Integer
-	dynamic controlled drawn: Num -> Boolean
-	dynamic controlled cnt: Integer
-	dynamic monitored sensor: Num -> Boolean
-definitions:
-	domain Num = {11 : 13}
-	main rule r_Main =
-		choose $n in Num with not drawn($n) do
-			par
-				drawn($n) := true
-				cnt := cnt + 1
-				if cnt = 1 and sensor($n) then cnt := 7 endif
-			endpar
-default init s0:
-	function drawn($n in Num) = false
-	function cnt = 0
-"""
+ARGUMENT = (NUMBER.replace("asm Sym", "asm Sym2").replace("dynamic monitored inp: Integer",
+                                                          "dynamic monitored sensor: Num -> Boolean")
+            .replace("inp = (cnt + cnt + cnt) * (cnt + cnt + cnt + cnt)", "sensor($n)"))
 
 
 @pytest.mark.parametrize("text,monitored,counts,last", [

@@ -46,7 +46,7 @@ from itertools import permutations
 
 from ..semantics import ir
 from ..semantics import types as T
-from ..semantics.analysis import abstract_codomain, is_subdomain
+from ..semantics.analysis import abstract_codomain, ir_nodes, is_subdomain
 from ..semantics.values import EnumValue, abstract_value, show, vkey
 
 
@@ -830,22 +830,9 @@ class _ChoiceTypes:
         self.domains = domains
         self.choose: dict = {}       # label -> {variable name: holds elements}
         self.functions = {f.name: f for f in machine.spec.functions}
-        seen: set = set()
-
-        def walk(x):
-            if isinstance(x, (ir.Term, ir.Rule)):
-                if id(x) in seen:
-                    return
-                seen.add(id(x))
-                if isinstance(x, ir.Choose):
-                    self.choose[f"choose at {x.span.short()}"] = {v.name: self.holds(v.type) for v, _ in x.bindings}
-                for v in vars(x).values():
-                    walk(v)
-            elif isinstance(x, (list, tuple)):
-                for v in x:
-                    walk(v)
-        for r in machine.spec.rules:
-            walk(r)
+        for x in ir_nodes(machine.spec.rules):
+            if isinstance(x, ir.Choose):
+                self.choose[f"choose at {x.span.short()}"] = {v.name: self.holds(v.type) for v, _ in x.bindings}
 
     def holds(self, t, depth: int = 0) -> bool:
         """Whether a value of type ``t`` may hold an element of the symmetric domains (unknown

@@ -40,6 +40,22 @@ def is_constant(t: ir.Term) -> bool:
 
 
 
+def ir_nodes(roots):
+    """Every IR term and rule under ``roots`` (a list of them), each once, parents first."""
+    seen: set = set()
+    stack = list(reversed(list(roots)))
+    while stack:
+        x = stack.pop()
+        if isinstance(x, (ir.Term, ir.Rule)):
+            if id(x) in seen:
+                continue
+            seen.add(id(x))
+            yield x
+            stack.extend(reversed(list(vars(x).values())))
+        elif isinstance(x, (list, tuple)):
+            stack.extend(reversed(x))
+
+
 def free_uids(t) -> set:
     out = set()
 
