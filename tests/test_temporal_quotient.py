@@ -167,6 +167,7 @@ def test_agent_fairness_keeps_one_node_per_step(tmp_path):
 
 
 @needs_cc
+@pytest.mark.engines("native")
 def test_corpus_swapboard_same_paths():
     p = EXAMPLES / "examples" / "swapBoard.asm"
     if not p.exists():
@@ -178,6 +179,7 @@ def test_corpus_swapboard_same_paths():
 
 
 @needs_cc
+@pytest.mark.engines("native")      # (it names the native engine: once, not on each)
 def test_parking_ctl():
     """examples/parking.asm: 32,768 states, 86,093,442 transitions; NuSMV: true, true, false.  The
     counterexample of the third: a car parks in (1, 3), then one in (1, 4)."""
