@@ -834,23 +834,19 @@ class _ChoiceTypes:
             if isinstance(x, ir.Choose):
                 self.choose[f"choose at {x.span.short()}"] = {v.name: self.holds(v.type) for v, _ in x.bindings}
 
-    def holds(self, t, depth: int = 0) -> bool:
+    def holds(self, t) -> bool:
         """Whether a value of type ``t`` may hold an element of the symmetric domains (unknown
         types: yes)."""
-        if t is None or depth > 20:
-            return True
         if isinstance(t, T.Domain):
             return t.kind == "any" or any(is_subdomain(t, d) for d in self.domains)
         if isinstance(t, T.Struct):
-            return any(self.holds(a, depth + 1) for a in t.args)
+            return any(self.holds(a) for a in t.args)
         return True
 
-    def value(self, c) -> bool:
-        """Whether choice ``c``'s value may hold elements (a choose's bindings: a dict of them)."""
-        if c.kind == "monitored":
-            f = self.functions.get(c.label.split("(", 1)[0])
-            return True if f is None else self.holds(f.codomain)
-        return True
+    def read(self, c) -> bool:
+        """Whether the value a monitored choice ``c`` read may hold elements."""
+        f = self.functions.get(c.label.split("(", 1)[0])
+        return True if f is None else self.holds(f.codomain)
 
     def binding(self, c, name: str) -> bool:
         got = self.choose.get(c.label)
@@ -889,17 +885,15 @@ def _split_args(text: str) -> list:
     return out
 
 
-def _choice_keys(choices, ren: dict, typed: _ChoiceTypes | None = None) -> tuple:
+def _choice_keys(choices, ren: dict, typed: _ChoiceTypes) -> tuple:
     """The choices of a step, compared up to the renaming ``ren``: kind, place, value, nested.
-    With ``typed``, only the values and arguments whose declared types may hold elements of the
+    Only the values and arguments whose declared types (``typed``) may hold elements of the
     symmetric domains are renamed (an Integer equal to an element of a subset of Integer is not
     one)."""
-    if typed is None:
-        return tuple((c.kind, c.label, _renamed(c.value, ren), _choice_keys(c.nested or (), ren)) for c in choices)
     out = []
     for c in choices:
         if c.kind == "monitored":
-            v = _renamed(c.value, ren) if typed.value(c) else _renamed(c.value, {})
+            v = _renamed(c.value, ren if typed.read(c) else {})
         elif isinstance(c.value, dict):
             v = tuple((k, _renamed(x, ren if typed.binding(c, k) else {})) for k, x in c.value.items())
         else:

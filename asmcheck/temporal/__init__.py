@@ -331,21 +331,18 @@ def _lists_missing(explorer, K, halts=()):
         return None
     from .ctl import CTL
     ctl = CTL(K)
+
+    def undecided(kind, p) -> bool:
+        if kind == "ef":
+            return bool(halts) or not ef_shown(explorer, K, ctl, p)
+        return ctl.sat(p).find(0) >= 0 and (kind == "ag" or bool(halts))
+    if not any(undecided(kind, p) for kind, p in need.later):
+        return None
+    # (recorded then: the lists of every ef(b), and of every ag(p) and whole ag(p) some node
+    # breaks -- those of every undecided property among them)
     more = FALSE
     for kind, p in need.later:
-        if kind == "ef":
-            if not halts and ef_shown(explorer, K, ctl, p):
-                continue
-        elif ctl.sat(p).find(0) < 0 or (kind == "agt" and not halts):
-            continue
-        r = later_cond(kind, p)
-        if r == ALL:
-            return ALL
-        more = Or(more, r)
-    if more == FALSE:
-        return None
-    for kind, p in need.later:
-        if kind == "ef" or (kind == "agt" and ctl.sat(p).find(0) >= 0):
+        if kind == "ef" or ctl.sat(p).find(0) >= 0:
             r = later_cond(kind, p)
             if r == ALL:
                 return ALL
