@@ -2474,9 +2474,7 @@ class Generator:
         cacheable = not (r.guard is not None and self.makes_choices(r.guard)) and \
             not any(self.makes_choices(rg) for _, rg in r.bindings)
         key = list(dict.fromkeys(env.values())) + ["c->self"]
-        grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
-                f"int nc_{tl} = {cap} ? 2 * {cap} : 64; V *t_{tl} = (V *)realloc({cand}, (size_t)nc_{tl} * {k} * sizeof(V)); "
-                f"if (!t_{tl}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{tl}; {cap} = nc_{tl}; }}")
+        grow = _grow_candidates(n, cand, cap, k, tl)
         collect = (f"int {n} = 0; " + " ".join(heads) +
                    f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
                    f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;")
@@ -2532,9 +2530,7 @@ class Generator:
         cand, cap = f"p_{tl}->cand", f"p_{tl}->cap"
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
         body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
-        grow = (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
-                f"int nc_{tl} = {cap} ? 2 * {cap} : 64; V *t_{tl} = (V *)realloc({cand}, (size_t)nc_{tl} * {k} * sizeof(V)); "
-                f"if (!t_{tl}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{tl}; {cap} = nc_{tl}; }}")
+        grow = _grow_candidates(n, cand, cap, k, tl)
         # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
         # and the candidate is copied out before the body runs
         return ("{ " + f"static _Thread_local struct {{ V *cand; int cap; }} {tl}; __typeof__({tl}) *p_{tl} = &{tl}; "
@@ -3886,6 +3882,14 @@ def build_library(src: str):
     """The compiled library of the generated source ``src`` (from the cache when it is there),
     with the argument and result types of the engine's entry points."""
     return native_build.build(src, _SYMBOLS)
+
+
+def _grow_candidates(n: str, cand: str, cap: str, k: int, tl: str) -> str:
+    """C that makes room for candidate ``n`` (of ``k`` values) in the thread's buffer ``cand`` of
+    ``cap`` candidates (doubling it, from 64, up to MAX_CANDIDATES; ``tl`` names its locals)."""
+    return (f"if ({n} >= {cap}) {{ if ({cap} >= {MAX_CANDIDATES}) {{ fail(c, E_UNSUPPORTED, 0); return; }} "
+            f"int nc_{tl} = {cap} ? 2 * {cap} : 64; V *t_{tl} = (V *)realloc({cand}, (size_t)nc_{tl} * {k} * sizeof(V)); "
+            f"if (!t_{tl}) {{ fail(c, E_MEMORY, 0); return; }} {cand} = t_{tl}; {cap} = nc_{tl}; }}")
 
 
 # The C's variables that live as long as the library (``static``, not ``const``) and that the
