@@ -2321,32 +2321,41 @@ class Generator:
         guard = self.term(r.guard, env2) if r.guard is not None else "(V)1"
         i = self.fresh("i")
         body, ifnone, pick, store = self.choose_parts(r, env, names, cand, n, i)
-        # The candidates depend on the state, the variables in scope and the choices made
-        # before; when the choose is reached before any choice and binds no outer variable,
-        # the list is the same in every run of the step from one state: it is kept.
-        # Only the first visit in a run is that point (a rule called twice in a seq block, or a loop,
-        # reaches it again in another working state): a later visit forgets the list it overwrites.
-        cacheable = not env
-        pre = ""
-        post = ""
         # (the thread's own list and cache marks are one thread-local record, reached through a
         # pointer taken once: each use of a thread-local variable of a shared library is a call)
         tl = self.fresh("tl")
-        decl = (f"static _Thread_local struct {{ V cand[{sizes * k}]; int64_t ep; int cn; uint32_t lg; }} {tl} = {{ .ep = -1 }}; "
+        fields, pre, post = self.candidate_cache(tl, n)
+        decl = (f"static _Thread_local struct {{ V cand[{sizes * k}]; {fields} }} {tl} = {{ .ep = -1 }}; "
                 f"__typeof__({tl}) *p_{tl} = &{tl}; TLS_KEEP(p_{tl}); V *{cand} = p_{tl}->cand; ")
-        if cacheable:
-            ep = f"p_{tl}->ep"
-            cn = f"p_{tl}->cn"
-            lg = f"p_{tl}->lg"
-            first = self.fresh("first")
-            pre = (f"int pos0 = c->pos; "
-                   f"int {first} = {lg} != c->gen; {lg} = c->gen; if (!{first}) {ep} = -1; "
-                   f"if (pos0 == 0 && {first} && {ep} == c->epoch) {{ {n} = {cn}; }} else {{ ")
-            post = f" if (c->pos == pos0 && pos0 == 0 && {first}) {{ {ep} = c->epoch; {cn} = {n}; }} }}"
         return ("{ " + decl + f"int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (guard(c, {g}, 0)) {{ {store} {n}++; }} if (c->err) return; " + "}" * len(heads)
                 + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
+
+    CACHE_PREFIX = 8      # the longest sequence of earlier choices a choose's candidate cache keeps
+
+    def candidate_cache(self, tl: str, n: str) -> tuple[str, str, str]:
+        """(fields, pre, post): C that keeps a choose's candidates (count ``n``, in the record
+        ``tl``) for the later runs of the step from the same state.  One run of the step is
+        a function of the state and of the choices it has made so far, so the candidates a
+        choose collects at its first visit in a run are those of any other run from the same
+        state (``c->epoch``) that reached its first visit after the same choices (the first
+        ``pos0`` of ``c->idx``): the list is reused when both are the same as when it was made,
+        the choices being kept when there are at most :data:`CACHE_PREFIX` of them.  A later
+        visit in one run (a rule called twice in a seq block, a loop, a forall) may meet other
+        variables or another working state: it makes the list again and the cache forgets it.
+        A list whose making took a choice (a monitored value read first there) is not kept."""
+        ep, cn, lg, pn, px = (f"p_{tl}->{x}" for x in ("ep", "cn", "lg", "pn", "px"))
+        first = self.fresh("first")
+        P = self.CACHE_PREFIX
+        fields = f"int64_t ep; int cn; uint32_t lg; int pn; int32_t px[{P}];"
+        pre = (f"int pos0 = c->pos; "
+               f"int {first} = {lg} != c->gen; {lg} = c->gen; if (!{first}) {ep} = -1; "
+               f"if ({first} && {ep} == c->epoch && {pn} == pos0 && cache_prefix_is(c, {px}, pos0)) "
+               f"{{ {n} = {cn}; }} else {{ ")
+        post = (f" if (c->pos == pos0 && pos0 <= {P} && {first}) {{ {ep} = c->epoch; {cn} = {n}; {pn} = pos0; "
+                f"for (int q = 0; q < pos0; q++) {px}[q] = c->idx[q]; }} }}")
+        return fields, pre, post
 
     def choose_parts(self, r, env, names, cand, n, i):
         """What both translations of a choose share: its body (the bound variables read from the
@@ -2533,10 +2542,11 @@ class Generator:
         grow = _grow_candidates(n, cand, cap, k, tl)
         # the buffer is static: the guard and the ranges are terms (no rule runs while it fills)
         # and the candidate is copied out before the body runs
-        return ("{ " + f"static _Thread_local struct {{ V *cand; int cap; }} {tl}; __typeof__({tl}) *p_{tl} = &{tl}; "
-                f"TLS_KEEP(p_{tl}); int {n} = 0; " + " ".join(heads) +
+        fields, pre, post = self.candidate_cache(tl, n)
+        return ("{ " + f"static _Thread_local struct {{ V *cand; int cap; {fields} }} {tl} = {{ .ep = -1 }}; "
+                f"__typeof__({tl}) *p_{tl} = &{tl}; TLS_KEEP(p_{tl}); int {n} = 0; " + pre + " ".join(heads) +
                 f" V {g} = {guard}; if (c->err) return; if (guard(c, {g}, 0)) {{ {grow} {store} {n}++; }} "
-                f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;"
+                f"if (c->err) return; " + "}" * len(heads) + " if (c->err) return;" + post +
                 f" if ({n} == 0) {{ {ifnone} }} else {{ int {i} = {n} > 1 ? choice(c, {n}) : 0; {pick} {body} }} }}")
 
     def r_CallRule(self, r, env):

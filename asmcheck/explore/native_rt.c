@@ -117,6 +117,12 @@ static inline int next_choices(Ctx *c, int p) {
     return 1;
 }
 
+/* whether the first n choices of this run are px[0 .. n) (a choose's candidate cache) */
+static inline int cache_prefix_is(const Ctx *c, const int32_t *px, int n) {
+    for (int q = 0; q < n; q++) if (c->idx[q] != px[q]) return 0;
+    return 1;
+}
+
 static inline void fail(Ctx *c, int code, int site) {
     if (!c->err) { c->err = code; c->err_site = site; }
 }
