@@ -4276,7 +4276,10 @@ class NativeExplorer:
             self._take_edges(out[9])
         # (what the search counted: the result of a run whose time limit ends the check below)
         self.counts = (nstates, transitions, depth)
-        failed = self._failed_steps()
+        # the errors of the failing steps: of the states where the error property is violated, or
+        # of every such state when the graph is kept (the failing steps are edges to halt nodes)
+        err_sids = {out[13 + 3 * i] for i in range(out[7]) if out[12 + 3 * i] == nprops + 1}
+        failed = self._failed_steps(None if self.keep_graph else err_sids)
         violations = []
         for i in range(out[7]):
             k, sid, src = out[12 + 3 * i], out[13 + 3 * i], out[14 + 3 * i]
@@ -4719,10 +4722,12 @@ class NativeExplorer:
         raise Unsupported(f"a violation of {prop.name} found by the native search that the Python step "
                           f"function does not make")
 
-    def _failed_steps(self) -> dict:
+    def _failed_steps(self, only: set | None = None) -> dict:
         """The states where a branch of the step fails, as the native search recorded them (it went
         on with their well-defined successors): for each, the errors of its failing branches as the
-        Python step function makes them (state id -> [AsmError], the first one its violation).  The
+        Python step function makes them (state id -> [AsmError], the first one its violation);
+        ``only``: just those of these states (the rest are not looked at: a spec where most states
+        have a failing branch would otherwise run the Python step function from each).  The
         Python step function runs from each such state, and must make the successors the native
         search made (the same, first made in the same order), else Unsupported.  With
         keep_graph the failing branches are also ``error_edges`` (state, choices, error), as the
@@ -4736,8 +4741,9 @@ class NativeExplorer:
         self.dll.asm_err_states(sids)
         py = Explorer(self.m, symmetry=self.sym)    # its admitted_successors: the INVAR constraints, canonical names
         out: dict = {}
-        for i, sid in enumerate(sids):
-            self.failed_checked = (i, n)   # (how far the check got, where a time limit ends it)
+        todo = [(i, sid) for i, sid in enumerate(sids) if only is None or sid in only]
+        for done, (i, sid) in enumerate(todo):
+            self.failed_checked = (done, len(todo))   # (how far the check got, where a time limit ends it)
             m = self.dll.asm_err_succ(i, None, 0)
             buf = (ctypes.c_int64 * max(m, 1))()
             self.dll.asm_err_succ(i, buf, m)

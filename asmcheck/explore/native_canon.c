@@ -30,6 +30,8 @@
 #define T_REAL 8        /* a Real's code: its text is Python's repr of the double */        /* the locations of a function held as a map: arity, key type, value type */
 /* locations where elements occur: the slots, and the entries of the functions held as maps */
 #define CN_NLOC ((NSLOTS > 0 ? NSLOTS : 1) + 4096)
+/* (location, element) pairs of one state at most */
+#define CN_NPOOL (CN_NLOC * 8)
 
 /* ---------------------------------------------------------------- one worker's tables
  * Each search context (one per thread of a parallel search) has its own: looked up once per
@@ -39,7 +41,9 @@ typedef struct { char *p; int n, cap; } CnBuf;
    texts hold no byte 0), which order most pairs of texts without reading them (cn_span_pre) */
 typedef struct { uint64_t pre; int off, len; } CnSpan;
 typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
-typedef struct { int slot; int ent; int nel; int el[8]; int cnt[8]; } CnLoc;
+/* a location where elements occur: its distinct elements and their occurrences there are
+   lel[off .. off + nel) and lcnt[off .. off + nel) of the call's pool (CN_NPOOL entries in all) */
+typedef struct { int slot; int ent; int nel; int off; } CnLoc;
 typedef struct {
     uint32_t dgen[CN_NDYN];          /* the run of the step (c->gen) that made elements of d */
     int dnext[CN_NDYN];              /* the number of d's next element in that run */
@@ -61,7 +65,8 @@ typedef struct {
     int vdom[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
     uint64_t vold[4 * (CN_MAXE > 0 ? CN_MAXE : 1)];
     CnLoc locs[CN_NLOC];
-    int eloc[CN_NLOC * 8], ecnt[CN_NLOC * 8];     /* each element's locations, its occurrences there */
+    int lel[CN_NPOOL], lcnt[CN_NPOOL];            /* the locations' elements (CnLoc) */
+    int eloc[CN_NPOOL], ecnt[CN_NPOOL];           /* each element's locations, its occurrences there */
     /* per slot: bit 1, an argument is of a type of values with members (walked); bit 4, else an
        argument is an element; bit 2, the value's type has members (else the value is an element or
        holds none): what the walk of a location looks at (made with the tables: the slots are fixed) */
@@ -831,7 +836,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
         W->val[s] = SLOT_DECODE[s][code];
     }
     /* the locations where elements occur */
-    int nloc = 0;
+    int nloc = 0, npool = 0;
     int occ[CN_MAXE > 0 ? CN_MAXE : 1];
     memset(occ, 0, sizeof(occ));
     for (int r = 0; r < CN_NREL; r++) {
@@ -865,17 +870,19 @@ static int canon_state_(Ctx *c, uint64_t *w) {
             if (!nl) continue;
             if (nloc >= CN_NLOC) return CN_TEXT;
             CnLoc *L = &W->locs[nloc++];
-            L->slot = s; L->ent = lmap ? ent : -1; L->nel = 0;
+            L->slot = s; L->ent = lmap ? ent : -1; L->nel = 0; L->off = npool;
+            int *el = W->lel + npool, *ec = W->lcnt + npool;
             for (int i = 0; i < nl; i++) {
                 int e = list[i], x = 0;
-                while (x < L->nel && L->el[x] != e) x++;
+                while (x < L->nel && el[x] != e) x++;
                 if (x == L->nel) {
-                    if (L->nel >= 8) return CN_TEXT;
-                    L->el[x] = e; L->cnt[x] = 0; L->nel++;
+                    if (npool + L->nel >= CN_NPOOL) return CN_TEXT;
+                    el[x] = e; ec[x] = 0; L->nel++;
                 }
-                L->cnt[x]++;
+                ec[x]++;
                 occ[e]++;
             }
+            npool += L->nel;
         }
     }
     /* the elements kept (unreferenced ones leave domains nobody ranges over) */
@@ -903,10 +910,13 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     /* the locations of each element: W->eloc[eoff[e] .. eoff[e + 1]) */
     int eoff[CN_MAXE + 1], efill[CN_MAXE > 0 ? CN_MAXE : 1];
     memset(eoff, 0, sizeof(eoff));
-    for (int l = 0; l < nloc; l++) for (int x = 0; x < W->locs[l].nel; x++) eoff[W->locs[l].el[x] + 1]++;
+    for (int l = 0; l < nloc; l++) for (int x = 0; x < W->locs[l].nel; x++) eoff[W->lel[W->locs[l].off + x] + 1]++;
     for (int e = 0; e < CN_MAXE; e++) { eoff[e + 1] += eoff[e]; efill[e] = eoff[e]; }
     for (int l = 0; l < nloc; l++)
-        for (int x = 0; x < W->locs[l].nel; x++) { int q = efill[W->locs[l].el[x]]++; W->eloc[q] = l; W->ecnt[q] = W->locs[l].cnt[x]; }
+        for (int x = 0; x < W->locs[l].nel; x++) {
+            int o = W->locs[l].off + x, q = efill[W->lel[o]]++;
+            W->eloc[q] = l; W->ecnt[q] = W->lcnt[o];
+        }
     /* a domain with one element needs no colours, nor does any when every domain has one */
     int need = 0;
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] > 1) need = 1;
