@@ -621,6 +621,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
                                  f"{Path(model.path).name}: {e} (drop --workers)") from None
             ex = None
             refused = str(e)
+            if max_seconds is not None:
+                # the Python engine gets what is left of the whole run: a native search that stopped
+                # on something it does not handle has spent its part
+                search_seconds = max(max_seconds - (time.perf_counter() - begin), 0.0)
     if ex is None and native_threads:
         ex, result = scaled.explore_model(model, state_props, step_props, workers=workers, **(scaling or {}),
                                           max_states=max_states, max_depth=max_depth, max_seconds=search_seconds,
