@@ -3875,6 +3875,7 @@ _SYMBOLS = {
     "asm_qf_layout": (None, [_i64p]),
     "asm_qf_keys": (None, [ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_direct_bits": (None, [_i64]),
+    "asm_first_choices": (_i64, [_i64, _i64, ctypes.POINTER(ctypes.c_int32), _i64]),
 }
 
 
@@ -4696,16 +4697,26 @@ class NativeExplorer:
         of the Python step function gives the choices (and the message, when it cannot be evaluated)."""
         st = self.state(src)
         want = self.state(dst)
-        for log, ups, nxt, mon in self.m.successors(st, errors=[]):
-            if self._norm(nxt)[0] != want:
-                continue
+
+        def violation(log, ups, nxt, mon):
             picks = tuple(c.pick for c in log)
             try:
                 ok = prop.check_step(self.m, st, ups, nxt, mon)
             except AsmError as e:
                 return Violation(prop, dst, src, picks, message=f"cannot be evaluated: {e.message}", error=e)
-            if not ok:
-                return Violation(prop, dst, src, picks)
+            return None if ok else Violation(prop, dst, src, picks)
+        # the first step to dst, run once along the native engine's choices: when it violates the
+        # property it is the first such step; else the steps are enumerated
+        got = self.guided_step(src, dst, st, want)
+        found = violation(got[1], got[2], got[4], got[3]) if got is not None else None
+        if found is not None:
+            return found
+        for log, ups, nxt, mon in self.m.successors(st, errors=[]):
+            if self._norm(nxt)[0] != want:
+                continue
+            found = violation(log, ups, nxt, mon)
+            if found is not None:
+                return found
         raise Unsupported(f"a violation of {prop.name} found by the native search that the Python step "
                           f"function does not make")
 
@@ -4997,11 +5008,22 @@ class NativeExplorer:
         return None if sid < 0 else sid
 
     def picks_between(self, src: int, dst: int) -> tuple:
-        """The choices of the first step of the Python step function from ``src`` to ``dst`` (the
-        successors of the last source asked for are kept: edges are read source by source)."""
+        """The choices of the first step of the Python step function from ``src`` to ``dst``: the
+        native engine's choices of that step followed once (:meth:`guided_step`), else the
+        successors of ``src`` enumerated.  The successors of the last source enumerated are kept:
+        edges are read source by source, so the third step asked from one source (in a row)
+        enumerates it rather than asking the native engine again."""
         from .bfs import ReplayError
         cache = self._picks_cache
         if cache is None or cache[0] != src:
+            asked = getattr(self, "_picks_asked", None)
+            if asked is None or asked[0] != src:
+                asked = self._picks_asked = [src, 0]
+            asked[1] += 1
+            if asked[1] <= 2:
+                got = self.guided_step(src, dst)
+                if got is not None:
+                    return tuple(c.pick for c in got[1])
             by_dst: dict = {}
             for log, ups, nxt, mon in self.m.successors(self.state(src), errors=[]):
                 sid = self.find(self._norm(nxt)[0])
@@ -5012,6 +5034,207 @@ class NativeExplorer:
         if picks is None:
             raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
         return picks
+
+    # -------------------------------------------------------------- the native engine's choices of a step
+    # How the native run's choice vector (c->idx / c->cnt, native_rt.c choice()) gives the Python
+    # step function's choices, so that a trace's step runs the Python step once instead of once
+    # per successor.  The two engines enumerate the runs of a step in the same order (an odometer
+    # over the choice points, the last fastest), but their choice points differ in three ways:
+    #   - a monitored location with one possible value is a choice point (n = 1) of the Python
+    #     step only; one with n > 1 values is a point of both, its values in the same order;
+    #   - a choose rule of the Python step is one point over the *distinct effects* of its body
+    #     (over every candidate and every choice the body makes), and no point when there is one
+    #     effect.  The native choose whose body makes no choice is either merged
+    #     (Generator.choose_merged: one point over the distinct effects, as the Python one) or plain
+    #     (one point over the candidates when there are two or more); a plain choose's body makes
+    #     its own points after the candidate's;
+    #   - the monitored values a property reads are not the step's (native pchoice, Python:
+    #     evaluated apart).
+    # The guide (_Guide) runs the Python step and reads the native vector as it goes: a monitored
+    # point with n > 1 values, and a choose with n > 1 effects, take the next native point, which
+    # must have n alternatives (a merged choose, or a plain one whose candidates all have distinct
+    # effects: the same numbering); a choose with one effect from two or more candidates may be a
+    # plain native point (then at 0 among as many alternatives as candidates) or none, so the guide
+    # follows both readings until one fails (they never give different choices: where they would,
+    # it gives up).  It gives up (the caller enumerates, as without the native engine) at a choose
+    # whose body makes a choice (a nested choose, a monitored read), a plain native choose whose
+    # candidates have the same effect (the native number is a candidate's, not an effect's), a
+    # native point whose number of alternatives is not the Python point's, or a vector not read to
+    # its end.  Why the choices it gives are the FIRST the Python enumeration meets to the target:
+    # two runs with the same effect at a choose continue alike (the choose's bindings are local to
+    # its body), so the native engine's first run to the target takes at each plain choose the first
+    # candidate of its effect (0 at one whose candidates have one effect); over such runs the reading
+    # above is a one-to-one map onto the Python runs that keeps their order, hence the first native
+    # run to the target is the first Python one.  The caller checks anyway that the step gives the
+    # stored target: a reading gone wrong costs the enumeration, never another trace.
+    from ..semantics.choice import Choice as _Choice, Chooser as _Chooser, Enumerator as _Enumerator
+
+    class _GuideLost(Exception):
+        """The guide cannot read the native choices as the Python step's (the caller enumerates)."""
+
+    class _GuideSub(_Enumerator):
+        """A sub-chooser a choose's outcomes are worked out with (one run of its body: a candidate
+        and a sequence of the body's own choices); ``deep`` once the body ran a choose."""
+
+        def __init__(self, prefix, cand: int):
+            super().__init__(prefix)
+            self.cand = cand
+            self.deep = False
+
+        def sub(self, prefix):
+            self.deep = True
+            return super().sub(prefix)
+
+        def points(self, ncand: int):
+            """The native points of this run of the body: (numbers, sizes)."""
+            own = [x for x in self.log if x.n > 1]
+            lead = ncand > 1
+            return ([self.cand] if lead else []) + [x.index for x in own], \
+                ([ncand] if lead else []) + [x.n for x in own]
+
+    class _Guide(_Chooser):
+        """The Python step's chooser that follows the native engine's choice vector ``idx`` /
+        ``cnt`` (see above); records the choices as :class:`Enumerator` does."""
+
+        enumerates = True
+
+        def __init__(self, idx, cnt):
+            super().__init__()
+            self.idx, self.cnt = idx, cnt
+            self.at = {0}           # where the next native point may be (both readings of a choose)
+            self.group = None       # the choose whose outcomes are being worked out: its body's runs
+            self.ncand = 0
+            self.nlog = 0
+
+        @property
+        def memo(self):
+            # a choose rule reads its chooser's memo first (rules.py): a new choose starts
+            self._settle()
+            self.group = []
+            self.ncand = 0
+            return None
+
+        def sub(self, prefix):
+            g = self.group
+            if g is None:
+                raise NativeExplorer._GuideLost()
+            if not prefix:
+                self.ncand += 1     # (each candidate's body runs first with no choice given)
+            e = NativeExplorer._GuideSub(prefix, self.ncand - 1)
+            g.append(e)
+            return e
+
+        def _flat(self, g) -> bool:
+            """Whether no run of the body made a choice point the native engine makes."""
+            for e in g:
+                if e.deep:
+                    raise NativeExplorer._GuideLost()
+                if any(x.n > 1 for x in e.log):
+                    return False
+            return True
+
+        def _settle(self):
+            """The choose before, if it made no choice point of the Python step (one effect)."""
+            g, self.group = self.group, None
+            if not g:
+                return
+            if not self._flat(g):
+                raise NativeExplorer._GuideLost()
+            k = self.ncand
+            if k > 1:
+                idx, cnt = self.idx, self.cnt
+                self.at = self.at | {q + 1 for q in self.at if q < len(idx) and cnt[q] == k and idx[q] == 0}
+
+        def choose(self, kind, label, options, values_repr=None) -> int:
+            if len(self.log) != self.nlog:
+                raise NativeExplorer._GuideLost()          # (the step started again: a deep rule)
+            n = len(options)
+            idx, cnt, L = self.idx, self.cnt, len(self.idx)
+            picks, at = set(), set()
+            if kind == "choose" and self.group is not None:
+                g, self.group = self.group, None
+                flat = self._flat(g)
+                if len(g) == n:
+                    # every run of the body an effect of its own: outcome r is run r
+                    for q in self.at:
+                        for r, e in enumerate(g):
+                            num, size = e.points(self.ncand)
+                            if list(idx[q:q + len(num)]) == num and list(cnt[q:q + len(num)]) == size:
+                                picks.add(r)
+                                at.add(q + len(num))
+                elif not flat:
+                    raise NativeExplorer._GuideLost()
+                if flat:
+                    # a merged choose: one point over the effects
+                    for q in self.at:
+                        if q < L and cnt[q] == n:
+                            picks.add(idx[q])
+                            at.add(q + 1)
+                        elif q < L and cnt[q] == self.ncand != n:
+                            raise NativeExplorer._GuideLost()  # a plain choose's candidate, not an effect
+            elif kind in ("choose", "monitored"):
+                if self.group:      # (an open choose without candidates yet: its guard or range reads it)
+                    self._settle()
+                if n == 1 and kind == "monitored":
+                    picks.add(0)
+                    at = self.at
+                else:
+                    for q in self.at:
+                        if q < L and cnt[q] == n:
+                            picks.add(idx[q])
+                            at.add(q + 1)
+            if len(picks) != 1:
+                raise NativeExplorer._GuideLost()
+            i = picks.pop()
+            self.at = at
+            self.log.append(NativeExplorer._Choice(kind, label, n, i, options[i], i))
+            self.nlog = len(self.log)
+            return i
+
+        def finish(self):
+            """After the step: every native point read."""
+            self._settle()
+            if len(self.idx) not in self.at or len(self.log) != self.nlog:
+                raise NativeExplorer._GuideLost()
+
+    def native_choices(self, src: int, dst: int):
+        """The native engine's choice vector (idx, cnt) of the first run of the step from the
+        stored state ``src`` whose successor is the stored state ``dst`` (native_bfs.c,
+        asm_first_choices), or None when it cannot say."""
+        fn = getattr(self.dll, "asm_first_choices", None)
+        if fn is None:
+            return None
+        buf = getattr(self, "_choices_buf", None)
+        if buf is None:
+            buf = self._choices_buf = (ctypes.c_int32 * 8192)()
+        n = fn(src, dst, buf, len(buf))
+        if n < 0:
+            return None
+        got = buf[:2 * n]
+        return got[:n], got[n:]
+
+    def guided_step(self, src: int, dst: int, st: dict | None = None, want: dict | None = None):
+        """The first step of the Python step function from the stored state ``src`` (its state
+        ``st``) to the stored state ``dst`` (``want``), run once along the native engine's choices:
+        (next state, choices log, update set, monitored values, raw next state, renaming) as
+        :meth:`replay_steps` records a step, or None when the native engine cannot say or its
+        choices do not read as the Python step's (see the comment above _GuideLost) or do not lead
+        to ``dst``."""
+        hint = self.native_choices(src, dst)
+        if hint is None:
+            return None
+        guide = NativeExplorer._Guide(*hint)
+        if st is None:
+            st = self.state(src)
+        try:
+            ups, raw, ctx = self.m.step(st, guide)
+            guide.finish()
+        except (AsmError, NativeExplorer._GuideLost):
+            return None
+        nxt, mapping = self._norm(raw)
+        if (nxt != want) if want is not None else (self.find(nxt) != dst):
+            return None
+        return nxt, guide.log, ups, ctx.mon, raw, mapping
 
     def path_to(self, sid: int) -> list[int]:
         path = []
@@ -5043,7 +5266,7 @@ class NativeExplorer:
         if init_log is None:
             raise ReplayError("the initial state does not replay")
         out = [(st0, init_log, None, getattr(m, "init_mon", {}), None, None)]
-        cur = st0
+        cur, src = st0, first
         for picks, dst in steps:
             want = self.state(dst)
             found = None
@@ -5054,6 +5277,8 @@ class NativeExplorer:
                 if nxt == want:
                     found = (nxt, ch.log, ups, ctx.mon, raw, mapping)
             else:
+                found = self.guided_step(src, dst, cur, want)
+            if found is None and picks is None:
                 for log, ups, raw, mon in m.successors(cur, errors=[]):
                     nxt, mapping = self._norm(raw)
                     if nxt == want:
@@ -5062,7 +5287,7 @@ class NativeExplorer:
             if found is None:
                 raise ReplayError(f"step to state {dst} does not replay")
             out.append(found)
-            cur = want
+            cur, src = want, dst
         return out
 
     def _replay_concrete(self, first: int, steps: list) -> list:
