@@ -183,12 +183,49 @@ default init s0:
 	function cur = 1
 """
 
+# chooses whose candidates share effects: the pairs of faces that give the same sum, with the
+# monitored input read in the body (the alternatives are the distinct (sum, input) effects in the
+# Python step, candidates and then the input in the native one), and a plain one over two dice
+# without input (Mutex's, a choose among processes of which several do nothing, is another)
+DICE = """asm Dice
+import StandardLibrary
+signature:
+	domain Face subsetof Integer
+	domain Sum subsetof Integer
+	domain Roll subsetof Integer
+	controlled total: Sum
+	controlled rolls: Roll
+	monitored bet: Face
+definitions:
+	domain Face = {1 : 3}
+	domain Sum = {0 : 6}
+	domain Roll = {0 : 3}
+	invariant over total: total < 6 or rolls < 2
+	main rule r_main =
+		if rolls < 3 then
+			choose $x in Face, $y in Face with true do
+				par
+					total := ($x + $y + bet) mod 7
+					rolls := rolls + 1
+				endpar
+		else
+			choose $a in Face, $b in Face with $a <= $b do
+				par
+					total := ($a * $b) mod 7
+					rolls := 0
+				endpar
+		endif
+default init s0:
+	function total = 0
+	function rolls = 0
+"""
+
 # temporal properties whose atoms read the monitored input: their steps are the first whose input
 # gives the atoms' values (kripke._PicksOfSteps)
 ATOMS = MON.replace("asm MonChoose", "asm MonAtoms").replace(
     "\tLTLSPEC g(v(3) < 2)\n", "\tLTLSPEC g(v(3) < 2)\n\tCTLSPEC ag(not(go and v(1) = 2))\n\tLTLSPEC g(not(go and v(2) = 2))\n")
 
-SPECS = {"MON": MON, "ATOMS": ATOMS, "MERGED": MERGED, "NESTED": NESTED, "AGENTS": AGENTS, "FRESH": FRESH, "SINGLE": SINGLE,
+SPECS = {"MON": MON, "ATOMS": ATOMS, "MERGED": MERGED, "NESTED": NESTED, "AGENTS": AGENTS, "FRESH": FRESH, "SINGLE": SINGLE, "DICE": DICE,
          "MUTEX": MUTEX, "PHILS": PHILS}
 
 
@@ -233,15 +270,17 @@ def _counting(monkeypatch) -> dict:
     return seen
 
 
-# (spec, symmetry): the steps between stored states (one per pair), and how many of them the
-# native engine's choices give (the others: a choose whose body makes a choice)
-EDGES = [("MON", False, 256, 256), ("ATOMS", False, 256, 256), ("MERGED", False, 54, 54), ("NESTED", False, 52, 0),
-         ("AGENTS", False, 116, 116), ("FRESH", False, 15, 15), ("SINGLE", False, 270, 270),
-         ("MUTEX", True, 16, 14), ("PHILS", True, 22, 22)]
+# (spec, symmetry, the steps between stored states (one per pair), how many of them the native
+# engine's choices give (the others: a choose whose body makes a choose), the runs of the Python
+# step that took (more than one a step: chooses whose candidates share effects))
+EDGES = [("MON", False, 256, 256, 256), ("ATOMS", False, 256, 256, 256), ("MERGED", False, 54, 54, 54),
+         ("NESTED", False, 52, 0, 52), ("AGENTS", False, 116, 116, 116), ("FRESH", False, 15, 15, 15),
+         ("SINGLE", False, 270, 270, 270), ("DICE", False, 175, 175, 403), ("MUTEX", True, 16, 16, 16),
+         ("PHILS", True, 22, 22, 22)]
 
 
-@pytest.mark.parametrize("name,symmetry,edges,given", EDGES, ids=[e[0] for e in EDGES])
-def test_every_step_as_the_enumeration(tmp_path, monkeypatch, name, symmetry, edges, given):
+@pytest.mark.parametrize("name,symmetry,edges,given,runs", EDGES, ids=[e[0] for e in EDGES])
+def test_every_step_as_the_enumeration(tmp_path, monkeypatch, name, symmetry, edges, given, runs):
     """For every step between stored states (of the search's tree under symmetry reduction): the
     choices read from the native engine's are those of the first successor, in the enumeration's
     order, that is the target."""
@@ -258,13 +297,20 @@ def test_every_step_as_the_enumeration(tmp_path, monkeypatch, name, symmetry, ed
     with monkeypatch.context() as mp:
         _no_hint(mp)
         first = {(src, dst): ex.picks_between(src, dst) for src, dst in zip(src_a, dst_a)}
+    made = []
+
+    class Counted(NativeExplorer._Guide):
+        def __init__(self, *a):
+            made.append(1)
+            super().__init__(*a)
+    monkeypatch.setattr(NativeExplorer, "_Guide", Counted)
     n = 0
     for src, dst in zip(src_a, dst_a):
         got = ex.guided_step(src, dst)
         if got is not None:
             n += 1
             assert tuple(c.pick for c in got[1]) == first[(src, dst)], (src, dst)
-    assert (len(src_a), n) == (edges, given)
+    assert (len(src_a), n, len(made)) == (edges, given, runs)
 
 
 @pytest.mark.parametrize("name,symmetry", [(e[0], e[1]) for e in EDGES], ids=[e[0] for e in EDGES])
@@ -305,7 +351,7 @@ def test_seeded_bugs_as_before(capsys, monkeypatch, name):
 
 # (spec, symmetry, traces, steps the native engine's choices give, steps they do not)
 TRACES = [("MON", False, 3, 12, 0), ("ATOMS", False, 5, 19, 0), ("MERGED", False, 2, 5, 0), ("NESTED", False, 1, 0, 3), ("AGENTS", False, 1, 5, 0),
-          ("FRESH", False, 1, 3, 0), ("SINGLE", False, 1, 5, 0), ("MUTEX", True, 3, 15, 0), ("PHILS", True, 1, 4, 0)]
+          ("FRESH", False, 1, 3, 0), ("SINGLE", False, 1, 5, 0), ("DICE", False, 1, 2, 0), ("MUTEX", True, 3, 15, 0), ("PHILS", True, 1, 4, 0)]
 
 
 @pytest.mark.parametrize("name,symmetry,traces,hit,miss", TRACES, ids=[e[0] for e in TRACES])

@@ -5052,21 +5052,29 @@ class NativeExplorer:
     #     evaluated apart).
     # The guide (_Guide) runs the Python step and reads the native vector as it goes: a monitored
     # point with n > 1 values, and a choose with n > 1 effects, take the next native point, which
-    # must have n alternatives (a merged choose, or a plain one whose candidates all have distinct
-    # effects: the same numbering); a choose with one effect from two or more candidates may be a
-    # plain native point (then at 0 among as many alternatives as candidates) or none, so the guide
-    # follows both readings until one fails (they never give different choices: where they would,
-    # it gives up).  It gives up (the caller enumerates, as without the native engine) at a choose
-    # whose body makes a choice (a nested choose, a monitored read), a plain native choose whose
-    # candidates have the same effect (the native number is a candidate's, not an effect's), a
-    # native point whose number of alternatives is not the Python point's, or a vector not read to
-    # its end.  Why the choices it gives are the FIRST the Python enumeration meets to the target:
-    # two runs with the same effect at a choose continue alike (the choose's bindings are local to
-    # its body), so the native engine's first run to the target takes at each plain choose the first
-    # candidate of its effect (0 at one whose candidates have one effect); over such runs the reading
-    # above is a one-to-one map onto the Python runs that keeps their order, hence the first native
-    # run to the target is the first Python one.  The caller checks anyway that the step gives the
-    # stored target: a reading gone wrong costs the enumeration, never another trace.
+    # must have n alternatives (a merged choose, or a plain one whose candidates all have effects of
+    # their own: the same numbering).  A choose whose body makes choices (an agent's program that
+    # reads an input) is plain natively: its candidate's point, then the points of the body's run,
+    # name one run of the body among those the Python step worked the effects out from (_GuideSub,
+    # one per candidate and sequence of the body's choices).  When every run has an effect of its
+    # own, effect r is run r.  When runs share effects (a plain choose, with or without choices in
+    # its body), the native number is a run's: the effect is the one whose first run it is, and as
+    # the effects' first runs ascend with their numbers, the guide tries a number and checks it
+    # after the choose (the rule gives the choice the effect's first run's log, ``nested``), the
+    # step running again with the number bounded by half each time (_GuideRetry, GUIDED_RUNS).  A
+    # choose with one effect from two or more candidates may be a plain native point (then at 0
+    # among as many alternatives as candidates) or none: the guide follows both readings until one
+    # fails (they never give different choices: where they would, it gives up).  It gives up (the
+    # caller enumerates, as without the native engine) at a choose whose body runs a choose (a
+    # nested choose), a native point whose number of alternatives is not the Python point's, or a
+    # vector not read to its end.  Why the choices it gives are the FIRST the Python enumeration
+    # meets to the target: two runs with the same effect at a choose continue alike (the choose's
+    # bindings are local to its body), so the native engine's first run to the target takes at each
+    # plain choose the first run of its effect (0 at one whose candidates have one effect); over
+    # such runs the reading above is a one-to-one map onto the Python runs that keeps their order,
+    # hence the first native run to the target is the first Python one.  The caller checks anyway
+    # that the step gives the stored target: a reading gone wrong costs the enumeration, never
+    # another trace.
     from ..semantics.choice import Choice as _Choice, Chooser as _Chooser, Enumerator as _Enumerator
 
     class _GuideLost(Exception):
@@ -5092,23 +5100,38 @@ class NativeExplorer:
             return ([self.cand] if lead else []) + [x.index for x in own], \
                 ([ncand] if lead else []) + [x.n for x in own]
 
+    class _GuideRetry(Exception):
+        """The effect the guide took at a plain choose whose candidates share effects is not the
+        native run's: the step runs again with the number of the effect bounded (``k``: which such
+        choose in the step, ``bounds``: lowest and highest number left)."""
+
+        def __init__(self, k, bounds):
+            super().__init__(k, bounds)
+            self.k, self.bounds = k, bounds
+
     class _Guide(_Chooser):
         """The Python step's chooser that follows the native engine's choice vector ``idx`` /
-        ``cnt`` (see above); records the choices as :class:`Enumerator` does."""
+        ``cnt`` (see above); records the choices as :class:`Enumerator` does.  ``bounds``: the
+        numbers of the effects left to try at the plain chooses whose candidates share effects
+        (the k-th such choose of the step: (lowest, highest)), from the runs before."""
 
         enumerates = True
 
-        def __init__(self, idx, cnt):
+        def __init__(self, idx, cnt, bounds=None):
             super().__init__()
             self.idx, self.cnt = idx, cnt
             self.at = {0}           # where the next native point may be (both readings of a choose)
             self.group = None       # the choose whose outcomes are being worked out: its body's runs
             self.ncand = 0
             self.nlog = 0
+            self.bounds = bounds if bounds is not None else {}
+            self.nshared = 0        # the plain chooses whose candidates share effects met so far
+            self.pending = None     # the last one's choice, to check: (log position, runs, run, k, lo, hi, j)
 
         @property
         def memo(self):
             # a choose rule reads its chooser's memo first (rules.py): a new choose starts
+            self._check()
             self._settle()
             self.group = []
             self.ncand = 0
@@ -5123,6 +5146,23 @@ class NativeExplorer:
             e = NativeExplorer._GuideSub(prefix, self.ncand - 1)
             g.append(e)
             return e
+
+        def _check(self):
+            """The effect taken at the last choose whose candidates share effects: the choose rule
+            set the choice's nested log to that of the effect's first run of the body (rules.py),
+            which must be the run the native engine took; else the step runs again with the
+            effect's number bounded (the effects' first runs ascend with their numbers)."""
+            got, self.pending = self.pending, None
+            if got is None:
+                return
+            pos, g, r, k, lo, hi, j = got
+            nested = self.log[pos].nested if pos < len(self.log) else None
+            if nested is g[r].log:
+                return
+            first = next((x for x, e in enumerate(g) if e.log is nested), None)
+            if first is None or first == r:
+                raise NativeExplorer._GuideLost()
+            raise NativeExplorer._GuideRetry(k, (j + 1, hi) if first < r else (lo, j - 1))
 
         def _flat(self, g) -> bool:
             """Whether no run of the body made a choice point the native engine makes."""
@@ -5146,24 +5186,29 @@ class NativeExplorer:
                 self.at = self.at | {q + 1 for q in self.at if q < len(idx) and cnt[q] == k and idx[q] == 0}
 
         def choose(self, kind, label, options, values_repr=None) -> int:
+            self._check()
             if len(self.log) != self.nlog:
                 raise NativeExplorer._GuideLost()          # (the step started again: a deep rule)
             n = len(options)
             idx, cnt, L = self.idx, self.cnt, len(self.idx)
             picks, at = set(), set()
+            shared = set()          # (run of the body, where the next point is): a choose whose candidates share effects
+            g = None
             if kind == "choose" and self.group is not None:
                 g, self.group = self.group, None
                 flat = self._flat(g)
-                if len(g) == n:
-                    # every run of the body an effect of its own: outcome r is run r
+                if not flat or len(g) == n:
+                    # a plain choose: the candidate's point and those of the body's run; when every
+                    # run has an effect of its own, outcome r is run r
                     for q in self.at:
                         for r, e in enumerate(g):
                             num, size = e.points(self.ncand)
                             if list(idx[q:q + len(num)]) == num and list(cnt[q:q + len(num)]) == size:
-                                picks.add(r)
-                                at.add(q + len(num))
-                elif not flat:
-                    raise NativeExplorer._GuideLost()
+                                if len(g) == n:
+                                    picks.add(r)
+                                    at.add(q + len(num))
+                                else:
+                                    shared.add((r, q + len(num)))
                 if flat:
                     # a merged choose: one point over the effects
                     for q in self.at:
@@ -5171,7 +5216,7 @@ class NativeExplorer:
                             picks.add(idx[q])
                             at.add(q + 1)
                         elif q < L and cnt[q] == self.ncand != n:
-                            raise NativeExplorer._GuideLost()  # a plain choose's candidate, not an effect
+                            shared.add((idx[q], q + 1))
             elif kind in ("choose", "monitored"):
                 if self.group:      # (an open choose without candidates yet: its guard or range reads it)
                     self._settle()
@@ -5183,9 +5228,25 @@ class NativeExplorer:
                         if q < L and cnt[q] == n:
                             picks.add(idx[q])
                             at.add(q + 1)
-            if len(picks) != 1:
-                raise NativeExplorer._GuideLost()
-            i = picks.pop()
+            if shared:
+                # the native number is a run's (a candidate's), not an effect's: the effect whose
+                # first run it is has a number between these bounds, tried and checked (_check)
+                runs = {r for r, _ in shared}
+                if picks or len(runs) != 1:
+                    raise NativeExplorer._GuideLost()
+                r = runs.pop()
+                k = self.nshared
+                self.nshared += 1
+                lo, hi = self.bounds.get(k, (max(0, n - (len(g) - r)), min(r, n - 1)))
+                if lo > hi:
+                    raise NativeExplorer._GuideLost()
+                i = (lo + hi) // 2
+                self.pending = (len(self.log), g, r, k, lo, hi, i)
+                at = {q for _, q in shared}
+            else:
+                if len(picks) != 1:
+                    raise NativeExplorer._GuideLost()
+                i = picks.pop()
             self.at = at
             self.log.append(NativeExplorer._Choice(kind, label, n, i, options[i], i))
             self.nlog = len(self.log)
@@ -5193,6 +5254,7 @@ class NativeExplorer:
 
         def finish(self):
             """After the step: every native point read."""
+            self._check()
             self._settle()
             if len(self.idx) not in self.at or len(self.log) != self.nlog:
                 raise NativeExplorer._GuideLost()
@@ -5213,6 +5275,10 @@ class NativeExplorer:
         got = buf[:2 * n]
         return got[:n], got[n:]
 
+    #: the runs of the Python step a guided step may take (the plain chooses whose candidates share
+    #: effects: each run narrows the number of one's effect by half)
+    GUIDED_RUNS = 16
+
     def guided_step(self, src: int, dst: int, st: dict | None = None, want: dict | None = None):
         """The first step of the Python step function from the stored state ``src`` (its state
         ``st``) to the stored state ``dst`` (``want``), run once along the native engine's choices:
@@ -5223,13 +5289,20 @@ class NativeExplorer:
         hint = self.native_choices(src, dst)
         if hint is None:
             return None
-        guide = NativeExplorer._Guide(*hint)
         if st is None:
             st = self.state(src)
-        try:
-            ups, raw, ctx = self.m.step(st, guide)
-            guide.finish()
-        except (AsmError, NativeExplorer._GuideLost):
+        bounds: dict = {}
+        for _ in range(self.GUIDED_RUNS):
+            guide = NativeExplorer._Guide(*hint, bounds)
+            try:
+                ups, raw, ctx = self.m.step(st, guide)
+                guide.finish()
+                break
+            except NativeExplorer._GuideRetry as again:
+                bounds[again.k] = again.bounds
+            except (AsmError, NativeExplorer._GuideLost):
+                return None
+        else:
             return None
         nxt, mapping = self._norm(raw)
         if (nxt != want) if want is not None else (self.find(nxt) != dst):
