@@ -3885,6 +3885,7 @@ _SYMBOLS = {
     "asm_qf_layout": (None, [_i64p]),
     "asm_qf_keys": (None, [ctypes.c_void_p, ctypes.c_void_p]),
     "asm_qf_direct_bits": (None, [_i64]),
+    "asm_first_choices": (_i64, [_i64, _i64, ctypes.POINTER(ctypes.c_int32), _i64]),
 }
 
 
@@ -4709,16 +4710,26 @@ class NativeExplorer:
         of the Python step function gives the choices (and the message, when it cannot be evaluated)."""
         st = self.state(src)
         want = self.state(dst)
-        for log, ups, nxt, mon in self.m.successors(st, errors=[]):
-            if self._norm(nxt)[0] != want:
-                continue
+
+        def violation(log, ups, nxt, mon):
             picks = tuple(c.pick for c in log)
             try:
                 ok = prop.check_step(self.m, st, ups, nxt, mon)
             except AsmError as e:
                 return Violation(prop, dst, src, picks, message=f"cannot be evaluated: {e.message}", error=e)
-            if not ok:
-                return Violation(prop, dst, src, picks)
+            return None if ok else Violation(prop, dst, src, picks)
+        # the first step to dst, run once along the native engine's choices: when it violates the
+        # property it is the first such step; else the steps are enumerated
+        got = self.guided_step(src, dst, st, want)
+        found = violation(got[1], got[2], got[4], got[3]) if got is not None else None
+        if found is not None:
+            return found
+        for log, ups, nxt, mon in self.m.successors(st, errors=[]):
+            if self._norm(nxt)[0] != want:
+                continue
+            found = violation(log, ups, nxt, mon)
+            if found is not None:
+                return found
         raise Unsupported(f"a violation of {prop.name} found by the native search that the Python step "
                           f"function does not make")
 
@@ -5013,11 +5024,22 @@ class NativeExplorer:
         return None if sid < 0 else sid
 
     def picks_between(self, src: int, dst: int) -> tuple:
-        """The choices of the first step of the Python step function from ``src`` to ``dst`` (the
-        successors of the last source asked for are kept: edges are read source by source)."""
+        """The choices of the first step of the Python step function from ``src`` to ``dst``: the
+        native engine's choices of that step followed once (:meth:`guided_step`), else the
+        successors of ``src`` enumerated.  The successors of the last source enumerated are kept:
+        edges are read source by source, so the third step asked from one source (in a row)
+        enumerates it rather than asking the native engine again."""
         from .bfs import ReplayError
         cache = self._picks_cache
         if cache is None or cache[0] != src:
+            asked = getattr(self, "_picks_asked", None)
+            if asked is None or asked[0] != src:
+                asked = self._picks_asked = [src, 0]
+            asked[1] += 1
+            if asked[1] <= 2:
+                got = self.guided_step(src, dst)
+                if got is not None:
+                    return tuple(c.pick for c in got[1])
             by_dst: dict = {}
             for log, ups, nxt, mon in self.m.successors(self.state(src), errors=[]):
                 sid = self.find(self._norm(nxt)[0])
@@ -5028,6 +5050,280 @@ class NativeExplorer:
         if picks is None:
             raise ReplayError(f"no step of the Python step function goes from state {src} to state {dst}")
         return picks
+
+    # -------------------------------------------------------------- the native engine's choices of a step
+    # How the native run's choice vector (c->idx / c->cnt, native_rt.c choice()) gives the Python
+    # step function's choices, so that a trace's step runs the Python step once instead of once
+    # per successor.  The two engines enumerate the runs of a step in the same order (an odometer
+    # over the choice points, the last fastest), but their choice points differ in three ways:
+    #   - a monitored location with one possible value is a choice point (n = 1) of the Python
+    #     step only; one with n > 1 values is a point of both, its values in the same order;
+    #   - a choose rule of the Python step is one point over the *distinct effects* of its body
+    #     (over every candidate and every choice the body makes), and no point when there is one
+    #     effect.  The native choose whose body makes no choice is either merged
+    #     (Generator.choose_merged: one point over the distinct effects, as the Python one) or plain
+    #     (one point over the candidates when there are two or more); a plain choose's body makes
+    #     its own points after the candidate's;
+    #   - the monitored values a property reads are not the step's (native pchoice, Python:
+    #     evaluated apart).
+    # The guide (_Guide) runs the Python step and reads the native vector as it goes: a monitored
+    # point with n > 1 values, and a choose with n > 1 effects, take the next native point, which
+    # must have n alternatives (a merged choose, or a plain one whose candidates all have effects of
+    # their own: the same numbering).  A choose whose body makes choices (an agent's program that
+    # reads an input) is plain natively: its candidate's point, then the points of the body's run,
+    # name one run of the body among those the Python step worked the effects out from (_GuideSub,
+    # one per candidate and sequence of the body's choices).  When every run has an effect of its
+    # own, effect r is run r.  When runs share effects (a plain choose, with or without choices in
+    # its body), the native number is a run's: the effect is the one whose first run it is, and as
+    # the effects' first runs ascend with their numbers, the guide tries a number and checks it
+    # after the choose (the rule gives the choice the effect's first run's log, ``nested``), the
+    # step running again with the number bounded by half each time (_GuideRetry, GUIDED_RUNS).  A
+    # choose with one effect from two or more candidates may be a plain native point (then at 0
+    # among as many alternatives as candidates) or none: the guide follows both readings until one
+    # fails (they never give different choices: where they would, it gives up).  It gives up (the
+    # caller enumerates, as without the native engine) at a choose whose body runs a choose (a
+    # nested choose), a native point whose number of alternatives is not the Python point's, or a
+    # vector not read to its end.  Why the choices it gives are the FIRST the Python enumeration
+    # meets to the target: two runs with the same effect at a choose continue alike (the choose's
+    # bindings are local to its body), so the native engine's first run to the target takes at each
+    # plain choose the first run of its effect (0 at one whose candidates have one effect); over
+    # such runs the reading above is a one-to-one map onto the Python runs that keeps their order,
+    # hence the first native run to the target is the first Python one.  The caller checks anyway
+    # that the step gives the stored target: a reading gone wrong costs the enumeration, never
+    # another trace.
+    from ..semantics.choice import Choice as _Choice, Chooser as _Chooser, Enumerator as _Enumerator
+
+    class _GuideLost(Exception):
+        """The guide cannot read the native choices as the Python step's (the caller enumerates)."""
+
+    class _GuideSub(_Enumerator):
+        """A sub-chooser a choose's outcomes are worked out with (one run of its body: a candidate
+        and a sequence of the body's own choices); ``deep`` once the body ran a choose."""
+
+        def __init__(self, prefix, cand: int):
+            super().__init__(prefix)
+            self.cand = cand
+            self.deep = False
+
+        def sub(self, prefix):
+            self.deep = True
+            return super().sub(prefix)
+
+        def points(self, ncand: int):
+            """The native points of this run of the body: (numbers, sizes)."""
+            own = [x for x in self.log if x.n > 1]
+            lead = ncand > 1
+            return ([self.cand] if lead else []) + [x.index for x in own], \
+                ([ncand] if lead else []) + [x.n for x in own]
+
+    class _GuideRetry(Exception):
+        """The effect the guide took at a plain choose whose candidates share effects is not the
+        native run's: the step runs again with the number of the effect bounded (``k``: which such
+        choose in the step, ``bounds``: lowest and highest number left)."""
+
+        def __init__(self, k, bounds):
+            super().__init__(k, bounds)
+            self.k, self.bounds = k, bounds
+
+    class _Guide(_Chooser):
+        """The Python step's chooser that follows the native engine's choice vector ``idx`` /
+        ``cnt`` (see above); records the choices as :class:`Enumerator` does.  ``bounds``: the
+        numbers of the effects left to try at the plain chooses whose candidates share effects
+        (the k-th such choose of the step: (lowest, highest)), from the runs before."""
+
+        enumerates = True
+
+        def __init__(self, idx, cnt, bounds=None):
+            super().__init__()
+            self.idx, self.cnt = idx, cnt
+            self.at = {0}           # where the next native point may be (both readings of a choose)
+            self.group = None       # the choose whose outcomes are being worked out: its body's runs
+            self.ncand = 0
+            self.nlog = 0
+            self.bounds = bounds if bounds is not None else {}
+            self.nshared = 0        # the plain chooses whose candidates share effects met so far
+            self.pending = None     # the last one's choice, to check: (log position, runs, run, k, lo, hi, j)
+
+        @property
+        def memo(self):
+            # a choose rule reads its chooser's memo first (rules.py): a new choose starts
+            self._check()
+            self._settle()
+            self.group = []
+            self.ncand = 0
+            return None
+
+        def sub(self, prefix):
+            g = self.group
+            if g is None:
+                raise NativeExplorer._GuideLost()
+            if not prefix:
+                self.ncand += 1     # (each candidate's body runs first with no choice given)
+            e = NativeExplorer._GuideSub(prefix, self.ncand - 1)
+            g.append(e)
+            return e
+
+        def _check(self):
+            """The effect taken at the last choose whose candidates share effects: the choose rule
+            set the choice's nested log to that of the effect's first run of the body (rules.py),
+            which must be the run the native engine took; else the step runs again with the
+            effect's number bounded (the effects' first runs ascend with their numbers)."""
+            got, self.pending = self.pending, None
+            if got is None:
+                return
+            pos, g, r, k, lo, hi, j = got
+            nested = self.log[pos].nested if pos < len(self.log) else None
+            if nested is g[r].log:
+                return
+            first = next((x for x, e in enumerate(g) if e.log is nested), None)
+            if first is None or first == r:
+                raise NativeExplorer._GuideLost()
+            raise NativeExplorer._GuideRetry(k, (j + 1, hi) if first < r else (lo, j - 1))
+
+        def _flat(self, g) -> bool:
+            """Whether no run of the body made a choice point the native engine makes."""
+            for e in g:
+                if e.deep:
+                    raise NativeExplorer._GuideLost()
+                if any(x.n > 1 for x in e.log):
+                    return False
+            return True
+
+        def _settle(self):
+            """The choose before, if it made no choice point of the Python step (one effect)."""
+            g, self.group = self.group, None
+            if not g:
+                return
+            if not self._flat(g):
+                raise NativeExplorer._GuideLost()
+            k = self.ncand
+            if k > 1:
+                idx, cnt = self.idx, self.cnt
+                self.at = self.at | {q + 1 for q in self.at if q < len(idx) and cnt[q] == k and idx[q] == 0}
+
+        def choose(self, kind, label, options, values_repr=None) -> int:
+            self._check()
+            if len(self.log) != self.nlog:
+                raise NativeExplorer._GuideLost()          # (the step started again: a deep rule)
+            n = len(options)
+            idx, cnt, L = self.idx, self.cnt, len(self.idx)
+            picks, at = set(), set()
+            shared = set()          # (run of the body, where the next point is): a choose whose candidates share effects
+            g = None
+            if kind == "choose" and self.group is not None:
+                g, self.group = self.group, None
+                flat = self._flat(g)
+                if not flat or len(g) == n:
+                    # a plain choose: the candidate's point and those of the body's run; when every
+                    # run has an effect of its own, outcome r is run r
+                    for q in self.at:
+                        for r, e in enumerate(g):
+                            num, size = e.points(self.ncand)
+                            if list(idx[q:q + len(num)]) == num and list(cnt[q:q + len(num)]) == size:
+                                if len(g) == n:
+                                    picks.add(r)
+                                    at.add(q + len(num))
+                                else:
+                                    shared.add((r, q + len(num)))
+                if flat:
+                    # a merged choose: one point over the effects
+                    for q in self.at:
+                        if q < L and cnt[q] == n:
+                            picks.add(idx[q])
+                            at.add(q + 1)
+                        elif q < L and cnt[q] == self.ncand != n:
+                            shared.add((idx[q], q + 1))
+            elif kind in ("choose", "monitored"):
+                if self.group:      # (an open choose without candidates yet: its guard or range reads it)
+                    self._settle()
+                if n == 1 and kind == "monitored":
+                    picks.add(0)
+                    at = self.at
+                else:
+                    for q in self.at:
+                        if q < L and cnt[q] == n:
+                            picks.add(idx[q])
+                            at.add(q + 1)
+            if shared:
+                # the native number is a run's (a candidate's), not an effect's: the effect whose
+                # first run it is has a number between these bounds, tried and checked (_check)
+                runs = {r for r, _ in shared}
+                if picks or len(runs) != 1:
+                    raise NativeExplorer._GuideLost()
+                r = runs.pop()
+                k = self.nshared
+                self.nshared += 1
+                lo, hi = self.bounds.get(k, (max(0, n - (len(g) - r)), min(r, n - 1)))
+                if lo > hi:
+                    raise NativeExplorer._GuideLost()
+                i = (lo + hi) // 2
+                self.pending = (len(self.log), g, r, k, lo, hi, i)
+                at = {q for _, q in shared}
+            else:
+                if len(picks) != 1:
+                    raise NativeExplorer._GuideLost()
+                i = picks.pop()
+            self.at = at
+            self.log.append(NativeExplorer._Choice(kind, label, n, i, options[i], i))
+            self.nlog = len(self.log)
+            return i
+
+        def finish(self):
+            """After the step: every native point read."""
+            self._check()
+            self._settle()
+            if len(self.idx) not in self.at or len(self.log) != self.nlog:
+                raise NativeExplorer._GuideLost()
+
+    def native_choices(self, src: int, dst: int):
+        """The native engine's choice vector (idx, cnt) of the first run of the step from the
+        stored state ``src`` whose successor is the stored state ``dst`` (native_bfs.c,
+        asm_first_choices), or None when it cannot say."""
+        fn = getattr(self.dll, "asm_first_choices", None)
+        if fn is None:
+            return None
+        buf = getattr(self, "_choices_buf", None)
+        if buf is None:
+            buf = self._choices_buf = (ctypes.c_int32 * 8192)()
+        n = fn(src, dst, buf, len(buf))
+        if n < 0:
+            return None
+        got = buf[:2 * n]
+        return got[:n], got[n:]
+
+    #: the runs of the Python step a guided step may take (the plain chooses whose candidates share
+    #: effects: each run narrows the number of one's effect by half)
+    GUIDED_RUNS = 16
+
+    def guided_step(self, src: int, dst: int, st: dict | None = None, want: dict | None = None):
+        """The first step of the Python step function from the stored state ``src`` (its state
+        ``st``) to the stored state ``dst`` (``want``), run once along the native engine's choices:
+        (next state, choices log, update set, monitored values, raw next state, renaming) as
+        :meth:`replay_steps` records a step, or None when the native engine cannot say or its
+        choices do not read as the Python step's (see the comment above _GuideLost) or do not lead
+        to ``dst``."""
+        hint = self.native_choices(src, dst)
+        if hint is None:
+            return None
+        if st is None:
+            st = self.state(src)
+        bounds: dict = {}
+        for _ in range(self.GUIDED_RUNS):
+            guide = NativeExplorer._Guide(*hint, bounds)
+            try:
+                ups, raw, ctx = self.m.step(st, guide)
+                guide.finish()
+                break
+            except NativeExplorer._GuideRetry as again:
+                bounds[again.k] = again.bounds
+            except (AsmError, NativeExplorer._GuideLost):
+                return None
+        else:
+            return None
+        nxt, mapping = self._norm(raw)
+        if (nxt != want) if want is not None else (self.find(nxt) != dst):
+            return None
+        return nxt, guide.log, ups, ctx.mon, raw, mapping
 
     def path_to(self, sid: int) -> list[int]:
         path = []
@@ -5059,7 +5355,7 @@ class NativeExplorer:
         if init_log is None:
             raise ReplayError("the initial state does not replay")
         out = [(st0, init_log, None, getattr(m, "init_mon", {}), None, None)]
-        cur = st0
+        cur, src = st0, first
         for picks, dst in steps:
             want = self.state(dst)
             found = None
@@ -5070,6 +5366,8 @@ class NativeExplorer:
                 if nxt == want:
                     found = (nxt, ch.log, ups, ctx.mon, raw, mapping)
             else:
+                found = self.guided_step(src, dst, cur, want)
+            if found is None and picks is None:
                 for log, ups, raw, mon in m.successors(cur, errors=[]):
                     nxt, mapping = self._norm(raw)
                     if nxt == want:
@@ -5078,7 +5376,7 @@ class NativeExplorer:
             if found is None:
                 raise ReplayError(f"step to state {dst} does not replay")
             out.append(found)
-            cur = want
+            cur, src = want, dst
         return out
 
     def _replay_concrete(self, first: int, steps: list) -> list:

@@ -3202,3 +3202,63 @@ int64_t asm_x_intern(int64_t kind, const int64_t *e, int64_t n) {
     V r = v_intern(0, (int)kind, (const V *)e, (int)n);
     return vt_oom ? -1 : (int64_t)r;
 }
+
+/* ------------------------------------------------------------------ the choices of one step, for a trace
+ * asm_first_choices(src, dst, out, cap): the step runs from the stored state src for every sequence
+ * of choices, in the enumeration's order (the odometer of next_choices, as expand_state and the
+ * Python explorer), until a run's successor -- made canonical as the search makes it (fresh
+ * elements, symmetry), INVAR not applied (a replay compares successors with the stored target
+ * alone) -- has the words of the stored state dst.  That run's choice vector goes to out: idx[0 ..
+ * pos) then cnt[0 .. pos), and pos is returned.  -1: no run leads to dst (a branch whose step fails
+ * is skipped, as the Python explorer skips it); -2: the native engine cannot say (a condition the
+ * search does not handle, no search context, out of memory, more than MAX_SUCC runs); -3: cap is
+ * less than 2 * pos.  It stores nothing and leaves the search's tables as they are (the states are
+ * decoded apart from the packed store's scratch words), so a search may go on afterwards: what
+ * it changes in the search context (the working state, a new epoch) the next expansion sets again.
+ * NativeExplorer (native.py) reads the vector as the Python step function's choices. */
+int64_t asm_first_choices(int64_t src, int64_t dst, int32_t *out, int64_t cap) {
+    if (!ctx0 || src < 0 || dst < 0 || src >= nstates || dst >= nstates || MISSED()) return -2;
+    Ctx *c = &ctx_static;
+    uint64_t *buf = (uint64_t *)malloc((size_t)3 * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
+    if (!buf) return -2;
+    uint64_t *sw = buf, *dw = buf + (NWORDS > 0 ? NWORDS : 1), *nw = buf + 2 * (NWORDS > 0 ? NWORDS : 1);
+    asm_state(src, sw);
+    asm_state(dst, dw);
+    load_state(c, sw);
+    c->rd = c->cur;
+    c->self = UNDEF;
+    c->in_prop = 0;
+    c->epoch = ++global_epoch;
+    c->plen = 0;
+    int64_t runs = 0, res = -1;
+    for (;;) {
+        begin_run(c);
+        step_main(c);
+        if (MISSED() || ++runs > MAX_SUCC) { res = -2; break; }
+        if (c->err) {
+            if (hard_error(c->err)) { res = -2; break; }
+            load_state(c, sw);        /* (a failing run may leave seq steps' values in the working state) */
+        } else {
+            store_state(c, sw, nw);
+            if (MISSED()) { res = -2; break; }
+#if CN_NDYN > 0
+            if (canon_state(c, nw)) { res = -2; break; }
+#endif
+#if SYM_ON
+            if (sym_canon(nw) < 0) { res = -2; break; }
+#endif
+            if (memcmp(nw, dw, NWORDS * sizeof(uint64_t)) == 0) {
+                if (2 * (int64_t)c->pos > cap) { res = -3; break; }
+                memcpy(out, c->idx, (size_t)c->pos * sizeof(int32_t));
+                memcpy(out + c->pos, c->cnt, (size_t)c->pos * sizeof(int32_t));
+                res = c->pos;
+                break;
+            }
+        }
+        if (!next_choices(c, 0)) break;
+    }
+    c->err = 0;
+    load_state(c, sw);
+    free(buf);
+    return res;
+}
