@@ -4,6 +4,7 @@ in simulated workers, forked worker processes and Ray actors; a spec the native 
 runs on the Python expander, and the report says which ran.  The Ray tests skip without Ray."""
 from __future__ import annotations
 
+import functools
 import json
 import os
 import signal
@@ -46,10 +47,18 @@ def native(path, workers, backend, **kw):
 ALL_SPECS = sorted(str(p.relative_to(SPECS)) for p in SPECS.rglob("*.asm"))
 
 
+@functools.lru_cache(maxsize=None)
+def reference(name: str, keep_graph: bool) -> dict:
+    """The sequential search's summary of specs/NAME, made once per test process for the tests
+    that compare the worker processes and the actors of every spec with it (compared, never
+    changed)."""
+    return sequential(SPECS / name, keep_graph=keep_graph)
+
+
 @pytest.mark.parametrize("name", ALL_SPECS)
 def test_native_expander_in_worker_processes_gives_the_sequential_graph(name):
     """specs/: every state number, parent, choice and edge as the sequential Python search."""
-    assert native(SPECS / name, 2, "processes", keep_graph=True) == sequential(SPECS / name, keep_graph=True)
+    assert native(SPECS / name, 2, "processes", keep_graph=True) == reference(name, True)
 
 
 # values of the value table: a sequence, a set of sequences, a string, a tuple and a function over
@@ -239,10 +248,9 @@ def on_ray(path, workers, **kw):
 @pytest.mark.slow
 def test_specs_on_two_and_eight_actors(ray_local):
     for name in ALL_SPECS:
-        ref = sequential(SPECS / name, keep_graph=True)
-        assert on_ray(SPECS / name, 2, keep_graph=True) == ref, name
+        assert on_ray(SPECS / name, 2, keep_graph=True) == reference(name, True), name
     for name in ("buggy/sb_sync_slave_clears_lock.asm", "visual_servoing.asm"):
-        assert on_ray(SPECS / name, 8) == sequential(SPECS / name), name
+        assert on_ray(SPECS / name, 8) == reference(name, False), name
 
 
 @pytest.mark.slow
@@ -292,6 +300,13 @@ def explore_json(*args):
     return doc, seen
 
 
+@functools.lru_cache(maxsize=None)
+def rt_one_worker_report() -> dict:
+    """RtNondetVS's one-worker report, made once per test process for both actor counts (compared,
+    never changed)."""
+    return explore_json(*rt_args())[0]
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("actors", [2, 8])
 def test_rt_nondet_vs_on_a_local_cluster_gives_the_one_worker_report(actors):
@@ -299,7 +314,7 @@ def test_rt_nondet_vs_on_a_local_cluster_gives_the_one_worker_report(actors):
     this machine's cores, is the one-worker report (the native expander ran)."""
     pytest.importorskip("ray", reason="Ray is not installed (pip install 'asmcheck[cluster]')")
     args = rt_args()
-    one, seen1 = explore_json(*args)
+    one = rt_one_worker_report()
     assert (one["states"], one["transitions"], one["depth"], one["verdict"]) == (132077, 392131, 81, "violated")
     got, seen = explore_json(*args, "--cluster", "local", "--workers", str(actors))
     assert (seen["engine"], seen["workers"], seen["engine_note"]) == ("native", actors, None)

@@ -295,6 +295,12 @@ def test_with_sink_reads_lists_of_states_through_the_table_of_nodes():
 
 # ----------------------------------------------------------------- the corpus
 DIFF_SHARDS = 3        # the corpus differential runs as this many tests, every third spec each
+# specs that cannot explore to the end within the 10 s the differential gives them, left out instead of
+# spending those 10 s to find it (as check_spec would: "does not finish")
+NEVER_FINISH = {
+    # about 10^9 states: test_tombola_two_million_states
+    "asm_examples/examples/tombola.asm",
+}
 
 
 @pytest.mark.slow
@@ -311,7 +317,11 @@ def test_corpus_differential(index):
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from partial_diff import check_spec, corpus_specs
     wrong, decided, runs, specs = [], 0, 0, 0
-    for p in corpus_specs(ASMETA)[index::DIFF_SHARDS]:
+    every = corpus_specs(ASMETA)
+    assert NEVER_FINISH <= {p.relative_to(ASMETA).as_posix() for p in every}
+    for p in every[index::DIFF_SHARDS]:
+        if p.relative_to(ASMETA).as_posix() in NEVER_FINISH:
+            continue
         r = check_spec(p, python_states=1500, few=True)
         if r["skipped"]:
             continue

@@ -29,7 +29,8 @@ import pytest
 
 from conftest import ASMETA, need_asmeta
 
-pytestmark = [pytest.mark.corpus, pytest.mark.slow, pytest.mark.engines("both")]
+# the Python explorer (explore.bfs.Explorer, whatever ASMCHECK_ENGINE says)
+pytestmark = [pytest.mark.corpus, pytest.mark.slow, pytest.mark.engines("python")]
 
 MAX_STATES = 200_000
 MAX_SECONDS = float(os.environ.get("ASMCHECK_VERDICT_SECONDS", "10"))
@@ -47,6 +48,19 @@ KNOWN = {
 }
 
 
+# Specs the Python explorer does not finish under the cap: each spent the whole time bound to end
+# "not explored" (30 s of the module's 35).  Their verdicts agree with NuSMV's on the native engine:
+BEYOND_THE_CAP = {
+    # 32,768 states, 86,093,442 transitions; test_temporal_quotient.py::test_parking_ctl
+    "asm_examples/examples/parking": "86,093,442 transitions",
+    # 15,120 states, 498,192 transitions (about 220,000 in 10 s); test_temporal_quotient.py::
+    # test_corpus_swapboard_same_paths (and test_graph_native.py::test_swapboard_graph_counts)
+    "asm_examples/examples/swapBoard": "498,192 transitions",
+    # about 10^9 states; test_partial_verdicts.py::test_tombola_two_million_states
+    "asm_examples/examples/tombola": f"more than {MAX_STATES:,} states",
+}
+
+
 def _verdict_files():
     if not (ASMETA / "MANIFEST.tsv").exists():
         return []
@@ -60,6 +74,8 @@ def _check_spec(vf: Path):
 
     rel = vf.relative_to(ASMETA / "verdicts").with_suffix("").as_posix()
     spec_path = ASMETA / (rel + ".asm")
+    if rel in BEYOND_THE_CAP:
+        return rel, None, f"not explored: {BEYOND_THE_CAP[rel]}, beyond the cap"
     lines = [ln for ln in vf.read_text(encoding="utf-8").splitlines() if ln.startswith("--")]
     spec, machine = load_machine(str(spec_path))
     ex = Explorer(machine, max_states=MAX_STATES, max_seconds=MAX_SECONDS, keep_graph=True)
@@ -129,5 +145,5 @@ def test_most_specs_with_verdicts_are_explored(verdicts):
     out, _ = verdicts
     explored = [rel for rel, rows, _ in out if rows is not None]
     # 45 specs have verdicts: 3 have steps that fail (inconsistent updates, a value out of
-    # its domain) and 3 are too large for the cap (parking, swapBoard, tombola)
+    # its domain) and 3 are too large for the cap (BEYOND_THE_CAP: parking, swapBoard, tombola)
     assert len(explored) >= 39, [(rel, why) for rel, rows, why in out if rows is None]
