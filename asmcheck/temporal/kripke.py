@@ -419,11 +419,11 @@ class _PicksOfSteps(_LazyPicks):
         ex = self.explorer
         m = ex.m
         st = ex.state(src)
-        # the native engine's first step to the target, run once: when it gives the atom values,
-        # it is the first such step (NativeExplorer.guided_step)
+        # the native engine's first step to the target, run once (NativeExplorer.guided_step: None
+        # unless it leads there): when it gives the atom values, it is the first such step
         guided = getattr(ex, "guided_step", None)
         got = guided(src, self.tgt[v], st) if guided is not None else None
-        if got is not None and _find(ex, got[4]) == self.tgt[v] and self.vecs[v] in joint_values(m, self.items, st, got[3]):
+        if got is not None and self.vecs[v] in joint_values(m, self.items, st, got[3]):
             return tuple(c.pick for c in got[1])
         for log, _ups, nxt, mon in m.successors(st, errors=[]):
             if _find(ex, nxt) == self.tgt[v] and self.vecs[v] in joint_values(m, self.items, st, mon):
