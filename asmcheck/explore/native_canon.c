@@ -40,7 +40,10 @@ typedef struct { char *p; int n, cap; } CnBuf;
 /* a text of a buffer: where it starts, its length, its first 8 bytes big-endian (0 past its end:
    texts hold no byte 0), which order most pairs of texts without reading them (cn_span_pre) */
 typedef struct { uint64_t pre; int off, len; } CnSpan;
-typedef struct { int32_t slot, me; V val; int32_t off, len; } CnMemo;
+/* a kept round-0 text: of location slot (or of an entry of the map in slot slot - CN_MENT: key
+   val, value val2) with element me as '*' */
+typedef struct { int32_t slot, me; V val, val2; int32_t off, len; uint64_t pre; } CnMemo;
+#define CN_MENT (1 << 30)
 /* a location where elements occur: its distinct elements and their occurrences there are
    lel[off .. off + nel) and lcnt[off .. off + nel) of the call's pool (CN_NPOOL entries in all) */
 typedef struct { int slot; int ent; int nel; int off; } CnLoc;
@@ -52,6 +55,7 @@ typedef struct {
     V val[NSLOTS > 0 ? NSLOTS : 1], new_[NSLOTS > 0 ? NSLOTS : 1];
     CnMemo *memo; uint64_t mmask, mcount; CnBuf mtext;       /* texts of round 0 */
     CnBuf tb; CnSpan *sp; int nsp, capsp;                    /* the texts of this round */
+    const char *sbase;           /* where the spans of this round point: tb.p, or mtext.p in round 0 */
     uint8_t *dpool; int64_t dn, dused, dcap; int64_t *dtab; uint64_t dmask;  /* canonical forms kept (bytes) */
     int64_t my_search;
     /* the elements made in this run of the step (fgen): domain, number, the seq step that made
@@ -72,6 +76,9 @@ typedef struct {
        holds none): what the walk of a location looks at (made with the tables: the slots are fixed) */
     uint8_t sflag[NSLOTS > 0 ? NSLOTS : 1];
     uint8_t hv[NSLOTS > 0 ? NSLOTS : 1];          /* the slot's value holds elements (this form's walk) */
+    int live[NSLOTS > 0 ? NSLOTS : 1];            /* the slots that may hold elements with a value */
+    int tlist[(NSLOTS > 0 ? NSLOTS : 1) + CN_NDYN]; /* the slots given a new value (rebuild) */
+    uint32_t tmark[(NSLOTS > 0 ? NSLOTS : 1) + CN_NDYN], tgen;
 } CnW;
 static int64_t cn_search = 0;               /* counts the searches started (asm_canon_reset) */
 
@@ -287,9 +294,14 @@ static int cn_itoa(char *t, V x) {
 
 static inline void cn_span_pre(const char *base, CnSpan *x) {
     const uint8_t *p = (const uint8_t *)base + x->off;
-    int n = x->len < 8 ? x->len : 8;
-    uint64_t v = 0;
-    for (int i = 0; i < n; i++) v |= (uint64_t)p[i] << (56 - 8 * i);
+    uint64_t v;
+    if (x->len >= 8) {
+        memcpy(&v, p, 8);
+        v = __builtin_bswap64(v);
+    } else {
+        v = 0;
+        for (int i = 0; i < x->len; i++) v |= (uint64_t)p[i] << (56 - 8 * i);
+    }
     x->pre = v;
 }
 /* the order of two texts (memcmp's, then the shorter first) */
@@ -493,16 +505,19 @@ static int cn_text_loc(CnW *W, CnBuf *b, int s) {
     return cn_text(W, b, W->val[s], CN_SLOT_VTY[s]);
 }
 
-/* the text of entry i of the function held as a map in slot s: f(args)=value */
-static int cn_text_ent(CnW *W, CnBuf *b, int s, int i) {
+/* the text of an entry (key, val) of the function held as a map in slot s: f(args)=value */
+static int cn_text_kv(CnW *W, CnBuf *b, int s, V key, V val) {
     int ty = CN_SLOT_VTY[s];
-    V key = v_elems(W->val[s])[2 * i], val = v_elems(W->val[s])[2 * i + 1];
     if (!cn_chars(b, CN_FN_OFF[CN_SLOT_FN[s]])) return 0;
     if (CN_TY[ty + 1] == 1) {
         if (!cn_put(b, "(", 1) || !cn_text(W, b, key, CN_TY[ty + 2]) || !cn_put(b, ")", 1)) return 0;
     } else if (!cn_text(W, b, key, CN_TY[ty + 2])) return 0;
     if (!cn_put(b, "=", 1)) return 0;
     return cn_text(W, b, val, CN_TY[ty + 3]);
+}
+/* the text of entry i of the function held as a map in slot s */
+static int cn_text_ent(CnW *W, CnBuf *b, int s, int i) {
+    return cn_text_kv(W, b, s, v_elems(W->val[s])[2 * i], v_elems(W->val[s])[2 * i + 1]);
 }
 
 /* Texts of round 0 (every element colour 0) depend only on the location, its value and the
@@ -514,6 +529,12 @@ static inline uint64_t cn_mix(uint64_t z) {
     return z ^ (z >> 31);
 }
 
+static inline uint64_t cn_memo_hash(int s, V val, V val2, int me) {
+    uint64_t z = (uint64_t)val ^ ((uint64_t)s << 40) ^ ((uint64_t)me << 20);
+    if (s >= CN_MENT) z ^= cn_mix((uint64_t)val2 + 0x9e3779b97f4a7c15ULL);
+    return cn_mix(z);
+}
+
 static int cn_memo_grow(CnW *W) {
     uint64_t ncap = W->mmask ? (W->mmask + 1) * 2 : 256;
     CnMemo *t = (CnMemo *)malloc(ncap * sizeof(CnMemo));
@@ -521,7 +542,7 @@ static int cn_memo_grow(CnW *W) {
     for (uint64_t i = 0; i < ncap; i++) t[i].slot = -1;
     for (uint64_t i = 0; W->memo && i <= W->mmask; i++) {
         if (W->memo[i].slot < 0) continue;
-        uint64_t h = cn_mix((uint64_t)W->memo[i].val ^ ((uint64_t)W->memo[i].slot << 40) ^ ((uint64_t)W->memo[i].me << 20)) & (ncap - 1);
+        uint64_t h = cn_memo_hash(W->memo[i].slot, W->memo[i].val, W->memo[i].val2, W->memo[i].me) & (ncap - 1);
         while (t[h].slot >= 0) h = (h + 1) & (ncap - 1);
         t[h] = W->memo[i];
     }
@@ -531,29 +552,34 @@ static int cn_memo_grow(CnW *W) {
 
 static int cn_text_loc(CnW *W, CnBuf *b, int s);
 
-/* the round-0 text of location s with element me as '*', appended to b */
-static int cn_text_loc0(CnW *W, CnBuf *b, int s, V val, int me) {
+/* the round-0 text of location s with element me as '*' (kept in W->mtext): its entry */
+static const CnMemo *cn_memo_text(CnW *W, int s, V val, V val2, int me) {
     if ((W->mcount + 1) * 2 > W->mmask + 1 && !cn_memo_grow(W)) return 0;
-    uint64_t h = cn_mix((uint64_t)val ^ ((uint64_t)s << 40) ^ ((uint64_t)me << 20)) & W->mmask;
+    uint64_t h = cn_memo_hash(s, val, val2, me) & W->mmask;
     while (W->memo[h].slot >= 0) {
         CnMemo *m = &W->memo[h];
-        if (m->slot == s && m->me == me && m->val == val) return cn_put(b, W->mtext.p + m->off, m->len);
+        if (m->slot == s && m->me == me && m->val == val && m->val2 == val2) return m;
         h = (h + 1) & W->mmask;
     }
     int off = W->mtext.n;
-    if (!cn_text_loc(W, &W->mtext, s)) return 0;
+    if (!(s >= CN_MENT ? cn_text_kv(W, &W->mtext, s - CN_MENT, val, val2) : cn_text_loc(W, &W->mtext, s))) return 0;
     CnMemo *m = &W->memo[h];
-    m->slot = s; m->me = me; m->val = val; m->off = off; m->len = W->mtext.n - off;
+    m->slot = s; m->me = me; m->val = val; m->val2 = val2; m->off = off; m->len = W->mtext.n - off;
+    CnSpan x = {0, off, m->len};
+    cn_span_pre(W->mtext.p, &x);
+    m->pre = x.pre;
     W->mcount++;
-    return cn_put(b, W->mtext.p + off, m->len);
+    return m;
 }
+static inline const CnMemo *cn_text_loc0(CnW *W, int s, V val, int me) { return cn_memo_text(W, s, val, 0, me); }
+static inline const CnMemo *cn_text_ent0(CnW *W, int s, V key, V val, int me) { return cn_memo_text(W, s + CN_MENT, key, val, me); }
 
 typedef struct { int e; int dom; int col; int num; int sig_off, sig_n; } CnEl;
 
 static int cn_sig_cmp(CnW *W, const CnEl *x, const CnEl *y) {
     int n = x->sig_n < y->sig_n ? x->sig_n : y->sig_n;
     for (int i = 0; i < n; i++) {
-        int r = cn_span_cmp_base(W->tb.p, &W->sp[x->sig_off + i], &W->sp[y->sig_off + i]);
+        int r = cn_span_cmp_base(W->sbase, &W->sp[x->sig_off + i], &W->sp[y->sig_off + i]);
         if (r) return r;
     }
     return x->sig_n < y->sig_n ? -1 : x->sig_n > y->sig_n;
@@ -585,16 +611,23 @@ static int cn_final(const void *a, const void *b) {
     return x->num < y->num ? -1 : x->num > y->num;
 }
 
-static int cn_add_span(CnW *W, int off, int len) {
-    if (W->nsp >= W->capsp) {
+static int cn_sp_room(CnW *W, int n) {
+    if (W->nsp + n > W->capsp) {
         int nc = W->capsp ? W->capsp * 2 : 256;
+        while (nc < W->nsp + n) nc *= 2;
         CnSpan *x = (CnSpan *)realloc(W->sp, nc * sizeof(CnSpan));
         if (!x) return 0;
         W->sp = x; W->capsp = nc;
     }
-    CnSpan *x = &W->sp[W->nsp++];
-    x->off = off; x->len = len;
-    cn_span_pre(W->tb.p, x);
+    return 1;
+}
+/* cnt spans of the text at off, len in b (its first bytes pre) */
+static inline int cn_add_spans(CnW *W, int off, int len, uint64_t pre, int cnt) {
+    if (!cn_sp_room(W, cnt)) return 0;
+    for (int x = 0; x < cnt; x++) {
+        CnSpan *y = &W->sp[W->nsp++];
+        y->off = off; y->len = len; y->pre = pre;
+    }
     return 1;
 }
 
@@ -828,21 +861,23 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     /* decode (the locations that may hold elements, and the counts) */
     for (int d = 0; d < CN_NDYN; d++) W->val[CN_COUNT_SLOT[d]] = SLOT_DECODE[CN_COUNT_SLOT[d]][
         (int32_t)((w[SLOT_WORD[CN_COUNT_SLOT[d]]] >> SLOT_SHIFT[CN_COUNT_SLOT[d]]) & ((1ULL << SLOT_BITS[CN_COUNT_SLOT[d]]) - 1))];
+    int nlive = 0;            /* the slots with a value: W->live[0 .. nlive) */
     for (int r = 0; r < CN_NREL; r++) {
         int s = CN_REL[r];
         uint64_t word = w[SLOT_WORD[s]];
-        if (SLOT_BITS[s] == 64) { W->val[s] = (V)word; continue; }
-        int32_t code = (int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1));
-        W->val[s] = SLOT_DECODE[s][code];
+        V v;
+        if (SLOT_BITS[s] == 64) v = (V)word;
+        else v = SLOT_DECODE[s][(int32_t)((word >> SLOT_SHIFT[s]) & ((1ULL << SLOT_BITS[s]) - 1))];
+        W->val[s] = v;
+        if (v != UNDEF) W->live[nlive++] = s;
     }
     /* the locations where elements occur */
     int nloc = 0, npool = 0;
     int occ[CN_MAXE > 0 ? CN_MAXE : 1];
     memset(occ, 0, sizeof(occ));
-    for (int r = 0; r < CN_NREL; r++) {
-        int s = CN_REL[r];
+    for (int r = 0; r < nlive; r++) {
+        int s = W->live[r];
         W->hv[s] = 0;
-        if (W->val[s] == UNDEF) continue;
         int lmap = CN_TY[CN_SLOT_VTY[s]] == T_LMAP;
         int nent = lmap ? v_len(W->val[s]) / 2 : 1;
         for (int ent = 0; ent < nent; ent++) {
@@ -939,7 +974,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                     for (int li = eoff[e]; li < eoff[e + 1]; li++) {
                         const CnLoc *L = &W->locs[W->eloc[li]];
                         if (L->ent >= 0) continue;
-                        uint64_t h = cn_mix((uint64_t)W->val[L->slot] ^ ((uint64_t)L->slot << 40) ^ ((uint64_t)e << 20));
+                        uint64_t h = cn_memo_hash(L->slot, W->val[L->slot], 0, e);
                         __builtin_prefetch(&W->memo[h & W->mmask]);
                     }
                 }
@@ -951,14 +986,27 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                 for (int li = eoff[e]; li < eoff[e + 1]; li++) {
                     CnLoc *L = &W->locs[W->eloc[li]];
                     int cnt = W->ecnt[li];
+                    if (r == 0) {
+                        /* (round 0: the spans point into the kept texts; an entry of a map is kept too) */
+                        const CnMemo *m;
+                        if (L->ent >= 0) {
+                            V ev = v_elems(W->val[L->slot])[2 * L->ent], ex = v_elems(W->val[L->slot])[2 * L->ent + 1];
+                            m = cn_text_ent0(W, L->slot, ev, ex, e);
+                        } else m = cn_text_loc0(W, L->slot, W->val[L->slot], e);
+                        if (!m || !cn_add_spans(W, m->off, m->len, m->pre, cnt)) return CN_TEXT;
+                        continue;
+                    }
                     int off = W->tb.n;
-                    if (!(L->ent >= 0 ? cn_text_ent(W, &W->tb, L->slot, L->ent) :
-                          r == 0 ? cn_text_loc0(W, &W->tb, L->slot, W->val[L->slot], e) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
-                    for (int x = 0; x < cnt; x++) if (!cn_add_span(W, off, W->tb.n - off)) return CN_TEXT;
+                    if (!(L->ent >= 0 ? cn_text_ent(W, &W->tb, L->slot, L->ent) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
+                    CnSpan x = {0, off, W->tb.n - off};
+                    cn_span_pre(W->tb.p, &x);
+                    if (!cn_add_spans(W, off, x.len, x.pre, cnt)) return CN_TEXT;
                 }
                 els[q].sig_n = W->nsp - els[q].sig_off;
-                cn_sort_spans(W->tb.p, W->sp + els[q].sig_off, els[q].sig_n);
+                W->sbase = r == 0 ? W->mtext.p : W->tb.p;
+                cn_sort_spans(W->sbase, W->sp + els[q].sig_off, els[q].sig_n);
             }
+            W->sbase = r == 0 ? W->mtext.p : W->tb.p;
             for (int q = i + 1; q < j; q++) {     /* by signature, ties by element */
                 CnEl x = els[q];
                 int p = q - 1;
@@ -986,30 +1034,35 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     }
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)W->val[CN_COUNT_SLOT[d]]) changed = 1;
     if (!changed) { cn_done_add(W, key, kh, w); return 0; }
-    /* rebuild: locations over elements move with them, values are renamed */
-    for (int r = 0; r < CN_NREL; r++) {
-        int s = CN_REL[r];
-        W->new_[s] = CN_SLOT_BASE[s] >= 0 ? UNDEF : W->val[s];
+    /* rebuild: locations over elements move with them, values are renamed (only the slots with a
+       value, and the ones they move to, are looked at: W->tset marks the slots given a new value) */
+    if (++W->tgen == 0) { memset(W->tmark, 0, sizeof(W->tmark)); W->tgen = 1; }
+    int nt = 0;
+#define CN_SET(s_, v_) do { int s__ = (s_); if (W->tmark[s__] != W->tgen) { W->tmark[s__] = W->tgen; W->tlist[nt++] = s__; } W->new_[s__] = (v_); } while (0)
+    for (int i = 0; i < nlive; i++) {      /* the slots over elements are left first */
+        int s = W->live[i];
+        if (CN_SLOT_BASE[s] < 0) { if (W->hv[s]) { V nv = cn_rename(c, W->val[s], CN_SLOT_VTY[s], map); if (nv != W->val[s]) CN_SET(s, nv); } }
+        else CN_SET(s, UNDEF);
     }
-    for (int r = 0; r < CN_NREL; r++) {
-        int s = CN_REL[r];
+    for (int i = 0; i < nlive; i++) {      /* then filled where their elements' new numbers put them */
+        int s = W->live[i];
+        if (CN_SLOT_BASE[s] < 0) continue;
         V v = W->val[s];
-        if (CN_SLOT_BASE[s] < 0) { W->new_[s] = W->hv[s] ? cn_rename(c, v, CN_SLOT_VTY[s], map) : v; continue; }
-        if (v == UNDEF) continue;
         int t = CN_SLOT_BASE[s];
-        for (int i = 0; i < CN_SLOT_NARGS[s]; i++) {
-            V a = CN_ARGS[CN_SLOT_ARG[s] + 3 * i];
-            int stride = (int)CN_ARGS[CN_SLOT_ARG[s] + 3 * i + 2];
-            int idx = (int)CN_SLOT_IDX[CN_SLOT_ARG[s] / 3 + i];
+        for (int q = 0; q < CN_SLOT_NARGS[s]; q++) {
+            V a = CN_ARGS[CN_SLOT_ARG[s] + 3 * q];
+            int stride = (int)CN_ARGS[CN_SLOT_ARG[s] + 3 * q + 2];
+            int idx = (int)CN_SLOT_IDX[CN_SLOT_ARG[s] / 3 + q];
             if (cn_is_fresh(a)) idx += map[cn_eidx(a)] - cn_num(a);
             t += idx * stride;
         }
-        W->new_[t] = W->hv[s] ? cn_rename(c, v, CN_SLOT_VTY[s], map) : v;
+        CN_SET(t, W->hv[s] ? cn_rename(c, v, CN_SLOT_VTY[s], map) : v);
     }
     if (c->err) return CN_TEXT;
-    for (int d = 0; d < CN_NDYN; d++) W->new_[CN_COUNT_SLOT[d]] = kept[d];
-    for (int r = 0; r < CN_NREL + CN_NDYN; r++) {
-        int s = r < CN_NREL ? CN_REL[r] : CN_COUNT_SLOT[r - CN_NREL];
+    for (int d = 0; d < CN_NDYN; d++) CN_SET(CN_COUNT_SLOT[d], kept[d]);
+#undef CN_SET
+    for (int i = 0; i < nt; i++) {
+        int s = W->tlist[i];
         if (W->new_[s] == W->val[s]) continue;
         if (SLOT_BITS[s] == 64) { w[SLOT_WORD[s]] = (uint64_t)W->new_[s]; continue; }
         const V *dec = SLOT_DECODE[s];
