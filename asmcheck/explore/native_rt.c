@@ -85,6 +85,14 @@ typedef struct {
     int post_ok;
     int32_t npost;
     int32_t post_slot[MAXUPD];
+    /* scratch space for building values (a value is built from its parts before it is interned),
+       for merging maps and for splitting strings: in the context, whose pages are mapped only
+       where they are written (a thread-local array is filled with zeros, all of it, in every
+       thread that uses the library) */
+    V vscratch[1 << 16];
+    V mbuf[1 << 16];
+    V sparts[1 << 14];
+    V rx_parts[1 << 14];
 } Ctx;
 
 /* a pointer to a thread-local variable, kept in a register: without it the compiler may compute the
@@ -441,7 +449,7 @@ static inline int32_t v_len(V a) { return vtab[a].len; }
 static inline const V *v_elems(V a) { return vpool + vtab[a].off; }
 
 /* scratch space for building values (a value is built from its parts before it is interned) */
-static _Thread_local V vscratch[1 << 16];     /* one per thread (asm_run_par) */
+#define vscratch (c->vscratch)                /* one per context: per thread (asm_run_par) */
 
 static V seq_append(Ctx *c, V s, V x) {
     if (s == UNDEF) return UNDEF;
@@ -769,7 +777,7 @@ static V mapv_at(V m, V k) {
 }
 /* merge(a, b): b's pairs win; assign(m, k, v): m with k -> v */
 static V mapv_merge(Ctx *c, V a, V b) {
-    static _Thread_local V buf[1 << 16];
+    V *buf = c->mbuf;
     if (a == UNDEF || b == UNDEF) return UNDEF;
     int n = v_len(a), m = v_len(b);
     if (n + m > (1 << 16)) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
@@ -819,7 +827,7 @@ static V str_sub(Ctx *c, V s, V i, V j) {
 static V str_split(Ctx *c, V s, V sep) {
     if (s == UNDEF || sep == UNDEF) return UNDEF;
     int n = v_len(s), m = v_len(sep), np = 0, start = 0;
-    static _Thread_local V parts[1 << 14];   /* one per thread, as the scratch space */
+    V *parts = c->sparts;                      /* one per context, as the scratch space */
     const V *a = v_elems(s), *b = v_elems(sep);
     if (m == 0) { fail(c, E_UNSUPPORTED, 0); return UNDEF; }
     for (int i = 0; i + m <= n; ) {
@@ -898,7 +906,7 @@ static int rx_match(Ctx *c, const V *prog, const V *a, int n, int p, int must_ad
 }
 static V str_split_re(Ctx *c, V s, const V *prog) {
     if (s == UNDEF) return UNDEF;
-    static _Thread_local V rx_parts[1 << 14];
+    V *rx_parts = c->rx_parts;
     int n = v_len(s), np = 0, last = 0, start = 0, must = 0;
     if (n == 0) { rx_parts[0] = v_intern(c, K_STRING, v_elems(s), 0); return v_intern(c, K_SEQ, rx_parts, 1); }
     for (;;) {
