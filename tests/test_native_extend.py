@@ -363,7 +363,7 @@ def test_more_elements_than_the_slots_is_refused_with_the_reason(tmp_path):
     spec = check_file(write(tmp_path, STACK))
     nat = NativeExplorer(Machine(spec, {}))
     try:
-        with pytest.raises(Unsupported, match="more than 64 elements of Cell made by extend in one state"):
+        with pytest.raises(Unsupported, match="more than 256 elements of Cell made by extend in one state"):
             nat.run()
     finally:
         nat.close()

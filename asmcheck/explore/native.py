@@ -60,7 +60,7 @@ LOCAL_SLOTS = 64        # a local function has slots when it has at most that ma
 MAX_RECURSION = 1000      # nested calls of derived functions (each rule call too) in the C code, at most
 MAX_SLOTS = 1 << 18       # locations laid out, at most (200,000 compile in about 6 s)
 CN_K = 16              # element slots per domain extended at run time, at first (native_canon.c)
-CN_K_MAX = 64          # ... and at most: a search that needs more slots starts again with twice as many
+CN_K_MAX = 256         # ... and at most: a search that needs more slots starts again with twice as many
 CN_FRESH = 2 << 40     # the code of element k of extended domain d: CN_FRESH + (d << 24) + k
 RULE_BASE = 1 << 48       # the code of a rule value: RULE_BASE + its number (apart from elements, 2^40...)
 K_BAG = 10               # value table kinds of bags and map values (native_rt.c)
@@ -995,6 +995,10 @@ class Generator:
         if f.index in self.map_slot:
             return f"map_get(c->rd[{self.map_slot[f.index]}], {self.map_key(f, args)})"
         if f.index not in self.fn_base:
+            if f.kind == "derived" and f.body is None:
+                # declared without a definition: no location of it holds a value (the Python
+                # step function reads it from the state, where nothing puts it)
+                return UNDEF_C
             raise Unsupported(f"the function {f.name}")
         return f"({self.reader(f)}(c{''.join(', ' + a for a in args)}))"
 
@@ -4590,6 +4594,9 @@ class NativeExplorer:
                               f"in one state")
         if why == 3:
             raise Unsupported(f"{self.gen.dyn_doms[buf[0]].name} ranged over inside a seq block after an extend of it")
+        if why == 4:
+            raise Unsupported(f"more than 64 elements of {self.gen.dyn_doms[buf[0]].name} made by extend in one step "
+                              f"of a seq block")
         if why:
             raise Unsupported("a state with elements made by extend that the native canonical form does not handle")
 

@@ -60,7 +60,8 @@ typedef struct {
     int64_t my_search;
     /* the elements made in this run of the step (fgen): domain, number, the seq step that made
        them (restamped to the enclosing step when a seq block ends, as updates are); the ones a
-       finished step of an open seq block made are visible (vis, bit k - 1), undone through vlog */
+       finished step of an open seq block made are visible (vis, bit k - n - 1 for element k of a
+       state with n elements: at most 64 made in one step), undone through vlog */
     uint32_t fgen;
     int fn, vn;
     int fdom[CN_MAXE > 0 ? CN_MAXE : 1], fnum[CN_MAXE > 0 ? CN_MAXE : 1];
@@ -148,6 +149,7 @@ static void cn_why(int why, int d) {
 #define CN_TOO_MANY 1
 #define CN_TEXT 2
 #define CN_SEQ 3
+#define CN_STEP_MANY 4
 
 /* the number of each domain's next element in this run of the step */
 
@@ -195,7 +197,10 @@ static void cn_seq_step_end(Ctx *c) {
     for (int i = 0; i < W->fn; i++) {
         if (W->fstamp[i] != c->curstep) continue;
         int d = W->fdom[i];
-        uint64_t bit = 1ULL << (W->fnum[i] - 1);
+        /* (bit k - n - 1 for element k: the run numbers its elements on from the state's n) */
+        int r = W->fnum[i] - (int)c->cur[CN_COUNT_SLOT[d]] - 1;
+        if (r < 0 || r >= 64) { cn_why(CN_STEP_MANY, d); fail(c, E_UNSUPPORTED, 0); return; }
+        uint64_t bit = 1ULL << r;
         if (W->vis[d] & bit) continue;
         if (W->vn >= 4 * CN_MAXE) { fail(c, E_UNSUPPORTED, 0); return; }
         W->vdom[W->vn] = d; W->vold[W->vn] = W->vis[d]; W->vn++;
@@ -221,7 +226,7 @@ static int cn_vis_(Ctx *c, int d, int k) {
     int extended = W->dgen[d] == c->gen;
     if (c->rd == c->post) return k <= (extended ? W->dnext[d] - 1 : n);
     if (k <= (int)c->rd[CN_COUNT_SLOT[d]]) return 1;
-    return extended && k <= CN_K && ((W->vis[d] >> (k - 1)) & 1);
+    return extended && k > n && k - n <= 64 && ((W->vis[d] >> (k - n - 1)) & 1);
 }
 /* (the elements of the state expanded are seen wherever terms are read) */
 static inline int cn_vis(Ctx *c, int d, int k) { return k <= (int)c->cur[CN_COUNT_SLOT[d]] || cn_vis_(c, d, k); }
@@ -234,7 +239,7 @@ static int cn_count(Ctx *c, int d) {
     if (c->rd == c->post) return extended ? W->dnext[d] - 1 : (int)c->cur[CN_COUNT_SLOT[d]];
     int n = (int)c->rd[CN_COUNT_SLOT[d]];
     if (extended && W->vis[d]) {
-        int hi = 64 - __builtin_clzll(W->vis[d]);
+        int hi = (int)c->cur[CN_COUNT_SLOT[d]] + 64 - __builtin_clzll(W->vis[d]);
         if (hi > n) n = hi;
     }
     return n;
