@@ -428,3 +428,41 @@ def test_a_trace_longer_than_the_recursion_limit(write_spec):
     ref = sequential(path)
     assert (ref["states"], ref["violations"][0][:2]) == (1502, ("inv_n", 1500))
     assert native(path, 2, "inline") == ref
+
+
+@pytest.mark.slow
+def test_the_actors_of_a_search_serve_the_next_one(ray_local, write_spec):
+    """On an instance this process joined, the actors of a search that ended well serve the next
+    attempt (again with more element slots) and the next search, with their results unchanged;
+    the actors of a search that lost one are not taken again."""
+    pids = {}
+
+    def seen(search, depth):
+        pids.setdefault(id(search), tuple(search.b.pids))
+
+    def ray_run(path, **kw):
+        m, sp, stp = load(path)
+        ex, r = explore_partitioned(m, workers=2, backend="ray", recipe=Recipe(str(Path(path).resolve())),
+                                    state_props=sp, step_props=stp, expander="native", on_level=seen, **kw)
+        assert (r.backend, r.engine) == ("ray", "native")
+        return summary(ex, r, kw.get("keep_graph", False))
+
+    path = write_spec(MANY)
+    assert ray_run(path, keep_graph=True) == sequential(path, keep_graph=True)
+    name = "sb_sync_master.asm"
+    assert ray_run(SPECS / name, keep_graph=True) == reference(name, True)
+    assert len(pids) == 3 and len(set(pids.values())) == 1     # two attempts, then the next search
+    served = set(next(iter(pids.values())))
+
+    def kill_second(search, depth):
+        seen(search, depth)
+        if depth == 3:
+            ray_local.kill(search.b.actors[1])
+
+    m, sp, stp = load(SPECS / name)
+    with pytest.raises(WorkerLost):
+        explore_partitioned(m, workers=2, backend="ray", recipe=Recipe(str(SPECS / name)), state_props=sp,
+                            step_props=stp, on_level=kill_second, expander="native")
+    pids.clear()
+    assert ray_run(SPECS / name) == reference(name, False)
+    assert not served & set(next(iter(pids.values())))
