@@ -26,6 +26,7 @@ import os
 import pathlib
 import sys
 import tempfile
+import threading
 
 from ..errors import UsageError
 from .native_expand import Refused
@@ -131,28 +132,39 @@ class ActorPool:
     def __init__(self):
         self.key = None
         self.idle: list = []
+        self.lock = threading.Lock()        # (searches of several threads take and give)
 
     def take(self, key, n: int) -> list:
         """Up to ``n`` idle actors [(actor, reset reference)] of the instance ``key``."""
-        if key != self.key:
-            self.key, self.idle = key, []
-        got, self.idle = self.idle[:n], self.idle[n:]
-        return got
+        with self.lock:
+            if key != self.key:
+                self.key, self.idle = key, []
+            got, self.idle = self.idle[:n], self.idle[n:]
+            return got
 
     def give(self, key, actors) -> None:
-        if key == self.key:
-            self.idle.extend(actors)
+        with self.lock:
+            if key == self.key:
+                self.idle.extend(actors)
+                actors = []
+        # (an instance left meanwhile: these go)
+        _kill([a for a, _ in actors])
 
     def close(self) -> None:
-        idle, self.idle, self.key = self.idle, [], None
-        ray = sys.modules.get("ray")
-        if ray is None or not idle:
-            return
-        for a, _ in idle:
-            try:
-                ray.kill(a)
-            except Exception:
-                pass
+        with self.lock:
+            idle, self.idle, self.key = self.idle, [], None
+        _kill([a for a, _ in idle])
+
+
+def _kill(actors) -> None:
+    ray = sys.modules.get("ray")
+    if ray is None:
+        return
+    for a in actors:
+        try:
+            ray.kill(a)
+        except Exception:
+            pass
 
 
 POOL = ActorPool()
@@ -346,9 +358,6 @@ class RayBackend:
             self.ray.shutdown()
             self.started = False
 
-    def _kill(self, actors):
-        for a in actors:
-            try:
-                self.ray.kill(a)
-            except Exception:
-                pass
+    @staticmethod
+    def _kill(actors):
+        _kill(actors)
