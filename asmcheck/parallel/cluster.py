@@ -13,8 +13,10 @@ search that ended well wait in a pool for the next search of this process on tha
 imported: seconds on a small machine).  A pooled actor is taken again only as a new one would
 be: its partition dropped, the import path as a new process has it, and its resident memory
 back within :data:`REUSE_SLACK` of what it was when it first began a search (else it is
-killed).  An instance asmcheck started (``--cluster local``) is shut down with its actors at the
-end of the search, as before.
+killed).  An instance a search starts (``--cluster local``) serves all its attempts (again with
+more element slots, on the Python step function: :func:`session`), their actors pooled, and is
+shut down with them at the end of the search.  Idle pooled actors hold their processes' memory
+(no CPU: an actor asks for none) until the instance is left or this process exits.
 
 Ray is an optional extra: ``pip install 'asmcheck[cluster]'``.
 """
