@@ -265,21 +265,6 @@ def test_twins_on_two_and_eight_actors(ray_local, tmp_path):
         assert on_ray(path, 8) == ref
 
 
-@pytest.mark.slow
-def test_a_killed_actor_ends_the_run_with_a_clear_error(ray_local):
-    m, sp, stp = load(SPECS / "sb_sync_master.asm")
-
-    def kill_second(search, depth):
-        if depth == 3:
-            ray_local.kill(search.b.actors[1])
-
-    with pytest.raises(WorkerLost) as e:
-        explore_partitioned(m, workers=2, backend="ray", recipe=Recipe(str(SPECS / "sb_sync_master.asm")),
-                            state_props=sp, step_props=stp, on_level=kill_second, expander="native")
-    assert "a partition actor failed during the search" in str(e.value)
-    assert str(e.value).endswith("the search has no verdict")
-
-
 def rt_args():
     asmeta = SHARED / "asmeta"
     if not (asmeta / "asm_examples" / "RTPatternLibrary").exists():
@@ -428,3 +413,44 @@ def test_a_trace_longer_than_the_recursion_limit(write_spec):
     ref = sequential(path)
     assert (ref["states"], ref["violations"][0][:2]) == (1502, ("inv_n", 1500))
     assert native(path, 2, "inline") == ref
+
+
+@pytest.mark.slow
+def test_the_actors_of_a_search_serve_the_next_one(ray_local, write_spec):
+    """On an instance this process joined, the actors of a search that ended well serve the next
+    attempt (again with more element slots) and the next search, with their results unchanged;
+    a killed actor ends its run with a clear error, and the actors of that search are not taken
+    again."""
+    pids = {}
+
+    def seen(search, depth):
+        pids.setdefault(id(search), tuple(search.b.pids))
+
+    def ray_run(path, **kw):
+        m, sp, stp = load(path)
+        ex, r = explore_partitioned(m, workers=2, backend="ray", recipe=Recipe(str(Path(path).resolve())),
+                                    state_props=sp, step_props=stp, expander="native", on_level=seen, **kw)
+        assert (r.backend, r.engine) == ("ray", "native")
+        return summary(ex, r, kw.get("keep_graph", False))
+
+    path = write_spec(MANY)
+    assert ray_run(path, keep_graph=True) == sequential(path, keep_graph=True)
+    name = "sb_sync_master.asm"
+    assert ray_run(SPECS / name, keep_graph=True) == reference(name, True)
+    assert len(pids) == 3 and len(set(pids.values())) == 1     # two attempts, then the next search
+    served = set(next(iter(pids.values())))
+
+    def kill_second(search, depth):
+        seen(search, depth)
+        if depth == 3:
+            ray_local.kill(search.b.actors[1])
+
+    m, sp, stp = load(SPECS / name)
+    with pytest.raises(WorkerLost) as e:
+        explore_partitioned(m, workers=2, backend="ray", recipe=Recipe(str(SPECS / name)), state_props=sp,
+                            step_props=stp, on_level=kill_second, expander="native")
+    assert "a partition actor failed during the search" in str(e.value)
+    assert str(e.value).endswith("the search has no verdict")
+    pids.clear()
+    assert ray_run(SPECS / name) == reference(name, False)
+    assert not served & set(next(iter(pids.values())))

@@ -110,6 +110,22 @@ def explore_partitioned(machine, *, workers: int = 2, backend: str = "processes"
     native one ('' when it is, or was not asked for)."""
     if expander not in ("python", "native", "auto"):
         raise ValueError(f"unknown expander {expander!r}")
+    if backend == "ray":
+        # one connection for every attempt (again with more element slots, on the Python step
+        # function): a Ray instance this search starts is started once, its actors serve each attempt
+        from .cluster import session
+        with session(cluster or "local", workers):
+            return _explore_attempts(machine, workers, backend, state_props, step_props, deadlock, max_states,
+                                     max_depth, max_seconds, keep_graph, progress, memory_share, recipe, cluster,
+                                     make_expander, on_level, expander)
+    return _explore_attempts(machine, workers, backend, state_props, step_props, deadlock, max_states, max_depth,
+                             max_seconds, keep_graph, progress, memory_share, recipe, cluster, make_expander,
+                             on_level, expander)
+
+
+def _explore_attempts(machine, workers, backend, state_props, step_props, deadlock, max_states, max_depth,
+                      max_seconds, keep_graph, progress, memory_share, recipe, cluster, make_expander, on_level,
+                      expander):
     args = (machine, workers, backend, state_props, step_props, deadlock, max_states, max_depth, max_seconds,
             keep_graph, progress, memory_share, recipe, cluster)
     if expander == "python" or make_expander is not None:
@@ -143,6 +159,7 @@ def _explore_partitioned(machine, workers, backend, state_props, step_props, dea
                          on_level, kind, cn_k=None):
     from dataclasses import replace
 
+    from .native_expand import Refused
     from .view import PartitionedExplorer
 
     state_props = list(state_props)
@@ -165,6 +182,7 @@ def _explore_partitioned(machine, workers, backend, state_props, step_props, dea
         b = RayBackend(replace(recipe, expander=kind, cn_k=cn_k), workers, cluster or "local", memory_share, keep_graph)
     else:
         raise ValueError(f"unknown backend {backend!r}")
+    ended_well = False
     try:
         search = PartitionedSearch(b, local, state_props=state_props, step_props=step_props, deadlock=deadlock,
                                    max_states=max_states, max_depth=max_depth, max_seconds=max_seconds,
@@ -174,8 +192,14 @@ def _explore_partitioned(machine, workers, backend, state_props, step_props, dea
         ex.finish(result)
         if backend != "inline":
             result.worker_cpu = b.call_all("cpu", [()] * workers)
+        ended_well = True
+    except Refused:
+        # (the workers are sound: the search runs again, on other code)
+        ended_well = True
+        raise
     finally:
-        b.close()
+        # (the actors of a search that ended well may serve the next one: see .cluster)
+        b.close(reuse=ended_well)
     result.engine = "native" if kind == "native" else "python"
     result.native_refused = ""
     result.workers = workers

@@ -6,18 +6,33 @@ sending actor to the owning actor without passing through the driver.  Each acto
 machine from a :class:`asmcheck.parallel.Recipe` (the spec's path and options), so every node
 of the cluster needs asmcheck installed and the spec (and its imports) at the same path.
 
+An actor serves one search at a time and may serve the next: when asmcheck joined a Ray instance
+it did not start (``ray.init`` called before, as a test or a notebook does), the actors of a
+search that ended well wait in a pool for the next search of this process on that instance
+(:class:`ActorPool`), which then pays no actor start-up (a process started, Ray and asmcheck
+imported: seconds on a small machine).  A pooled actor is taken again only as a new one would
+be: its partition dropped, the import path as a new process has it, and its resident memory
+back within :data:`REUSE_SLACK` of what it was when it first began a search (else it is
+killed).  An instance a search starts (``--cluster local``) serves all its attempts (again with
+more element slots, on the Python step function: :func:`session`), their actors pooled, and is
+shut down with them at the end of the search.  Idle pooled actors hold their processes' memory
+(no CPU: an actor asks for none) until the instance is left or this process exits.
+
 Ray is an optional extra: ``pip install 'asmcheck[cluster]'``.
 """
 from __future__ import annotations
 
+import atexit
 import contextlib
 import os
 import pathlib
 import sys
 import tempfile
+import threading
 
 from ..errors import UsageError
-from .partition import Partition
+from .native_expand import Refused
+from .partition import Partition, rss_bytes
 from .search import WorkerLost
 
 NO_RAY = ("--cluster needs Ray, an optional extra: pip install 'asmcheck[cluster]' "
@@ -49,19 +64,45 @@ def import_ray():
     return ray
 
 
-class _Owner:
-    """The body of the partition actor."""
+# a pooled actor is taken again only if its resident memory is back within this many bytes of
+# what it was when it first began a search (the memory share bounds the whole process)
+REUSE_SLACK = 32 << 20
 
-    def __init__(self, wid, n, recipe, memory_share, keep_graph):
-        from .native_expand import Refused
-        self.refused = None
-        try:
-            # the native expander compiles the spec's step function here, or loads it from
-            # this node's cache
-            self.p = Partition(wid, n, recipe(), memory_share, keep_graph)
-        except Refused as e:
-            self.p = None
-            self.refused = str(e)
+
+class _Owner:
+    """The body of the partition actor: :meth:`setup` gives it a search's partition, :meth:`reset`
+    drops it (the actor may then serve another search)."""
+
+    def __init__(self):
+        self.p = None
+        self.base_rss = None
+
+    def setup(self, wid, n, recipe, memory_share, keep_graph):
+        """Build the partition ``wid`` of ``n`` (raises Refused when the native expander cannot
+        take the spec); returns this process's id."""
+        import time
+        from ..semantics.resolve import set_import_path
+        self.p = None
+        cpu0 = time.process_time()
+        if self.base_rss is None:
+            self.base_rss = rss_bytes()
+        # as a new process has it: the recipe sets its own import path, if any
+        set_import_path([])
+        # the native expander compiles the spec's step function here, or loads it from this
+        # node's cache
+        self.p = Partition(wid, n, recipe(), memory_share, keep_graph)
+        self.p.cpu0 = cpu0
+        return os.getpid()
+
+    def reset(self) -> int:
+        """Drop the partition; returns how much more resident memory this process holds than when
+        it first began a search."""
+        import gc
+        from ..explore.native_build import trim_heap
+        self.p = None
+        gc.collect()
+        trim_heap()
+        return rss_bytes() - (self.base_rss or 0)
 
     def node(self):
         """(this actor's node, the default memory bound of a process there)."""
@@ -74,9 +115,6 @@ class _Owner:
             self.p.memory_share = share
 
     def call(self, method, *args):
-        if self.p is None:
-            from .native_expand import Refused
-            raise Refused(self.refused)
         return getattr(self.p, method)(*args)
 
     def expand_level(self, *args):
@@ -85,6 +123,54 @@ class _Owner:
 
     def receive(self, *batches):
         return self.p.receive(list(batches))
+
+
+class ActorPool:
+    """The idle partition actors of this process on the Ray instance it joined (keyed by the
+    instance's node and this process's job: a pool outlives neither), each with the reference of
+    its :meth:`_Owner.reset` (asked for when its search ended, read when it is taken); killed at
+    exit."""
+
+    def __init__(self):
+        self.key = None
+        self.idle: list = []
+        self.lock = threading.Lock()        # (searches of several threads take and give)
+
+    def take(self, key, n: int) -> list:
+        """Up to ``n`` idle actors [(actor, reset reference)] of the instance ``key``."""
+        with self.lock:
+            if key != self.key:
+                self.key, self.idle = key, []
+            got, self.idle = self.idle[:n], self.idle[n:]
+            return got
+
+    def give(self, key, actors) -> None:
+        with self.lock:
+            if key == self.key:
+                self.idle.extend(actors)
+                actors = []
+        # (an instance left meanwhile: these go)
+        _kill([a for a, _ in actors])
+
+    def close(self) -> None:
+        with self.lock:
+            idle, self.idle, self.key = self.idle, [], None
+        _kill([a for a, _ in idle])
+
+
+def _kill(actors) -> None:
+    ray = sys.modules.get("ray")
+    if ray is None:
+        return
+    for a in actors:
+        try:
+            ray.kill(a)
+        except Exception:
+            pass
+
+
+POOL = ActorPool()
+atexit.register(POOL.close)
 
 
 # Ray's native code announces on the process's stderr that a local instance uses token
@@ -134,6 +220,20 @@ def connect(cluster: str, workers: int):
     return ray, True
 
 
+@contextlib.contextmanager
+def session(cluster: str, workers: int):
+    """Connected to the Ray instance named by ``cluster`` (see :func:`connect`) while inside:
+    the partition backends made there use this connection and pool their actors; an instance
+    this session started (or joined) is left, its pooled actors killed, at the end."""
+    ray, started = connect(cluster, workers)
+    try:
+        yield ray
+    finally:
+        if started:
+            POOL.close()
+            ray.shutdown()
+
+
 def _init(ray, cluster: str, workers: int, env: dict) -> None:
     if cluster == "local":
         ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
@@ -152,19 +252,56 @@ class RayBackend:
         self.n = n
         from ray.exceptions import RayError
         self.RayError = RayError
-        Actor = ray.remote(num_cpus=0, max_restarts=0)(_Owner)
-        first = None if memory_share == PER_NODE else memory_share
-        self.actors = [Actor.options(scheduling_strategy="SPREAD", name=None).remote(
-            w, n, recipe, first, keep_graph) for w in range(n)]
+        self.Actor = ray.remote(num_cpus=0, max_restarts=0)(_Owner)
+        # (an instance asmcheck started ends with the search: its actors are not kept)
+        self.pool_key = None
+        if not self.started:
+            ctx = ray.get_runtime_context()
+            self.pool_key = (ctx.get_node_id(), ctx.get_job_id())
+        self.actors = []
+        self.last_error = None
+        self.reused = self._reusable(POOL.take(self.pool_key, n)) if self.pool_key is not None else []
         try:
-            self.pids = self._get([a.call.remote("ping") for a in self.actors])
-            if memory_share == PER_NODE:
-                self.shares = self.node_shares()
-                self._get([a.set_memory_share.remote(s) for a, s in zip(self.actors, self.shares)])
+            try:
+                self._setup(recipe, memory_share, keep_graph)
+            except WorkerLost:
+                if not self.reused or not isinstance(self.last_error, self.ray.exceptions.RayActorError):
+                    raise
+                # a pooled actor is gone (its node left the cluster): new actors, once
+                self._kill(self.actors)
+                self.actors, self.reused = [], []
+                self._setup(recipe, memory_share, keep_graph)
+        except Refused:
+            # (an actor that cannot build its expander: the actors are sound, they may serve the
+            # search again on another expander)
+            self.close(reuse=True)
+            raise
         except BaseException:
-            # (an actor that cannot build its expander: the actors and the instance we started go)
             self.close()
             raise
+
+    def _reusable(self, pooled) -> list:
+        """The pooled actors whose reset succeeded with their memory back near its first level;
+        the others are killed."""
+        if not pooled:
+            return []
+        try:
+            grown = self.ray.get([ref for _, ref in pooled], timeout=60)
+        except Exception:
+            grown = [None] * len(pooled)
+        ok = [g is not None and g <= REUSE_SLACK for g in grown]
+        self._kill([a for (a, _), k in zip(pooled, ok) if not k])
+        return [a for (a, _), k in zip(pooled, ok) if k]
+
+    def _setup(self, recipe, memory_share, keep_graph):
+        n = self.n
+        self.actors = self.reused + [self.Actor.options(scheduling_strategy="SPREAD", name=None).remote()
+                                     for _ in range(n - len(self.reused))]
+        first = None if memory_share == PER_NODE else memory_share
+        self.pids = self._get([a.setup.remote(w, n, recipe, first, keep_graph) for w, a in enumerate(self.actors)])
+        if memory_share == PER_NODE:
+            self.shares = self.node_shares()
+            self._get([a.set_memory_share.remote(s) for a, s in zip(self.actors, self.shares)])
 
     def node_shares(self) -> list:
         """Each actor's memory share: the default bound of its node divided among the actors
@@ -179,7 +316,7 @@ class RayBackend:
         try:
             return self.ray.get(refs)
         except self.RayError as e:
-            from .native_expand import Refused
+            self.last_error = e
             cause = getattr(e, "cause", None)
             if isinstance(cause, Refused):
                 raise Refused(str(cause)) from None
@@ -188,29 +325,41 @@ class RayBackend:
             raise WorkerLost(f"a partition actor failed during the search ({dead}: {text}); "
                              f"the search has no verdict") from None
 
+    def level(self, args_list, route: bool):
+        """One level in one round trip: every actor's expand_level, and (``route``) each owner's
+        receive of its batches, sent at once (Ray runs a receive when the batches it takes
+        exist; they go from actor to actor).  When a worker stopped, its partners' receive ran
+        for nothing: the search ends there.  Returns (reports, receive()'s results or None)."""
+        n = self.n
+        refs = [a.expand_level.options(num_returns=n + 1).remote(*args)
+                for a, args in zip(self.actors, args_list)]
+        if not route:
+            return self._get([r[0] for r in refs]), None
+        recv = [a.receive.remote(*[refs[src][1 + w] for src in range(n)]) for w, a in enumerate(self.actors)]
+        out = self._get([r[0] for r in refs] + recv)
+        return out[:n], out[n:]
+
     def call_all(self, method: str, args_list):
-        if method == "expand_level":
-            n = self.n
-            refs = [a.expand_level.options(num_returns=n + 1).remote(*args)
-                    for a, args in zip(self.actors, args_list)]
-            reports = self._get([r[0] for r in refs])
-            # the batches stay in the object store: receive() takes them from there
-            return [(rep, r[1:]) for rep, r in zip(reports, refs)]
         return self._get([a.call.remote(method, *args) for a, args in zip(self.actors, args_list)])
 
     def call(self, w: int, method: str, *args):
         return self._get(self.actors[w].call.remote(method, *args))
 
-    def route(self, batches_by_src):
-        return self._get([a.receive.remote(*[b[w] for b in batches_by_src]) for w, a in enumerate(self.actors)])
-
-    def close(self):
-        for a in getattr(self, "actors", []):
+    def close(self, reuse=False):
+        """End the search: with ``reuse`` (it ended well, on an instance asmcheck joined) the
+        actors drop their partitions and go to the pool; else they are killed."""
+        actors, self.actors = getattr(self, "actors", []), []
+        if reuse and actors and getattr(self, "pool_key", None) is not None:
             try:
-                self.ray.kill(a)
+                POOL.give(self.pool_key, [(a, a.reset.remote()) for a in actors])
+                actors = []
             except Exception:
                 pass
-        self.actors = []
+        self._kill(actors)
         if getattr(self, "started", False):
             self.ray.shutdown()
             self.started = False
+
+    @staticmethod
+    def _kill(actors):
+        _kill(actors)

@@ -5,7 +5,8 @@ expander's compact local form), the global state number of each, its parent, the
 step from the parent and its depth.  The coordinator (:mod:`.search`) drives it level by level:
 
 1. :meth:`expand_level` expands the partition's frontier (in state-number order) and sorts the
-   successors into one batch per owner;
+   successors into one batch per owner (it first numbers the previous level's new states, step 3,
+   when they come with it: one call where a call costs a round trip);
 2. :meth:`receive` takes the batches addressed to it from every worker and finds the new states;
    a new state's *discovery key* is (number of its first parent, position among that parent's
    successors), which is exactly the order the sequential search discovers states in;
@@ -63,6 +64,7 @@ class Partition:
         self.sources: list = []                # (state number, distinct successors) in order, this level
         self.local: list = []                  # this level's successors that this partition owns
         self.level_depth = 0
+        self.cpu0 = 0.0                        # this process's CPU seconds when the partition began
 
     # -------------------------------------------------------------- memory
     def _check_memory(self):
@@ -86,10 +88,13 @@ class Partition:
         self.frontier.sort()
 
     # -------------------------------------------------------------- phase 1
-    def expand_level(self, depth: int, successors: bool, skip=(), deadline=None):
+    def expand_level(self, depth: int, successors: bool, skip=(), deadline=None, numbered=None):
         """Expand the frontier.  Returns (report, batches): ``batches[w]`` is the pickled list of
         successors owned by worker w; ``report`` has the transition count, the property failures
-        (each with its sort key (state, kind, successor, property)) and 'timeout'/'memory' flags."""
+        (each with its sort key (state, kind, successor, property)) and 'timeout'/'memory' flags.
+        ``numbered``: the arguments of :meth:`number` for the previous level's new states, which
+        are numbered first (they are this level's frontier); its edges are ``report['edges']``."""
+        edges = self.number(*numbered) if numbered is not None else None
         x = self.x
         n = self.n
         skip = frozenset(skip)
@@ -100,7 +105,7 @@ class Partition:
         broken = []                 # states none of whose successors can be computed
         branches = []               # (state, choices, error) of each failing branch (graph kept)
         report = {"transitions": 0, "failures": failures, "stopped": None, "expanded": 0,
-                  "broken": broken, "error_edges": branches}
+                  "broken": broken, "error_edges": branches, "edges": edges}
         try:
             self._check_memory()
             for count, sid in enumerate(self.frontier):
@@ -246,5 +251,5 @@ class Partition:
         return os.getpid()
 
     def cpu(self) -> float:
-        """CPU seconds this worker's process has used (for benchmarks)."""
-        return time.process_time()
+        """CPU seconds this worker's process has used since the partition began (for benchmarks)."""
+        return time.process_time() - self.cpu0

@@ -12,7 +12,7 @@ import signal
 import traceback
 
 from .partition import Partition, rss_bytes
-from .search import WorkerLost
+from .search import WorkerLost, level_by_calls
 
 
 def _serve(conn, wid, n, make_expander, memory_share, keep_graph):
@@ -54,7 +54,6 @@ class ProcessBackend:
         ctx = multiprocessing.get_context("fork")
         self.conns = []
         self.procs = []
-        self.level = 0
         try:
             for w in range(n):
                 parent, child = ctx.Pipe()
@@ -107,7 +106,10 @@ class ProcessBackend:
     def route(self, batches_by_src):
         return self.call_all("receive", [([b[w] for b in batches_by_src],) for w in range(self.n)])
 
-    def close(self):
+    def level(self, args_list, route: bool):
+        return level_by_calls(self, args_list, route)
+
+    def close(self, reuse=False):
         for c in self.conns:
             try:
                 c.send(None)

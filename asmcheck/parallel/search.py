@@ -9,6 +9,11 @@ The coordinator keeps no states: each state lives in the partition its hash name
   sequential search gives that state, so numbers, parents, shortest traces and ``--graph``
   are the sequential search's, whatever the number of workers.
 
+The numbers travel with the next level's expansion (a partition numbers its new states, then
+expands them), and a backend may hand the batches to their owners without waiting for the
+coordinator (:meth:`RayBackend.level <asmcheck.parallel.cluster.RayBackend.level>`): a level
+costs one round trip between the coordinator and the workers.
+
 Where the sequential search stops inside a level (a state limit, every property violated), the coordinator finds the same stopping point from per-state summaries and drops
 what the sequential search would not have reached.  A time limit stops at a level boundary.
 
@@ -51,8 +56,22 @@ class InlineBackend:
         """Hand each owner its batches (one from every worker); returns receive()'s results."""
         return self.call_all("receive", [([b[w] for b in batches_by_src],) for w in range(self.n)])
 
-    def close(self):
+    def level(self, args_list, route: bool):
+        return level_by_calls(self, args_list, route)
+
+    def close(self, reuse=False):
         self.parts = []
+
+
+def level_by_calls(backend, args_list, route: bool):
+    """One level on ``backend``: every partition's expand_level (with ``args_list``), then, when
+    ``route`` and no worker stopped, the batches to their owners.  Returns (reports, the
+    owners' receive() results or None)."""
+    res = backend.call_all("expand_level", args_list)
+    reports = [r for r, _ in res]
+    if not route or any(r["stopped"] for r in reports):
+        return reports, None
+    return reports, backend.route([bs for _, bs in res])
 
 
 class PartitionedSearch:
@@ -117,13 +136,19 @@ class PartitionedSearch:
         frontier_size = n_states
         depth = 0
         stop = False
+        numbered = None                 # the last level's numbers, not yet given to the partitions
+        limit = None
         while frontier_size and not stop:
             lt = time.perf_counter()
             expand = self.max_depth is None or depth < self.max_depth
             skip = tuple(chosen)
-            res = self.b.call_all("expand_level", [(depth, expand, skip, deadline)] * n)
-            reports = [r for r, _ in res]
-            batches = [bs for _, bs in res]
+            # (each partition first numbers the last level's new states: its frontier)
+            reports, received = self.b.level(
+                [(depth, expand, skip, deadline, None if numbered is None else numbered[w]) for w in range(n)],
+                expand)
+            if numbered is not None:
+                self._edges([r["edges"] for r in reports], limit)
+                numbered = None
             for w, r in enumerate(reports):
                 self.peak_rss[w] = max(self.peak_rss[w], r.get("rss", 0))
             stopped = [r["stopped"] for r in reports if r["stopped"]]
@@ -155,7 +180,6 @@ class PartitionedSearch:
                         chosen[name] = (rec[0], rec)
                         names_order.append(name)
                 break
-            received = self.b.route(batches)
             if any(isinstance(r, str) for r in received):
                 w = next(w for w, r in enumerate(received) if isinstance(r, str))
                 return self._partial(t0, n_states, transitions, depth_seen, chosen,
@@ -228,12 +252,7 @@ class PartitionedSearch:
                 s = sids_flat[pos]
                 if s >= 0:
                     self.owner[s] = owner_of_pos[pos]
-            edges = self.b.call_all("number", [(sids_flat[offsets[w]:offsets[w] + len(received[w])], depth + 1)
-                                               for w in range(n)])
-            if self.keep_graph:
-                allE = [e for es in edges for e in es if limit is None or e[0] < limit]
-                allE.sort(key=lambda e: e[0])
-                self.edges.extend((e[0] >> SHIFT, e[1], e[2]) for e in allE)
+            numbered = [(sids_flat[offsets[w]:offsets[w] + len(received[w])], depth + 1) for w in range(n)]
             new_states = nxt - n_states
             self.levels.append((depth, frontier_size, new_states, time.perf_counter() - lt))
             n_states = nxt
@@ -250,6 +269,8 @@ class PartitionedSearch:
                 time_limit = TimeLimit(self.max_seconds)
                 reason, why_stop = time_limit.text(), Stop.TIME
                 break
+        if numbered is not None:
+            self._edges(self.b.call_all("number", numbered), limit)
         self.n_states = n_states
         violations = [self._violation(chosen[name][1]) for name in
                       sorted(chosen, key=lambda nm: chosen[nm][0])]
@@ -262,6 +283,13 @@ class PartitionedSearch:
         return res
 
     # -------------------------------------------------------------- helpers
+    def _edges(self, edges, limit) -> None:
+        """The edges the partitions gave when they numbered a level's new states (graph kept)."""
+        if self.keep_graph:
+            allE = [e for es in edges for e in es if limit is None or e[0] < limit]
+            allE.sort(key=lambda e: e[0])
+            self.edges.extend((e[0] >> SHIFT, e[1], e[2]) for e in allE)
+
     def _name(self, rec) -> str:
         kind, i = rec[0][1], rec[1]
         if kind == K_STATE:

@@ -12,6 +12,9 @@ from array import array
 
 from ..explore.bfs import Explorer
 
+# the successors (of the last sources asked for) whose choices PartitionedExplorer.picks keeps
+PICKS_HELD = 1 << 15
+
 
 class _Lazy:
     """One per-state column, fetched from the owners on demand."""
@@ -40,7 +43,8 @@ class PartitionedExplorer(Explorer):
         self.search = search
         self._n = 0
         self._cache: dict = {}
-        self._picks_src = None
+        self._picks_src: dict = {}      # source -> its successors [(choices, frozen state)], the last few
+        self._picks_held = 0            # how many successors _picks_src holds
         self.gathered = False
 
     @property
@@ -119,16 +123,20 @@ class PartitionedExplorer(Explorer):
         """The choices of the step from state ``src`` to its successor at ``position``, which is the
         state frozen as ``target`` (the native expander sends positions; the Python step function
         gives the choices, for the few states a trace or the graph shows; the successors of the
-        last source are kept).  Where the Python step function's successor at that position is
-        another state, the first of its successors that is ``target`` gives them, as the native
-        engine's own replay finds them."""
+        last sources, up to PICKS_HELD of them, are kept: the states' choices, then the edges',
+        ask for the same sources).  Where the Python step function's successor at that position
+        is another state, the first of its successors that is ``target`` gives them, as the
+        native engine's own replay finds them."""
         from ..explore.bfs import ReplayError
         cache = self._picks_src
-        if cache is None or cache[0] != src:
+        succ = cache.get(src)
+        if succ is None:
             # (a state where some branch fails has its well-defined successors in the graph)
-            succ = self.admitted_successors(self.state(src), errors=[])
-            cache = self._picks_src = (src, [(s[0], self.layout.freeze(s[3])) for s in succ])
-        succ = cache[1]
+            succ = [(s[0], self.layout.freeze(s[3])) for s in self.admitted_successors(self.state(src), errors=[])]
+            while cache and self._picks_held + len(succ) > PICKS_HELD:
+                self._picks_held -= len(cache.pop(next(iter(cache))))
+            cache[src] = succ
+            self._picks_held += len(succ)
         if 0 <= position < len(succ) and succ[position][1] == target:
             return succ[position][0]
         for picks, fz in succ:
