@@ -718,6 +718,9 @@ static void note_range_m(const uint64_t *w, int64_t depth, const uint64_t *dm) {
     MW_EACH(dm, j, { if (wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth); })
 }
 
+#if NSTEP > 0
+static void skip_init(void);
+#endif
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
                   double max_seconds, int64_t deadlock, int64_t keep_graph) {
     asm_free();                      /* a previous search in this process */
@@ -732,6 +735,9 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
         for (int s = 0; s < NSLOTS; s++) ws_slot[fill[SLOT_WORD[s]]++] = s;
     }
     memset(&S, 0, sizeof(S));
+#if NSTEP > 0
+    skip_init();
+#endif
     if (!ctx_zero(&ctx0)) { S.status = 5; return 5; }      /* (out of memory: asm_run says so) */
     ctx_static.seqstart = -1;
     ctx_static.rd = ctx_static.cur;
@@ -1314,6 +1320,33 @@ static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint
 #endif
 
 
+#if NSTEP > 0
+/* Step properties true in a step without being evaluated: property k holds (1, nothing fails) in a
+   step that updated no slot of one of its sets (SKIP_SET_OFF[k] .. SKIP_SET_OFF[k + 1], bitmaps
+   SKIP_BITS of SKIP_NW words: the generator's true_sets, where the property's guard is false).
+   A slot is updated (wgen) exactly when it is in the update buffer, whose slots post_slot lists.
+   skip_of[s]: the sets slot s is in (bit j: set j, for the first 64 sets). */
+#define NSKIP (SKIP_SET_OFF[NSTEP])
+static uint64_t skip_of[NSLOTS > 0 ? NSLOTS : 1];
+static uint64_t skip_sets[NSTEP];            /* the sets of each property (bits of skip_of) */
+static void skip_init(void) {
+    memset(skip_of, 0, sizeof(skip_of));
+    for (int k = 0; k < NSTEP; k++) {
+        skip_sets[k] = 0;
+        for (int j = SKIP_SET_OFF[k]; j < SKIP_SET_OFF[k + 1] && j < 64; j++) skip_sets[k] |= 1ULL << j;
+    }
+    for (int j = 0; j < NSKIP && j < 64; j++)
+        for (int s = 0; s < NSLOTS; s++)
+            if ((SKIP_BITS[(int64_t)j * SKIP_NW + (s >> 6)] >> (s & 63)) & 1) skip_of[s] |= 1ULL << j;
+}
+/* the sets the step just run (after make_post) updated a slot of */
+static inline uint64_t skip_hit(const Ctx *c) {
+    uint64_t hit = 0;
+    for (int32_t i = 0; i < c->npost; i++) hit |= skip_of[c->post_slot[i]];
+    return hit;
+}
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1365,8 +1398,10 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             uint64_t *m = b->m + 2 * b->n;
             m[0] = m[1] = 0;
 #if NSTEP > 0
+            uint64_t hit = NSKIP > 0 ? skip_hit(c) : 0;
             for (int k = 0; k < NSTEP; k++) {
                 if (skip ? skip[k] : S.violated[NINV + 2 + k]) continue;
+                if (skip_sets[k] & ~hit) continue;      /* (a set of k the step did not touch) */
                 c->err = 0;
                 V v = check_step_prop(c, k);
                 if (MISSED()) return EXP_MISSED;
