@@ -207,10 +207,10 @@ static int pk_wf_off[PK_NW + 1], pk_wf[PK_NW];
 void asm_pack(int64_t on) { pk_allow = on != 0; }
 int64_t asm_packed_words(void) { return pk_on ? PW : -1; }
 
-static inline uint64_t pk_hash(uint32_t j, uint64_t v) { return mix64(v * HP1 + j); }
-
 /* word j holding v: its term of a state's hash */
 static inline uint64_t pk_term(int j, uint64_t v) { return mix64(v + (uint64_t)(j + 1) * HP2); }
+/* and its position in the dictionary (the same: pk_prepare computes it once for both) */
+static inline uint64_t pk_hash(uint32_t j, uint64_t v) { return pk_term((int)j, v); }
 /* the hash of the state of plain words w */
 static inline uint64_t pk_state_hash(const uint64_t *w) {
     uint64_t h = 0;
@@ -370,19 +370,21 @@ static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp, con
     /* the words that differ, their dictionary entries fetched before any is read (a successor
        changes several words: the look-ups' cache misses overlap) */
     int ch[PK_NW], nch = 0;
-    uint64_t hx[PK_NW];
+    uint64_t hx[PK_NW];       /* (pk_term of each: also its dictionary hash, pk_hash) */
     if (cand) {
         MW_EACH(cand, j, {
             uint64_t x = w[j];
             if (x == pk_par_w[j]) continue;
-            if (!pk_raw[j] && pk_tab) { hx[nch] = pk_hash((uint32_t)j, x); __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]); }
+            hx[nch] = pk_term(j, x);
+            if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]);
             ch[nch++] = j;
         })
     } else {
         for (int j = 0; j < NWORDS; j++) {
             uint64_t x = w[j];
             if (x == pk_par_w[j]) continue;
-            if (!pk_raw[j] && pk_tab) { hx[nch] = pk_hash((uint32_t)j, x); __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]); }
+            hx[nch] = pk_term(j, x);
+            if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]);
             ch[nch++] = j;
         }
     }
@@ -390,7 +392,7 @@ static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp, con
     for (int q = 0; q < nch; q++) {
         int j = ch[q];
         uint64_t x = w[j];
-        hh += pk_term(j, x) - pk_par_t[j];
+        hh += hx[q] - pk_par_t[j];
         if (dm) dm[j >> 6] |= 1ULL << (j & 63);
         uint64_t k = x;
         if (!pk_raw[j]) {
