@@ -1332,7 +1332,7 @@ static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint
 static uint64_t skip_of[NSLOTS > 0 ? NSLOTS : 1];
 static uint64_t skip_sets[NSTEP];            /* the sets of each property (bits of skip_of) */
 static void skip_init(void) {
-    memset(skip_of, 0, sizeof(skip_of));
+    if (NSKIP > 0) memset(skip_of, 0, sizeof(skip_of));      /* (else its pages are never touched) */
     for (int k = 0; k < NSTEP; k++) {
         skip_sets[k] = 0;
         for (int j = SKIP_SET_OFF[k]; j < SKIP_SET_OFF[k + 1] && j < 64; j++) skip_sets[k] |= 1ULL << j;
