@@ -1,7 +1,7 @@
 """The native search does not evaluate a step property in a step that leaves it true by its form:
 ``[A implies] forall $x in D with G implies B`` (A and the quantifier over constant domains unable to
 fail) where G is false because the step updated no location of the functions that its updated /
-changed terms name (NativeGenerator.true_sets; native_bfs.c skip_of).  Each spec here is explored by
+changed terms name (Generator.true_sets; native_bfs.c skip_of).  Each spec here is explored by
 both engines (equal JSON reports): the properties where the shortcut must not hide anything -- the
 step updates the location (also with the value it had), or a term evaluated before G fails.
 
