@@ -2801,6 +2801,7 @@ class Generator:
             inv_code.append(f"    case {i}: return {e};")
         inv_code += ["    }", "    return 1;", "}"]
         inv_code += self.invariant_slots_table()
+        inv_code += self.step_skip_table()
         inv_code += ["static V check_step_prop1(Ctx *c, int k) {", "    V r = 1;", "    c->in_prop = 1;", "    switch (k) {"]
         for i, e in enumerate(steps):
             inv_code.append(f"    case {i}: r = {e}; break;")
@@ -2898,6 +2899,93 @@ class Generator:
             return f"static const {ctype} {name}[] = {{{', '.join(f'{x}{suffix}' for x in xs) or '0'}}};"
         return [arr("int", "INV_OFF", offs), arr("int", "INV_W", ws), arr("uint64_t", "INV_M", ms, "ULL"),
                 arr("int", "INV_ALL", alls)]
+
+    def function_slots(self, f) -> set | None:
+        """The slots of the locations of controlled function ``f``, or None when they are not all
+        slots of their own (a function held as a map, lazily laid out, local)."""
+        if f.kind not in ("controlled", "shared", "out") or f.index in self.map_slot or \
+                f.index not in self.fn_base or f.index in (getattr(self.m, "lazy", ()) or ()):
+            return None
+        out = set()
+        for s, key in enumerate(self.slots):
+            fi = key if type(key) is int else key[0] if type(key) is tuple and type(key[0]) is int else None
+            if fi == f.index:
+                out.add(s)
+        return out or None
+
+    def quiet_term(self, t) -> bool:
+        """Whether evaluating ``t`` in a step property never fails (no error, no monitored choice):
+        a constant, a bound variable, a 0-ary controlled location, updated / changed of a location
+        of a controlled function at such arguments, and not / and / or / implies of such terms."""
+        if isinstance(t, (ir.Const, ir.VarRef)):
+            return True
+        if isinstance(t, ir.Loc):
+            return not t.args and self.function_slots(t.func) is not None
+        if isinstance(t, ir.StepOp):
+            return t.op in ("updated", "changed") and isinstance(t.args[-1], ir.Loc) and \
+                self.function_slots(t.args[-1].func) is not None and \
+                all(isinstance(a, (ir.Const, ir.VarRef)) for a in t.args[-1].args)
+        if isinstance(t, ir.Call) and t.name in ("not", "and", "or", "implies"):
+            return all(self.quiet_term(a) for a in t.args)
+        return False
+
+    def false_sets(self, t) -> list | None:
+        """Sets of slots such that ``t`` is false, and evaluating it fails in no way, in a step
+        that updates no slot of one of them (None: none known)."""
+        if isinstance(t, ir.StepOp):
+            if not self.quiet_term(t):
+                return None
+            return [frozenset(self.function_slots(t.args[-1].func))]
+        if isinstance(t, ir.Call) and t.name == "or" and len(t.args) == 2:
+            a, b = (self.false_sets(x) for x in t.args)
+            if a is None or b is None or len(a) != 1 or len(b) != 1:
+                return None
+            return [a[0] | b[0]]
+        if isinstance(t, ir.Call) and t.name == "and" and len(t.args) == 2:
+            # (the first conjunct false: the second is not evaluated; the second false: the first
+            # was evaluated, so it must not fail)
+            a = self.false_sets(t.args[0]) or []
+            b = (self.false_sets(t.args[1]) or []) if self.quiet_term(t.args[0]) else []
+            return (a + b) or None
+        return None
+
+    def true_sets(self, t) -> list | None:
+        """Sets of slots such that step property ``t`` is true (1, without error) in a step that
+        updates no slot of one of them: ``A implies forall ... with G implies B`` (A quiet, the
+        quantifier over constant domains) where G is false by false_sets."""
+        if isinstance(t, ir.Call) and t.name == "implies" and len(t.args) == 2:
+            a, b = t.args
+            return self.true_sets(b) if self.quiet_term(a) else None
+        if isinstance(t, ir.Quant) and t.kind == "forall" and isinstance(t.guard, ir.Call) and \
+                t.guard.name == "implies" and len(t.guard.args) == 2:
+            for _, rg in t.bindings:
+                if not isinstance(rg, ir.DomainTerm):
+                    return None
+                try:
+                    if self.dyn_values(rg.domain) or not self.range_values(rg):
+                        return None
+                except Unsupported:
+                    return None
+            return self.false_sets(t.guard.args[0])
+        return None
+
+    def step_skip_table(self) -> list:
+        """The steps in which a step property need not be evaluated (it is true): for step property
+        k, the sets SKIP_SET_OFF[k] <= j < SKIP_SET_OFF[k + 1], each a bitmap of slots SKIP_BITS[j *
+        SKIP_NW ..] (true_sets): when the step updated no slot of one of them, its value is 1."""
+        nw = max((len(self.slots) + 63) // 64, 1)
+        offs, bits = [0], []
+        for p in self.step_props:
+            sets = None if type(p).__name__ == "MonitoredInvariant" else self.true_sets(p.prop.body)
+            for st in sets or ():
+                b = [0] * nw
+                for x in st:
+                    b[x >> 6] |= 1 << (x & 63)
+                bits += b
+            offs.append(offs[-1] + len(sets or ()))
+        return [f"#define SKIP_NW {nw}",
+                f"static const int SKIP_SET_OFF[] = {{{', '.join(map(str, offs))}}};",
+                f"static const uint64_t SKIP_BITS[] = {{{', '.join(f'{x}ULL' for x in bits) or '0'}}};"]
 
     # -------------------------------------------------------------- state atoms of temporal properties
     def label_code(self) -> list:
@@ -3926,6 +4014,7 @@ _SHARED_STATICS = frozenset("""
     wide_of_word self_first sb_self sb_self_cap
     sym_refused
     pk_par_t pk_dirty pk_dirty_ok pre_dm inv_wm inv_wm_ok cm_on sb_cm sb_cm_cap cn_wm cn_wm_ok
+    skip_of skip_sets
 """.split())
 _STATIC_VAR = re.compile(r"\bstatic\s+(?!const\b|_Thread_local\b|inline\b)((?:volatile\s+)?[A-Za-z_]\w*\s*\**)\s*"
                          r"([A-Za-z_]\w*)\s*(?=[\[=;,])")

@@ -207,10 +207,10 @@ static int pk_wf_off[PK_NW + 1], pk_wf[PK_NW];
 void asm_pack(int64_t on) { pk_allow = on != 0; }
 int64_t asm_packed_words(void) { return pk_on ? PW : -1; }
 
-static inline uint64_t pk_hash(uint32_t j, uint64_t v) { return mix64(v * HP1 + j); }
-
 /* word j holding v: its term of a state's hash */
 static inline uint64_t pk_term(int j, uint64_t v) { return mix64(v + (uint64_t)(j + 1) * HP2); }
+/* and its position in the dictionary (the same: pk_prepare computes it once for both) */
+static inline uint64_t pk_hash(uint32_t j, uint64_t v) { return pk_term((int)j, v); }
 /* the hash of the state of plain words w */
 static inline uint64_t pk_state_hash(const uint64_t *w) {
     uint64_t h = 0;
@@ -370,19 +370,21 @@ static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp, con
     /* the words that differ, their dictionary entries fetched before any is read (a successor
        changes several words: the look-ups' cache misses overlap) */
     int ch[PK_NW], nch = 0;
-    uint64_t hx[PK_NW];
+    uint64_t hx[PK_NW];       /* (pk_term of each: also its dictionary hash, pk_hash) */
     if (cand) {
         MW_EACH(cand, j, {
             uint64_t x = w[j];
             if (x == pk_par_w[j]) continue;
-            if (!pk_raw[j] && pk_tab) { hx[nch] = pk_hash((uint32_t)j, x); __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]); }
+            hx[nch] = pk_term(j, x);
+            if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]);
             ch[nch++] = j;
         })
     } else {
         for (int j = 0; j < NWORDS; j++) {
             uint64_t x = w[j];
             if (x == pk_par_w[j]) continue;
-            if (!pk_raw[j] && pk_tab) { hx[nch] = pk_hash((uint32_t)j, x); __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]); }
+            hx[nch] = pk_term(j, x);
+            if (!pk_raw[j] && pk_tab) __builtin_prefetch(&pk_tab[hx[nch] & pk_mask]);
             ch[nch++] = j;
         }
     }
@@ -390,7 +392,7 @@ static inline int pk_prepare(const uint64_t *w, uint64_t *rec, uint64_t *hp, con
     for (int q = 0; q < nch; q++) {
         int j = ch[q];
         uint64_t x = w[j];
-        hh += pk_term(j, x) - pk_par_t[j];
+        hh += hx[q] - pk_par_t[j];
         if (dm) dm[j >> 6] |= 1ULL << (j & 63);
         uint64_t k = x;
         if (!pk_raw[j]) {
@@ -718,6 +720,9 @@ static void note_range_m(const uint64_t *w, int64_t depth, const uint64_t *dm) {
     MW_EACH(dm, j, { if (wide_of_word[j] >= 0) note_value(wide_of_word[j], (V)w[j], depth); })
 }
 
+#if NSTEP > 0
+static void skip_init(void);
+#endif
 int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int64_t max_depth,
                   double max_seconds, int64_t deadlock, int64_t keep_graph) {
     asm_free();                      /* a previous search in this process */
@@ -732,6 +737,9 @@ int64_t asm_start(const uint64_t *inits, int64_t ninit, int64_t max_states, int6
         for (int s = 0; s < NSLOTS; s++) ws_slot[fill[SLOT_WORD[s]]++] = s;
     }
     memset(&S, 0, sizeof(S));
+#if NSTEP > 0
+    skip_init();
+#endif
     if (!ctx_zero(&ctx0)) { S.status = 5; return 5; }      /* (out of memory: asm_run says so) */
     ctx_static.seqstart = -1;
     ctx_static.rd = ctx_static.cur;
@@ -1314,6 +1322,33 @@ static inline int cn_key_unchanged(const Ctx *c, const uint64_t *src, const uint
 #endif
 
 
+#if NSTEP > 0
+/* Step properties true in a step without being evaluated: property k holds (1, nothing fails) in a
+   step that updated no slot of one of its sets (SKIP_SET_OFF[k] .. SKIP_SET_OFF[k + 1], bitmaps
+   SKIP_BITS of SKIP_NW words: the generator's true_sets, where the property's guard is false).
+   A slot is updated (wgen) exactly when it is in the update buffer, whose slots post_slot lists.
+   skip_of[s]: the sets slot s is in (bit j: set j, for the first 64 sets). */
+#define NSKIP (SKIP_SET_OFF[NSTEP])
+static uint64_t skip_of[NSLOTS > 0 ? NSLOTS : 1];
+static uint64_t skip_sets[NSTEP];            /* the sets of each property (bits of skip_of) */
+static void skip_init(void) {
+    if (NSKIP > 0) memset(skip_of, 0, sizeof(skip_of));      /* (else its pages are never touched) */
+    for (int k = 0; k < NSTEP; k++) {
+        skip_sets[k] = 0;
+        for (int j = SKIP_SET_OFF[k]; j < SKIP_SET_OFF[k + 1] && j < 64; j++) skip_sets[k] |= 1ULL << j;
+    }
+    for (int j = 0; j < NSKIP && j < 64; j++)
+        for (int s = 0; s < NSLOTS; s++)
+            if ((SKIP_BITS[(int64_t)j * SKIP_NW + (s >> 6)] >> (s & 63)) & 1) skip_of[s] |= 1ULL << j;
+}
+/* the sets the step just run (after make_post) updated a slot of */
+static inline uint64_t skip_hit(const Ctx *c) {
+    uint64_t hit = 0;
+    for (int32_t i = 0; i < c->npost; i++) hit |= skip_of[c->post_slot[i]];
+    return hit;
+}
+#endif
+
 static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int *err, int *site,
                         const uint8_t *skip) {
     c->plen = 0;
@@ -1365,8 +1400,10 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
             uint64_t *m = b->m + 2 * b->n;
             m[0] = m[1] = 0;
 #if NSTEP > 0
+            uint64_t hit = NSKIP > 0 ? skip_hit(c) : 0;
             for (int k = 0; k < NSTEP; k++) {
                 if (skip ? skip[k] : S.violated[NINV + 2 + k]) continue;
+                if (skip_sets[k] & ~hit) continue;      /* (a set of k the step did not touch) */
                 c->err = 0;
                 V v = check_step_prop(c, k);
                 if (MISSED()) return EXP_MISSED;
