@@ -324,7 +324,7 @@ def test_the_element_slots_a_search_needed_are_where_the_next_one_starts(tmp_pat
     assert search() == (32, 32, ("holds", 21, 21, 20))
     assert native_build.last_compile_seconds == 0.0
     # a number the retry could not have reached is not believed
-    for bad in ("48", "128", "8", "x32", ""):
+    for bad in ("48", "512", "8", "x32", ""):
         notes[0].write_text(bad)
         assert search() == (16, 32, ("holds", 21, 21, 20)), bad
         assert notes[0].read_text() == "32"
