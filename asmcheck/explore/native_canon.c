@@ -38,7 +38,7 @@
  * call by the context's address. */
 typedef struct { char *p; int n, cap; } CnBuf;
 /* a text of a buffer: where it starts, its length, its first 8 bytes big-endian (0 past its end:
-   texts hold no byte 0), which order most pairs of texts without reading them (cn_span_pre) */
+   texts hold no byte 0), which order most pairs of texts without reading them (cn_pre) */
 typedef struct { uint64_t pre; int off, len; } CnSpan;
 /* a kept round-0 text: of location slot (or of an entry of the map in slot slot - CN_MENT: key
    val, value val2) with element me as '*' */
@@ -78,8 +78,8 @@ typedef struct {
     uint8_t sflag[NSLOTS > 0 ? NSLOTS : 1];
     uint8_t hv[NSLOTS > 0 ? NSLOTS : 1];          /* the slot's value holds elements (this form's walk) */
     int live[NSLOTS > 0 ? NSLOTS : 1];            /* the slots that may hold elements with a value */
-    int tlist[(NSLOTS > 0 ? NSLOTS : 1) + CN_NDYN]; /* the slots given a new value (rebuild) */
-    uint32_t tmark[(NSLOTS > 0 ? NSLOTS : 1) + CN_NDYN], tgen;
+    int tlist[NSLOTS > 0 ? NSLOTS : 1];           /* the slots given a new value (rebuild), each once */
+    uint32_t tmark[NSLOTS > 0 ? NSLOTS : 1], tgen; /* (tmark[s] == tgen: s is in tlist) */
 } CnW;
 static int64_t cn_search = 0;               /* counts the searches started (asm_canon_reset) */
 
@@ -297,17 +297,17 @@ static int cn_itoa(char *t, V x) {
     return k;
 }
 
-static inline void cn_span_pre(const char *base, CnSpan *x) {
-    const uint8_t *p = (const uint8_t *)base + x->off;
+/* the first 8 bytes of the text at base + off, len bytes long, big-endian (0 past its end) */
+static inline uint64_t cn_pre(const char *base, int off, int len) {
+    const uint8_t *p = (const uint8_t *)base + off;
     uint64_t v;
-    if (x->len >= 8) {
+    if (len >= 8) {
         memcpy(&v, p, 8);
-        v = __builtin_bswap64(v);
-    } else {
-        v = 0;
-        for (int i = 0; i < x->len; i++) v |= (uint64_t)p[i] << (56 - 8 * i);
+        return __builtin_bswap64(v);
     }
-    x->pre = v;
+    v = 0;
+    for (int i = 0; i < len; i++) v |= (uint64_t)p[i] << (56 - 8 * i);
+    return v;
 }
 /* the order of two texts (memcmp's, then the shorter first) */
 static inline int cn_span_cmp_base(const char *base, const CnSpan *x, const CnSpan *y) {
@@ -414,7 +414,7 @@ static int cn_text(CnW *W, CnBuf *b, V v, int ty) {
             ok = cn_text(W, &tmp, e[i], CN_TY[ty + 1]);
             sp[i].len = tmp.n - sp[i].off;
         }
-        for (int i = 0; ok && i < n; i++) cn_span_pre(tmp.p, &sp[i]);
+        for (int i = 0; ok && i < n; i++) sp[i].pre = cn_pre(tmp.p, sp[i].off, sp[i].len);
         if (ok) {
             cn_sort_spans(tmp.p, sp, n);
             ok = cn_put(b, "{", 1);
@@ -570,9 +570,7 @@ static const CnMemo *cn_memo_text(CnW *W, int s, V val, V val2, int me) {
     if (!(s >= CN_MENT ? cn_text_kv(W, &W->mtext, s - CN_MENT, val, val2) : cn_text_loc(W, &W->mtext, s))) return 0;
     CnMemo *m = &W->memo[h];
     m->slot = s; m->me = me; m->val = val; m->val2 = val2; m->off = off; m->len = W->mtext.n - off;
-    CnSpan x = {0, off, m->len};
-    cn_span_pre(W->mtext.p, &x);
-    m->pre = x.pre;
+    m->pre = cn_pre(W->mtext.p, off, m->len);
     W->mcount++;
     return m;
 }
@@ -1003,14 +1001,13 @@ static int canon_state_(Ctx *c, uint64_t *w) {
                     }
                     int off = W->tb.n;
                     if (!(L->ent >= 0 ? cn_text_ent(W, &W->tb, L->slot, L->ent) : cn_text_loc(W, &W->tb, L->slot))) return CN_TEXT;
-                    CnSpan x = {0, off, W->tb.n - off};
-                    cn_span_pre(W->tb.p, &x);
-                    if (!cn_add_spans(W, off, x.len, x.pre, cnt)) return CN_TEXT;
+                    int len = W->tb.n - off;
+                    if (!cn_add_spans(W, off, len, cn_pre(W->tb.p, off, len), cnt)) return CN_TEXT;
                 }
                 els[q].sig_n = W->nsp - els[q].sig_off;
-                W->sbase = r == 0 ? W->mtext.p : W->tb.p;
-                cn_sort_spans(W->sbase, W->sp + els[q].sig_off, els[q].sig_n);
+                cn_sort_spans(r == 0 ? W->mtext.p : W->tb.p, W->sp + els[q].sig_off, els[q].sig_n);
             }
+            /* (where the group's spans point, once its texts are all made: a buffer moves as it grows) */
             W->sbase = r == 0 ? W->mtext.p : W->tb.p;
             for (int q = i + 1; q < j; q++) {     /* by signature, ties by element */
                 CnEl x = els[q];
@@ -1040,7 +1037,7 @@ static int canon_state_(Ctx *c, uint64_t *w) {
     for (int d = 0; d < CN_NDYN; d++) if (kept[d] != n[d] || n[d] != (int)W->val[CN_COUNT_SLOT[d]]) changed = 1;
     if (!changed) { cn_done_add(W, key, kh, w); return 0; }
     /* rebuild: locations over elements move with them, values are renamed (only the slots with a
-       value, and the ones they move to, are looked at: W->tset marks the slots given a new value) */
+       value, and the ones they move to, are looked at: W->tlist, the slots given a new value) */
     if (++W->tgen == 0) { memset(W->tmark, 0, sizeof(W->tmark)); W->tgen = 1; }
     int nt = 0;
 #define CN_SET(s_, v_) do { int s__ = (s_); if (W->tmark[s__] != W->tgen) { W->tmark[s__] = W->tgen; W->tlist[nt++] = s__; } W->new_[s__] = (v_); } while (0)
