@@ -271,8 +271,19 @@ def quotient_plan(machine, props, fair=(), graph=False):
     if not any(p.kind in ("ltl", "ctl") for p in props):
         return None
     edges_too = bool(graph or fair)
+    # each search of an explorer asks again with the same initial states: the answer of the last
+    # question is kept (the states themselves held, so that identity names them)
+    last: dict = {}
 
     def plan(state):
+        got = last.get("plan")
+        if got is not None and got[0] is state:
+            return got[1]
+        out = _plan(state)
+        last["plan"] = (state, out)
+        return out
+
+    def _plan(state):
         atoms, checks, justice, compassion, _, errors, invars, used = formulas(machine, props, [], state)
         if errors or not any(f is not None for _, _, f, _ in checks):
             return None
@@ -288,6 +299,14 @@ def quotient_plan(machine, props, fair=(), graph=False):
     def need(states):
         # the successor lists the CTL check reads (temporal/need.py), ``states`` the initial states:
         # (EdgeNeed or ALL, the atoms)
+        got = last.get("need")
+        if got is not None and len(got[0]) == len(states) and all(a is b for a, b in zip(got[0], states)):
+            return got[1]
+        out = _need(states)
+        last["need"] = (list(states), out)
+        return out
+
+    def _need(states):
         from .need import ALL, edge_need
         atoms, checks, justice, compassion, _, errors, invars, used = formulas(machine, props, [], states[0])
         if errors or edges_too:
