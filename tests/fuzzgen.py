@@ -1,0 +1,325 @@
+"""Random small AsmetaL specs for the differential test of the native engine against the Python
+engine (tests/test_native_fuzz.py, scripts/fuzz_native.py).
+
+``spec(seed)`` gives one spec, the same for the same seed: an enum domain, an Integer subset, a
+few controlled functions (0-ary and unary, Boolean, enum, Integer-subset and Integer valued, and
+with ``seq`` features a sequence), monitored inputs, a derived function, a macro rule, and a main
+rule built from every rule form the generator knows (update, par, seq, if, switch, let, choose
+with and without ifnone, forall, macro call, extend, skip), with invariants and CTL/LTL
+properties over the state.  Terms are well typed; values may still leave a domain, and updates
+may clash: those are run-time errors both engines must report alike.
+"""
+from __future__ import annotations
+
+import random
+
+ENUM = ("AA", "BB", "CC")
+DMAX = 3            # domain D = {0 : DMAX}
+
+
+class Gen:
+    def __init__(self, seed: int):
+        self.r = random.Random(seed)
+        r = self.r
+        self.seq = r.random() < 0.35          # a Seq(E) location
+        self.ext = r.random() < 0.2           # an abstract domain grown by extend
+        self.mon = r.random() < 0.6           # monitored inputs
+        self.intc = r.random() < 0.4          # an Integer counter (bounded by mod)
+        self.sets = r.random() < 0.35         # a Powerset(Col) location
+        self.bound: list[tuple[str, str]] = []    # ($var, type) in scope
+        self.in_macro = False                      # (the macro calls no macro: no recursion)
+
+    # -- terms ---------------------------------------------------------------------------
+    def pick(self, xs):
+        return xs[self.r.randrange(len(xs))]
+
+    def var(self, typ: str):
+        vs = [v for v, t in self.bound if t == typ]
+        return self.pick(vs) if vs and self.r.random() < 0.6 else None
+
+    def e(self, d: int = 0) -> str:
+        r = self.r
+        v = self.var("E")
+        if v:
+            return v
+        k = r.randrange(5 if d < 2 else 3)
+        if k == 0:
+            return self.pick(ENUM)
+        if k == 1:
+            return "c"
+        if k == 2:
+            return "he(" + self.pick(ENUM) + ")"
+        if k == 3:
+            return f"if {self.b(d + 1)} then {self.e(d + 1)} else {self.e(d + 1)} endif"
+        return "mE" if self.mon else "c"
+
+    def dterm(self, d: int = 0) -> str:
+        """A term of the domain D (an Integer between 0 and DMAX), or one that may leave it."""
+        r = self.r
+        v = self.var("D")
+        if v:
+            return v
+        k = r.randrange(8 if d < 2 else 4)
+        if k == 0:
+            return str(r.randint(0, DMAX))
+        if k == 1:
+            return "x"
+        if k == 2:
+            return "y"
+        if k == 3:
+            return f"fv({self.e(d + 1)})"
+        if k == 4:
+            return f"({self.dterm(d + 1)} + {self.dterm(d + 1)}) mod {DMAX + 1}"
+        if k == 5:
+            return f"({self.dterm(d + 1)} * {self.dterm(d + 1)}) mod {DMAX + 1}"
+        if k == 6:
+            return f"dd({self.e(d + 1)})"
+        return f"if {self.b(d + 1)} then {self.dterm(d + 1)} else {self.dterm(d + 1)} endif"
+
+    def b(self, d: int = 0) -> str:
+        r = self.r
+        v = self.var("B")
+        if v and r.random() < 0.5:
+            return v
+        k = r.randrange(11 if d < 2 else 5)
+        if k == 0:
+            return "bb"
+        if k == 1:
+            return f"gb({self.e(d + 1)})"
+        if k == 2:
+            return f"{self.dterm(d + 1)} {self.pick(['=', '!=', '<', '<=', '>', '>='])} {self.dterm(d + 1)}"
+        if k == 3:
+            return f"{self.e(d + 1)} {self.pick(['=', '!='])} {self.e(d + 1)}"
+        if k == 4:
+            return ("mB" if self.mon else "bb")
+        if k == 5:
+            return f"not({self.b(d + 1)})"
+        if k == 6:
+            return f"({self.b(d + 1)} {self.pick(['and', 'or', 'xor', 'implies', 'iff'])} {self.b(d + 1)})"
+        if k == 7:
+            q = self.pick(["forall", "exist", "exist unique"])
+            v = f"$q{d}"
+            self.bound.append((v, "E"))
+            body = self.b(d + 1)
+            self.bound.pop()
+            return f"({q} {v} in Col with {body})"
+        if k == 8 and self.seq:
+            return f"length(sq) {self.pick(['<', '>=', '='])} {r.randint(0, 2)}"
+        if k == 9 and self.intc:
+            return f"n {self.pick(['<', '>', '='])} {r.randint(-2, 4)}"
+        if k == 10 and self.sets and r.random() < 0.5:
+            return self.pick([f"contains(st, {self.e(d + 1)})", f"size(st) {self.pick(['<', '='])} {r.randint(0, 3)}",
+                              "isEmpty(st)", f"notin(st, {self.e(d + 1)})"])
+        if k == 10 and self.ext:
+            return f"(exist $o in Obj with own($o) = {self.e(d + 1)})"
+        return "bb"
+
+    # -- rules ---------------------------------------------------------------------------
+    def update(self, d: int) -> str:
+        r = self.r
+        opts = ["x", "y", "fv", "gb", "bb", "c", "he"]
+        if self.seq:
+            opts.append("sq")
+        if self.intc:
+            opts.append("n")
+        if self.sets:
+            opts.append("st")
+        loc = self.pick(opts)
+        if loc == "st":
+            return self.pick([f"st := including(st, {self.e(d)})", f"st := excluding(st, {self.e(d)})",
+                              f"st := union(st, {{{self.e(d)}, {self.e(d)}}})", "st := {}",
+                              f"st := intersection(st, {{{self.e(d)}}})"])
+        if r.random() < 0.45:
+            # a change of the location's own value: the state space grows step after step
+            if loc in ("x", "y"):
+                return f"{loc} := ({loc} + {r.randint(1, 2)}) mod {DMAX + 1}"
+            if loc == "fv":
+                e = self.e(d)
+                return f"fv({e}) := (fv({e}) + 1) mod {DMAX + 1}"
+            if loc == "gb":
+                e = self.e(d)
+                return f"gb({e}) := not(gb({e}))"
+            if loc == "bb":
+                return "bb := not(bb)"
+            if loc == "c":
+                return "c := he(c)"
+            if loc == "he":
+                return f"he({self.e(d)}) := c"
+        if loc in ("x", "y"):
+            return f"{loc} := {self.dterm(d)}"
+        if loc == "fv":
+            return f"fv({self.e(d)}) := {self.dterm(d)}"
+        if loc == "gb":
+            return f"gb({self.e(d)}) := {self.b(d)}"
+        if loc == "he":
+            return f"he({self.e(d)}) := {self.e(d)}"
+        if loc == "bb":
+            return f"bb := {self.b(d)}"
+        if loc == "c":
+            return f"c := {self.e(d)}"
+        if loc == "n":
+            return f"n := (n + {r.randint(-1, 2)}) mod {r.randint(3, 5)}"
+        # sq: bounded growth
+        k = r.randrange(3)
+        if k == 0:
+            return f"if length(sq) < 3 then sq := append(sq, {self.e(d)}) endif"
+        if k == 1:
+            return "if length(sq) > 0 then sq := tail(sq) endif"
+        return "sq := []"
+
+    def rule(self, d: int = 0) -> str:
+        r = self.r
+        if d >= 4:
+            return self.update(d)
+        k = r.randrange(14)
+        if k <= 2:
+            return self.update(d)
+        if k == 3:
+            return "par\n" + "\n".join(self.rule(d + 1) for _ in range(r.randint(2, 3))) + "\nendpar"
+        if k == 4:
+            return "seq\n" + "\n".join(self.rule(d + 1) for _ in range(r.randint(2, 3))) + "\nendseq"
+        if k == 5:
+            els = f" else {self.rule(d + 1)}" if r.random() < 0.6 else ""
+            return f"if {self.b(d)} then {self.rule(d + 1)}{els} endif"
+        if k in (6, 7):
+            v = f"$c{d}"
+            g = self.b(d) if r.random() < 0.7 else None
+            self.bound.append((v, "E"))
+            g = self.b(d) if g is not None else None
+            body = self.rule(d + 1)
+            self.bound.pop()
+            none = f" ifnone {self.rule(d + 1)}" if r.random() < 0.3 else ""
+            dom = self.pick(["Col", "Col", "Num"]) if k == 7 else "Col"
+            if dom == "Num":
+                # a choice over the Integer subset: the variable is of type D
+                self.bound.append((v, "D"))
+                body = self.rule(d + 1)
+                self.bound.pop()
+                g = None
+            return f"choose {v} in {dom}{' with ' + g if g else ''} do {body}{none}"
+        if k == 8:
+            v = f"$a{d}"
+            self.bound.append((v, "E"))
+            g = self.b(d) if r.random() < 0.5 else None
+            # an update indexed by the variable mostly (others may clash: an error to agree on)
+            if r.random() < 0.7:
+                body = self.pick([f"fv({v}) := {self.dterm(d + 1)}", f"gb({v}) := {self.b(d + 1)}",
+                                  f"he({v}) := {self.e(d + 1)}"])
+            else:
+                body = self.rule(d + 1)
+            self.bound.pop()
+            return f"forall {v} in Col{' with ' + g if g else ''} do {body}"
+        if k == 9:
+            v = f"$l{d}"
+            t = self.dterm(d)
+            self.bound.append((v, "D"))
+            body = self.rule(d + 1)
+            self.bound.pop()
+            return f"let ({v} = {t}) in {body} endlet"
+        if k == 10:
+            cases = list(ENUM)
+            r.shuffle(cases)
+            n = r.randint(1, 3)
+            arms = " ".join(f"case {c}: {self.rule(d + 1)}" for c in cases[:n])
+            other = f" otherwise {self.rule(d + 1)}" if r.random() < 0.5 else ""
+            return f"switch {self.e(d)} {arms}{other} endswitch"
+        if k == 11 and not self.in_macro:
+            return f"r_macro[{self.e(d)}]"
+        if k == 12 and self.ext:
+            v = f"$n{d}"
+            w = f"$w{d}"
+            return (f"let ({w} = {self.e(d)}) in if (forall $z in Obj with own($z) != {w}) then "
+                    f"extend Obj with {v} do own({v}) := {w} endif endlet")
+        if k == 12 and self.ext is False:
+            return "skip"
+        if self.ext and r.random() < 0.5:
+            # a choice among the objects (an element of a dynamic domain stays in it for ever:
+            # objects are made only while a colour has none and keep their colour, so that the
+            # domain stays finite)
+            return f"choose $o in Obj with own($o) != {self.e(d)} do c := own($o)"
+        return self.update(d)
+
+    def state_b(self) -> str:
+        """A Boolean term over controlled functions only (for properties)."""
+        saved = self.mon
+        self.mon = False
+        t = self.b(1)
+        self.mon = saved
+        return t
+
+    # -- the spec ------------------------------------------------------------------------
+    def spec(self, name: str) -> str:
+        r = self.r
+        sig = [
+            "\tenum domain Col = {" + " | ".join(ENUM) + "}",
+            "\tdomain Num subsetof Integer",
+            "\tcontrolled x: Num", "\tcontrolled y: Num", "\tcontrolled fv: Col -> Num",
+            "\tcontrolled gb: Col -> Boolean", "\tcontrolled he: Col -> Col", "\tcontrolled bb: Boolean",
+            "\tcontrolled c: Col",
+            "\tderived dd: Col -> Num",
+        ]
+        if self.seq:
+            sig.append("\tcontrolled sq: Seq(Col)")
+        if self.intc:
+            sig.append("\tcontrolled n: Integer")
+        if self.sets:
+            sig.append("\tcontrolled st: Powerset(Col)")
+        if self.mon:
+            sig += ["\tmonitored mB: Boolean", "\tmonitored mE: Col"]
+        if self.ext:
+            sig.insert(0, "\tdynamic abstract domain Obj")
+            sig.append("\tcontrolled own: Obj -> Col")
+        defs = [f"\tdomain Num = {{0 : {DMAX}}}"]
+        saved = self.mon
+        self.mon = False
+        self.bound.append(("$p", "E"))
+        defs.append(f"\tfunction dd($p in Col) = if gb($p) then fv($p) else {self.dterm(2)} endif")
+        self.bound.pop()
+        self.mon = saved
+        self.bound.append(("$m", "E"))
+        self.in_macro = True
+        macro = self.rule(2)
+        self.in_macro = False
+        self.bound.pop()
+        defs.append(f"\trule r_macro($m in Col) =\n\t\t{macro}")
+        props = []
+        for i in range(r.randint(0, 2)):
+            props.append(f"\tinvariant inv_{i} over x, bb: {self.state_b()}")
+        for i in range(r.randint(0, 2)):
+            p = self.pick(["ag", "ef", "af", "eg"])
+            props.append(f"\tCTLSPEC {p}({self.state_b()})")
+        for i in range(r.randint(0, 2)):
+            k = r.randrange(3)
+            if k == 0:
+                props.append(f"\tLTLSPEC g({self.state_b()})")
+            elif k == 1:
+                props.append(f"\tLTLSPEC f({self.state_b()})")
+            else:
+                props.append(f"\tLTLSPEC g(implies({self.state_b()}, f({self.state_b()})))")
+        # a main rule that branches: a choose, and one to three other rules beside it
+        v = "$t"
+        self.bound.append((v, self.pick(["E", "E", "D"])))
+        dom = "Col" if self.bound[-1][1] == "E" else "Num"
+        g = f" with {self.b(1)}" if r.random() < 0.5 else ""
+        first = f"choose {v} in {dom}{g} do {self.rule(1)}"
+        self.bound.pop()
+        main = "par\n" + "\n".join([first] + [self.rule(1) for _ in range(r.randint(1, 3))]) + "\nendpar"
+        init = [f"\tfunction x = {r.randint(0, DMAX)}", f"\tfunction y = {r.randint(0, DMAX)}",
+                f"\tfunction fv($e in Col) = {r.randint(0, DMAX)}",
+                f"\tfunction gb($e in Col) = {self.pick(['true', 'false', '$e = AA'])}",
+                f"\tfunction he($e in Col) = {self.pick(['$e', 'AA', 'CC'])}",
+                f"\tfunction bb = {self.pick(['true', 'false'])}", f"\tfunction c = {self.pick(ENUM)}"]
+        if self.seq:
+            init.append("\tfunction sq = []")
+        if self.intc:
+            init.append("\tfunction n = 0")
+        if self.sets:
+            init.append(f"\tfunction st = {self.pick(['{}', '{AA}', '{BB, CC}'])}")
+        lines = [f"asm {name}", "import StandardLibrary", "import CTLLibrary", "import LTLLibrary", "signature:",
+                 *sig, "definitions:", *defs, *props, "\tmain rule r_main =", "\t\t" + main.replace("\n", "\n\t\t"),
+                 "default init s0:", *init]
+        return "\n".join(lines) + "\n"
+
+
+def spec(seed: int) -> str:
+    return Gen(seed).spec(f"fz{seed}")
