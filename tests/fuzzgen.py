@@ -26,6 +26,10 @@ class Gen:
         self.mon = r.random() < 0.6           # monitored inputs
         self.intc = r.random() < 0.4          # an Integer counter (bounded by mod)
         self.sets = r.random() < 0.35         # a Powerset(Col) location
+        self.tup = r.random() < 0.3           # a Prod(Col, Num) location
+        self.agents = r.random() < 0.3        # two agents running one program (self)
+        self.arith = r.random() < 0.4         # negative operands of mod/idiv, abs, min, max
+        self.in_agent = False
         self.bound: list[tuple[str, str]] = []    # ($var, type) in scope
         self.in_macro = False                      # (the macro calls no macro: no recursion)
 
@@ -51,6 +55,8 @@ class Gen:
             return "he(" + self.pick(ENUM) + ")"
         if k == 3:
             return f"if {self.b(d + 1)} then {self.e(d + 1)} else {self.e(d + 1)} endif"
+        if self.tup and r.random() < 0.4:
+            return "first(pr)"
         return "mE" if self.mon else "c"
 
     def dterm(self, d: int = 0) -> str:
@@ -74,6 +80,14 @@ class Gen:
             return f"({self.dterm(d + 1)} * {self.dterm(d + 1)}) mod {DMAX + 1}"
         if k == 6:
             return f"dd({self.e(d + 1)})"
+        if k == 7 and self.arith and r.random() < 0.6:
+            a, b = self.dterm(d + 1), self.dterm(d + 1)
+            return self.pick([f"({a} - {b} - 1) mod {DMAX + 1}", f"abs({a} - {b})", f"min({a}, {b})",
+                              f"max({a}, {b})", f"idiv({a} - {b}, 2) + 1", f"({a} - {b}) mod {DMAX + 1}"])
+        if k == 7 and self.tup and r.random() < 0.5:
+            return "second(pr)"
+        if k == 7 and self.in_agent and r.random() < 0.5:
+            return "wpos(self)"
         return f"if {self.b(d + 1)} then {self.dterm(d + 1)} else {self.dterm(d + 1)} endif"
 
     def b(self, d: int = 0) -> str:
@@ -124,7 +138,17 @@ class Gen:
             opts.append("n")
         if self.sets:
             opts.append("st")
+        if self.tup:
+            opts.append("pr")
+        if self.in_agent:
+            opts += ["wpos", "wpos"]
         loc = self.pick(opts)
+        if loc == "pr":
+            return self.pick([f"pr := ({self.e(d)}, {self.dterm(d)})",
+                              f"pr := (he(first(pr)), (second(pr) + 1) mod {DMAX + 1})"])
+        if loc == "wpos":
+            return self.pick([f"wpos(self) := (wpos(self) + 1) mod {DMAX + 1}", f"wpos(self) := {self.dterm(d)}",
+                              f"if wpos(self) < {r.randint(1, DMAX)} then x := wpos(self) endif"])
         if loc == "st":
             return self.pick([f"st := including(st, {self.e(d)})", f"st := excluding(st, {self.e(d)})",
                               f"st := union(st, {{{self.e(d)}, {self.e(d)}}})", "st := {}",
@@ -223,6 +247,9 @@ class Gen:
             arms = " ".join(f"case {c}: {self.rule(d + 1)}" for c in cases[:n])
             other = f" otherwise {self.rule(d + 1)}" if r.random() < 0.5 else ""
             return f"switch {self.e(d)} {arms}{other} endswitch"
+        if k == 11 and r.random() < 0.25:
+            loc = self.pick(["x", "y"])
+            return f"while {loc} < {r.randint(1, DMAX)} do {loc} := {loc} + 1"
         if k == 11 and not self.in_macro:
             return f"r_macro[{self.e(d)}]"
         if k == 12 and self.ext:
@@ -264,6 +291,11 @@ class Gen:
             sig.append("\tcontrolled n: Integer")
         if self.sets:
             sig.append("\tcontrolled st: Powerset(Col)")
+        if self.tup:
+            sig.append("\tcontrolled pr: Prod(Col, Num)")
+        if self.agents:
+            sig.insert(sig.index("\tdomain Num subsetof Integer") + 1, "\tdomain Worker subsetof Agent")
+            sig += ["\tstatic w1: Worker", "\tstatic w2: Worker", "\tcontrolled wpos: Worker -> Num"]
         if self.mon:
             sig += ["\tmonitored mB: Boolean", "\tmonitored mE: Col"]
         if self.ext:
@@ -282,6 +314,11 @@ class Gen:
         self.in_macro = False
         self.bound.pop()
         defs.append(f"\trule r_macro($m in Col) =\n\t\t{macro}")
+        if self.agents:
+            self.in_agent = True
+            body = self.rule(2)
+            self.in_agent = False
+            defs.append(f"\trule r_work =\n\t\t{body}")
         props = []
         for i in range(r.randint(0, 2)):
             props.append(f"\tinvariant inv_{i} over x, bb: {self.state_b()}")
@@ -303,7 +340,11 @@ class Gen:
         g = f" with {self.b(1)}" if r.random() < 0.5 else ""
         first = f"choose {v} in {dom}{g} do {self.rule(1)}"
         self.bound.pop()
-        main = "par\n" + "\n".join([first] + [self.rule(1) for _ in range(r.randint(1, 3))]) + "\nendpar"
+        rest = [self.rule(1) for _ in range(r.randint(1, 3))]
+        if self.agents:
+            rest[0] = self.pick(["choose $wk in Worker do program($wk)", "forall $wk in Worker do program($wk)",
+                                 "program(w1)"])
+        main = "par\n" + "\n".join([first] + rest) + "\nendpar"
         init = [f"\tfunction x = {r.randint(0, DMAX)}", f"\tfunction y = {r.randint(0, DMAX)}",
                 f"\tfunction fv($e in Col) = {r.randint(0, DMAX)}",
                 f"\tfunction gb($e in Col) = {self.pick(['true', 'false', '$e = AA'])}",
@@ -315,6 +356,10 @@ class Gen:
             init.append("\tfunction n = 0")
         if self.sets:
             init.append(f"\tfunction st = {self.pick(['{}', '{AA}', '{BB, CC}'])}")
+        if self.tup:
+            init.append(f"\tfunction pr = ({self.pick(ENUM)}, {r.randint(0, DMAX)})")
+        if self.agents:
+            init += [f"\tfunction wpos($w in Worker) = {r.randint(0, DMAX)}", "\tagent Worker: r_work[]"]
         lines = [f"asm {name}", "import StandardLibrary", "import CTLLibrary", "import LTLLibrary", "signature:",
                  *sig, "definitions:", *defs, *props, "\tmain rule r_main =", "\t\t" + main.replace("\n", "\n\t\t"),
                  "default init s0:", *init]

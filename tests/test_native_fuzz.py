@@ -19,7 +19,9 @@ from asmcheck.explore.native_build import compiler
 
 pytestmark = [pytest.mark.slow, pytest.mark.engines("native")]
 
-SEEDS = range(24)
+# the seeds (of the first 300) whose specs have the most states within the bound: every feature of
+# the generator is among them
+SEEDS = (64, 14, 220, 42, 268, 84, 99, 43, 34, 184, 270, 107, 76, 39, 37, 282, 210, 221, 285, 262, 117, 113, 49, 234)
 IGNORED = ("seconds", "engine", "compile_seconds", "engine_note")
 
 
@@ -40,7 +42,7 @@ def reports(tmp_path_factory):
     for seed in SEEDS:
         path = folder / f"fz{seed}.asm"
         path.write_text(fuzzgen.spec(seed), encoding="utf-8")
-        more = ["--deadlock"] if seed % 2 else []
+        more = ["--deadlock"] if SEEDS.index(seed) % 2 else []
         out[seed] = (explore(str(path), "python", more), explore(str(path), "native", more))
     return out
 
@@ -64,5 +66,5 @@ def test_the_specs_explore_something(reports):
     assert verdicts.count("violated") == EXPECTED_VIOLATED
 
 
-EXPECTED_STATES = (268, 112)
-EXPECTED_VIOLATED = 20
+EXPECTED_STATES = (5904, 1373)
+EXPECTED_VIOLATED = 23
