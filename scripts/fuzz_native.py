@@ -27,7 +27,7 @@ import fuzzgen  # noqa: E402
 
 from asmcheck.cli import main  # noqa: E402
 
-IGNORED = ("seconds", "engine", "compile_seconds", "engine_note")
+IGNORED = ("seconds", "engine", "compile_seconds", "engine_note", "workers")
 MAX_STATES = 3000
 
 
@@ -38,16 +38,16 @@ def run(args: list[str]) -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
-def compare(path: Path, more: list[str]) -> tuple[str, str]:
+def compare(path: Path, more: list[str], native_more: list[str] = ()) -> tuple[str, str]:
     """('same' | 'skip' | 'refused' | 'differs' | 'bad', detail)."""
     base = ["explore", str(path), "--format", "json", "--max-states", str(MAX_STATES), *more]
     code, out, err = run(base + ["--engine", "python", "--max-seconds", "5"])
     if code not in (0, 1, 3):
         return "bad", (err.strip().splitlines() or ["?"])[0][:300]
     py = json.loads(out)
-    if code == 3 or py.get("verdict") == "incomplete":
-        return "skip", py.get("incomplete", "incomplete")[:120]
-    code_n, out_n, err_n = run(base + ["--engine", "native"])
+    if (code == 3 or py.get("verdict") == "incomplete") and "time" in py.get("incomplete", "time"):
+        return "skip", py.get("incomplete", "incomplete")[:120]       # (a state or depth limit: compared)
+    code_n, out_n, err_n = run(base + ["--engine", "native", *native_more])
     if code_n == 2 and "the native explorer cannot run" in err_n:
         line = next(ln for ln in err_n.splitlines() if "the native explorer cannot run" in ln)
         return "refused", line.split(": ", 1)[-1][:160]
@@ -71,6 +71,10 @@ def main_(argv=None) -> int:
     ap.add_argument("count", type=int, nargs="?", default=100)
     ap.add_argument("--deadlock", action="store_true", help="explore with --deadlock too")
     ap.add_argument("--keep", help="the folder the specs are written to (kept)")
+    ap.add_argument("--with", dest="extra", default="", metavar="'FLAGS'",
+                    help="more explore options for both engines, e.g. --with '--symmetry' or '--max-depth 3'")
+    ap.add_argument("--native-with", dest="native_extra", default="", metavar="'FLAGS'",
+                    help="more explore options for the native engine alone, e.g. '--workers 2'")
     args = ap.parse_args(argv)
     folder = Path(args.keep or tempfile.mkdtemp(prefix="fuzz-native-"))
     folder.mkdir(parents=True, exist_ok=True)
@@ -81,7 +85,8 @@ def main_(argv=None) -> int:
         path = folder / f"fz{seed}.asm"
         path.write_text(fuzzgen.spec(seed), encoding="utf-8")
         for more in ([], ["--deadlock"]) if args.deadlock else ([],):
-            outcome, detail = compare(path, more)
+            more = more + args.extra.split()
+            outcome, detail = compare(path, more, args.native_extra.split())
             tally[outcome] += 1
             if outcome in ("refused", "bad", "skip"):
                 reasons[f"{outcome}: {detail[:100]}"] += 1
