@@ -2,11 +2,13 @@
 engine (tests/test_native_fuzz.py, scripts/fuzz_native.py).
 
 ``spec(seed)`` gives one spec, the same for the same seed: an enum domain, an Integer subset, a
-few controlled functions (0-ary and unary, Boolean, enum, Integer-subset and Integer valued, and
-with ``seq`` features a sequence), monitored inputs, a derived function, a macro rule, and a main
-rule built from every rule form the generator knows (update, par, seq, if, switch, let, choose
-with and without ifnone, forall, macro call, extend, skip), with invariants and CTL/LTL
-properties over the state.  Terms are well typed; values may still leave a domain, and updates
+few controlled functions (0-ary and unary, Boolean, enum, Integer-subset and Integer valued; by
+the seed's draw also a sequence, a set, a pair, a dynamic abstract domain grown by extend, two
+agents running one program), monitored inputs, a derived function, a macro rule, and a main rule
+built from every rule form the generator knows (update, par, seq, if, switch, let, choose with
+and without ifnone, forall, while, macro call, program of an agent, extend, skip) and terms
+(arithmetic with negative operands, quantifiers, let, switch, comprehension), with invariants
+(one may read a monitored function), JUSTICE, and CTL/LTL properties over the state.  Terms are well typed; values may still leave a domain, and updates
 may clash: those are run-time errors both engines must report alike.
 """
 from __future__ import annotations
@@ -30,6 +32,8 @@ class Gen:
         self.agents = r.random() < 0.3        # two agents running one program (self)
         self.arith = r.random() < 0.4         # negative operands of mod/idiv, abs, min, max
         self.in_agent = False
+        self.terms = r.random() < 0.4         # let, switch and comprehension terms, quantifiers over Num
+        self.fair = r.random() < 0.25         # a JUSTICE constraint
         self.bound: list[tuple[str, str]] = []    # ($var, type) in scope
         self.in_macro = False                      # (the macro calls no macro: no recursion)
 
@@ -84,6 +88,18 @@ class Gen:
             a, b = self.dterm(d + 1), self.dterm(d + 1)
             return self.pick([f"({a} - {b} - 1) mod {DMAX + 1}", f"abs({a} - {b})", f"min({a}, {b})",
                               f"max({a}, {b})", f"idiv({a} - {b}, 2) + 1", f"({a} - {b}) mod {DMAX + 1}"])
+        if k == 7 and self.terms and r.random() < 0.6:
+            v = f"$k{d}"
+            a = self.dterm(d + 1)
+            k2 = r.randrange(3)
+            if k2 == 0:
+                self.bound.append((v, "D"))
+                body = self.dterm(d + 1)
+                self.bound.pop()
+                return f"let ({v} = {a}) in ({body} + {v}) mod {DMAX + 1} endlet"
+            if k2 == 1:
+                return f"switch {self.e(d + 1)} case AA: {a} case BB: {self.dterm(d + 1)} otherwise 0 endswitch"
+            return f"size({{$s{d} in Col | gb($s{d}) : $s{d}}})"
         if k == 7 and self.tup and r.random() < 0.5:
             return "second(pr)"
         if k == 7 and self.in_agent and r.random() < 0.5:
@@ -117,6 +133,12 @@ class Gen:
             body = self.b(d + 1)
             self.bound.pop()
             return f"({q} {v} in Col with {body})"
+        if k == 8 and self.terms and r.random() < 0.4:
+            v = f"$r{d}"
+            self.bound.append((v, "D"))
+            body = self.b(d + 1)
+            self.bound.pop()
+            return f"({self.pick(['exist', 'forall'])} {v} in Num with {body})"
         if k == 8 and self.seq:
             return f"length(sq) {self.pick(['<', '>=', '='])} {r.randint(0, 2)}"
         if k == 9 and self.intc:
@@ -322,6 +344,11 @@ class Gen:
         props = []
         for i in range(r.randint(0, 2)):
             props.append(f"\tinvariant inv_{i} over x, bb: {self.state_b()}")
+        if self.mon and r.random() < 0.3:
+            # an invariant that reads a monitored function: checked before the step's updates
+            props.append(f"\tinvariant inv_m over mB: mB or {self.state_b()}")
+        if self.fair:
+            props.insert(0, f"\tJUSTICE {self.state_b()}")
         for i in range(r.randint(0, 2)):
             p = self.pick(["ag", "ef", "af", "eg"])
             props.append(f"\tCTLSPEC {p}({self.state_b()})")

@@ -21,7 +21,7 @@ pytestmark = [pytest.mark.slow, pytest.mark.engines("native")]
 
 # the seeds (of the first 300) whose specs have the most states within the bound: every feature of
 # the generator is among them
-SEEDS = (64, 14, 220, 42, 268, 84, 99, 43, 34, 184, 270, 107, 76, 39, 37, 282, 210, 221, 285, 262, 117, 113, 49, 234)
+SEEDS = (64, 14, 217, 241, 131, 277, 208, 214, 40, 152, 8, 194, 150, 297, 144, 210, 156, 0, 4, 130, 159, 270, 148, 94)
 IGNORED = ("seconds", "engine", "compile_seconds", "engine_note")
 
 
@@ -66,5 +66,5 @@ def test_the_specs_explore_something(reports):
     assert verdicts.count("violated") == EXPECTED_VIOLATED
 
 
-EXPECTED_STATES = (5904, 1373)
-EXPECTED_VIOLATED = 23
+EXPECTED_STATES = (5426, 1373)
+EXPECTED_VIOLATED = 22
