@@ -45,8 +45,10 @@ def compare(path: Path, more: list[str], native_more: list[str] = ()) -> tuple[s
     if code not in (0, 1, 3):
         return "bad", (err.strip().splitlines() or ["?"])[0][:300]
     py = json.loads(out)
-    if (code == 3 or py.get("verdict") == "incomplete") and "time" in py.get("incomplete", "time"):
-        return "skip", py.get("incomplete", "incomplete")[:120]       # (a state or depth limit: compared)
+    # a search the time limit stopped (with or without a verdict) is not compared; one a state or
+    # depth limit stopped is
+    if "time limit" in py.get("incomplete", "") or (code == 3 and not py.get("incomplete")):
+        return "skip", py.get("incomplete", "incomplete")[:120]
     code_n, out_n, err_n = run(base + ["--engine", "native", *native_more])
     if code_n == 2 and "the native explorer cannot run" in err_n:
         line = next(ln for ln in err_n.splitlines() if "the native explorer cannot run" in ln)
