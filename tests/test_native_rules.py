@@ -254,6 +254,42 @@ def test_turbo_calls_recursion_and_return_values(tmp_path, capsys):
     assert [s["state"] for s in v["trace"]][-1] == {"fact": 5040, "n": 9, "result": 5040, "steps": 7}
 
 
+RESULT_READ = """\
+asm ResultRead
+import StandardLibrary
+signature:
+	domain Num subsetof Integer
+	controlled x: Num
+	controlled y: Num
+definitions:
+	domain Num = {0 : 3}
+	turbo rule r_t($a in Num) in Num =
+		seq
+			result := $a
+			if result = 2 then result := 0 endif
+			if result > 0 then result := (result + 1) mod 4 endif
+		endseq
+	invariant inv_a over x: x != 3
+	main rule r_main =
+		choose $v in Num do seq
+			y <- r_t($v)
+			x := y
+		endseq
+default init s0:
+	function x = 0
+	function y = 0
+"""
+
+
+def test_a_turbo_rule_reads_and_compares_its_result(tmp_path, capsys):
+    # result is read (result + 1) and compared (result = 2) after its update in the same call:
+    # the native engine held result as a plain Integer but compared it as a tagged value of type
+    # Any, so result = 2 never held (without the read of result + 1: 4 states, 12 transitions
+    # against 3 and 8), and it refused to read it.  $v = 0 gives y = 0, 1 gives 2, 2 and 3 give 0.
+    code, out = both(tmp_path, capsys, RESULT_READ)
+    assert (code, *summary(out)) == (0, "holds", 3, 6, 1)
+
+
 LAZY = """\
 asm Lazy
 import StandardLibrary

@@ -747,7 +747,11 @@ class Generator:
         return isinstance(r, T.Domain) and r.kind == "any"
 
     def any_slot(self, f) -> bool:
-        """Are the locations of ``f`` of type Any holding tagged values (not a finite subset)?"""
+        """Are the locations of ``f`` of type Any holding tagged values (not a finite subset)?  Not
+        ``result``: its slot holds the plain values of the one type every update gives it
+        (layout_result), so it is read and compared as a location of that type."""
+        if f is self.spec.result_func:
+            return False
         return self.any_typed(f.codomain) and f.index in self.fn_base and self.fn_base[f.index][2] is None
 
     def any_term(self, t, env) -> str:
