@@ -1036,9 +1036,30 @@ class Generator:
         body.append("}")
         body.append(f"static V {name}(Ctx *c{sig}) {{")
         body.append(f"    int s = sl{f.index}(c{''.join(', ' + p for p in params)});")
+        init = getattr(self.m, "init_terms", {}).get(f.index)
+        if init is not None and params:
+            self.funcs.append(f"static V {name}(Ctx *c{sig});")      # (the init term may read f)
+            # read at an undef argument (no location of the layout, or an undef-argument slot not
+            # yet updated), the init term gives the value in the state of the read, as the Python
+            # step function computes it (its read_with_init)
+            body.append(f"    if ((s < 0 || c->rd[s] == UNDEF) && ({' || '.join(p + ' == UNDEF' for p in params)})) "
+                        f"return {self.init_term(f, init)}(c{''.join(', ' + p for p in params)});")
         body.append("    return s < 0 ? UNDEF : c->rd[s];")
         body.append("}")
         self.funcs.append("\n".join(body))
+        return name
+
+    def init_term(self, f, init) -> str:
+        """The C function of the init term of ``f`` (``init``: its parameters and body), called
+        with the arguments of a location."""
+        params, body = init
+        name = f"it{f.index}"
+        if name not in self.defined_done:
+            self.defined_done.add(name)
+            env = {p.uid: f"q{p.uid}" for p in params}
+            sig = "".join(f", V q{p.uid}" for p in params)
+            self.funcs.append(f"static V {name}(Ctx *c{sig});")
+            self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {self.term(body, env)}; }}")
         return name
 
     def mon_reader(self, f) -> str:
