@@ -34,6 +34,12 @@ class Gen:
         self.in_agent = False
         self.terms = r.random() < 0.4         # let, switch and comprehension terms, quantifiers over Num
         self.fair = r.random() < 0.25         # a JUSTICE constraint
+        self.turbo = r.random() < 0.3         # a turbo rule returning a value (loc <- r_t(a))
+        self.undef = r.random() < 0.3         # a location set to undef and tested for it
+        self.maps = r.random() < 0.25         # a Map(Col, Num) location
+        self.strs = r.random() < 0.2          # a String location
+        self.reals = r.random() < 0.2         # a Real location
+        self.bags = r.random() < 0.2          # a Bag(Col) location
         self.bound: list[tuple[str, str]] = []    # ($var, type) in scope
         self.in_macro = False                      # (the macro calls no macro: no recursion)
 
@@ -61,6 +67,9 @@ class Gen:
             return f"if {self.b(d + 1)} then {self.e(d + 1)} else {self.e(d + 1)} endif"
         if self.tup and r.random() < 0.4:
             return "first(pr)"
+        if self.seq and r.random() < 0.4:
+            # (undef on an empty sequence or out of range: an error where a value is needed)
+            return self.pick(["first(sq)", "last(sq)", f"at(sq, {r.randint(0, 2)}n)"])
         return "mE" if self.mon else "c"
 
     def dterm(self, d: int = 0) -> str:
@@ -100,6 +109,10 @@ class Gen:
             if k2 == 1:
                 return f"switch {self.e(d + 1)} case AA: {a} case BB: {self.dterm(d + 1)} otherwise 0 endswitch"
             return f"size({{$s{d} in Col | gb($s{d}) : $s{d}}})"
+        if k == 7 and self.maps and r.random() < 0.5:
+            return f"at(mp, {self.e(d + 1)})"          # (undef where the map has no such key)
+        if k == 7 and self.bags and r.random() < 0.5:
+            return f"ntoi(count(bg, {self.e(d + 1)}))"
         if k == 7 and self.tup and r.random() < 0.5:
             return "second(pr)"
         if k == 7 and self.in_agent and r.random() < 0.5:
@@ -140,12 +153,21 @@ class Gen:
             self.bound.pop()
             return f"({self.pick(['exist', 'forall'])} {v} in Num with {body})"
         if k == 8 and self.seq:
-            return f"length(sq) {self.pick(['<', '>=', '='])} {r.randint(0, 2)}"
+            return self.pick([f"length(sq) {self.pick(['<', '>=', '='])} {r.randint(0, 2)}",
+                              f"contains(sq, {self.e(d + 1)})", f"count(sq, {self.e(d + 1)}) > 0",
+                              f"indexOf(sq, {self.e(d + 1)}) >= 0"])
+        if k == 9 and self.undef and r.random() < 0.5:
+            return self.pick(["y = undef", "y != undef", f"(y = undef or y < {r.randint(1, DMAX)})",
+                              f"(y != undef and y > {r.randint(0, 2)})"])
         if k == 9 and self.intc:
             return f"n {self.pick(['<', '>', '='])} {r.randint(-2, 4)}"
         if k == 10 and self.sets and r.random() < 0.5:
             return self.pick([f"contains(st, {self.e(d + 1)})", f"size(st) {self.pick(['<', '='])} {r.randint(0, 3)}",
                               "isEmpty(st)", f"notin(st, {self.e(d + 1)})"])
+        if k == 10 and self.strs and r.random() < 0.5:
+            return self.pick(['sv = "a"', 'sv != "ab"', f'sv = toString({self.dterm(d + 1)})', 'sv != "b"'])
+        if k == 10 and self.reals and r.random() < 0.5:
+            return self.pick([f"rv < {self.pick(['1.0', '1.5', '2.25'])}", "rv = 0.5", f"rv * 2.0 >= itor({self.dterm(d + 1)})"])
         if k == 10 and self.ext:
             return f"(exist $o in Obj with own($o) = {self.e(d + 1)})"
         return "bb"
@@ -162,9 +184,29 @@ class Gen:
             opts.append("st")
         if self.tup:
             opts.append("pr")
+        for flag, name in ((self.maps, "mp"), (self.strs, "sv"), (self.reals, "rv"), (self.bags, "bg")):
+            if flag:
+                opts.append(name)
         if self.in_agent:
             opts += ["wpos", "wpos"]
         loc = self.pick(opts)
+        if loc in ("x", "y") and self.turbo and r.random() < 0.3:
+            return f"{loc} <- r_t({self.e(d)})"
+        if loc == "y" and self.undef and r.random() < 0.3:
+            return "y := undef"
+        if loc == "mp":
+            return self.pick([f"mp := assign(mp, {self.e(d)}, {self.dterm(d)})", "mp := {AA -> 0}",
+                              f"if at(mp, {self.e(d)}) != undef then mp := assign(mp, BB, (at(mp, BB) + 1) mod {DMAX + 1}) endif"])
+        if loc == "sv":
+            return self.pick(['sv := "a"', 'sv := "ab"', f"sv := toString({self.dterm(d)})",
+                              'if sv = "a" then sv := sv + "b" endif'])
+        if loc == "rv":
+            return self.pick(["if rv < 2.0 then rv := rv + 0.5 endif", "rv := rv / 2.0", "rv := 0.25",
+                              f"rv := itor({self.dterm(d)}) / 4.0"])
+        if loc == "bg":
+            e = self.e(d)
+            return self.pick([f"if ntoi(count(bg, {e})) < 2 then bg := including(bg, {e}) endif",
+                              f"bg := excluding(bg, {self.e(d)})", "bg := <>"])
         if loc == "pr":
             return self.pick([f"pr := ({self.e(d)}, {self.dterm(d)})",
                               f"pr := (he(first(pr)), (second(pr) + 1) mod {DMAX + 1})"])
@@ -210,7 +252,11 @@ class Gen:
         if k == 0:
             return f"if length(sq) < 3 then sq := append(sq, {self.e(d)}) endif"
         if k == 1:
-            return "if length(sq) > 0 then sq := tail(sq) endif"
+            return self.pick(["if length(sq) > 0 then sq := tail(sq) endif",
+                              f"if length(sq) < 3 then sq := prepend({self.e(d)}, sq) endif",
+                              "if length(sq) >= 2 then sq := subSequence(sq, 1n, 2n) endif",
+                              f"if length(sq) > 0 and length(sq) < 3 then sq := insertAt(sq, 1n, {self.e(d)}) endif",
+                              f"sq := excluding(sq, {self.e(d)})"])
         return "sq := []"
 
     def rule(self, d: int = 0) -> str:
@@ -236,13 +282,15 @@ class Gen:
             self.bound.pop()
             none = f" ifnone {self.rule(d + 1)}" if r.random() < 0.3 else ""
             dom = self.pick(["Col", "Col", "Num"]) if k == 7 else "Col"
+            if k == 7 and dom == "Col" and (self.sets or self.seq) and r.random() < 0.5:
+                dom = self.pick((["st"] if self.sets else []) + (["sq"] if self.seq else []))
             if dom == "Num":
                 # a choice over the Integer subset: the variable is of type D
                 self.bound.append((v, "D"))
                 body = self.rule(d + 1)
                 self.bound.pop()
                 g = None
-            return f"choose {v} in {dom}{' with ' + g if g else ''} do {body}{none}"
+            return f"choose {v} in {dom if dom in ('Col', 'Num', 'st', 'sq') else 'Col'}{' with ' + g if g else ''} do {body}{none}"
         if k == 8:
             v = f"$a{d}"
             self.bound.append((v, "E"))
@@ -315,6 +363,14 @@ class Gen:
             sig.append("\tcontrolled st: Powerset(Col)")
         if self.tup:
             sig.append("\tcontrolled pr: Prod(Col, Num)")
+        if self.maps:
+            sig.append("\tcontrolled mp: Map(Col, Num)")
+        if self.strs:
+            sig.append("\tcontrolled sv: String")
+        if self.reals:
+            sig.append("\tcontrolled rv: Real")
+        if self.bags:
+            sig.append("\tcontrolled bg: Bag(Col)")
         if self.agents:
             sig.insert(sig.index("\tdomain Num subsetof Integer") + 1, "\tdomain Worker subsetof Agent")
             sig += ["\tstatic w1: Worker", "\tstatic w2: Worker", "\tcontrolled wpos: Worker -> Num"]
@@ -336,6 +392,15 @@ class Gen:
         self.in_macro = False
         self.bound.pop()
         defs.append(f"\trule r_macro($m in Col) =\n\t\t{macro}")
+        if self.turbo:
+            self.bound.append(("$u", "E"))
+            self.in_macro = True
+            t1, t2 = self.dterm(2), self.dterm(2)
+            cond = self.b(2)
+            self.in_macro = False
+            self.bound.pop()
+            defs.append(f"\tturbo rule r_t($u in Col) in Num =\n\t\tif {cond} then result := {t1} "
+                        f"else seq\n\t\t\tresult := {t2}\n\t\t\tresult := (result + 1) mod {DMAX + 1}\n\t\tendseq endif")
         if self.agents:
             self.in_agent = True
             body = self.rule(2)
@@ -385,6 +450,14 @@ class Gen:
             init.append(f"\tfunction st = {self.pick(['{}', '{AA}', '{BB, CC}'])}")
         if self.tup:
             init.append(f"\tfunction pr = ({self.pick(ENUM)}, {r.randint(0, DMAX)})")
+        if self.maps:
+            init.append(f"\tfunction mp = {self.pick(['{AA -> 1}', '{BB -> 0, CC -> 3}'])}")
+        if self.strs:
+            init.append("\tfunction sv = " + self.pick(['"a"', '""']))
+        if self.reals:
+            init.append(f"\tfunction rv = {self.pick(['0.0', '1.5'])}")
+        if self.bags:
+            init.append(f"\tfunction bg = {self.pick(['<>', '<AA, AA>'])}")
         if self.agents:
             init += [f"\tfunction wpos($w in Worker) = {r.randint(0, DMAX)}", "\tagent Worker: r_work[]"]
         lines = [f"asm {name}", "import StandardLibrary", "import CTLLibrary", "import LTLLibrary", "signature:",
