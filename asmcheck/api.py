@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import re
 import signal
+import sys
 import threading
 import time
 from contextlib import contextmanager
@@ -401,19 +402,50 @@ def auto_engine() -> str:
     return value
 
 
+#: how soon the watchdog tries again when its alarm came at a point where an exception would be lost
+#: or would cut a clean-up short (see :func:`_unsafe_to_raise`)
+WATCHDOG_RETRY = 0.01
+
+# the frames whose exceptions Python drops ("Exception ignored in ...") or that restore what a
+# block changed: the alarm waits until they have returned
+_CLEANUP_FRAMES = frozenset({"__del__", "__exit__", "__aexit__"})
+
+
+def _unsafe_to_raise(frame) -> bool:
+    """Whether an exception raised where a signal interrupted the main thread (``frame``) could be
+    lost or cut a clean-up short: a generator being closed (its GeneratorExit in flight, e.g. the
+    term evaluator's bindings dropped after an ``exist`` found a witness: Python prints "Exception
+    ignored in <generator ...>" and drops the exception), a ``__del__`` or a ``with`` statement's
+    ``__exit__`` (a deadline restored, a timer disarmed) on the stack."""
+    if sys.exc_info()[0] is GeneratorExit:
+        return True
+    while frame is not None:
+        if frame.f_code.co_name in _CLEANUP_FRAMES:
+            return True
+        frame = frame.f_back
+    return False
+
+
 @contextmanager
 def _watchdog(seconds, explorer=None):
     """Raise :class:`TimeUp` in the main thread ``seconds`` from now (a safety net for a step
     that runs long inside the step function; the searches check their time limit
     themselves).  Not once ``explorer`` has left its search loop (``finishing``): what it
-    found is then a result, and the report of it is not cut short."""
+    found is then a result, and the report of it is not cut short.  An alarm that comes where
+    the exception would be lost or would cut a clean-up short (:func:`_unsafe_to_raise`) is put
+    off by :data:`WATCHDOG_RETRY` seconds, until the block has a safe point; none once the block
+    is over."""
     if (seconds is None or threading.current_thread() is not threading.main_thread()
             or not hasattr(signal, "setitimer")):
         yield
         return
+    armed = True
 
     def fire(signum, frame):
-        if explorer is not None and getattr(explorer, "finishing", False):
+        if not armed or (explorer is not None and getattr(explorer, "finishing", False)):
+            return
+        if _unsafe_to_raise(frame):
+            signal.setitimer(signal.ITIMER_REAL, WATCHDOG_RETRY)
             return
         raise TimeUp()
     old = signal.signal(signal.SIGALRM, fire)
@@ -422,6 +454,7 @@ def _watchdog(seconds, explorer=None):
     try:
         yield
     finally:
+        armed = False
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
 
