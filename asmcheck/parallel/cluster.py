@@ -179,28 +179,48 @@ RAY_NOTICES = ("Token authentication is enabled for this Ray cluster",)
 
 
 @contextlib.contextmanager
-def _ray_notices_filtered():
-    """File descriptor 2 goes to a file while Ray starts; its lines but Ray's notices are then
-    written to stderr."""
-    try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):     # no real stderr (an embedding, a test's capture)
-        yield
-        return
-    with tempfile.TemporaryFile(mode="w+b") as tmp:
-        os.dup2(tmp.fileno(), 2)
+def _ray_output_to_stderr():
+    """While Ray starts or stops: what it writes on stdout or stderr (file descriptors 1 and 2, and
+    Python's sys.stdout: a start-up banner, a usage-stats notice, its native code's log lines) goes
+    to a file, whose lines but Ray's notices are then written to stderr.  stdout carries the report
+    alone (--format json, junit, sarif); the workers' output stays with Ray (``log_to_driver=False``)."""
+    saved = {}
+    for fd, stream in ((1, sys.stdout), (2, sys.stderr)):
+        try:
+            stream.flush()
+        except (OSError, ValueError):     # (a stdout closed by its reader)
+            pass
+        try:
+            saved[fd] = os.dup(fd)
+        except OSError:                   # no such descriptor (an embedding)
+            pass
+    with tempfile.TemporaryFile(mode="w+b") as tmp, contextlib.redirect_stdout(sys.stderr):
+        for fd in saved:
+            os.dup2(tmp.fileno(), fd)
         try:
             yield
         finally:
-            os.dup2(saved, 2)
-            os.close(saved)
+            for stream in (sys.stdout, sys.stderr):
+                try:
+                    stream.flush()
+                except (OSError, ValueError):
+                    pass
+            for fd, keep in saved.items():
+                os.dup2(keep, fd)
+                os.close(keep)
             tmp.seek(0)
             text = tmp.read().decode("utf-8", "replace")
             kept = [ln for ln in text.splitlines(keepends=True) if not ln.startswith(RAY_NOTICES)]
             if kept:
                 sys.stderr.write("".join(kept))
                 sys.stderr.flush()
+
+
+def shutdown(ray) -> None:
+    """Leave the Ray instance (stopping it if this process started it); what Ray writes then goes
+    to stderr (:func:`_ray_output_to_stderr`)."""
+    with _ray_output_to_stderr():
+        ray.shutdown()
 
 
 def connect(cluster: str, workers: int):
@@ -213,7 +233,7 @@ def connect(cluster: str, workers: int):
     here = str(pathlib.Path(__file__).resolve().parents[2])
     env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
     try:
-        with _ray_notices_filtered():
+        with _ray_output_to_stderr():
             _init(ray, cluster, workers, env)
     except (ConnectionError, RuntimeError, ValueError) as e:
         raise UsageError(f"--cluster {cluster}: cannot connect to Ray ({e})") from None
@@ -231,7 +251,7 @@ def session(cluster: str, workers: int):
     finally:
         if started:
             POOL.close()
-            ray.shutdown()
+            shutdown(ray)
 
 
 def _init(ray, cluster: str, workers: int, env: dict) -> None:
@@ -357,7 +377,7 @@ class RayBackend:
                 pass
         self._kill(actors)
         if getattr(self, "started", False):
-            self.ray.shutdown()
+            shutdown(self.ray)
             self.started = False
 
     @staticmethod
