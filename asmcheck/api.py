@@ -379,6 +379,14 @@ def _max_loop(n) -> int:
     return n
 
 
+def max_states_error(flag: str, value: int, depth_zero: str = "max_depth=0") -> str:
+    """The usage error of a state limit below 1 (``flag`` as the caller spells it): the initial states
+    are always found, so a limit of 0 cannot stop before them (it stopped after the first state's
+    successors, as 1 does); a depth limit of 0 (``depth_zero``) checks the initial states alone."""
+    hint = f" (the initial states are always explored; {depth_zero} checks them alone)" if value == 0 else ""
+    return f"{flag} must be 1 or more, not {value}{hint}"
+
+
 # ----------------------------------------------------------------- engines
 def choose_engine(model: Model, engine: str, *, keep_graph: bool, step_props, has_invar: bool) -> str:
     """The engine to try first: ``native`` or ``python``.  ``auto`` and ``native`` try the
@@ -553,9 +561,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             raise UsageError(f"{name} must be {'an integer' if kinds == (int,) else 'a number'}, not {v!r}")
     if workers is not None and workers < 1:
         raise UsageError("workers must be 1 or more")
-    for name, v in (("max_states", max_states), ("max_depth", max_depth)):
-        if v is not None and v < 0:
-            raise UsageError(f"{name} must be 0 or more")
+    if max_states is not None and max_states < 1:
+        raise UsageError(max_states_error("max_states", max_states))
+    if max_depth is not None and max_depth < 0:
+        raise UsageError("max_depth must be 0 or more")
     if max_seconds is not None and not max_seconds >= 0:
         raise UsageError("max_seconds must be 0 or more")
     if isinstance(fair, str):
