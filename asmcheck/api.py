@@ -599,6 +599,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     interrupted = False
     refused = sym_python if engine != "python" else ""
     from .parallel import run as scaled
+    scaled.check_options(workers, **(scaling or {}))
     # more workers on the native engine: threads inside its search (the same result as one);
     # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned
     # search on the Python step function
