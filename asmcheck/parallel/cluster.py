@@ -26,6 +26,7 @@ import atexit
 import contextlib
 import os
 import pathlib
+import socket
 import sys
 import tempfile
 import threading
@@ -228,8 +229,12 @@ def connect(cluster: str, workers: int):
     (as many CPUs as workers, a small object store), 'auto' joins the running cluster found by
     Ray, anything else is a cluster address.  Returns (ray, whether we started it)."""
     ray = import_ray()
+    if cluster not in ("local", "auto"):
+        _address(cluster)
     if ray.is_initialized():
         return ray, False
+    if cluster not in ("local", "auto"):
+        check_address(cluster)
     here = str(pathlib.Path(__file__).resolve().parents[2])
     env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
     try:
@@ -252,6 +257,32 @@ def session(cluster: str, workers: int):
         if started:
             POOL.close()
             shutdown(ray)
+
+
+#: how long the address of a cluster may take to answer (a TCP connection to its head node)
+CONNECT_SECONDS = 10.0
+
+
+def _address(cluster: str) -> tuple[str, int]:
+    """(host, port) of a cluster address, HOST:PORT or ray://HOST:PORT; a usage error otherwise."""
+    addr = cluster[len("ray://"):] if cluster.startswith("ray://") else cluster
+    host, sep, port = addr.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UsageError(f"--cluster {cluster}: expected local, auto or the address of a Ray head node, HOST:PORT")
+    return host, int(port)
+
+
+def check_address(cluster: str) -> None:
+    """Refuse at once a cluster address that nothing answers: Ray itself tries again and again for
+    minutes (its GCS client, 20 times), silently."""
+    host, port = _address(cluster)
+    try:
+        socket.create_connection((host, port), timeout=CONNECT_SECONDS).close()
+    except OSError as e:
+        why = e.strerror or str(e) or type(e).__name__
+        raise UsageError(f"--cluster {cluster}: cannot connect to Ray (nothing answers at {host}:{port}: "
+                         f"{why})") from None
 
 
 def _init(ray, cluster: str, workers: int, env: dict) -> None:
