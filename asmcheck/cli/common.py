@@ -180,6 +180,18 @@ def check_output_path(path: str, what: str, folder_ok: bool = False) -> None:
         raise UsageError(f"{what} {path}: cannot write into {parent} (permission denied)")
 
 
+def check_output_folder(path: str, what: str) -> None:
+    """An output folder (the command makes it, or writes into it) must be one before the work
+    starts: not an existing file, and within a folder that can be written (see
+    :func:`check_output_path`)."""
+    if path == "-":
+        raise UsageError(f"{what} -: only --json and --format print a report on standard output; give a folder "
+                         f"name")
+    if os.path.lexists(path) and not os.path.isdir(path):
+        raise UsageError(f"{what} {path}: is a file, not a folder; give a folder name")
+    check_output_path(path, what, folder_ok=True)
+
+
 @contextmanager
 def writing(what: str, path: str):
     """Writing a report: an OSError (disk full, a file that changed since it was checked) is a
