@@ -100,13 +100,14 @@ def _check_readable(path: str, what: str) -> None:
         st = os.stat(path)
     except OSError:
         return
+    a = "an" if what[0] in "aeiou" else "a"
     if stat.S_ISDIR(st.st_mode):
-        raise AsmError(None, f"{path}: is a folder, not a {what}")
+        raise AsmError(None, f"{path}: is a folder, not {a} {what}")
     if not stat.S_ISREG(st.st_mode):
         # the reader's own refusal (located at 1:1, naming the kind of file), without opening it
         from .syntax.parser import read_source_bytes
         read_source_bytes(path)
-        raise AsmError(None, f"{path}: is not a regular file; asmcheck reads a {what} only from a regular file")
+        raise AsmError(None, f"{path}: is not a regular file; asmcheck reads {a} {what} only from a regular file")
 
 
 @dataclass
