@@ -3,6 +3,7 @@ again and again for some 13 minutes, its messages held back: the command seemed 
 address that is not HOST:PORT is refused with the forms --cluster takes.  Skipped without Ray."""
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -20,9 +21,9 @@ ROOT = Path(__file__).resolve().parent.parent
 SPEC = "specs/sb_async_master.asm"
 
 
-def run(*args):
+def run(*args, **env):
     return subprocess.run([sys.executable, "-m", "asmcheck", *args], cwd=ROOT, capture_output=True, text=True,
-                          timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT)})
+                          timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT), **env})
 
 
 @pytest.mark.parametrize("command", [["explore", SPEC, "--workers", "2"],
@@ -36,7 +37,26 @@ def test_an_address_nothing_answers_is_a_usage_error(command, address):
                         f"127.0.0.1:1: Connection refused)\n")
 
 
-@pytest.mark.parametrize("address", ["nonsense", "head:", "head:99999", ":6379"])
+def test_auto_with_a_ray_address_nothing_answers_is_a_usage_error():
+    # (the address Ray would join for 'auto')
+    r = run("explore", SPEC, "--cluster", "auto", RAY_ADDRESS="127.0.0.1:1")
+    assert (r.returncode, r.stdout) == (2, "")
+    assert r.stderr == ("asmcheck: error: --cluster auto (RAY_ADDRESS=127.0.0.1:1): cannot connect to Ray (nothing "
+                        "answers at 127.0.0.1:1: Connection refused)\n")
+
+
+@pytest.mark.slow
+def test_local_starts_an_instance_even_where_the_environment_names_one_to_join():
+    # (it joined RAY_ADDRESS's cluster, and failed: 'When connecting to an existing cluster, num_cpus
+    # and num_gpus must not be provided.')
+    r = run("explore", SPEC, "--cluster", "local", "--workers", "2", "--format", "json", RAY_ADDRESS="127.0.0.1:1")
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(r.stdout)
+    assert (doc["verdict"], doc["states"], doc["transitions"], doc["workers"]) == ("holds", 219, 512, 2)
+    assert r.stderr == ""
+
+
+@pytest.mark.parametrize("address", ["nonsense", "head:", "head:99999", ":6379", "http://head:8265"])
 def test_an_address_that_is_not_host_and_port_is_a_usage_error(capsys, monkeypatch, address):
     monkeypatch.chdir(ROOT)
     assert main(["explore", SPEC, "--cluster", address]) == 2

@@ -230,11 +230,21 @@ def connect(cluster: str, workers: int):
     Ray, anything else is a cluster address.  Returns (ray, whether we started it)."""
     ray = import_ray()
     if cluster not in ("local", "auto"):
-        _address(cluster)
+        _address(cluster, f"--cluster {cluster}")
     if ray.is_initialized():
         return ray, False
     if cluster not in ("local", "auto"):
         check_address(cluster)
+    elif cluster == "auto":
+        # the address Ray joins for 'auto' when the environment names one (another form, such as a
+        # dashboard's http:// address, is left to Ray)
+        named = os.environ.get("RAY_ADDRESS", "")
+        try:
+            _address(named, "RAY_ADDRESS")
+        except UsageError:
+            named = ""
+        if named:
+            check_address(cluster, named)
     here = str(pathlib.Path(__file__).resolve().parents[2])
     env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
     try:
@@ -263,31 +273,35 @@ def session(cluster: str, workers: int):
 CONNECT_SECONDS = 10.0
 
 
-def _address(cluster: str) -> tuple[str, int]:
-    """(host, port) of a cluster address, HOST:PORT or ray://HOST:PORT; a usage error otherwise."""
-    addr = cluster[len("ray://"):] if cluster.startswith("ray://") else cluster
+def _address(text: str, what: str) -> tuple[str, int]:
+    """(host, port) of a cluster address, HOST:PORT or ray://HOST:PORT; a usage error (of ``what``)
+    otherwise."""
+    addr = text[len("ray://"):] if text.startswith("ray://") else text
     host, sep, port = addr.rpartition(":")
     host = host.strip("[]")
-    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise UsageError(f"--cluster {cluster}: expected local, auto or the address of a Ray head node, HOST:PORT")
+    if not sep or not host or "/" in host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UsageError(f"{what}: expected local, auto or the address of a Ray head node, HOST:PORT")
     return host, int(port)
 
 
-def check_address(cluster: str) -> None:
-    """Refuse at once a cluster address that nothing answers: Ray itself tries again and again for
-    minutes (its GCS client, 20 times), silently."""
-    host, port = _address(cluster)
+def check_address(cluster: str, address: str | None = None) -> None:
+    """Refuse at once a cluster address that nothing answers (``address``: the one Ray takes for
+    ``cluster``, else ``cluster`` itself): Ray tries again and again for minutes (its GCS client, 20
+    times), silently."""
+    what = f"--cluster {cluster}" + (f" (RAY_ADDRESS={address})" if address else "")
+    host, port = _address(address or cluster, what)
     try:
         socket.create_connection((host, port), timeout=CONNECT_SECONDS).close()
     except OSError as e:
         why = e.strerror or str(e) or type(e).__name__
-        raise UsageError(f"--cluster {cluster}: cannot connect to Ray (nothing answers at {host}:{port}: "
-                         f"{why})") from None
+        raise UsageError(f"{what}: cannot connect to Ray (nothing answers at {host}:{port}: {why})") from None
 
 
 def _init(ray, cluster: str, workers: int, env: dict) -> None:
     if cluster == "local":
-        ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
+        # (address 'local': a new instance, even where RAY_ADDRESS or a 'ray start' of this machine
+        # names one to join)
+        ray.init(address="local", num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
                  include_dashboard=False, log_to_driver=False, runtime_env=env,
                  configure_logging=False)
     else:
