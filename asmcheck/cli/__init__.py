@@ -29,8 +29,25 @@ from .common import EXIT_ERROR, EXIT_INCOMPLETE
 COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen, lsp)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser whose usage errors are one line, with where to read the options
+    (argparse printed the whole usage first, a dozen lines for explore)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}; see {self.prog} --help\n")
+
+    def parse_args(self, args=None, namespace=None):
+        # (arguments a command does not take are its error, not the program's)
+        ns, extras = self.parse_known_args(args, namespace)
+        if extras:
+            command = getattr(ns, "command", None)
+            prog = f"{self.prog} {command}" if command else self.prog
+            self.exit(2, f"{prog}: error: unrecognized arguments: {' '.join(extras)}; see {prog} --help\n")
+        return ns
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="asmcheck",
         description="Model checker and state-space explorer for AsmetaL (.asm) Abstract State Machines.",
         epilog="Exit codes: 0 ok / all properties hold; 1 property violated (or scenario check failed, "
