@@ -48,3 +48,28 @@ def test_a_share_with_workers_still_runs(capsys, monkeypatch, workers):
     monkeypatch.chdir(ROOT)
     assert main(["explore", SPEC, "--worker-memory", "500", "--workers", workers]) == 0
     assert capsys.readouterr().out.startswith("sb_async_master.asm: 219 states, 512 transitions, depth 12, ")
+
+
+LTL_OWN = """asm LtlOwn
+import StandardLibrary
+import LTLLibrary
+signature:
+	controlled x: Integer
+definitions:
+	invariant inv_x over x: x >= 0
+	LTLSPEC ltlSpec_grows: g(x >= 0)
+	main rule r_main = x := (x + 1) mod 5
+default init s0:
+	function x = 0
+"""
+
+
+def test_bitstate_names_the_ltl_properties_of_the_spec_itself(write_spec, capsys):
+    # (the hint was to drop them with --no-default-properties or --properties FILE, which leave the
+    # spec's own)
+    path = write_spec(LTL_OWN)
+    for extra in ([], ["--no-default-properties"]):
+        assert main(["explore", path, "--bitstate", "20", "--engine", "python", *extra]) == 2
+        assert capsys.readouterr() == ("", "asmcheck: error: --bitstate keeps no state graph, so it cannot check "
+                                           "LTL/CTL properties, and the spec declares its own (ltlSpec_grows): "
+                                           "drop --bitstate\n")

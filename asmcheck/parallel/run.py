@@ -93,6 +93,12 @@ def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bi
         if workers > 1 or cluster:
             raise UsageError("--bitstate runs on one worker (drop --workers/--cluster)")
         if keep_graph:
+            # (the spec's own LTL/CTL properties cannot be dropped from the command line)
+            own = [p.name for p in getattr(model, "temporal", ()) or ()
+                   if p.kind in ("ltl", "ctl") and getattr(p, "source", "spec") == "spec"]
+            if own:
+                raise UsageError(f"--bitstate keeps no state graph, so it cannot check LTL/CTL properties, and the "
+                                 f"spec declares its own ({', '.join(own)}): drop --bitstate")
             raise UsageError("--bitstate keeps no state graph, so it cannot check LTL/CTL properties or write "
                              "--graph: drop them (--no-default-properties, --properties FILE) or drop --bitstate")
         if not 10 <= bitstate <= 40:
