@@ -412,7 +412,7 @@ def auto_engine() -> str:
 
 
 #: how soon the watchdog tries again when its alarm came at a point where an exception would be lost
-#: or would cut a clean-up short (see :func:`_unsafe_to_raise`)
+#: or would cut a clean-up short (see :func:`unsafe_to_raise`)
 WATCHDOG_RETRY = 0.01
 
 # the frames whose exceptions Python drops ("Exception ignored in ...") or that restore what a
@@ -420,9 +420,9 @@ WATCHDOG_RETRY = 0.01
 _CLEANUP_FRAMES = frozenset({"__del__", "__exit__", "__aexit__"})
 
 
-def _unsafe_to_raise(frame) -> bool:
-    """Whether an exception raised where a signal interrupted the main thread (``frame``) could be
-    lost or cut a clean-up short: a generator being closed (its GeneratorExit in flight, e.g. the
+def unsafe_to_raise(frame) -> bool:
+    """Whether an exception raised by a signal's handler where the signal interrupted the main thread
+    (``frame``: the time limit's watchdog, SIGTERM) could be lost or cut a clean-up short: a generator being closed (its GeneratorExit in flight, e.g. the
     term evaluator's bindings dropped after an ``exist`` found a witness: Python prints "Exception
     ignored in <generator ...>" and drops the exception), a ``__del__`` or a ``with`` statement's
     ``__exit__`` (a deadline restored, a timer disarmed) on the stack."""
@@ -441,7 +441,7 @@ def _watchdog(seconds, explorer=None):
     that runs long inside the step function; the searches check their time limit
     themselves).  Not once ``explorer`` has left its search loop (``finishing``): what it
     found is then a result, and the report of it is not cut short.  An alarm that comes where
-    the exception would be lost or would cut a clean-up short (:func:`_unsafe_to_raise`) is put
+    the exception would be lost or would cut a clean-up short (:func:`unsafe_to_raise`) is put
     off by :data:`WATCHDOG_RETRY` seconds, until the block has a safe point; none once the block
     is over."""
     if (seconds is None or threading.current_thread() is not threading.main_thread()
@@ -453,7 +453,7 @@ def _watchdog(seconds, explorer=None):
     def fire(signum, frame):
         if not armed or (explorer is not None and getattr(explorer, "finishing", False)):
             return
-        if _unsafe_to_raise(frame):
+        if unsafe_to_raise(frame):
             signal.setitimer(signal.ITIMER_REAL, WATCHDOG_RETRY)
             return
         raise TimeUp()

@@ -47,18 +47,18 @@ default init s0:
 
 class AlarmAtCleanup:
     """Wraps the evaluator's bindings: the ``at``-th time a generator of them is closed (GeneratorExit
-    in flight), or dropped with an object whose ``__del__`` runs then (``where="del"``), SIGALRM is
-    sent to the process; the next bindings wait (up to 5 s) for the watchdog's
+    in flight), or dropped with an object whose ``__del__`` runs then (``where="del"``), ``signum``
+    (SIGALRM, the watchdog's) is sent to the process; the next bindings wait (up to 5 s) for the watchdog's
     TimeUp at that safe point."""
 
-    def __init__(self, monkeypatch, where: str, at: int = 50):
+    def __init__(self, monkeypatch, where: str, at: int = 50, signum=signal.SIGALRM):
         self.where, self.at, self.closed, self.sent, self.waited = where, at, 0, False, False
         orig = Machine._iter_bindings
         me = self
 
         class Alarm:
             def __del__(self):
-                signal.raise_signal(signal.SIGALRM)
+                signal.raise_signal(signum)
 
         def bindings(machine, ctx, ranges):
             if me.sent and not me.waited:
@@ -75,7 +75,7 @@ class AlarmAtCleanup:
                             alarm = Alarm()
                             del alarm
                         else:
-                            signal.raise_signal(signal.SIGALRM)
+                            signal.raise_signal(signum)
         monkeypatch.setattr(Machine, "_iter_bindings", bindings)
 
 
@@ -109,3 +109,23 @@ def test_without_an_alarm_the_wrapped_run_is_complete(tmp_path, capsys, monkeypa
     out = capsys.readouterr().out
     assert not alarm.sent
     assert out.splitlines()[0].startswith("Quants.asm: 2,000 states, ")
+
+
+@pytest.mark.parametrize("where", ["generator", "del"])
+def test_a_sigterm_at_a_cleanup_ends_the_run_as_interrupted(tmp_path, capsys, monkeypatch, where):
+    # (the same for SIGTERM, which ends a command as Ctrl-C does: put off to a safe point)
+    path = write(tmp_path, QUANTS)
+    gc.collect()
+    alarm = AlarmAtCleanup(monkeypatch, where, signum=signal.SIGTERM)
+    dropped = []
+    monkeypatch.setattr(sys, "unraisablehook", dropped.append)
+    code = main(["explore", path, "--engine", "python"])
+    out, err = capsys.readouterr()
+    assert alarm.sent
+    assert [(type(u.exc_value).__name__, repr(u.object)) for u in dropped] == []
+    assert (code, err) == (3, "")
+    lines = out.splitlines()
+    assert re.fullmatch(r"Quants\.asm: 50 states, 49 transitions, depth 49, [\d.]+ s, python engine", lines[0])
+    assert lines[1:] == ["  inv_x                                    incomplete",
+                         "incomplete: interrupted (SIGTERM)",
+                         "verdict: incomplete"]

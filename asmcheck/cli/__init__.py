@@ -21,6 +21,7 @@ import sys
 import threading
 
 from ..version import __version__
+from ..api import WATCHDOG_RETRY, unsafe_to_raise
 from ..errors import AsmError, Terminated, UsageError
 from .startup import python_interrupts, quiet_interrupts
 from . import advise, bmc, check, common, conform, explore, lsp, parse, scenario, simulate, testgen
@@ -75,7 +76,22 @@ def _sigterm_as_interrupt():
         yield
         return
 
+    on = [True]
+
+    def again():
+        if on[0]:
+            os.kill(os.getpid(), signal.SIGTERM)
+
     def stop(signum, frame):
+        if not on[0]:
+            return
+        if unsafe_to_raise(frame):
+            # (a generator being closed, a __del__: Python would drop the exception) the signal
+            # again in a moment, at a safe point
+            t = threading.Timer(WATCHDOG_RETRY, again)
+            t.daemon = True
+            t.start()
+            return
         raise Terminated()
     try:
         old = signal.signal(signal.SIGTERM, stop)
@@ -85,6 +101,7 @@ def _sigterm_as_interrupt():
     try:
         yield
     finally:
+        on[0] = False
         signal.signal(signal.SIGTERM, old)
 
 
