@@ -411,8 +411,8 @@ def auto_engine() -> str:
     return value
 
 
-#: how soon the watchdog tries again when its alarm came at a point where an exception would be lost
-#: or would cut a clean-up short (see :func:`unsafe_to_raise`)
+#: how soon the watchdog (and the command line's SIGTERM) tries again when its signal came at a point
+#: where an exception would be lost or would cut a clean-up short (see :func:`unsafe_to_raise`)
 WATCHDOG_RETRY = 0.01
 
 # the frames whose exceptions Python drops ("Exception ignored in ...") or that restore what a
@@ -421,11 +421,12 @@ _CLEANUP_FRAMES = frozenset({"__del__", "__exit__", "__aexit__"})
 
 
 def unsafe_to_raise(frame) -> bool:
-    """Whether an exception raised by a signal's handler where the signal interrupted the main thread
-    (``frame``: the time limit's watchdog, SIGTERM) could be lost or cut a clean-up short: a generator being closed (its GeneratorExit in flight, e.g. the
-    term evaluator's bindings dropped after an ``exist`` found a witness: Python prints "Exception
-    ignored in <generator ...>" and drops the exception), a ``__del__`` or a ``with`` statement's
-    ``__exit__`` (a deadline restored, a timer disarmed) on the stack."""
+    """Whether an exception raised by a signal's handler (the time limit's watchdog, SIGTERM) where
+    the signal interrupted the main thread (``frame``) could be lost or cut a clean-up short: a
+    generator being closed (its GeneratorExit in flight, e.g. the term evaluator's bindings dropped
+    after an ``exist`` found a witness: Python prints "Exception ignored in <generator ...>" and
+    drops the exception), a ``__del__`` or a ``with`` statement's ``__exit__`` (a deadline
+    restored, a timer disarmed) on the stack."""
     if sys.exc_info()[0] is GeneratorExit:
         return True
     while frame is not None:

@@ -20,7 +20,8 @@ import os
 import sys
 
 from .. import api
-from .common import add_explore_options, check_output_folder, check_output_path, color_on, explore_options, load_options, writing
+from .common import (add_explore_options, check_output_folder, check_output_path, color_on, explore_options,
+                     load_options, writing)
 
 
 def run(args) -> int:

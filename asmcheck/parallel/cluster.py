@@ -301,9 +301,9 @@ def _init(ray, cluster: str, workers: int, env: dict) -> None:
     if cluster == "local":
         # (address 'local': a new instance, even where RAY_ADDRESS or a 'ray start' of this machine
         # names one to join)
-        ray.init(address="local", num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
-                 include_dashboard=False, log_to_driver=False, runtime_env=env,
-                 configure_logging=False)
+        ray.init(address="local", num_cpus=max(1, min(workers, os.cpu_count() or 1)),
+                 object_store_memory=local_object_store(), include_dashboard=False, log_to_driver=False,
+                 runtime_env=env, configure_logging=False)
     else:
         ray.init(address=cluster, log_to_driver=False, runtime_env=env, configure_logging=False)
 
