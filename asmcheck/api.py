@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import re
 import signal
+import sys
 import threading
 import time
 from contextlib import contextmanager
@@ -99,13 +100,14 @@ def _check_readable(path: str, what: str) -> None:
         st = os.stat(path)
     except OSError:
         return
+    a = "an" if what[0] in "aeiou" else "a"
     if stat.S_ISDIR(st.st_mode):
-        raise AsmError(None, f"{path}: is a folder, not a {what}")
+        raise AsmError(None, f"{path}: is a folder, not {a} {what}")
     if not stat.S_ISREG(st.st_mode):
         # the reader's own refusal (located at 1:1, naming the kind of file), without opening it
         from .syntax.parser import read_source_bytes
         read_source_bytes(path)
-        raise AsmError(None, f"{path}: is not a regular file; asmcheck reads a {what} only from a regular file")
+        raise AsmError(None, f"{path}: is not a regular file; asmcheck reads {a} {what} only from a regular file")
 
 
 @dataclass
@@ -378,6 +380,14 @@ def _max_loop(n) -> int:
     return n
 
 
+def max_states_error(flag: str, value: int, depth_zero: str = "max_depth=0") -> str:
+    """The usage error of a state limit below 1 (``flag`` as the caller spells it): the initial states
+    are always found, so a limit of 0 cannot stop before them (it stopped after the first state's
+    successors, as 1 does); a depth limit of 0 (``depth_zero``) checks the initial states alone."""
+    hint = f" (the initial states are always explored; {depth_zero} checks them alone)" if value == 0 else ""
+    return f"{flag} must be 1 or more, not {value}{hint}"
+
+
 # ----------------------------------------------------------------- engines
 def choose_engine(model: Model, engine: str, *, keep_graph: bool, step_props, has_invar: bool) -> str:
     """The engine to try first: ``native`` or ``python``.  ``auto`` and ``native`` try the
@@ -401,19 +411,51 @@ def auto_engine() -> str:
     return value
 
 
+#: how soon the watchdog (and the command line's SIGTERM) tries again when its signal came at a point
+#: where an exception would be lost or would cut a clean-up short (see :func:`unsafe_to_raise`)
+WATCHDOG_RETRY = 0.01
+
+# the frames whose exceptions Python drops ("Exception ignored in ...") or that restore what a
+# block changed: the alarm waits until they have returned
+_CLEANUP_FRAMES = frozenset({"__del__", "__exit__", "__aexit__"})
+
+
+def unsafe_to_raise(frame) -> bool:
+    """Whether an exception raised by a signal's handler (the time limit's watchdog, SIGTERM) where
+    the signal interrupted the main thread (``frame``) could be lost or cut a clean-up short: a
+    generator being closed (its GeneratorExit in flight, e.g. the term evaluator's bindings dropped
+    after an ``exist`` found a witness: Python prints "Exception ignored in <generator ...>" and
+    drops the exception), a ``__del__`` or a ``with`` statement's ``__exit__`` (a deadline
+    restored, a timer disarmed) on the stack."""
+    if sys.exc_info()[0] is GeneratorExit:
+        return True
+    while frame is not None:
+        if frame.f_code.co_name in _CLEANUP_FRAMES:
+            return True
+        frame = frame.f_back
+    return False
+
+
 @contextmanager
 def _watchdog(seconds, explorer=None):
     """Raise :class:`TimeUp` in the main thread ``seconds`` from now (a safety net for a step
     that runs long inside the step function; the searches check their time limit
     themselves).  Not once ``explorer`` has left its search loop (``finishing``): what it
-    found is then a result, and the report of it is not cut short."""
+    found is then a result, and the report of it is not cut short.  An alarm that comes where
+    the exception would be lost or would cut a clean-up short (:func:`unsafe_to_raise`) is put
+    off by :data:`WATCHDOG_RETRY` seconds, until the block has a safe point; none once the block
+    is over."""
     if (seconds is None or threading.current_thread() is not threading.main_thread()
             or not hasattr(signal, "setitimer")):
         yield
         return
+    armed = True
 
     def fire(signum, frame):
-        if explorer is not None and getattr(explorer, "finishing", False):
+        if not armed or (explorer is not None and getattr(explorer, "finishing", False)):
+            return
+        if unsafe_to_raise(frame):
+            signal.setitimer(signal.ITIMER_REAL, WATCHDOG_RETRY)
             return
         raise TimeUp()
     old = signal.signal(signal.SIGALRM, fire)
@@ -422,6 +464,7 @@ def _watchdog(seconds, explorer=None):
     try:
         yield
     finally:
+        armed = False
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
 
@@ -520,9 +563,10 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
             raise UsageError(f"{name} must be {'an integer' if kinds == (int,) else 'a number'}, not {v!r}")
     if workers is not None and workers < 1:
         raise UsageError("workers must be 1 or more")
-    for name, v in (("max_states", max_states), ("max_depth", max_depth)):
-        if v is not None and v < 0:
-            raise UsageError(f"{name} must be 0 or more")
+    if max_states is not None and max_states < 1:
+        raise UsageError(max_states_error("max_states", max_states))
+    if max_depth is not None and max_depth < 0:
+        raise UsageError("max_depth must be 0 or more")
     if max_seconds is not None and not max_seconds >= 0:
         raise UsageError("max_seconds must be 0 or more")
     if isinstance(fair, str):
@@ -557,6 +601,7 @@ def _explore(model: Model, properties, *, engine, workers, max_states, max_depth
     interrupted = False
     refused = sym_python if engine != "python" else ""
     from .parallel import run as scaled
+    scaled.check_options(workers, **(scaling or {}))
     # more workers on the native engine: threads inside its search (the same result as one);
     # a cluster or bitstate search, or a spec the native engine refuses, takes the partitioned
     # search on the Python step function

@@ -114,7 +114,7 @@ def warm_native(path: str, *args: str) -> None:
     """Compiles (and caches) the native engine ``explore path *args`` uses, searching no state: a
     timed run that follows spends its time limit searching, not compiling (the compile of a cache
     miss comes out of --max-seconds).  ``args``: the run's other options, without --engine,
-    --max-seconds and --max-depth.  (--max-depth 0: no step runs; with --max-states 0 the initial
+    --max-seconds and --max-depth.  (--max-depth 0: no step runs; with --max-states 1 the initial
     state's steps are still enumerated, some 9 s for a state with 1,000,000 sequences of inputs.)"""
     import contextlib
     import io

@@ -33,9 +33,9 @@ default init s0:
     (["bmc", "SPEC", "-k", "3", "--max-seconds", "nan"], "--max-seconds must be a number of seconds, 0 or more"),
     (["bmc", "SPEC", "-k", "3", "--max-seconds", "-1"], "--max-seconds must be a number of seconds, 0 or more"),
     (["bmc", "SPEC", "-k", "3", "--loop-bound", "-5"], "--loop-bound must be 1 or more"),
-    (["advise", "SPEC", "--max-states", "-3"], "--max-states must be 0 or more"),
+    (["advise", "SPEC", "--max-states", "-3"], "--max-states must be 1 or more, not -3"),
     (["advise", "SPEC", "--max-seconds", "inf"], "--max-seconds must be a number of seconds, 0 or more"),
-    (["testgen", "SPEC", "--max-states", "-5"], "--max-states must be 0 or more"),
+    (["testgen", "SPEC", "--max-states", "-5"], "--max-states must be 1 or more, not -5"),
     (["testgen", "SPEC", "--max-seconds", "-2"], "--max-seconds must be a number of seconds, 0 or more"),
 ])
 def test_a_bad_limit_is_a_usage_error(write_spec, capsys, args, message):

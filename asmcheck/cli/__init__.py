@@ -21,6 +21,7 @@ import sys
 import threading
 
 from ..version import __version__
+from ..api import WATCHDOG_RETRY, unsafe_to_raise
 from ..errors import AsmError, Terminated, UsageError
 from .startup import python_interrupts, quiet_interrupts
 from . import advise, bmc, check, common, conform, explore, lsp, parse, scenario, simulate, testgen
@@ -29,8 +30,25 @@ from .common import EXIT_ERROR, EXIT_INCOMPLETE
 COMMANDS = (parse, simulate, conform, scenario, explore, bmc, check, advise, testgen, lsp)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser whose usage errors are one line, with where to read the options
+    (argparse printed the whole usage first, a dozen lines for explore)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}; see {self.prog} --help\n")
+
+    def parse_args(self, args=None, namespace=None):
+        # (arguments a command does not take are its error, not the program's)
+        ns, extras = self.parse_known_args(args, namespace)
+        if extras:
+            command = getattr(ns, "command", None)
+            prog = f"{self.prog} {command}" if command else self.prog
+            self.exit(2, f"{prog}: error: unrecognized arguments: {' '.join(extras)}; see {prog} --help\n")
+        return ns
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="asmcheck",
         description="Model checker and state-space explorer for AsmetaL (.asm) Abstract State Machines.",
         epilog="Exit codes: 0 ok / all properties hold; 1 property violated (or scenario check failed, "
@@ -58,7 +76,22 @@ def _sigterm_as_interrupt():
         yield
         return
 
+    on = [True]
+
+    def again():
+        if on[0]:
+            os.kill(os.getpid(), signal.SIGTERM)
+
     def stop(signum, frame):
+        if not on[0]:
+            return
+        if unsafe_to_raise(frame):
+            # (a generator being closed, a __del__: Python would drop the exception) the signal
+            # again in a moment, at a safe point
+            t = threading.Timer(WATCHDOG_RETRY, again)
+            t.daemon = True
+            t.start()
+            return
         raise Terminated()
     try:
         old = signal.signal(signal.SIGTERM, stop)
@@ -68,6 +101,7 @@ def _sigterm_as_interrupt():
     try:
         yield
     finally:
+        on[0] = False
         signal.signal(signal.SIGTERM, old)
 
 

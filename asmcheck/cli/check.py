@@ -20,7 +20,8 @@ import os
 import sys
 
 from .. import api
-from .common import add_explore_options, check_output_path, color_on, explore_options, load_options, writing
+from .common import (add_explore_options, check_output_folder, check_output_path, color_on, explore_options,
+                     load_options, writing)
 
 
 def run(args) -> int:
@@ -31,7 +32,7 @@ def run(args) -> int:
     if args.json and args.json != "-":
         check_output_path(args.json, "--json")
     if args.avalla:
-        check_output_path(args.avalla, "--avalla", folder_ok=True)
+        check_output_folder(args.avalla, "--avalla")
         os.makedirs(args.avalla, exist_ok=True)
     opts = load_options(args)
     gate = api.check(paths, strict_expect=args.strict_expect, avalla_dir=args.avalla, **opts,

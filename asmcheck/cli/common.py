@@ -9,7 +9,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from ..api import TimeUp, UsageError, default_max_memory, parse_int_range, parse_range  # noqa: F401
+from ..api import TimeUp, UsageError, default_max_memory, max_states_error, parse_int_range, parse_range  # noqa: F401
 
 EXIT_OK, EXIT_VIOLATED, EXIT_ERROR, EXIT_INCOMPLETE = 0, 1, 2, 3
 
@@ -180,6 +180,18 @@ def check_output_path(path: str, what: str, folder_ok: bool = False) -> None:
         raise UsageError(f"{what} {path}: cannot write into {parent} (permission denied)")
 
 
+def check_output_folder(path: str, what: str) -> None:
+    """An output folder (the command makes it, or writes into it) must be one before the work
+    starts: not an existing file, and within a folder that can be written (see
+    :func:`check_output_path`)."""
+    if path == "-":
+        raise UsageError(f"{what} -: only --json and --format print a report on standard output; give a folder "
+                         f"name")
+    if os.path.lexists(path) and not os.path.isdir(path):
+        raise UsageError(f"{what} {path}: is a file, not a folder; give a folder name")
+    check_output_path(path, what, folder_ok=True)
+
+
 @contextmanager
 def writing(what: str, path: str):
     """Writing a report: an OSError (disk full, a file that changed since it was checked) is a
@@ -252,7 +264,7 @@ def load_options(args) -> dict:
 
 
 def add_explore_options(p) -> None:
-    p.add_argument("--max-states", type=int, metavar="N", help="stop once N distinct states are found (verdict incomplete); the state being "
+    p.add_argument("--max-states", type=int, metavar="N", help="stop once N (1 or more) distinct states are found (verdict incomplete); the state being "
                    "expanded is finished first, so the report may count a few more")
     p.add_argument("--max-depth", type=int, metavar="N", help="do not go deeper than N steps (verdict incomplete)")
     p.add_argument("--max-seconds", type=float, metavar="S",
@@ -284,12 +296,15 @@ def add_explore_options(p) -> None:
 
 def check_limits(args) -> None:
     """The limits every command takes (--max-states, --max-depth, --max-seconds, --loop-bound), checked
-    alike: a usage error for a negative count, a loop bound below 1, or a time that is not a
-    number of seconds, 0 or more (nan, inf)."""
-    for name in ("max_states", "max_depth"):
-        v = getattr(args, name, None)
-        if v is not None and v < 0:
-            raise UsageError(f"--{name.replace('_', '-')} must be 0 or more")
+    alike: a usage error for a state limit below 1 (the initial states are always found: a limit of 0
+    would stop before them, and --max-depth 0 is the way to check them alone), a negative depth, a
+    loop bound below 1, or a time that is not a number of seconds, 0 or more (nan, inf)."""
+    states = getattr(args, "max_states", None)
+    if states is not None and states < 1:
+        raise UsageError(max_states_error("--max-states", states, "--max-depth 0"))
+    depth = getattr(args, "max_depth", None)
+    if depth is not None and depth < 0:
+        raise UsageError("--max-depth must be 0 or more")
     secs = getattr(args, "max_seconds", None)
     if secs is not None and not (secs >= 0 and secs < float("inf")):
         raise UsageError("--max-seconds must be a number of seconds, 0 or more")

@@ -6,8 +6,8 @@ from pathlib import Path
 
 from .. import api
 from .common import (EXIT_ERROR, EXIT_INCOMPLETE, EXIT_OK, EXIT_VIOLATED, Progress, add_explore_options,
-                     check_output_path, color_on, error, explore_options, load_options, out, verdict_rows,
-                     writing)
+                     check_output_folder, check_output_path, color_on, error, explore_options, load_options, out,
+                     verdict_rows, writing)
 
 
 def run(args) -> int:
@@ -125,7 +125,10 @@ def check_outputs(args) -> None:
     if args.html:
         check_output_path(args.html, "--html")
     if args.avalla:
-        check_output_path(args.avalla, "--avalla", folder_ok=not args.avalla.endswith(".avalla"))
+        if args.avalla.endswith(".avalla"):
+            check_output_path(args.avalla, "--avalla")
+        else:
+            check_output_folder(args.avalla, "--avalla")
     if getattr(args, "coverage", None) and args.coverage != "-":
         check_output_path(args.coverage, "--coverage")
 

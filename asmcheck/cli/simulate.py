@@ -8,11 +8,14 @@ from .common import EXIT_OK, EXIT_VIOLATED, add_domain_options, color_on, error,
 
 
 def run(args) -> int:
+    from .scaling import DEFAULT_DEPTH, check_simulate_options
+    check_simulate_options(args)
     opts = load_options(args)
     if getattr(args, "swarm", None) is not None:
         model = api.load(args.file, **opts)
-        rep = model.swarm(walks=args.swarm, depth=args.depth, seed=args.seed,
-                          workers=getattr(args, "swarm_workers", "auto"), cluster=getattr(args, "cluster", None),
+        rep = model.swarm(walks=args.swarm, depth=DEFAULT_DEPTH if args.depth is None else args.depth,
+                          seed=args.seed, workers=args.swarm_workers or "auto",
+                          cluster=getattr(args, "cluster", None),
                           deadlock=getattr(args, "deadlock", False), fair=getattr(args, "fair", None) or [],
                           color=args.format != "json" and color_on())
         if args.format == "json":
@@ -21,7 +24,8 @@ def run(args) -> int:
             out("\n".join(rep.lines))
         return EXIT_VIOLATED if rep.violated else EXIT_OK
     model = api.load(args.file, default_properties=False, **opts)
-    sim = model.simulate(args.steps, seed=args.seed, random=args.random, inputs=args.input)
+    sim = model.simulate(10 if args.steps is None else args.steps, seed=args.seed, random=args.random,
+                         inputs=args.input)
     if args.format == "json":
         out(json.dumps(sim.json(), indent=2))
     elif args.format == "asmeta":
@@ -39,7 +43,7 @@ def register(sub) -> None:
                                    "first candidate and monitored functions their first value, unless --random "
                                    "(or --seed) picks at random or --input gives the values.")
     p.add_argument("file", metavar="FILE")
-    p.add_argument("-n", "--steps", type=int, default=10, metavar="N", help="number of steps (default 10)")
+    p.add_argument("-n", "--steps", type=int, default=None, metavar="N", help="number of steps (default 10)")
     p.add_argument("--seed", type=int, help="random choices, from this seed (reproducible)")
     p.add_argument("--random", action="store_true", help="random choices (seed 0 unless --seed)")
     p.add_argument("--input", metavar="FILE", help="monitored values: 'location = value' lines, '---' between steps")

@@ -18,6 +18,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..review.testgen import run_testgen
-    from .common import check_limits
+    from .common import check_limits, check_output_folder
     check_limits(args)
+    if args.out is not None:
+        check_output_folder(args.out, "--out")
     return run_testgen(args)

@@ -26,6 +26,7 @@ import atexit
 import contextlib
 import os
 import pathlib
+import socket
 import sys
 import tempfile
 import threading
@@ -179,22 +180,35 @@ RAY_NOTICES = ("Token authentication is enabled for this Ray cluster",)
 
 
 @contextlib.contextmanager
-def _ray_notices_filtered():
-    """File descriptor 2 goes to a file while Ray starts; its lines but Ray's notices are then
-    written to stderr."""
-    try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):     # no real stderr (an embedding, a test's capture)
-        yield
-        return
-    with tempfile.TemporaryFile(mode="w+b") as tmp:
-        os.dup2(tmp.fileno(), 2)
+def _ray_output_to_stderr():
+    """While Ray starts or stops: what it writes on stdout or stderr (file descriptors 1 and 2, and
+    Python's sys.stdout: a start-up banner, a usage-stats notice, its native code's log lines) goes
+    to a file, whose lines but Ray's notices are then written to stderr.  stdout carries the report
+    alone (--format json, junit, sarif); the workers' output stays with Ray (``log_to_driver=False``)."""
+    saved = {}
+    for fd, stream in ((1, sys.stdout), (2, sys.stderr)):
+        try:
+            stream.flush()
+        except (OSError, ValueError):     # (a stdout closed by its reader)
+            pass
+        try:
+            saved[fd] = os.dup(fd)
+        except OSError:                   # no such descriptor (an embedding)
+            pass
+    with tempfile.TemporaryFile(mode="w+b") as tmp, contextlib.redirect_stdout(sys.stderr):
+        for fd in saved:
+            os.dup2(tmp.fileno(), fd)
         try:
             yield
         finally:
-            os.dup2(saved, 2)
-            os.close(saved)
+            for stream in (sys.stdout, sys.stderr):
+                try:
+                    stream.flush()
+                except (OSError, ValueError):
+                    pass
+            for fd, keep in saved.items():
+                os.dup2(keep, fd)
+                os.close(keep)
             tmp.seek(0)
             text = tmp.read().decode("utf-8", "replace")
             kept = [ln for ln in text.splitlines(keepends=True) if not ln.startswith(RAY_NOTICES)]
@@ -203,17 +217,38 @@ def _ray_notices_filtered():
                 sys.stderr.flush()
 
 
+def shutdown(ray) -> None:
+    """Leave the Ray instance (stopping it if this process started it); what Ray writes then goes
+    to stderr (:func:`_ray_output_to_stderr`)."""
+    with _ray_output_to_stderr():
+        ray.shutdown()
+
+
 def connect(cluster: str, workers: int):
     """Join (or start) the Ray instance named by ``cluster``: 'local' starts one on this machine
     (as many CPUs as workers, a small object store), 'auto' joins the running cluster found by
     Ray, anything else is a cluster address.  Returns (ray, whether we started it)."""
     ray = import_ray()
+    if cluster not in ("local", "auto"):
+        _address(cluster, f"--cluster {cluster}")
     if ray.is_initialized():
         return ray, False
+    if cluster not in ("local", "auto"):
+        check_address(cluster)
+    elif cluster == "auto":
+        # the address Ray joins for 'auto' when the environment names one (another form, such as a
+        # dashboard's http:// address, is left to Ray)
+        named = os.environ.get("RAY_ADDRESS", "")
+        try:
+            _address(named, "RAY_ADDRESS")
+        except UsageError:
+            named = ""
+        if named:
+            check_address(cluster, named)
     here = str(pathlib.Path(__file__).resolve().parents[2])
     env = {"env_vars": {"PYTHONPATH": os.pathsep.join(p for p in (here, os.environ.get("PYTHONPATH")) if p)}}
     try:
-        with _ray_notices_filtered():
+        with _ray_output_to_stderr():
             _init(ray, cluster, workers, env)
     except (ConnectionError, RuntimeError, ValueError) as e:
         raise UsageError(f"--cluster {cluster}: cannot connect to Ray ({e})") from None
@@ -231,14 +266,44 @@ def session(cluster: str, workers: int):
     finally:
         if started:
             POOL.close()
-            ray.shutdown()
+            shutdown(ray)
+
+
+#: how long the address of a cluster may take to answer (a TCP connection to its head node)
+CONNECT_SECONDS = 10.0
+
+
+def _address(text: str, what: str) -> tuple[str, int]:
+    """(host, port) of a cluster address, HOST:PORT or ray://HOST:PORT; a usage error (of ``what``)
+    otherwise."""
+    addr = text[len("ray://"):] if text.startswith("ray://") else text
+    host, sep, port = addr.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not host or "/" in host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UsageError(f"{what}: expected local, auto or the address of a Ray head node, HOST:PORT")
+    return host, int(port)
+
+
+def check_address(cluster: str, address: str | None = None) -> None:
+    """Refuse at once a cluster address that nothing answers (``address``: the one Ray takes for
+    ``cluster``, else ``cluster`` itself): Ray tries again and again for minutes (its GCS client, 20
+    times), silently."""
+    what = f"--cluster {cluster}" + (f" (RAY_ADDRESS={address})" if address else "")
+    host, port = _address(address or cluster, what)
+    try:
+        socket.create_connection((host, port), timeout=CONNECT_SECONDS).close()
+    except OSError as e:
+        why = e.strerror or str(e) or type(e).__name__
+        raise UsageError(f"{what}: cannot connect to Ray (nothing answers at {host}:{port}: {why})") from None
 
 
 def _init(ray, cluster: str, workers: int, env: dict) -> None:
     if cluster == "local":
-        ray.init(num_cpus=max(1, min(workers, os.cpu_count() or 1)), object_store_memory=local_object_store(),
-                 include_dashboard=False, log_to_driver=False, runtime_env=env,
-                 configure_logging=False)
+        # (address 'local': a new instance, even where RAY_ADDRESS or a 'ray start' of this machine
+        # names one to join)
+        ray.init(address="local", num_cpus=max(1, min(workers, os.cpu_count() or 1)),
+                 object_store_memory=local_object_store(), include_dashboard=False, log_to_driver=False,
+                 runtime_env=env, configure_logging=False)
     else:
         ray.init(address=cluster, log_to_driver=False, runtime_env=env, configure_logging=False)
 
@@ -357,7 +422,7 @@ class RayBackend:
                 pass
         self._kill(actors)
         if getattr(self, "started", False):
-            self.ray.shutdown()
+            shutdown(self.ray)
             self.started = False
 
     @staticmethod

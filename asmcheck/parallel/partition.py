@@ -26,6 +26,7 @@ from array import array
 
 from .expand import K_DEADLOCK, K_ERROR, K_STATE, K_STEP
 from ..explore.bfs import error_edge
+from ..semantics.choice import DeadlineReached
 from .native_expand import Refused
 
 SHIFT = 32                       # discovery key = parent number << SHIFT | successor position
@@ -106,6 +107,13 @@ class Partition:
         branches = []               # (state, choices, error) of each failing branch (graph kept)
         report = {"transitions": 0, "failures": failures, "stopped": None, "expanded": 0,
                   "broken": broken, "error_edges": branches, "edges": edges}
+        # the step function stops a step that runs past the deadline (DeadlineReached), as the
+        # sequential search's does: a level whose one step runs for minutes ends at the time limit
+        machine = getattr(x, "m", None)
+        timed = deadline is not None and hasattr(machine, "deadline")
+        if timed:
+            old_deadline = machine.deadline
+            machine.deadline = time.monotonic() + (deadline - time.time())
         try:
             self._check_memory()
             for count, sid in enumerate(self.frontier):
@@ -158,6 +166,12 @@ class Partition:
             report["stopped"] = "refused"
             report["refused"] = str(e)
             report["slots"] = getattr(e, "cn_k", None)
+        except DeadlineReached:
+            out = [[] for _ in range(n)]
+            report["stopped"] = "time"
+        finally:
+            if timed:
+                machine.deadline = old_deadline
         report["transitions"] = transitions
         report["rss"] = rss_bytes()
         # this partition's own successors stay here, unpickled; its slot travels empty

@@ -20,6 +20,21 @@ def wanted(workers=1, cluster=None, bitstate=None, worker_memory=None) -> bool:
     return (workers or 1) > 1 or bool(cluster) or bitstate is not None
 
 
+def check_options(workers=1, cluster=None, bitstate=None, worker_memory=None) -> None:
+    """The scaling options that do not go together, refused before the search: a worker's memory
+    share (``--worker-memory``) without workers to share it (one process is bounded by
+    ``--max-memory``; a bitstate search runs on one)."""
+    if worker_memory is None:
+        return
+    if isinstance(worker_memory, bool) or not isinstance(worker_memory, (int, float)) or not worker_memory > 0 \
+            or worker_memory == float("inf"):
+        raise UsageError("--worker-memory expects a positive number of megabytes")
+    if not cluster and (bitstate is not None or (str(workers).strip().lower() != "auto" and
+                                                 parse_workers(workers or 1) <= 1)):
+        raise UsageError("--worker-memory bounds each worker of --workers N or --cluster; a search in one "
+                         "process is bounded by --max-memory")
+
+
 def native_threads(workers=1, cluster=None, bitstate=None, worker_memory=None) -> bool:
     """Whether more workers run as threads of the native search (no cluster, no bitstate)."""
     return parse_workers(workers or 1) > 1 and not cluster and bitstate is None
@@ -78,6 +93,12 @@ def explore_model(model, state_props, step_props, *, workers=1, cluster=None, bi
         if workers > 1 or cluster:
             raise UsageError("--bitstate runs on one worker (drop --workers/--cluster)")
         if keep_graph:
+            # (the spec's own LTL/CTL properties cannot be dropped from the command line)
+            own = [p.name for p in getattr(model, "temporal", ()) or ()
+                   if p.kind in ("ltl", "ctl") and getattr(p, "source", "spec") == "spec"]
+            if own:
+                raise UsageError(f"--bitstate keeps no state graph, so it cannot check LTL/CTL properties, and the "
+                                 f"spec declares its own ({', '.join(own)}): drop --bitstate")
             raise UsageError("--bitstate keeps no state graph, so it cannot check LTL/CTL properties or write "
                              "--graph: drop them (--no-default-properties, --properties FILE) or drop --bitstate")
         if not 10 <= bitstate <= 40:

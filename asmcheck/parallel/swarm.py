@@ -180,7 +180,7 @@ def swarm(machine, state_props, step_props, walks: int, depth: int, seed: int = 
     ids = list(range(walks))
     temporal = list(temporal)
     if cluster:
-        from .cluster import connect
+        from .cluster import connect, shutdown
         from .search import WorkerLost
         ray, started = connect(cluster, workers)
         try:
@@ -192,7 +192,7 @@ def swarm(machine, state_props, step_props, walks: int, depth: int, seed: int = 
                 raise WorkerLost(f"a swarm task failed ({type(e).__name__}); no result") from None
         finally:
             if started:
-                ray.shutdown()
+                shutdown(ray)
         return merge(parts, walks, depth, seed)
     if workers <= 1 or walks <= 1:
         return merge([run_walks(machine, state_props, step_props, ids, depth, seed, deadlock, temporal, fair)],
