@@ -43,7 +43,7 @@ import time
 from array import array
 from importlib import resources
 
-from ..errors import AsmError, AsmRuntimeError
+from ..errors import AsmError, AsmRuntimeError, UsageError
 from ..semantics import ir
 from ..semantics import types as T
 from ..semantics.machine import Machine, Undetermined
@@ -4311,9 +4311,9 @@ class NativeExplorer:
         self.dll.asm_limit_memory(self._table_bound())
         self.qf = self._qf_start()
         # chunks of fewer states a thread run on one thread (ASMCHECK_THREAD_MIN_CHUNK: tests)
-        self.dll.asm_par_min_chunk(int(os.environ.get("ASMCHECK_THREAD_MIN_CHUNK", "8") or 8))
+        self.dll.asm_par_min_chunk(_env_count("ASMCHECK_THREAD_MIN_CHUNK", 8))
         # and of more states split (ASMCHECK_THREAD_MAX_CHUNK: tests; at most 65,536)
-        self.dll.asm_par_max_chunk(int(os.environ.get("ASMCHECK_THREAD_MAX_CHUNK", "65536") or 65536))
+        self.dll.asm_par_max_chunk(_env_count("ASMCHECK_THREAD_MAX_CHUNK", 65536))
         self.dll.asm_par_adapt(1 if self.adapt else 0)
         if self.workers > 1 and self.thread_unsafe:
             msg = (f"the native search runs on one thread, not {self.workers}: its C code keeps state in "
@@ -5528,6 +5528,21 @@ class NativeExplorer:
             self.dll.asm_free()
         except Exception:
             pass
+
+
+def _env_count(name: str, default: int) -> int:
+    """A positive count from the environment variable ``name`` (a tuning knob of the tests):
+    ``default`` when it is unset or empty; a usage error naming it otherwise."""
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return default
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise UsageError(f"{name}={text!r}: give a whole number of states, 1 or more")
+    return n
 
 
 def _sym_refused(dll) -> bool:
