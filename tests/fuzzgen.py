@@ -246,6 +246,9 @@ class Gen:
         if loc == "c":
             return f"c := {self.e(d)}"
         if loc == "n":
+            if r.random() < 0.3:
+                # 64-bit wrap: 2^62 * 2^62 is 0, (2^62 + 1) * 2^62 is 2^62
+                return "n := (n + 1) * 4611686018427387904"
             return f"n := (n + {r.randint(-1, 2)}) mod {r.randint(3, 5)}"
         # sq: bounded growth
         k = r.randrange(3)
@@ -319,7 +322,26 @@ class Gen:
             return f"switch {self.e(d)} {arms}{other} endswitch"
         if k == 11 and r.random() < 0.25:
             loc = self.pick(["x", "y"])
-            return f"while {loc} < {r.randint(1, DMAX)} do {loc} := {loc} + 1"
+            if r.random() < 0.5:
+                return f"while {loc} < {r.randint(1, DMAX)} do {loc} := {loc} + 1"
+            return f"iterate if {loc} < {r.randint(1, DMAX)} then {loc} := {loc} + 1 endif enditerate"
+        if k == 11 and r.random() < 0.3:
+            # two variables: a pair of values chosen, or every pair
+            a, b = f"$p{d}", f"$q{d}"
+            self.bound += [(a, "E"), (b, "D")]
+            g = self.b(d + 1)
+            body = (f"fv({a}) := {b}" if r.random() < 0.6 else self.rule(d + 1))
+            self.bound = self.bound[:-2]
+            if r.random() < 0.5:
+                return f"choose {a} in Col, {b} in Num with {g} do {body}"
+            return f"forall {a} in Col, {b} in Num with {g} and {b} = fv({a}) do {body}"
+        if k == 11 and r.random() < 0.2:
+            # a seq in a forall's body: each value's rules in sequence, the values in parallel
+            v = f"$s{d}"
+            self.bound.append((v, "E"))
+            body = f"seq gb({v}) := not(gb({v})) fv({v}) := if gb({v}) then 1 else 2 endif endseq"
+            self.bound.pop()
+            return f"forall {v} in Col with {self.b(d)} do {body}"
         if k == 11 and not self.in_macro:
             return f"r_macro[{self.e(d)}]"
         if k == 12 and self.ext:
