@@ -72,6 +72,7 @@ def main_(argv=None) -> int:
     ap.add_argument("first", type=int, nargs="?", default=0)
     ap.add_argument("count", type=int, nargs="?", default=100)
     ap.add_argument("--deadlock", action="store_true", help="explore with --deadlock too")
+    ap.add_argument("--step", action="store_true", help="with a property file of step properties (fuzzgen's)")
     ap.add_argument("--keep", help="the folder the specs are written to (kept)")
     ap.add_argument("--with", dest="extra", default="", metavar="'FLAGS'",
                     help="more explore options for both engines, e.g. --with '--symmetry' or '--max-depth 3'")
@@ -85,9 +86,12 @@ def main_(argv=None) -> int:
     bad = []
     for seed in range(args.first, args.first + args.count):
         path = folder / f"fz{seed}.asm"
-        path.write_text(fuzzgen.spec(seed), encoding="utf-8")
+        text, props = fuzzgen.spec_and_props(seed)
+        path.write_text(text, encoding="utf-8")
+        prop_path = folder / f"fz{seed}.prop"
+        prop_path.write_text(props, encoding="utf-8")
         for more in ([], ["--deadlock"]) if args.deadlock else ([],):
-            more = more + args.extra.split()
+            more = more + args.extra.split() + (["--properties", str(prop_path)] if args.step else [])
             outcome, detail = compare(path, more, args.native_extra.split())
             tally[outcome] += 1
             if outcome in ("refused", "bad", "skip"):

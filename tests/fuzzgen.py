@@ -488,5 +488,38 @@ class Gen:
         return "\n".join(lines) + "\n"
 
 
+    def prop_file(self, name: str) -> str:
+        """A property file for the spec ``name``: step properties (the state before, next(t) after,
+        updated/changed, updatedBy) and an invariant."""
+        r = self.r
+        out = [f"applies to {name}"]
+        for i in range(r.randint(1, 3)):
+            k = r.randrange(5)
+            if k == 0:
+                body = f"{self.state_b()} implies next({self.state_b()})"
+            elif k == 1:
+                loc = self.pick(["x", "y", "bb", "c", f"fv({self.pick(ENUM)})", f"gb({self.pick(ENUM)})"])
+                body = f"updated({loc}) implies {self.pick(['changed', 'updated'])}({loc})"
+            elif k == 2:
+                e = self.pick(ENUM)
+                body = f"changed(fv({e})) implies next(fv({e})) {self.pick(['>', '!=', '<'])} fv({e})"
+            elif k == 3 and self.agents:
+                body = "(forall $w in Worker with updated(wpos($w)) implies updatedBy($w, wpos($w)))"
+            else:
+                body = f"next(x) = x or next({self.state_b()})"
+            out.append(f"step stp_{i}:\n\t{body}")
+        if r.random() < 0.5:
+            out.append(f"invariant inv_file:\n\t{self.state_b()}")
+        return "\n".join(out) + "\n"
+
+
 def spec(seed: int) -> str:
     return Gen(seed).spec(f"fz{seed}")
+
+
+def spec_and_props(seed: int) -> tuple[str, str]:
+    """The spec of ``seed`` and a property file for it (drawn after the spec: the spec is
+    ``spec(seed)``)."""
+    g = Gen(seed)
+    text = g.spec(f"fz{seed}")
+    return text, g.prop_file(f"fz{seed}")
