@@ -2056,7 +2056,12 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
     int64_t hcap = 0, qcap = 0, nq = 0, w = 0;
     uint32_t *h = 0;
     int32_t *tab = 0, *out32 = 0;
+    /* (the table: 4 bytes a (key, state), filled with -1 at once; at most 2^20 entries or a quarter of
+       the lists' entries, and never more entries than the lists: a small model's table is not a
+       thousand times its lists, as pillbox_2_for_RefProv's 68 keys x 4,056 states were, 1 MB for
+       5,588 entries; the hash table then takes 8 to 16 bytes a node) */
     int64_t limit = QF.table_limit >= 0 ? QF.table_limit : (QF.n / 4 > (1 << 20) ? QF.n / 4 : (1 << 20));
+    if (QF.table_limit < 0 && limit > QF.n) limit = QF.n;
     if ((double)kt.n * (double)n <= (double)limit) {
         tab = (int32_t *)malloc((size_t)(kt.n * n + 1) * sizeof(int32_t));
         if (!tab) goto oom;
