@@ -4145,16 +4145,20 @@ class NativeExplorer:
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
-        self._first_src = src
+        # (the key of the note of element slots when the spec's files give none: see
+        # _more_element_slots; a source is some 10 to 400 KB, not kept when not needed)
+        self._first_src = src if self._slots_key is None and self.gen.dyn else None
         k = 0 if hinted else self._slots_needed(src)
         if k and self._slots_key:
             native_build.remember(self._slots_key, str(k))     # (a note kept by the source only)
         if k:
             self.gen = self._regenerate(cn_k=k)
             src = self.gen.generate()
-        self._src = src                  # thread_unsafe(src): worked out when threads are asked for
-        self._thread_unsafe = None
         self.dll = build_library(src)
+        # thread_unsafe(src): worked out now for threads, else only when they are asked for later
+        # (then from the source generated again: it is not kept, 10 to 400 KB)
+        self._thread_unsafe = thread_unsafe(src) if max(int(workers or 1), 1) > 1 else None
+        del src
         self.gen.codec.dll = self.dll
         self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
@@ -4192,8 +4196,7 @@ class NativeExplorer:
     def thread_unsafe(self) -> list:
         """The static variables of the generated C the threads would share unknowingly."""
         if self._thread_unsafe is None:
-            self._thread_unsafe = thread_unsafe(self._src)
-            self._src = None
+            self._thread_unsafe = thread_unsafe(self._regenerate(cn_k=self.gen.cn_k).generate())
         return self._thread_unsafe
 
     @thread_unsafe.setter
@@ -4755,7 +4758,7 @@ class NativeExplorer:
         dll = build_library(src)
         gen.codec.dll = dll
         self.gen, self.dll = gen, dll
-        self._src, self._thread_unsafe = src, None
+        self._thread_unsafe = None
         self.compile_seconds += native_build.last_compile_seconds
         self._states = {}
         self._parent = None
