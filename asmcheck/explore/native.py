@@ -4160,6 +4160,9 @@ class NativeExplorer:
         self._thread_unsafe = thread_unsafe(src) if max(int(workers or 1), 1) > 1 else None
         del src
         self.gen.codec.dll = self.dll
+        # the code generation's garbage (its texts, the source: some 0.3 to 1 MB for a big spec) is
+        # free in the C heap but still resident: given back before the search's tables are made
+        native_build.trim_heap()
         self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
