@@ -3981,6 +3981,29 @@ _SYMBOLS = {
 }
 
 
+_MMAP_FIXED = False
+
+
+def _fixed_mmap_threshold() -> None:
+    """Blocks of 128 KB and more mapped apart and given back to the system when freed, in every
+    phase of the process from the first native explorer on (glibc's mallopt; nothing elsewhere).
+    glibc raises its threshold to the size of each mapped block freed (up to 32 MB): after the
+    generated source or a table that grew is freed, the blocks of that size come from the heap,
+    where what is freed stays resident -- the old copies of the search's growing tables, the
+    temporal quotient's buffers.  Set once per process."""
+    global _MMAP_FIXED
+    if _MMAP_FIXED:
+        return
+    _MMAP_FIXED = True
+    try:
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):
+        return
+    mallopt.argtypes = [ctypes.c_int, ctypes.c_int]
+    mallopt.restype = ctypes.c_int
+    mallopt(-3, 128 * 1024)          # M_MMAP_THRESHOLD (glibc's default, made fixed)
+
+
 def build_library(src: str):
     """The compiled library of the generated source ``src`` (from the cache when it is there),
     with the argument and result types of the engine's entry points."""
@@ -4113,6 +4136,7 @@ class NativeExplorer:
                  max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, symmetry=None,
                  **_ignored):
         from ..semantics.analysis import mentions_monitored
+        _fixed_mmap_threshold()
         self.m = machine
         self.state_props = list(state_props or [])
         self.step_props = list(step_props or [])
