@@ -829,8 +829,9 @@ static int succ_grow(Succ *b) {
 /* The distinct successors of the state being expanded (a transition is a pair of states): a set
    of state numbers by open addressing, emptied in O(1) per state by a new stamp.  The search has
    one (succs); each thread of the threaded search has its own.  The set is sized by the distinct
-   numbers it holds (at most half full, doubled when it would be fuller), not by the runs of the
-   step: a state of parking.asm has some 60,000 runs and 2,600 distinct successors. */
+   numbers it holds (at most a quarter full, doubled when it would be fuller: short probes, as
+   every run of the step looks its successor up), not by the runs of the step: a state of
+   parking.asm has some 60,000 runs and 2,600 distinct successors. */
 typedef struct { uint64_t *set; int64_t cap, n; uint32_t stamp; } SuccSet;
 static SuccSet succs;
 static int sset_alloc(SuccSet *z, int64_t nc) {
@@ -877,7 +878,7 @@ static inline int sset_first(SuccSet *z, int64_t tid) {
     for (;;) {
         uint64_t x = z->set[h];
         if ((uint32_t)(x >> 32) != z->stamp) {
-            if (2 * (z->n + 1) > z->cap) {
+            if (4 * (z->n + 1) > z->cap) {
                 if (!sset_grow(z)) return -1;
                 msk = (uint64_t)z->cap - 1;
                 h = mix64((uint64_t)tid) & msk;
