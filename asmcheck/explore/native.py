@@ -4964,10 +4964,13 @@ class NativeExplorer:
     @property
     def parent(self):
         if self._parent is None:
+            # written by the engine into the array itself (not through a list of n Python ints:
+            # some 40 bytes a state for a moment)
             n = self.nstates
-            buf = (ctypes.c_int64 * max(n, 1))()
-            self.dll.asm_parents(buf)
-            self._parent = array("q", buf[:n])
+            par = array("q", [0]) * max(n, 1)
+            self.dll.asm_parents((ctypes.c_int64 * len(par)).from_buffer(par))
+            del par[n:]
+            self._parent = par
         return self._parent
 
     def edge_arrays(self):
