@@ -4477,8 +4477,8 @@ class NativeExplorer:
             self.edge_src, self.edge_dst = ends
             self.dll.asm_edges_drop()
             return
-        src = array("I", bytes(4 * max(n, 1)))
-        dst = array("I", bytes(4 * max(n, 1)))
+        src = array("I", [0]) * max(n, 1)
+        dst = array("I", [0]) * max(n, 1)
         self.dll.asm_edges((ctypes.c_uint32 * len(src)).from_buffer(src), (ctypes.c_uint32 * len(dst)).from_buffer(dst))
         del src[n:], dst[n:]
         self.edge_src, self.edge_dst = src, dst
@@ -4992,7 +4992,7 @@ class NativeExplorer:
         got = getattr(self, "_depth_of", None)
         if got is None or len(got) != self.nstates:
             parent = self.parent
-            got = array("l", bytes(array("l").itemsize * self.nstates))
+            got = array("l", [0]) * self.nstates
             for s in range(self.nstates):
                 p = parent[s]
                 got[s] = 0 if p < 0 else got[p] + 1
@@ -5594,7 +5594,7 @@ class _StepAtoms:
     def __iter__(self):
         dll = self.ex.dll
         cap = 1024
-        buf = array("q", bytes(16 * cap))
+        buf = array("q", [0]) * (2 * cap)
         for src in range(self.ex.nstates):
             if not self.ok[src]:
                 continue
@@ -5603,7 +5603,7 @@ class _StepAtoms:
                 if n != -2:
                     break
                 cap *= 4
-                buf = array("q", bytes(16 * cap))
+                buf = array("q", [0]) * (2 * cap)
             if n < 0:
                 self.failed = True
                 return
