@@ -1626,6 +1626,7 @@ static int step_failed_at(int64_t sid, int steperr) {
     return ef_state(sid) ? 1 : -1;
 }
 
+#define PRE_BLOCK 1024
 static uint64_t *pre_h = 0, *pre_rec = 0;     /* asm_run: its successors' hashes and records */
 static uint64_t *pre_dm = 0;                  /* and the words where each differs from the state (PK_MW) */
 static int64_t pre_cap = 0;
@@ -1798,12 +1799,15 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
         const uint64_t *sbuf = sb0.w;
         int only_self = 1;
         if (!sset_reset(&succs, nbuf)) { status = 5; goto finish; }
-        /* the successors' records and hashes first (as far as no field must widen), their table
-           entries fetched meanwhile */
-        int64_t npre = 0;
-        if (nbuf > pre_cap) {
+        /* the successors a block of PRE_BLOCK at a time (the buffers of the hashes and records no
+           bigger: a state of parking.asm has some 60,000 runs): the block's records and hashes
+           first (as far as no field must widen: from the first that must, every later successor of
+           the state goes the slow way, intern), their table entries fetched meanwhile, then the
+           block stored in order */
+        int64_t nblk = nbuf < PRE_BLOCK ? nbuf : PRE_BLOCK;
+        if (nblk > pre_cap) {
             int64_t nc = pre_cap ? pre_cap : 64;
-            while (nc < nbuf) nc *= 2;
+            while (nc < nblk) nc *= 2;
             uint64_t *x = (uint64_t *)realloc(pre_h, nc * sizeof(uint64_t));
             if (!x) { status = 5; goto finish; }
             pre_h = x;
@@ -1822,56 +1826,64 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
 #else
         const uint8_t *same = 0;
 #endif
-        if (pk_on && pk_par_ok) {
-            for (; npre < nbuf; npre++) {
-                if (same && same[npre]) continue;
-                if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre,
-                                cand ? cand + npre * PK_MW : 0, pre_dm + npre * PK_MW)) break;
-                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
-            }
-        } else if (!pk_on) {
-            for (; npre < nbuf; npre++) {
-                if (same && same[npre]) continue;
-                pre_h[npre] = hash_state(sbuf + npre * NWORDS);
-                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
-            }
-        }
-        /* then the stored records their first entries name, when the fingerprint matches (a
-           successor met before is compared with its record) */
-        if (table && npre > 1)
-            for (int64_t q = 0; q < npre; q++) {
-                if (same && same[q]) continue;
-                const Entry *e = &table[HPOS(pre_h[q]) & tmask];
-                if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q] >> 32))
-                    __builtin_prefetch(states + (int64_t)e->id * PW);
-            }
         int64_t qr = 0;        /* the pairs of the temporal quotient (asm_qf) */
         if (QF.on && QF.nk && !QF.failed && !sset_reset(&QF.seen, QF.nr)) { status = 5; goto finish; }
-        for (int64_t b = 0; b < nbuf; b++) {
-            const uint64_t *wb = sbuf + b * NWORDS;
-            int isnew = 0;
-            int64_t tid = same && same[b] ? sid : b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
-                pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
-                intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
-            /* (the parent's words: the plain store's may have moved as it grew) */
-            if (tid == -2) {       /* the time limit passed while the store grew */
-                out[4] = 0; out[5] = sid;
-                status = 3; goto finish;
-            }
-            const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
-            const uint64_t *dm = pk_on && b < npre ? pre_dm + b * PK_MW : 0;   /* (the words that differ) */
-            if (tid < 0 || !note_successor(sid, tid, isnew, wb, SB_MASK(&sb0, b), par, dm)) {
-                status = 5; goto finish;
-            }
-            if (isnew && !inv_note(tid, wb, par, dm)) { status = 5; goto finish; }
-            if (QF.on && QF.nk && !QF.failed)
-                for (; qr < QF.nr && QF.rb[qr] == b; qr++) {
-                    int64_t p = qf_pair((uint32_t)tid, QF.rv[qr]);
-                    int f = p < 0 ? -1 : sset_first(&QF.seen, p);
-                    if (f < 0 || (f && !qf_item((uint32_t)p))) { status = 5; goto finish; }
+        int prep = pk_on ? pk_par_ok : 1;     /* (records prepared: until a field must widen) */
+        for (int64_t b0 = 0; b0 < nbuf; b0 += PRE_BLOCK) {
+            int64_t b1 = nbuf - b0 > PRE_BLOCK ? b0 + PRE_BLOCK : nbuf;
+            int64_t npre = b0;     /* [b0, npre): prepared, at pre_* + (b - b0) */
+            if (pk_on && prep) {
+                for (; npre < b1; npre++) {
+                    int64_t i = npre - b0;
+                    if (same && same[npre]) continue;
+                    if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + i * PW, pre_h + i,
+                                    cand ? cand + npre * PK_MW : 0, pre_dm + i * PK_MW)) { prep = 0; break; }
+                    __builtin_prefetch(&table[HPOS(pre_h[i]) & tmask]);
                 }
-            if (failing && !ef_succ(tid)) { status = 5; goto finish; }
-            if (tid != sid || SYM_SELF(SB_MASK(&sb0, b))) only_self = 0;
+            } else if (!pk_on) {
+                for (; npre < b1; npre++) {
+                    int64_t i = npre - b0;
+                    if (same && same[npre]) continue;
+                    pre_h[i] = hash_state(sbuf + npre * NWORDS);
+                    __builtin_prefetch(&table[HPOS(pre_h[i]) & tmask]);
+                }
+            }
+            /* then the stored records their first entries name, when the fingerprint matches (a
+               successor met before is compared with its record) */
+            if (table && npre - b0 > 1)
+                for (int64_t q = b0; q < npre; q++) {
+                    if (same && same[q]) continue;
+                    const Entry *e = &table[HPOS(pre_h[q - b0]) & tmask];
+                    if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q - b0] >> 32))
+                        __builtin_prefetch(states + (int64_t)e->id * PW);
+                }
+            for (int64_t b = b0; b < b1; b++) {
+                const uint64_t *wb = sbuf + b * NWORDS;
+                int64_t i = b - b0;
+                int isnew = 0;
+                int64_t tid = same && same[b] ? sid : b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
+                    pk_on ? intern_hashed(pre_rec + i * PW, PW, pre_h[i], (uint32_t)sid, &isnew) :
+                    intern_hashed(wb, NWORDS, pre_h[i], (uint32_t)sid, &isnew);
+                /* (the parent's words: the plain store's may have moved as it grew) */
+                if (tid == -2) {       /* the time limit passed while the store grew */
+                    out[4] = 0; out[5] = sid;
+                    status = 3; goto finish;
+                }
+                const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
+                const uint64_t *dm = pk_on && b < npre ? pre_dm + i * PK_MW : 0;   /* (the words that differ) */
+                if (tid < 0 || !note_successor(sid, tid, isnew, wb, SB_MASK(&sb0, b), par, dm)) {
+                    status = 5; goto finish;
+                }
+                if (isnew && !inv_note(tid, wb, par, dm)) { status = 5; goto finish; }
+                if (QF.on && QF.nk && !QF.failed)
+                    for (; qr < QF.nr && QF.rb[qr] == b; qr++) {
+                        int64_t p = qf_pair((uint32_t)tid, QF.rv[qr]);
+                        int f = p < 0 ? -1 : sset_first(&QF.seen, p);
+                        if (f < 0 || (f && !qf_item((uint32_t)p))) { status = 5; goto finish; }
+                    }
+                if (failing && !ef_succ(tid)) { status = 5; goto finish; }
+                if (tid != sid || SYM_SELF(SB_MASK(&sb0, b))) only_self = 0;
+            }
         }
         if (qc_self && QF.n > QF.off[sid] + 1) QF.n = QF.off[sid] + 1;   /* the list not read: its first entry (asm_qf_cond) */
         /* a state where a step fails is not a deadlock: the error is reported */
