@@ -4006,6 +4006,29 @@ _SYMBOLS = {
 }
 
 
+_MMAP_FIXED = False
+
+
+def _fixed_mmap_threshold() -> None:
+    """Blocks of 128 KB and more mapped apart and given back to the system when freed, in every
+    phase of the process from the first native explorer on (glibc's mallopt; nothing elsewhere).
+    glibc raises its threshold to the size of each mapped block freed (up to 32 MB): after the
+    generated source or a table that grew is freed, the blocks of that size come from the heap,
+    where what is freed stays resident -- the old copies of the search's growing tables, the
+    temporal quotient's buffers.  Set once per process."""
+    global _MMAP_FIXED
+    if _MMAP_FIXED:
+        return
+    _MMAP_FIXED = True
+    try:
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):
+        return
+    mallopt.argtypes = [ctypes.c_int, ctypes.c_int]
+    mallopt.restype = ctypes.c_int
+    mallopt(-3, 128 * 1024)          # M_MMAP_THRESHOLD (glibc's default, made fixed)
+
+
 def build_library(src: str):
     """The compiled library of the generated source ``src`` (from the cache when it is there),
     with the argument and result types of the engine's entry points."""
@@ -4138,6 +4161,7 @@ class NativeExplorer:
                  max_memory=None, table_memory=None, label_atoms=None, step_quotient=None, symmetry=None,
                  **_ignored):
         from ..semantics.analysis import mentions_monitored
+        _fixed_mmap_threshold()
         self.m = machine
         self.state_props = list(state_props or [])
         self.step_props = list(step_props or [])
@@ -4170,17 +4194,24 @@ class NativeExplorer:
         except AsmRuntimeError as e:
             # a step of the Python engine fails there too: it reports the failure (with its trace)
             raise Unsupported(f"{e.message} (while the C code was generated)") from None
-        self._first_src = src
+        # (the key of the note of element slots when the spec's files give none: see
+        # _more_element_slots; a source is some 10 to 400 KB, not kept when not needed)
+        self._first_src = src if self._slots_key is None and self.gen.dyn else None
         k = 0 if hinted else self._slots_needed(src)
         if k and self._slots_key:
             native_build.remember(self._slots_key, str(k))     # (a note kept by the source only)
         if k:
             self.gen = self._regenerate(cn_k=k)
             src = self.gen.generate()
-        self._src = src                  # thread_unsafe(src): worked out when threads are asked for
-        self._thread_unsafe = None
         self.dll = build_library(src)
+        # thread_unsafe(src): worked out now for threads, else only when they are asked for later
+        # (then from the source generated again: it is not kept, 10 to 400 KB)
+        self._thread_unsafe = thread_unsafe(src) if max(int(workers or 1), 1) > 1 else None
+        del src
         self.gen.codec.dll = self.dll
+        # the code generation's garbage (its texts, the source: some 0.3 to 1 MB for a big spec) is
+        # free in the C heap but still resident: given back before the search's tables are made
+        native_build.trim_heap()
         self.compile_seconds = native_build.last_compile_seconds
         self.max_states = max_states
         self.max_depth = max_depth
@@ -4217,8 +4248,7 @@ class NativeExplorer:
     def thread_unsafe(self) -> list:
         """The static variables of the generated C the threads would share unknowingly."""
         if self._thread_unsafe is None:
-            self._thread_unsafe = thread_unsafe(self._src)
-            self._src = None
+            self._thread_unsafe = thread_unsafe(self._regenerate(cn_k=self.gen.cn_k).generate())
         return self._thread_unsafe
 
     @thread_unsafe.setter
@@ -4472,8 +4502,8 @@ class NativeExplorer:
             self.edge_src, self.edge_dst = ends
             self.dll.asm_edges_drop()
             return
-        src = array("I", bytes(4 * max(n, 1)))
-        dst = array("I", bytes(4 * max(n, 1)))
+        src = array("I", [0]) * max(n, 1)
+        dst = array("I", [0]) * max(n, 1)
         self.dll.asm_edges((ctypes.c_uint32 * len(src)).from_buffer(src), (ctypes.c_uint32 * len(dst)).from_buffer(dst))
         del src[n:], dst[n:]
         self.edge_src, self.edge_dst = src, dst
@@ -4780,7 +4810,7 @@ class NativeExplorer:
         dll = build_library(src)
         gen.codec.dll = dll
         self.gen, self.dll = gen, dll
-        self._src, self._thread_unsafe = src, None
+        self._thread_unsafe = None
         self.compile_seconds += native_build.last_compile_seconds
         self._states = {}
         self._parent = None
@@ -4959,10 +4989,13 @@ class NativeExplorer:
     @property
     def parent(self):
         if self._parent is None:
+            # written by the engine into the array itself (not through a list of n Python ints:
+            # some 40 bytes a state for a moment)
             n = self.nstates
-            buf = (ctypes.c_int64 * max(n, 1))()
-            self.dll.asm_parents(buf)
-            self._parent = array("q", buf[:n])
+            par = array("q", [0]) * max(n, 1)
+            self.dll.asm_parents((ctypes.c_int64 * len(par)).from_buffer(par))
+            del par[n:]
+            self._parent = par
         return self._parent
 
     def edge_arrays(self):
@@ -4984,7 +5017,7 @@ class NativeExplorer:
         got = getattr(self, "_depth_of", None)
         if got is None or len(got) != self.nstates:
             parent = self.parent
-            got = array("l", bytes(array("l").itemsize * self.nstates))
+            got = array("l", [0]) * self.nstates
             for s in range(self.nstates):
                 p = parent[s]
                 got[s] = 0 if p < 0 else got[p] + 1
@@ -5601,7 +5634,7 @@ class _StepAtoms:
     def __iter__(self):
         dll = self.ex.dll
         cap = 1024
-        buf = array("q", bytes(16 * cap))
+        buf = array("q", [0]) * (2 * cap)
         for src in range(self.ex.nstates):
             if not self.ok[src]:
                 continue
@@ -5610,7 +5643,7 @@ class _StepAtoms:
                 if n != -2:
                     break
                 cap *= 4
-                buf = array("q", bytes(16 * cap))
+                buf = array("q", [0]) * (2 * cap)
             if n < 0:
                 self.failed = True
                 return

@@ -799,6 +799,12 @@ static void on_sigint(int sig) { (void)sig; interrupted = 1; }
  * frozen: the threaded search expands the chunk again on one thread).
  */
 typedef struct { uint64_t *w, *m; int64_t n, cap; } Succ;
+/* the masks (m) are kept only when a step property or the symmetry reduction can set a bit of them:
+   else they are all 0 and m stays null (16 bytes a successor less; a state of parking.asm has some
+   60,000 runs of its step); readers take SB_ZERO's two words for each successor */
+#define SB_MASKS (NSTEP > 0 || SYM_ON)
+static const uint64_t SB_ZERO[2] = {0, 0};
+#define SB_MASK(b, i) (SB_MASKS ? (b)->m + 2 * (i) : SB_ZERO)
 enum { EXP_OK, EXP_HARD, EXP_HARD0, EXP_MEM, EXP_STOP, EXP_MISSED };
 static Succ sb0;                     /* asm_run's (and asm_x_expand's: no search runs beside it) */
 static volatile int stop_all = 0;    /* the threaded search: a thread saw the time limit */
@@ -810,9 +816,11 @@ static int succ_grow(Succ *b) {
     uint64_t *x = (uint64_t *)realloc(b->w, nc * (NWORDS > 0 ? NWORDS : 1) * sizeof(uint64_t));
     if (!x) return 0;
     b->w = x;
-    x = (uint64_t *)realloc(b->m, nc * 2 * sizeof(uint64_t));
-    if (!x) return 0;
-    b->m = x;
+    if (SB_MASKS) {
+        x = (uint64_t *)realloc(b->m, nc * 2 * sizeof(uint64_t));
+        if (!x) return 0;
+        b->m = x;
+    }
     b->cap = nc;
     return 1;
 }
@@ -820,30 +828,66 @@ static int succ_grow(Succ *b) {
 
 /* The distinct successors of the state being expanded (a transition is a pair of states): a set
    of state numbers by open addressing, emptied in O(1) per state by a new stamp.  The search has
-   one (succs); each thread of the threaded search has its own. */
-typedef struct { uint64_t *set; int64_t cap; uint32_t stamp; } SuccSet;
+   one (succs); each thread of the threaded search has its own.  The set is sized by the distinct
+   numbers it holds (at most a quarter full, doubled when it would be fuller: short probes, as
+   every run of the step looks its successor up), not by the runs of the step: a state of
+   parking.asm has some 60,000 runs and 2,600 distinct successors. */
+typedef struct { uint64_t *set; int64_t cap, n; uint32_t stamp; } SuccSet;
 static SuccSet succs;
-static int sset_reset(SuccSet *z, int64_t n) {
-    if (2 * n > z->cap) {
-        int64_t nc = z->cap ? z->cap : 1024;
-        while (nc < 2 * n) nc *= 2;
-        uint64_t *x = (uint64_t *)realloc(z->set, (size_t)nc * sizeof(uint64_t));
-        if (!x) return 0;
-        z->set = x;
-        z->cap = nc;
-        memset(z->set, 0, (size_t)nc * sizeof(uint64_t));
-        z->stamp = 0;
-    }
-    if (++z->stamp == 0) { memset(z->set, 0, (size_t)z->cap * sizeof(uint64_t)); z->stamp = 1; }
+static int sset_alloc(SuccSet *z, int64_t nc) {
+    uint64_t *x = (uint64_t *)calloc((size_t)nc, sizeof(uint64_t));
+    if (!x) return 0;
+    free(z->set);
+    z->set = x;
+    z->cap = nc;
+    z->stamp = 0;
     return 1;
 }
-/* 1 the first time tid is met since sset_reset */
+/* an empty set (n: a bound on the numbers it will hold, unused: it grows as they come) */
+static int sset_reset(SuccSet *z, int64_t n) {
+    (void)n;
+    if (!z->cap && !sset_alloc(z, 1024)) return 0;
+    if (++z->stamp == 0) { memset(z->set, 0, (size_t)z->cap * sizeof(uint64_t)); z->stamp = 1; }
+    z->n = 0;
+    return 1;
+}
+/* twice the room, the numbers of the current stamp kept; 0 when out of memory */
+static int sset_grow(SuccSet *z) {
+    uint64_t *old = z->set;
+    int64_t ocap = z->cap, nc = 2 * ocap;
+    uint32_t stamp = z->stamp;
+    uint64_t *x = (uint64_t *)calloc((size_t)nc, sizeof(uint64_t));
+    if (!x) return 0;
+    uint64_t msk = (uint64_t)nc - 1;
+    for (int64_t i = 0; i < ocap; i++) {
+        uint64_t v = old[i];
+        if ((uint32_t)(v >> 32) != stamp) continue;
+        uint64_t h = mix64((uint64_t)(uint32_t)v) & msk;
+        while (x[h]) h = (h + 1) & msk;
+        x[h] = v;
+    }
+    free(old);
+    z->set = x;
+    z->cap = nc;
+    return 1;
+}
+/* 1 the first time tid is met since sset_reset, 0 after; -1 when out of memory */
 static inline int sset_first(SuccSet *z, int64_t tid) {
     uint64_t msk = (uint64_t)z->cap - 1, h = mix64((uint64_t)tid) & msk;
     uint64_t want = ((uint64_t)z->stamp << 32) | (uint32_t)tid;
     for (;;) {
         uint64_t x = z->set[h];
-        if ((uint32_t)(x >> 32) != z->stamp) { z->set[h] = want; return 1; }
+        if ((uint32_t)(x >> 32) != z->stamp) {
+            if (4 * (z->n + 1) > z->cap) {
+                if (!sset_grow(z)) return -1;
+                msk = (uint64_t)z->cap - 1;
+                h = mix64((uint64_t)tid) & msk;
+                while ((uint32_t)(z->set[h] >> 32) == z->stamp) h = (h + 1) & msk;
+            }
+            z->set[h] = want;
+            z->n++;
+            return 1;
+        }
         if (x == want) return 0;
         h = (h + 1) & msk;
     }
@@ -968,7 +1012,7 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
     int32_t *cu = cur, *cn = scnt + j0;
     const uint64_t *dxl = dx;
     const int64_t *db = dbase;
-    uint64_t *out = b->w + nbuf * NWORDS, *om = b->m + 2 * nbuf;
+    uint64_t *out = b->w + nbuf * NWORDS, *om = SB_MASKS ? b->m + 2 * nbuf : 0;
     for (int32_t t = 0; t < nt; t++) cu[t] = 0;
     int64_t k = 0;
     for (;;) {
@@ -986,7 +1030,7 @@ static int64_t mc_tail(Ctx *c, const uint64_t *old, Succ *b) {
         }
         cu[t]++;
         memcpy(out + k * NWORDS, w, NWORDS * sizeof(uint64_t));
-        om[2 * k] = om[2 * k + 1] = 0;
+        if (om) om[2 * k] = om[2 * k + 1] = 0;
         k++;
     }
     for (int32_t t = 0; t < nt; t++) c->idx[j0 + t] = scnt[j0 + t] - 1;
@@ -1149,7 +1193,7 @@ static int qf_undirect(void) {
         else QF.item[e] = (uint32_t)p;
     }
     if (QF.noff && !sset_reset(&QF.seen, QF.nr)) return 0;
-    for (int64_t e = QF.noff ? QF.off[QF.noff - 1] : QF.n; e < QF.n; e++) sset_first(&QF.seen, QI(e));
+    for (int64_t e = QF.noff ? QF.off[QF.noff - 1] : QF.n; e < QF.n; e++) if (sset_first(&QF.seen, QI(e)) < 0) return 0;
     return 1;
 }
 
@@ -1397,8 +1441,10 @@ static int expand_state(Ctx *c, const uint64_t *src, Succ *b, int *steperr, int 
 #endif
         if (b->n >= b->cap && !succ_grow(b)) return EXP_MEM;
         {
+#if SB_MASKS
             uint64_t *m = b->m + 2 * b->n;
             m[0] = m[1] = 0;
+#endif
 #if NSTEP > 0
             uint64_t hit = NSKIP > 0 ? skip_hit(c) : 0;
             for (int k = 0; k < NSTEP; k++) {
@@ -1498,7 +1544,9 @@ static inline int note_successor(int64_t sid, int64_t tid, int isnew, const uint
         if (dm) note_range_m(w, S.depth + 1, dm);
         else note_range(w, S.depth + 1, par);
     }
-    if (sset_first(&succs, tid)) {
+    int first = sset_first(&succs, tid);
+    if (first < 0) return 0;
+    if (first) {
         S.transitions++;
         if (S.keep_graph && (!QF.on || QF.edges_too) && !add_edge((uint32_t)sid, (uint32_t)tid)) return 0;
         if (QF.on && !QF.nk && !qf_item((uint32_t)tid)) return 0;
@@ -1578,6 +1626,7 @@ static int step_failed_at(int64_t sid, int steperr) {
     return ef_state(sid) ? 1 : -1;
 }
 
+#define PRE_BLOCK 1024
 static uint64_t *pre_h = 0, *pre_rec = 0;     /* asm_run: its successors' hashes and records */
 static uint64_t *pre_dm = 0;                  /* and the words where each differs from the state (PK_MW) */
 static int64_t pre_cap = 0;
@@ -1640,6 +1689,24 @@ static int inv_note(int64_t tid, const uint64_t *w, const uint64_t *par, const u
     (void)tid; (void)w; (void)par; (void)dm;
 #endif
     return 1;
+}
+
+/* the search's buffers of one expansion (a state's successors, their hashes, records and marks, its
+   set of distinct successors, the temporal pairs of its steps) and the invariants each state needs
+   checked: freed once the search has ended, before the temporal checks and the traces allocate
+   (what expands a state afterwards, asm_x_expand, makes its buffers again) */
+static void scratch_free(void) {
+    free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
+    free(sb_self); sb_self = 0; sb_self_cap = 0;
+    free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
+    free(pre_dm); pre_dm = 0;
+#ifdef CM_ON
+    free(sb_cm); sb_cm = 0; sb_cm_cap = 0;
+#endif
+    free(succs.set); memset(&succs, 0, sizeof(succs));
+    free(inv_need); inv_need = 0; inv_cap = 0;
+    free(QF.rb); free(QF.rv); free(QF.seen.set);
+    QF.rb = 0; QF.rv = 0; QF.nr = QF.capr = 0; memset(&QF.seen, 0, sizeof(QF.seen));
 }
 
 int64_t asm_run(double slice_seconds, int64_t *out) {
@@ -1729,24 +1796,29 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
             if (!failing) continue;
         }
         int64_t nbuf = sb0.n;
-        const uint64_t *sbuf = sb0.w, *smask = sb0.m;
+        const uint64_t *sbuf = sb0.w;
         int only_self = 1;
         if (!sset_reset(&succs, nbuf)) { status = 5; goto finish; }
-        /* the successors' records and hashes first (as far as no field must widen), their table
-           entries fetched meanwhile */
-        int64_t npre = 0;
-        if (nbuf > pre_cap) {
+        /* the successors a block of PRE_BLOCK at a time (the buffers of the hashes and records no
+           bigger: a state of parking.asm has some 60,000 runs): the block's records and hashes
+           first (as far as no field must widen: from the first that must, every later successor of
+           the state goes the slow way, intern), their table entries fetched meanwhile, then the
+           block stored in order */
+        int64_t nblk = nbuf < PRE_BLOCK ? nbuf : PRE_BLOCK;
+        if (nblk > pre_cap) {
             int64_t nc = pre_cap ? pre_cap : 64;
-            while (nc < nbuf) nc *= 2;
+            while (nc < nblk) nc *= 2;
             uint64_t *x = (uint64_t *)realloc(pre_h, nc * sizeof(uint64_t));
             if (!x) { status = 5; goto finish; }
             pre_h = x;
-            x = (uint64_t *)realloc(pre_dm, nc * PK_MW * sizeof(uint64_t));
-            if (!x) { status = 5; goto finish; }
-            pre_dm = x;
-            x = (uint64_t *)realloc(pre_rec, nc * (PW > NWORDS ? PW : NWORDS) * sizeof(uint64_t));
-            if (!x) { status = 5; goto finish; }
-            pre_rec = x;
+            if (pk_on) {      /* (the records and the words that differ: the packed store's only) */
+                x = (uint64_t *)realloc(pre_dm, nc * PK_MW * sizeof(uint64_t));
+                if (!x) { status = 5; goto finish; }
+                pre_dm = x;
+                x = (uint64_t *)realloc(pre_rec, nc * (PW > NWORDS ? PW : NWORDS) * sizeof(uint64_t));
+                if (!x) { status = 5; goto finish; }
+                pre_rec = x;
+            }
             pre_cap = nc;
         }
 #ifndef MC_TAIL_ON
@@ -1754,55 +1826,64 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
 #else
         const uint8_t *same = 0;
 #endif
-        if (pk_on && pk_par_ok) {
-            for (; npre < nbuf; npre++) {
-                if (same && same[npre]) continue;
-                if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + npre * PW, pre_h + npre,
-                                cand ? cand + npre * PK_MW : 0, pre_dm + npre * PK_MW)) break;
-                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
-            }
-        } else if (!pk_on) {
-            for (; npre < nbuf; npre++) {
-                if (same && same[npre]) continue;
-                pre_h[npre] = hash_state(sbuf + npre * NWORDS);
-                __builtin_prefetch(&table[HPOS(pre_h[npre]) & tmask]);
-            }
-        }
-        /* then the stored records their first entries name, when the fingerprint matches (a
-           successor met before is compared with its record) */
-        if (table && npre > 1)
-            for (int64_t q = 0; q < npre; q++) {
-                if (same && same[q]) continue;
-                const Entry *e = &table[HPOS(pre_h[q]) & tmask];
-                if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q] >> 32))
-                    __builtin_prefetch(states + (int64_t)e->id * PW);
-            }
         int64_t qr = 0;        /* the pairs of the temporal quotient (asm_qf) */
         if (QF.on && QF.nk && !QF.failed && !sset_reset(&QF.seen, QF.nr)) { status = 5; goto finish; }
-        for (int64_t b = 0; b < nbuf; b++) {
-            const uint64_t *wb = sbuf + b * NWORDS;
-            int isnew = 0;
-            int64_t tid = same && same[b] ? sid : b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
-                pk_on ? intern_hashed(pre_rec + b * PW, PW, pre_h[b], (uint32_t)sid, &isnew) :
-                intern_hashed(wb, NWORDS, pre_h[b], (uint32_t)sid, &isnew);
-            /* (the parent's words: the plain store's may have moved as it grew) */
-            if (tid == -2) {       /* the time limit passed while the store grew */
-                out[4] = 0; out[5] = sid;
-                status = 3; goto finish;
-            }
-            const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
-            const uint64_t *dm = pk_on && b < npre ? pre_dm + b * PK_MW : 0;   /* (the words that differ) */
-            if (tid < 0 || !note_successor(sid, tid, isnew, wb, smask + 2 * b, par, dm)) {
-                status = 5; goto finish;
-            }
-            if (isnew && !inv_note(tid, wb, par, dm)) { status = 5; goto finish; }
-            if (QF.on && QF.nk && !QF.failed)
-                for (; qr < QF.nr && QF.rb[qr] == b; qr++) {
-                    int64_t p = qf_pair((uint32_t)tid, QF.rv[qr]);
-                    if (p < 0 || (sset_first(&QF.seen, p) && !qf_item((uint32_t)p))) { status = 5; goto finish; }
+        int prep = pk_on ? pk_par_ok : 1;     /* (records prepared: until a field must widen) */
+        for (int64_t b0 = 0; b0 < nbuf; b0 += PRE_BLOCK) {
+            int64_t b1 = nbuf - b0 > PRE_BLOCK ? b0 + PRE_BLOCK : nbuf;
+            int64_t npre = b0;     /* [b0, npre): prepared, at pre_* + (b - b0) */
+            if (pk_on && prep) {
+                for (; npre < b1; npre++) {
+                    int64_t i = npre - b0;
+                    if (same && same[npre]) continue;
+                    if (!pk_prepare(sbuf + npre * NWORDS, pre_rec + i * PW, pre_h + i,
+                                    cand ? cand + npre * PK_MW : 0, pre_dm + i * PK_MW)) { prep = 0; break; }
+                    __builtin_prefetch(&table[HPOS(pre_h[i]) & tmask]);
                 }
-            if (failing && !ef_succ(tid)) { status = 5; goto finish; }
-            if (tid != sid || SYM_SELF(smask + 2 * b)) only_self = 0;
+            } else if (!pk_on) {
+                for (; npre < b1; npre++) {
+                    int64_t i = npre - b0;
+                    if (same && same[npre]) continue;
+                    pre_h[i] = hash_state(sbuf + npre * NWORDS);
+                    __builtin_prefetch(&table[HPOS(pre_h[i]) & tmask]);
+                }
+            }
+            /* then the stored records their first entries name, when the fingerprint matches (a
+               successor met before is compared with its record) */
+            if (table && npre - b0 > 1)
+                for (int64_t q = b0; q < npre; q++) {
+                    if (same && same[q]) continue;
+                    const Entry *e = &table[HPOS(pre_h[q - b0]) & tmask];
+                    if (e->id != 0xffffffffu && e->fp == (uint32_t)(pre_h[q - b0] >> 32))
+                        __builtin_prefetch(states + (int64_t)e->id * PW);
+                }
+            for (int64_t b = b0; b < b1; b++) {
+                const uint64_t *wb = sbuf + b * NWORDS;
+                int64_t i = b - b0;
+                int isnew = 0;
+                int64_t tid = same && same[b] ? sid : b >= npre ? intern(wb, (uint32_t)sid, &isnew) :
+                    pk_on ? intern_hashed(pre_rec + i * PW, PW, pre_h[i], (uint32_t)sid, &isnew) :
+                    intern_hashed(wb, NWORDS, pre_h[i], (uint32_t)sid, &isnew);
+                /* (the parent's words: the plain store's may have moved as it grew) */
+                if (tid == -2) {       /* the time limit passed while the store grew */
+                    out[4] = 0; out[5] = sid;
+                    status = 3; goto finish;
+                }
+                const uint64_t *par = pk_on ? sw : states + sid * NWORDS;
+                const uint64_t *dm = pk_on && b < npre ? pre_dm + i * PK_MW : 0;   /* (the words that differ) */
+                if (tid < 0 || !note_successor(sid, tid, isnew, wb, SB_MASK(&sb0, b), par, dm)) {
+                    status = 5; goto finish;
+                }
+                if (isnew && !inv_note(tid, wb, par, dm)) { status = 5; goto finish; }
+                if (QF.on && QF.nk && !QF.failed)
+                    for (; qr < QF.nr && QF.rb[qr] == b; qr++) {
+                        int64_t p = qf_pair((uint32_t)tid, QF.rv[qr]);
+                        int f = p < 0 ? -1 : sset_first(&QF.seen, p);
+                        if (f < 0 || (f && !qf_item((uint32_t)p))) { status = 5; goto finish; }
+                    }
+                if (failing && !ef_succ(tid)) { status = 5; goto finish; }
+                if (tid != sid || SYM_SELF(SB_MASK(&sb0, b))) only_self = 0;
+            }
         }
         if (qc_self && QF.n > QF.off[sid] + 1) QF.n = QF.off[sid] + 1;   /* the list not read: its first entry (asm_qf_cond) */
         /* a state where a step fails is not a deadlock: the error is reported */
@@ -1813,6 +1894,7 @@ int64_t asm_run(double slice_seconds, int64_t *out) {
     status = S.depth_hit ? 2 : 0;
 finish:
     S.status = status;
+    scratch_free();
 done:
     fill_out(out, status);
     sigaction(SIGINT, &old, 0);
@@ -1987,7 +2069,12 @@ int64_t asm_qf_quotient(const uint64_t *sig, const uint8_t *ok, uint64_t need) {
     int64_t hcap = 0, qcap = 0, nq = 0, w = 0;
     uint32_t *h = 0;
     int32_t *tab = 0, *out32 = 0;
+    /* (the table: 4 bytes a (key, state), filled with -1 at once; at most 2^20 entries or a quarter of
+       the lists' entries, and never more entries than the lists: a small model's table is not a
+       thousand times its lists, as pillbox_2_for_RefProv's 68 keys x 4,056 states were, 1 MB for
+       5,588 entries; the hash table then takes 8 to 16 bytes a node) */
     int64_t limit = QF.table_limit >= 0 ? QF.table_limit : (QF.n / 4 > (1 << 20) ? QF.n / 4 : (1 << 20));
+    if (QF.table_limit < 0 && limit > QF.n) limit = QF.n;
     if ((double)kt.n * (double)n <= (double)limit) {
         tab = (int32_t *)malloc((size_t)(kt.n * n + 1) * sizeof(int32_t));
         if (!tab) goto oom;
@@ -2487,7 +2574,8 @@ static int expand_block(Worker *w, const Plan *pl, int64_t i) {
         int64_t n = w->b.n;
         if (!grow_cand(w, w->ncand + n) || !grow_cw(w, w->ncand + n - w->bq0)) { w->irregular = 1; return 0; }
         memcpy(w->cw + (w->ncand - w->bq0) * NWORDS, w->b.w, n * NWORDS * sizeof(uint64_t));
-        memcpy(w->cm + 2 * w->ncand, w->b.m, n * 2 * sizeof(uint64_t));
+        if (SB_MASKS) memcpy(w->cm + 2 * w->ncand, w->b.m, n * 2 * sizeof(uint64_t));
+        else memset(w->cm + 2 * w->ncand, 0, n * 2 * sizeof(uint64_t));
         for (int64_t q = 0; q < n; q++) {
             uint64_t hh = hash_state(w->b.w + q * NWORDS);
             w->ch[w->ncand + q] = hh;
@@ -2573,7 +2661,11 @@ static int insert_block(Worker *w, const Plan *pl, int64_t i) {
                 int seen = 0;
                 for (int64_t j = q0; j < q; j++) if (w->ref[j] == tid) { seen = 1; break; }
                 trans += !seen;
-            } else trans += sset_first(&w->ss, tid);
+            } else {
+                int f = sset_first(&w->ss, tid);
+                if (f < 0) { w->irregular = 1; return -1; }
+                trans += f;
+            }
             if (tid != sid || SYM_SELF(w->cm + 2 * q)) only_self = 0;
             bad |= w->cm[2 * q];
         }
@@ -3229,7 +3321,8 @@ int64_t asm_x_expand(const uint64_t *w, const uint8_t *skip, int64_t succ_too, i
     if (steperr) { info[0] = steperr; return -1; }
     if (xb->n > cap) return -3;
     memcpy(succ, xb->w, (size_t)xb->n * NWORDS * sizeof(uint64_t));
-    memcpy(masks, xb->m, (size_t)xb->n * 2 * sizeof(uint64_t));
+    if (SB_MASKS) memcpy(masks, xb->m, (size_t)xb->n * 2 * sizeof(uint64_t));
+    else memset(masks, 0, (size_t)xb->n * 2 * sizeof(uint64_t));
     return xb->n;
 }
 

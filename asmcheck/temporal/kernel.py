@@ -111,7 +111,7 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         bits.append(0)
     if not labels:
         labels = bytearray(1)
-    sig = array("Q", bytes(8 * max(n, 1)))
+    sig = array("Q", [0]) * max(n, 1)
     dll.kn_sig(n, len(ap_bits), _addr(labels), _addr(bits), _addr(sig))
     kinit = _arr("i", K.init)
     goff = array("i", [0])
@@ -141,7 +141,7 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
     just = bytearray().join(justice) or bytearray(1)
     cp = bytearray().join(p for p, _ in compassion) or bytearray(1)
     cq = bytearray().join(q for _, q in compassion) or bytearray(1)
-    comp = array("i", bytes(4 * max(N, 1)))
+    comp = array("i", [0]) * max(N, 1)
     nfair = dll.kn_fair(len(justice), _addr(just), len(compassion), _addr(cp), _addr(cq), _addr(comp))
     if nfair < 0:
         dll.kn_free()
@@ -152,14 +152,14 @@ def product_and_fair(K, g, ap_bits, posm, negm, justice_k, justice_q, compassion
         # the Kripke structure's layout
         _csr(K)
         _ = (sig, goff, gadj, pm, nm)       # (held until then: the kernel reads them)
-        kk = array("i", bytes(4 * max(N, 1)))
-        qq = array("i", bytes(4 * max(N, 1)))
+        kk = array("i", [0]) * max(N, 1)
+        qq = array("i", [0]) * max(N, 1)
         dll.kn_nodes(_addr(kk), _addr(qq))
         na = dll.kn_adj_len()
         ni = dll.kn_init_len()
-        off = array("i", bytes(4 * (N + 1)))
-        adj = array("i", bytes(4 * max(na, 1)))
-        init = array("i", bytes(4 * max(ni, 1)))
+        off = array("i", [0]) * (N + 1)
+        adj = array("i", [0]) * max(na, 1)
+        init = array("i", [0]) * max(ni, 1)
         dll.kn_succ(_addr(off), _addr(adj), _addr(init))
         succ = Classes(off, adj[:max(na, 1)])      # a product node's successors, made when a path asks
         groups: dict = {}
@@ -231,8 +231,8 @@ def csr(n: int, src, dst, ok: bytearray):
     ne = len(src)
     if dll is not None:
         s, d = _u32(src), _u32(dst)
-        off = array("i", bytes(4 * (n + 1)))
-        adj = array("i", bytes(4 * max(ne, 1)))
+        off = array("i", [0]) * (n + 1)
+        adj = array("i", [0]) * max(ne, 1)
         okb = bytearray(ok) if len(ok) else bytearray(1)
         k = dll.kn_csr(n, ne, _addr(s) if ne else 0, _addr(d) if ne else 0, _addr(okb), _addr(off), _addr(adj))
         if k >= 0:
@@ -254,8 +254,8 @@ def group(n: int, owner) -> tuple[array, array]:
     """(off, adj): for each of the n owners, the positions i with ``owner[i]`` equal to it,
     ascending."""
     m = len(owner)
-    off = array("i", bytes(4 * (n + 1)))
-    adj = array("i", bytes(4 * max(m, 1)))
+    off = array("i", [0]) * (n + 1)
+    adj = array("i", [0]) * max(m, 1)
     dll = library()
     if dll is not None and m:
         ow = _u32(owner)
@@ -327,7 +327,7 @@ def fair_comp(K, s: bytearray, justice, compassion):
     just = bytearray().join(justice) or bytearray(1)
     cp = bytearray().join(p for p, _ in compassion) or bytearray(1)
     cq = bytearray().join(q for _, q in compassion) or bytearray(1)
-    comp = array("i", bytes(4 * max(n, 1)))
+    comp = array("i", [0]) * max(n, 1)
     # the roots: every node of s, ascending (passed as none); a state graph's classes are its
     # nodes (no relay vertices)
     relay = not _identity(K, cls)
@@ -390,8 +390,8 @@ def eu(K, f: bytearray, start: bytearray):
         # found finishes it (the same set)
         nodes = getattr(K, "_kernel_nodes", None)
         if nodes is None:
-            noff = array("i", bytes(4 * (ncls + 1)))
-            nadj = array("i", bytes(4 * max(n, 1)))
+            noff = array("i", [0]) * (ncls + 1)
+            nadj = array("i", [0]) * max(n, 1)
             dll.kn_class_nodes(n, ncls, _addr(cls), _addr(noff), _addr(nadj))
             nodes = K._kernel_nodes = (noff, nadj)
         noff, nadj = nodes
@@ -408,10 +408,10 @@ def eu(K, f: bytearray, start: bytearray):
         # the backward lists, made once for the structure's searches (the classes in 16 bits
         # when there are fewer than 65,536 of them)
         short = ncls < 65536
-        moff = array("i", bytes(4 * (n + 1)))
-        madj = array("H" if short else "i", bytes((2 if short else 4) * max(off[ncls], 1)))
-        noff = array("i", bytes(4 * (ncls + 1)))
-        nadj = array("i", bytes(4 * max(n, 1)))
+        moff = array("i", [0]) * (n + 1)
+        madj = array("H" if short else "i", [0]) * max(off[ncls], 1)
+        noff = array("i", [0]) * (ncls + 1)
+        nadj = array("i", [0]) * max(n, 1)
         (dll.kn_rev_16 if short else dll.kn_rev)(n, ncls, _addr(cls), _addr(off), _addr(adj), _addr(moff),
                                                   _addr(madj), _addr(noff), _addr(nadj))
         rev = K._kernel_rev = (moff, madj, noff, nadj)
@@ -441,12 +441,12 @@ def quotient(n: int, src, dst, vec, sig, ok: bytearray):
         v8 = vec if isinstance(vec, array) and vec.typecode == "B" else None
         if vec is not None and v64 is None and v8 is None:
             v64 = array("q", vec)
-        off = array("i", bytes(4 * (n + 1)))
-        adj = array("i", bytes(4 * m))
+        off = array("i", [0]) * (n + 1)
+        adj = array("i", [0]) * m
         nq = dll.kn_quotient(n, m, _addr(s), _addr(d), _addr(v64) if v64 is not None else 0,
                              _addr(v8) if v8 is not None else 0, _addr(sg), _addr(okb), _addr(off), _addr(adj))
         if nq >= 0:
-            first = array("i", bytes(4 * max(nq, 1)))
+            first = array("i", [0]) * max(nq, 1)
             dll.kn_quotient_first(_addr(first))
             del first[nq:]
             del adj[off[n]:]
@@ -474,7 +474,7 @@ def quotient(n: int, src, dst, vec, sig, ok: bytearray):
 
 def signatures(n: int, labs: list) -> array:
     """array('Q'): bit j of entry s is ``labs[j][s]`` (at most 64 state sets)."""
-    sig = array("Q", bytes(8 * max(n, 1)))
+    sig = array("Q", [0]) * max(n, 1)
     dll = library()
     if dll is not None and n and labs:
         labels = bytearray().join(bytes(lab) for lab in labs)
@@ -517,7 +517,7 @@ def bfs(K, sources, target: bytearray, allowed=None, keep=None, skip: bool = Fal
     tb = bytearray(target)
     ab = bytearray(allowed) if allowed is not None else None
     kb = bytearray(keep) if keep is not None else None
-    path = array("i", bytes(4 * (n + 2)))
+    path = array("i", [0]) * (n + 2)
     k = dll.kn_bfs(n, len(off) - 1, _addr(cls), _addr(off), _addr(adj), len(sources), _addr(srcs), _addr(tb),
                    _addr(ab) if ab is not None else 0, _addr(kb) if kb is not None else 0, 1 if skip else 0,
                    _addr(path))
@@ -566,7 +566,7 @@ def quotient_by_source(n: int, sig, sources, need: int = 0):
     out = array("i", [0])
     for src, k, recs in sources:
         if len(out) < k:
-            out = array("i", bytes(4 * k))
+            out = array("i", [0]) * k
         got = dll.kn_qs_add(src, k, _addr(recs), need, _addr(out))
         if got < 0:
             dll.kn_qs_end()
@@ -575,10 +575,10 @@ def quotient_by_source(n: int, sig, sources, need: int = 0):
     nq = dll.kn_qs_end()
     if nq < 0:
         return None
-    off = array("i", bytes(4 * (n + 1)))
-    fsrc = array("I", bytes(4 * max(nq, 1)))
-    fdst = array("i", bytes(4 * max(nq, 1)))
-    fvec = array("q", bytes(8 * max(nq, 1)))
+    off = array("i", [0]) * (n + 1)
+    fsrc = array("I", [0]) * max(nq, 1)
+    fdst = array("i", [0]) * max(nq, 1)
+    fvec = array("q", [0]) * max(nq, 1)
     dll.kn_qs_take(_addr(off), _addr(fsrc), _addr(fdst), _addr(fvec))
     del fsrc[nq:], fdst[nq:], fvec[nq:]
     return fsrc, fdst, fvec, off, adj
