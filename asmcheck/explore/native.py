@@ -617,14 +617,7 @@ class Generator:
 
     def lazy_read(self, f, args: list) -> str:
         """A read of a lazily initialised location: its value in the map, else the init term's."""
-        params, body = self.lazy_init[f.index]
-        name = f"lz{f.index}"
-        if name not in self.defined_done:
-            self.defined_done.add(name)
-            env = {p.uid: f"q{p.uid}" for p in params}
-            sig = "".join(f", V q{p.uid}" for p in params)
-            self.funcs.append(f"static V {name}(Ctx *c{sig});")
-            self.funcs.append(f"static V {name}(Ctx *c{sig}) {{ return {self.term(body, env)}; }}")
+        name = self.init_term(f, self.lazy_init[f.index], "lz")
         ks = [self.fresh("lk") for _ in args]
         m = self.fresh("lm")
         decl = " ".join(f"V {k} = {a};" for k, a in zip(ks, args))
@@ -1049,11 +1042,11 @@ class Generator:
         self.funcs.append("\n".join(body))
         return name
 
-    def init_term(self, f, init) -> str:
+    def init_term(self, f, init, prefix: str = "it") -> str:
         """The C function of the init term of ``f`` (``init``: its parameters and body), called
-        with the arguments of a location."""
+        with the arguments of a location (``prefix``: "lz" for a lazily initialised function)."""
         params, body = init
-        name = f"it{f.index}"
+        name = f"{prefix}{f.index}"
         if name not in self.defined_done:
             self.defined_done.add(name)
             env = {p.uid: f"q{p.uid}" for p in params}
