@@ -2263,14 +2263,7 @@ int64_t asm_values(void) { return nvals; }
 
 void asm_free(void) {
     vt_free();
-    free(sb0.w); free(sb0.m); memset(&sb0, 0, sizeof(sb0));
-    free(sb_self); sb_self = 0; sb_self_cap = 0;
-    free(pre_h); free(pre_rec); pre_h = pre_rec = 0; pre_cap = 0;
-    free(pre_dm); pre_dm = 0;
-#ifdef CM_ON
-    free(sb_cm); sb_cm = 0; sb_cm_cap = 0;
-#endif
-    free(inv_need); inv_need = 0; inv_cap = 0;
+    scratch_free();
     free(states); free(parents); free(table); free(S.esrc); free(S.edst);
     pk_free();
     states = 0; parents = 0; table = 0; nstates = cap_states = 0; tmask = 0; tcount = 0;
