@@ -275,13 +275,16 @@ def quotient_plan(machine, props, fair=(), graph=False):
     # question is kept (the states themselves held, so that identity names them)
     last: dict = {}
 
-    def plan(state):
-        got = last.get("plan")
-        if got is not None and got[0] is state:
+    def remembered(key, states, compute):
+        got = last.get(key)
+        if got is not None and len(got[0]) == len(states) and all(a is b for a, b in zip(got[0], states)):
             return got[1]
-        out = _plan(state)
-        last["plan"] = (state, out)
+        out = compute()
+        last[key] = (list(states), out)
         return out
+
+    def plan(state):
+        return remembered("plan", [state], lambda: _plan(state))
 
     def _plan(state):
         atoms, checks, justice, compassion, _, errors, invars, used = formulas(machine, props, [], state)
@@ -299,12 +302,7 @@ def quotient_plan(machine, props, fair=(), graph=False):
     def need(states):
         # the successor lists the CTL check reads (temporal/need.py), ``states`` the initial states:
         # (EdgeNeed or ALL, the atoms)
-        got = last.get("need")
-        if got is not None and len(got[0]) == len(states) and all(a is b for a, b in zip(got[0], states)):
-            return got[1]
-        out = _need(states)
-        last["need"] = (list(states), out)
-        return out
+        return remembered("need", states, lambda: _need(states))
 
     def _need(states):
         from .need import ALL, edge_need
