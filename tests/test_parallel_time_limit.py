@@ -12,22 +12,11 @@ from pathlib import Path
 import pytest
 
 from helpers import write
+from test_cli_reliability import SLOW_STEP     # one step enumerates 64 million bindings of a choose
 
 pytestmark = pytest.mark.engines("python")
 
 ROOT = Path(__file__).resolve().parent.parent
-
-# one step enumerates 64 million bindings of a choose (minutes on the Python step function)
-SLOW_STEP = """asm SlowStep
-import StandardLibrary
-signature:
-	controlled x: Integer
-definitions:
-	invariant inv_x over x: x >= 0
-	main rule r_main = choose $a in {0 : 8000}, $b in {0 : 8000} with $a + $b = 15999 + x do x := $a
-default init s0:
-	function x = 0
-"""
 
 
 def test_a_step_that_runs_long_ends_at_the_time_limit_with_workers(tmp_path):
